@@ -1,0 +1,120 @@
+// vkrt: renders a glTF 2.0 scene to an image file.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "app/options.h"
+#include "app/progress_bar.h"
+#include "app/render_stats.h"
+#include "bvh/binned_sah_builder.h"
+#include "bvh/flat_bvh.h"
+#include "cpu/reference_renderer.h"
+#include "image/image_io.h"
+#include "scene/camera_selection.h"
+#include "scene/gltf_loader.h"
+#include "scene/scene_error.h"
+
+namespace vkrt {
+namespace {
+
+constexpr int kExitRuntimeFailure = 1;
+constexpr int kExitBadInput = 2;
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+int run(Options options) {
+    const auto loadStart = std::chrono::steady_clock::now();
+    Scene scene = loadGltf(options.scenePath);
+    RunReport report;
+    report.loadMs = millisecondsSince(loadStart);
+    if (!options.quiet) {
+        for (const std::string& warning : scene.warnings) {
+            std::fprintf(stderr, "vkrt: warning: %s: %s\n", options.scenePath.c_str(), warning.c_str());
+        }
+    }
+
+    // A file camera with an aspect ratio sets the height when only the width was given.
+    RenderSettings& settings = options.render;
+    if (!options.heightGiven && options.camera < static_cast<int>(scene.cameras.size()) &&
+        scene.cameras[options.camera].aspectRatio > 0.0) {
+        settings.height = std::max(1, static_cast<int>(std::lround(settings.width / scene.cameras[options.camera].aspectRatio)));
+    }
+    const Camera camera = selectCamera(scene, options.camera, static_cast<double>(settings.width) / settings.height);
+    const bool hasLights = !scene.lights.empty() || !scene.emissiveTriangles.empty();
+    settings.ambient = options.ambient.value_or(glm::dvec3(hasLights ? 0.05 : 1.0));
+    if (!hasLights && !options.ambient && !options.quiet) {
+        std::fprintf(stderr, "vkrt: warning: %s: the scene has no lights; an ambient radiance of 1 lights it\n",
+                     options.scenePath.c_str());
+    }
+
+    if (options.device == DeviceKind::Gpu) {
+        std::fprintf(stderr, "vkrt: error: the GPU tracer is not built yet; use --device cpu\n");
+        return kExitRuntimeFailure;
+    }
+
+    // Acceleration structure.
+    const BvhConfig bvhConfig;
+    std::vector<Aabb> bounds(scene.triangles.size());
+    for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.triangles[i].bounds();
+    const auto buildStart = std::chrono::steady_clock::now();
+    const Bvh bvh = BinnedSahBuilder::build(bounds, bvhConfig);
+    const double buildMs = millisecondsSince(buildStart);
+    const FlatBvh flatBvh = flatten(bvh);
+    report.bvh = measureBvh(bvh, bvhConfig);
+    report.bvh.buildMs = buildMs;
+
+    // Render.
+    ProgressBar progress("cpu", !options.quiet);
+    const ReferenceRenderer renderer(scene, flatBvh, camera, settings);
+    const auto renderStart = std::chrono::steady_clock::now();
+    RenderResult result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
+    report.renderMs = millisecondsSince(renderStart);
+    progress.finish();
+
+    writeImage(result.image, options.outputPath, options.exposure);
+
+    report.scene = options.scenePath;
+    report.device = "cpu";
+    report.camera = camera.name;
+    report.triangles = scene.triangles.size();
+    report.settings = settings;
+    report.rays = result.rays;
+    if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (!options.quiet) {
+        const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
+        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s\n", options.outputPath.c_str(),
+                     settings.width, settings.height, settings.samplesPerPixel, report.renderMs, mrays);
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace vkrt
+
+int main(int argc, char** argv) {
+    using namespace vkrt;
+    try {
+        Options options = parseOptions(argc, argv);
+        if (options.help) {
+            std::fputs(helpText(), stdout);
+            return 0;
+        }
+        return run(std::move(options));
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const SceneError& e) {
+        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "vkrt: error: out of memory\n");
+        return kExitRuntimeFailure;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
+        return kExitRuntimeFailure;
+    }
+}

@@ -1,0 +1,129 @@
+#include "app/options.h"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "image/image_io.h"
+
+namespace vkrt {
+namespace {
+
+template <typename T>
+T parseNumber(const std::string& flag, const std::string& text) {
+    T value{};
+    const char* end = text.data() + text.size();
+    auto [ptr, error] = std::from_chars(text.data(), end, value);
+    if (error != std::errc() || ptr != end) throw UsageError(flag + ": '" + text + "' is not a valid number");
+    if constexpr (std::is_floating_point_v<T>) {
+        if (!std::isfinite(value)) throw UsageError(flag + ": '" + text + "' is not finite");
+    }
+    return value;
+}
+
+int parseInt(const std::string& flag, const std::string& text, int min, int max) {
+    const long long value = parseNumber<long long>(flag, text);
+    if (value < min || value > max) {
+        throw UsageError(flag + " must be between " + std::to_string(min) + " and " + std::to_string(max));
+    }
+    return static_cast<int>(value);
+}
+
+glm::dvec3 parseColor(const std::string& flag, const std::string& text) {
+    std::vector<double> parts;
+    std::stringstream stream(text);
+    std::string part;
+    while (std::getline(stream, part, ',')) parts.push_back(parseNumber<double>(flag, part));
+    if (parts.size() == 1) return glm::dvec3(parts[0]);
+    if (parts.size() == 3) return glm::dvec3(parts[0], parts[1], parts[2]);
+    throw UsageError(flag + " takes one value or three separated by commas (R,G,B)");
+}
+
+}  // namespace
+
+const char* helpText() {
+    return R"(vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes
+
+Usage: vkrt --scene FILE [options]
+
+  --scene FILE          glTF 2.0 scene (.gltf or .glb) to render (required)
+  --out FILE            output image: .png (tonemapped sRGB), .exr or .pfm (linear)  [out.png]
+  --width W             image width in pixels                                         [512]
+  --height H            image height in pixels  [width / the camera's aspect ratio, else 512]
+  --spp N               samples per pixel (jittered, stratified)                      [16]
+  --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
+  --device cpu|gpu      CPU reference renderer, or the GPU tracer (not built yet)     [cpu]
+  --seed S              seed of the counter-based random numbers                      [0]
+  --camera N            which camera of the file to use (node order)                  [0]
+  --ambient R[,G,B]     ambient radiance       [0.05; 1 when the scene has no lights]
+  --background R[,G,B]  radiance of rays that leave the scene                         [0]
+  --exposure EV         PNG exposure in stops                                         [0]
+  --threads N           CPU threads (0 = all)                                         [0]
+  --stats FILE.json     write render statistics as JSON
+  --quiet               no progress bar or warnings
+  --help                this text
+
+Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.
+)";
+}
+
+Options parseOptions(int argc, const char* const argv[]) {
+    Options options;
+    for (int i = 1; i < argc; ++i) {
+        const std::string flag = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw UsageError(flag + " needs a value");
+            return argv[++i];
+        };
+        if (flag == "--help" || flag == "-h") {
+            options.help = true;
+        } else if (flag == "--scene") {
+            options.scenePath = value();
+        } else if (flag == "--out") {
+            options.outputPath = value();
+            try {
+                imageFormatFromPath(options.outputPath);
+            } catch (const ImageError& e) {
+                throw UsageError(std::string("--out: ") + e.what());
+            }
+        } else if (flag == "--width") {
+            options.render.width = parseInt(flag, value(), 1, 16384);
+            options.widthGiven = true;
+        } else if (flag == "--height") {
+            options.render.height = parseInt(flag, value(), 1, 16384);
+            options.heightGiven = true;
+        } else if (flag == "--spp") {
+            options.render.samplesPerPixel = parseInt(flag, value(), 1, 1 << 24);
+        } else if (flag == "--max-depth") {
+            options.render.maxDepth = parseInt(flag, value(), 0, 24);
+        } else if (flag == "--device") {
+            const std::string device = value();
+            if (device == "gpu") options.device = DeviceKind::Gpu;
+            else if (device == "cpu") options.device = DeviceKind::Cpu;
+            else throw UsageError("--device must be gpu or cpu");
+        } else if (flag == "--seed") {
+            options.render.seed = static_cast<uint32_t>(parseInt(flag, value(), 0, 2147483647));
+        } else if (flag == "--camera") {
+            options.camera = parseInt(flag, value(), 0, 1 << 20);
+        } else if (flag == "--ambient") {
+            options.ambient = parseColor(flag, value());
+        } else if (flag == "--background") {
+            options.render.background = parseColor(flag, value());
+        } else if (flag == "--exposure") {
+            options.exposure = parseNumber<double>(flag, value());
+        } else if (flag == "--threads") {
+            options.render.threads = parseInt(flag, value(), 0, 1024);
+        } else if (flag == "--stats") {
+            options.statsPath = value();
+        } else if (flag == "--quiet") {
+            options.quiet = true;
+        } else {
+            throw UsageError("unknown option '" + flag + "' (see --help)");
+        }
+    }
+    if (!options.help && options.scenePath.empty()) throw UsageError("--scene FILE is required (see --help)");
+    return options;
+}
+
+}  // namespace vkrt

@@ -1,0 +1,39 @@
+// The vkrt command line: parsing and help text.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "common/render_settings.h"
+
+namespace vkrt {
+
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+enum class DeviceKind { Gpu, Cpu };
+
+struct Options {
+    std::string scenePath;
+    std::string outputPath = "out.png";
+    std::string statsPath;  // empty: no stats file
+    DeviceKind device = DeviceKind::Cpu;  // becomes Gpu when the GPU tracer lands
+    int camera = 0;
+    bool widthGiven = false, heightGiven = false;
+    std::optional<glm::dvec3> ambient;  // unset: 0.05, or 1 for a scene without lights
+    double exposure = 0.0;
+    bool quiet = false;
+    bool help = false;
+    RenderSettings render;
+};
+
+// Throws UsageError with a one-line message for anything malformed.
+Options parseOptions(int argc, const char* const argv[]);
+
+const char* helpText();
+
+}  // namespace vkrt

@@ -1,0 +1,41 @@
+#include "app/render_stats.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include "common/atomic_file.h"
+
+namespace vkrt {
+
+nlohmann::json toJson(const RunReport& r) {
+    const double seconds = r.renderMs / 1000.0;
+    return {
+        {"scene", r.scene},
+        {"device", r.device},
+        {"camera", r.camera},
+        {"triangles", r.triangles},
+        {"width", r.settings.width},
+        {"height", r.settings.height},
+        {"spp", r.settings.samplesPerPixel},
+        {"max_depth", r.settings.maxDepth},
+        {"seed", r.settings.seed},
+        {"load_ms", r.loadMs},
+        {"bvh",
+         {{"build_ms", r.bvh.buildMs}, {"nodes", r.bvh.nodes}, {"leaves", r.bvh.leaves}, {"depth", r.bvh.depth},
+          {"sah_cost", r.bvh.sahCost}}},
+        {"render_ms", r.renderMs},
+        {"rays", {{"primary", r.rays.primary}, {"shadow", r.rays.shadow}, {"secondary", r.rays.secondary}}},
+        {"mrays_per_s", seconds > 0.0 ? static_cast<double>(r.rays.total()) / seconds / 1e6 : 0.0},
+        {"nonfinite_samples", r.rays.nonFiniteSamples},
+    };
+}
+
+void writeJson(const nlohmann::json& json, const std::string& path) {
+    writeFileAtomically(path, [&](const std::string& temporary) {
+        std::ofstream file(temporary);
+        file << json.dump(2) << "\n";
+        if (!file.flush()) throw std::runtime_error(path + ": cannot write");
+    });
+}
+
+}  // namespace vkrt

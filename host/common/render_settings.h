@@ -1,0 +1,41 @@
+// What a render is asked to do and what it reports, shared by the CPU reference and the GPU tracer.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include <glm/glm.hpp>
+
+#include "image/image.h"
+
+namespace vkrt {
+
+struct RenderSettings {
+    int width = 512;
+    int height = 512;
+    int samplesPerPixel = 16;
+    int maxDepth = 8;              // reflection and refraction bounces after the camera ray's hit
+    uint32_t seed = 0;
+    glm::dvec3 ambient{0.05};      // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
+    glm::dvec3 background{0.0};    // radiance seen by rays that leave the scene
+    double minThroughput = 1e-3;   // branches of the ray tree weighted less than this are cut
+    int threads = 0;               // CPU renderer: 0 means all hardware threads
+};
+
+struct RayCounters {
+    uint64_t primary = 0;
+    uint64_t shadow = 0;
+    uint64_t secondary = 0;  // reflection and refraction rays
+    uint64_t nonFiniteSamples = 0;
+    uint64_t total() const { return primary + shadow + secondary; }
+};
+
+struct RenderResult {
+    Image image;
+    RayCounters rays;
+};
+
+// Called as rows (CPU) or passes (GPU) finish: done out of total.
+using ProgressCallback = std::function<void(uint64_t done, uint64_t total)>;
+
+}  // namespace vkrt

@@ -1,0 +1,286 @@
+#include "cpu/reference_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "cpu/optics.h"
+#include "cpu/punctual_light.h"
+#include "cpu/texture_lookup.h"
+#include "cpu/triangle_intersection.h"
+#include "cpu/whitted_model.h"
+#include "random.h"
+
+namespace vkrt {
+namespace {
+
+constexpr uint32_t kNoTriangle = 0xffffffffu;
+
+// New rays start a hair off the surface, on the side they leave from. The offset is relative to the
+// magnitude of the position, so it is scale-invariant; in double precision 1e-9 is far above the rounding
+// of the hit point (about 1e-16 relative) and far below any feature float geometry can resolve (6e-8).
+// Excluding the triangle just hit removes the remaining risk of hitting it again.
+glm::dvec3 offsetOrigin(const glm::dvec3& point, const glm::dvec3& geometricNormal, double side) {
+    const double magnitude = std::max({std::abs(point.x), std::abs(point.y), std::abs(point.z)});
+    return point + side * 1e-9 * magnitude * geometricNormal;
+}
+
+double maxComponent(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
+
+glm::dvec3 geometricNormalOf(const Triangle& t) {
+    return glm::normalize(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+}
+
+// Beer-Lambert: transmittance over `distance` inside a volume material.
+glm::dvec3 beerLambert(const Material& material, double distance) {
+    glm::dvec3 result(1.0);
+    if (!std::isfinite(material.attenuationDistance)) return result;
+    for (int c = 0; c < 3; ++c) {
+        const double color = material.attenuationColor[c];
+        if (color >= 1.0) continue;
+        if (color <= 0.0 || !std::isfinite(distance)) {
+            result[c] = distance > 0.0 ? 0.0 : 1.0;
+            continue;
+        }
+        const double sigma = -std::log(color) / material.attenuationDistance;
+        result[c] = std::exp(-sigma * distance);
+    }
+    return result;
+}
+
+}  // namespace
+
+ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                                     const RenderSettings& settings)
+    : scene_(scene), bvh_(bvh), camera_(camera), settings_(settings), areaLights_(scene),
+      aspect_(static_cast<double>(settings.width) / settings.height) {}
+
+Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
+    // Film position in [-1, 1]^2, +y up.
+    const double sx = 2.0 * filmX / settings_.width - 1.0;
+    const double sy = 1.0 - 2.0 * filmY / settings_.height;
+    if (camera_.projection == Projection::Orthographic) {
+        const glm::dvec3 origin = camera_.position + sx * camera_.xmag * camera_.right + sy * camera_.ymag * camera_.up;
+        return {origin, camera_.forward};
+    }
+    const double tanHalf = std::tan(0.5 * camera_.yfov);
+    const glm::dvec3 direction =
+        camera_.forward + sx * tanHalf * aspect_ * camera_.right + sy * tanHalf * camera_.up;
+    return {camera_.position, glm::normalize(direction)};
+}
+
+bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const {
+    bool found = false;
+    traverseBvh(bvh_, ray, 0.0, tMax, [&](uint32_t prim, double& closest) {
+        TriangleHit candidate;
+        if (prim != exclude &&
+            intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, closest, candidate)) {
+            closest = candidate.t;
+            hit = {prim, candidate.t, candidate.u, candidate.v};
+            found = true;
+        }
+        return false;
+    });
+    return found;
+}
+
+glm::dvec3 ReferenceRenderer::albedoAt(const Material& material, const SurfaceHit& hit) const {
+    glm::dvec3 albedo(material.baseColor);
+    if (material.baseColorTexture >= 0) {
+        const TriangleShading& s = scene_.shading[hit.triangle];
+        const glm::dvec2 uv = (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) +
+                              hit.v * glm::dvec2(s.uv[2]);
+        albedo *= glm::dvec3(sampleBaseColor(scene_.textures[material.baseColorTexture], uv));
+    }
+    return albedo;
+}
+
+glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_t excludeA,
+                                            uint32_t excludeB) const {
+    glm::dvec3 result(1.0);
+    double limit = tMax;
+    traverseBvh(bvh_, ray, 0.0, limit, [&](uint32_t prim, double& rayMax) {
+        TriangleHit hit;
+        if (prim == excludeA || prim == excludeB ||
+            !intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, rayMax, hit)) {
+            return false;
+        }
+        const Material& material = scene_.materials[scene_.triangles[prim].material];
+        const double transmission = (1.0 - material.metallic) * material.transmission;
+        result *= transmission * albedoAt(material, {prim, hit.t, hit.u, hit.v});
+        return maxComponent(result) <= 0.0;  // fully blocked: stop looking
+    });
+    return result;
+}
+
+glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dvec3& normal,
+                                          const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
+                                          const SurfaceResponse& surface, uint32_t triangle, uint32_t pixel,
+                                          uint32_t sample, uint32_t node, RayCounters& counters) const {
+    glm::dvec3 sum(0.0);
+    const glm::dvec3 origin = offsetOrigin(point, geometricNormal, 1.0);
+    // Punctual lights: hard shadows.
+    for (const PunctualLight& light : scene_.lights) {
+        const LightArrival arrival = arriveFrom(light, point);
+        const double cosine = glm::dot(normal, arrival.toLight);
+        if (cosine <= 0.0 || glm::dot(geometricNormal, arrival.toLight) <= 0.0 || maxComponent(arrival.irradiance) <= 0.0) {
+            continue;
+        }
+        ++counters.shadow;
+        const glm::dvec3 visible = transmittance({origin, arrival.toLight}, arrival.distance, triangle, kNoTriangle);
+        sum += whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
+    }
+    // Area lights: one sample of one emissive triangle per shading point, chosen by power.
+    if (!areaLights_.empty()) {
+        const uint32_t seed = settings_.seed;
+        const AreaLightSample light =
+            areaLights_.sample(vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_PICK)),
+                               vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_U)),
+                               vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_V)));
+        const glm::dvec3 offset = light.point - point;
+        const double distance2 = glm::dot(offset, offset);
+        const double distance = std::sqrt(distance2);
+        if (light.triangle != triangle && distance > 0.0) {
+            const glm::dvec3 toLight = offset / distance;
+            const Material& emitter = scene_.materials[scene_.triangles[light.triangle].material];
+            double cosLight = -glm::dot(light.normal, toLight);
+            if (emitter.doubleSided) cosLight = std::abs(cosLight);
+            const double cosine = glm::dot(normal, toLight);
+            if (cosLight > 0.0 && cosine > 0.0 && glm::dot(geometricNormal, toLight) > 0.0) {
+                ++counters.shadow;
+                const glm::dvec3 visible = transmittance({origin, toLight}, distance * (1.0 - 1e-9), triangle, light.triangle);
+                // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
+                const glm::dvec3 irradiance = glm::dvec3(emitter.emission) * cosLight / (distance2 * light.pdfArea);
+                sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
+            }
+        }
+    }
+    return sum;
+}
+
+glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
+                                       const glm::dvec3& throughput, int medium, uint32_t exclude,
+                                       RayCounters& counters) const {
+    SurfaceHit hit;
+    const bool found = closestHit(ray, std::numeric_limits<double>::infinity(), exclude, hit);
+    const glm::dvec3 absorbed = medium >= 0 ? beerLambert(scene_.materials[medium], found ? hit.t : INFINITY)
+                                            : glm::dvec3(1.0);
+    if (!found) return absorbed * settings_.background;
+
+    const Triangle& triangle = scene_.triangles[hit.triangle];
+    const Material& material = scene_.materials[triangle.material];
+    const TriangleShading& shading = scene_.shading[hit.triangle];
+    const glm::dvec3 point = ray.origin + hit.t * ray.direction;
+    const glm::dvec3 toViewer = -ray.direction;
+
+    // Orient both normals towards the viewer; remember which side was hit.
+    glm::dvec3 geometricNormal = geometricNormalOf(triangle);
+    const bool frontFace = glm::dot(geometricNormal, toViewer) > 0.0;
+    if (!frontFace) geometricNormal = -geometricNormal;
+    glm::dvec3 normal = glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
+                                       hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
+    if (!frontFace) normal = -normal;
+    if (!(glm::dot(normal, toViewer) > 0.0)) normal = geometricNormal;  // shading normal faces away: use the true one
+
+    glm::dvec3 result(0.0);
+    if (frontFace || material.doubleSided) result += glm::dvec3(material.emission);
+
+    const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
+    result += settings_.ambient * surface.diffuse;
+    result += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sample, node, counters);
+
+    if (depth < settings_.maxDepth) {
+        // Relative index across this interface: entering a volume from outside, leaving it, or a surface
+        // seen from outside (thin-walled and opaque materials look the same from both sides).
+        const bool volume = material.hasVolume() && surface.transmission > 0.0;
+        const double eta = (volume && !frontFace) ? 1.0 / surface.ior : surface.ior;
+        const double cosI = glm::dot(normal, toViewer);
+        const double dielectric = fresnelDielectric(cosI, eta);
+        const glm::dvec3 fresnel = (1.0 - surface.metallic) * glm::dvec3(dielectric) +
+                                   surface.metallic * fresnelSchlick(surface.albedo, cosI);
+        const glm::dvec3 reflectWeight = fresnel * surface.mirror;
+        const glm::dvec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
+
+        if (maxComponent(throughput * reflectWeight) >= settings_.minThroughput) {
+            ++counters.secondary;
+            const Ray reflected{offsetOrigin(point, geometricNormal, 1.0), reflect(toViewer, normal)};
+            result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
+                                               throughput * reflectWeight, medium, hit.triangle, counters);
+        }
+        if (maxComponent(throughput * transmitWeight) >= settings_.minThroughput) {
+            glm::dvec3 direction = ray.direction;  // thin-walled: straight through
+            bool passes = true;
+            if (volume) passes = refract(toViewer, normal, eta, direction);
+            if (passes) {
+                ++counters.secondary;
+                const int nextMedium = volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
+                const Ray transmitted{offsetOrigin(point, geometricNormal, -1.0), direction};
+                result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
+                                                    throughput * transmitWeight, nextMedium, hit.triangle, counters);
+            }
+        }
+    }
+    return absorbed * result;
+}
+
+glm::dvec3 ReferenceRenderer::renderPixel(int x, int y, RayCounters& counters) const {
+    const uint32_t pixel = static_cast<uint32_t>(y) * settings_.width + x;
+    const int spp = settings_.samplesPerPixel;
+    // Jittered stratification: the first m*m samples cover an m x m grid of strata, the rest are uniform.
+    const int strata = static_cast<int>(std::sqrt(static_cast<double>(spp)));
+    glm::dvec3 sum(0.0);
+    uint64_t finite = 0;
+    for (int s = 0; s < spp; ++s) {
+        const uint32_t sample = static_cast<uint32_t>(s);
+        double jx = vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_PIXEL_X);
+        double jy = vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_PIXEL_Y);
+        if (s < strata * strata) {
+            jx = ((s % strata) + jx) / strata;
+            jy = ((s / strata) + jy) / strata;
+        }
+        ++counters.primary;
+        const Ray ray = cameraRay(x + jx, y + jy);
+        const glm::dvec3 value = radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters);
+        if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) {
+            sum += value;
+            ++finite;
+        } else {
+            ++counters.nonFiniteSamples;
+        }
+    }
+    return finite > 0 ? sum / static_cast<double>(finite) : glm::dvec3(0.0);
+}
+
+RenderResult ReferenceRenderer::render(const ProgressCallback& progress) const {
+    RenderResult result;
+    result.image = Image(settings_.width, settings_.height);
+    std::atomic<int> nextRow{0};
+    std::atomic<uint64_t> rowsDone{0};
+    std::mutex merge;
+    auto worker = [&] {
+        RayCounters counters;
+        for (int y = nextRow++; y < settings_.height; y = nextRow++) {
+            for (int x = 0; x < settings_.width; ++x) result.image.at(x, y) = glm::vec3(renderPixel(x, y, counters));
+            const uint64_t done = ++rowsDone;
+            if (progress) {
+                std::lock_guard<std::mutex> lock(merge);
+                progress(done, static_cast<uint64_t>(settings_.height));
+            }
+        }
+        std::lock_guard<std::mutex> lock(merge);
+        result.rays.primary += counters.primary;
+        result.rays.shadow += counters.shadow;
+        result.rays.secondary += counters.secondary;
+        result.rays.nonFiniteSamples += counters.nonFiniteSamples;
+    };
+    const unsigned threads = settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    return result;
+}
+
+}  // namespace vkrt

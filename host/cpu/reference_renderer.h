@@ -1,0 +1,56 @@
+// The CPU reference renderer: plain, recursive Whitted ray tracing in double precision. It is the oracle
+// the GPU tracer is tested against, so it favours obvious correctness over speed (rows are still shared
+// among all cores).
+#pragma once
+
+#include <cstdint>
+
+#include "bvh/bvh_traversal.h"
+#include "bvh/flat_bvh.h"
+#include "common/render_settings.h"
+#include "cpu/area_lights.h"
+#include "cpu/whitted_model.h"
+#include "scene/scene.h"
+
+namespace vkrt {
+
+using Ray = RayT<double>;
+
+struct SurfaceHit {
+    uint32_t triangle = 0;
+    double t = 0.0;
+    double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2
+};
+
+class ReferenceRenderer {
+public:
+    ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera, const RenderSettings& settings);
+
+    RenderResult render(const ProgressCallback& progress = {}) const;
+
+    // The pieces, public for tests.
+    Ray cameraRay(double filmX, double filmY) const;  // film coordinates in pixels, (0, 0) top-left
+    bool closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const;
+    // Fraction of light that passes from the ray's origin to distance tMax: 0 behind an opaque surface,
+    // the product of the transmission tints of transmissive ones.
+    glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB) const;
+    // Radiance arriving along `ray`; `node` numbers the ray-tree node for the random dimensions.
+    glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
+                        const glm::dvec3& throughput, int medium, uint32_t exclude, RayCounters& counters) const;
+    glm::dvec3 renderPixel(int x, int y, RayCounters& counters) const;
+
+private:
+    glm::dvec3 directLight(const glm::dvec3& point, const glm::dvec3& normal, const glm::dvec3& geometricNormal,
+                           const glm::dvec3& toViewer, const SurfaceResponse& surface, uint32_t triangle,
+                           uint32_t pixel, uint32_t sample, uint32_t node, RayCounters& counters) const;
+    glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
+
+    const Scene& scene_;
+    const FlatBvh& bvh_;
+    Camera camera_;
+    RenderSettings settings_;
+    AreaLights areaLights_;
+    double aspect_;
+};
+
+}  // namespace vkrt

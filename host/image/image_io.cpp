@@ -1,0 +1,129 @@
+#include "image/image_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include "common/atomic_file.h"
+
+namespace vkrt {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    return extension;
+}
+
+void writePng(const Image& image, const std::string& path, double exposure) {
+    std::vector<unsigned char> bytes(static_cast<size_t>(image.width) * image.height * 3);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        for (int c = 0; c < 3; ++c) bytes[3 * i + c] = toSrgb8(image.pixels[i][c], exposure);
+    }
+    if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3)) {
+        throw ImageError(path + ": cannot write PNG");
+    }
+}
+
+void writeExr(const Image& image, const std::string& path) {
+    std::vector<float> rgb(image.pixels.size() * 3);
+    std::memcpy(rgb.data(), image.pixels.data(), rgb.size() * sizeof(float));
+    const char* error = nullptr;
+    // save_as_fp16 = 0: full 32-bit floats, so references keep their precision.
+    if (SaveEXR(rgb.data(), image.width, image.height, 3, 0, path.c_str(), &error) != TINYEXR_SUCCESS) {
+        std::string message = error ? error : "unknown error";
+        if (error) FreeEXRErrorMessage(error);
+        throw ImageError(path + ": cannot write EXR: " + message);
+    }
+}
+
+// Portable float map: little-endian (negative scale), rows stored bottom to top.
+void writePfm(const Image& image, const std::string& path) {
+    std::ofstream file(path, std::ios::binary);
+    if (!file) throw ImageError(path + ": cannot open for writing");
+    file << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+    for (int y = image.height - 1; y >= 0; --y) {
+        file.write(reinterpret_cast<const char*>(&image.at(0, y)), static_cast<std::streamsize>(image.width) * 12);
+    }
+    if (!file.flush()) throw ImageError(path + ": write failed");
+}
+
+Image readPfm(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw ImageError(path + ": cannot open");
+    std::string magic;
+    int width = 0, height = 0;
+    double scale = 0.0;
+    file >> magic >> width >> height >> scale;
+    file.get();
+    if (magic != "PF" || width <= 0 || height <= 0 || scale >= 0.0) {
+        throw ImageError(path + ": not a little-endian colour PFM");
+    }
+    Image image(width, height);
+    for (int y = height - 1; y >= 0; --y) {
+        file.read(reinterpret_cast<char*>(&image.at(0, y)), static_cast<std::streamsize>(width) * 12);
+    }
+    if (!file) throw ImageError(path + ": file is truncated");
+    return image;
+}
+
+Image readExr(const std::string& path) {
+    float* rgba = nullptr;
+    int width = 0, height = 0;
+    const char* error = nullptr;
+    if (LoadEXR(&rgba, &width, &height, path.c_str(), &error) != TINYEXR_SUCCESS) {
+        std::string message = error ? error : "unknown error";
+        if (error) FreeEXRErrorMessage(error);
+        throw ImageError(path + ": cannot read EXR: " + message);
+    }
+    Image image(width, height);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        image.pixels[i] = glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
+    }
+    free(rgba);
+    return image;
+}
+
+}  // namespace
+
+ImageFormat imageFormatFromPath(const std::string& path) {
+    const std::string extension = lowerExtension(path);
+    if (extension == ".png") return ImageFormat::Png;
+    if (extension == ".exr") return ImageFormat::Exr;
+    if (extension == ".pfm") return ImageFormat::Pfm;
+    throw ImageError(path + ": unknown image format '" + extension + "' (use .png, .exr or .pfm)");
+}
+
+unsigned char toSrgb8(float linear, double exposure) {
+    double v = static_cast<double>(linear) * std::exp2(exposure);
+    if (!(v > 0.0)) return 0;  // negative and NaN both map to black
+    v = std::min(v, 1.0);
+    const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    return static_cast<unsigned char>(std::lround(encoded * 255.0));
+}
+
+void writeImage(const Image& image, const std::string& path, double exposure) {
+    const ImageFormat format = imageFormatFromPath(path);
+    writeFileAtomically(path, [&](const std::string& temporary) {
+        switch (format) {
+            case ImageFormat::Png: writePng(image, temporary, exposure); break;
+            case ImageFormat::Exr: writeExr(image, temporary); break;
+            case ImageFormat::Pfm: writePfm(image, temporary); break;
+        }
+    });
+}
+
+Image readImage(const std::string& path) {
+    const ImageFormat format = imageFormatFromPath(path);
+    if (format == ImageFormat::Pfm) return readPfm(path);
+    if (format == ImageFormat::Exr) return readExr(path);
+    throw ImageError(path + ": reading PNG is not supported (references must be linear: .exr or .pfm)");
+}
+
+}  // namespace vkrt

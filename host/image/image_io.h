@@ -1,0 +1,32 @@
+// Writing and reading images. PNG is tonemapped 8-bit sRGB; EXR (tinyexr) and PFM are linear floats.
+// Writers go through a temporary file in the same folder and rename it into place, so a failed or
+// interrupted run never leaves a partial image behind.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "image/image.h"
+
+namespace vkrt {
+
+class ImageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+enum class ImageFormat { Png, Exr, Pfm };
+
+// The format named by the file's extension; throws ImageError for anything else.
+ImageFormat imageFormatFromPath(const std::string& path);
+
+// `exposure` is in stops and applies to PNG only; linear formats store the radiance as rendered.
+void writeImage(const Image& image, const std::string& path, double exposure = 0.0);
+
+// Reads PFM and EXR (for references and tests).
+Image readImage(const std::string& path);
+
+// Linear radiance to an 8-bit sRGB value: scale by 2^exposure, clamp to [0, 1], sRGB transfer curve.
+unsigned char toSrgb8(float linear, double exposure);
+
+}  // namespace vkrt

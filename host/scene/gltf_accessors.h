@@ -1,0 +1,39 @@
+// Reading glTF accessors with every bound checked: the buffer, the buffer view, the stride, the
+// accessor's last element, sparse substitutions and index values. tinygltf parses the JSON but does not
+// check that accessors stay inside their buffers; this does, and throws SceneError when they do not.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace vkrt {
+
+class AccessorReader {
+public:
+    AccessorReader(const tinygltf::Model& model, std::string file) : model_(model), file_(std::move(file)) {}
+
+    // Reads `components` values per element (VEC2 = 2, VEC3 = 3, ...). Float accessors are read as they
+    // are; normalized integer accessors are mapped to [0, 1] or [-1, 1] as the glTF spec says.
+    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what) const;
+
+    // Reads a scalar unsigned-integer accessor (mesh indices).
+    std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what) const;
+
+    // The element count of an accessor, after checking that the index is valid.
+    size_t count(int accessorIndex, const std::string& what) const;
+
+private:
+    [[noreturn]] void fail(const std::string& message) const;
+    std::vector<double> readComponents(int accessorIndex, int components, bool wantIndices,
+                                       const std::string& what) const;
+
+    const tinygltf::Model& model_;
+    std::string file_;
+};
+
+}  // namespace vkrt

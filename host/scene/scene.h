@@ -1,0 +1,142 @@
+// Scene: plain data that every renderer reads. No Vulkan, no glTF types.
+//
+// Geometry is flattened to world space when the glTF node graph is walked, so renderers never see the
+// hierarchy. Positions are single precision (what the GPU stores); the CPU reference promotes them to
+// double, so both renderers trace exactly the same geometry.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace vkrt {
+
+struct Aabb {
+    glm::vec3 min{std::numeric_limits<float>::infinity()};
+    glm::vec3 max{-std::numeric_limits<float>::infinity()};
+
+    void grow(const glm::vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    void grow(const Aabb& b) {
+        min = glm::min(min, b.min);
+        max = glm::max(max, b.max);
+    }
+    bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+    glm::vec3 extent() const { return max - min; }
+    glm::vec3 center() const { return 0.5f * (min + max); }
+    float surfaceArea() const {
+        if (empty()) return 0.0f;
+        glm::vec3 e = extent();
+        return 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
+    }
+    bool contains(const Aabb& b) const {
+        return glm::all(glm::lessThanEqual(min, b.min)) && glm::all(glm::greaterThanEqual(max, b.max));
+    }
+};
+
+// A triangle in world space. Winding is counter-clockwise seen from the front, as in glTF (the loader
+// swaps two vertices when a node's transform mirrors the geometry).
+struct Triangle {
+    glm::vec3 v0, v1, v2;
+    uint32_t material;
+
+    Aabb bounds() const {
+        Aabb b;
+        b.grow(v0);
+        b.grow(v1);
+        b.grow(v2);
+        return b;
+    }
+};
+
+// Per-vertex attributes of a triangle, kept apart from positions so traversal touches less memory.
+struct TriangleShading {
+    glm::vec3 normal[3];  // unit length; the geometric normal when the file has none (glTF: flat shading)
+    glm::vec2 uv[3];      // TEXCOORD_0, or zero
+};
+
+enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+
+// An 8-bit RGBA texture as stored in the file (base colour textures are sRGB-encoded).
+struct Texture {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+    WrapMode wrapS = WrapMode::Repeat;
+    WrapMode wrapT = WrapMode::Repeat;
+    bool nearest = false;  // magnification filter NEAREST; otherwise bilinear
+    std::string name;
+};
+
+// glTF metallic-roughness material with the transmission, ior, volume and emissive-strength extensions.
+// docs/materials.md explains how the Whitted model interprets these values.
+struct Material {
+    std::string name;
+    glm::vec4 baseColor{1.0f};
+    int baseColorTexture = -1;  // index into Scene::textures
+    float metallic = 1.0f;
+    float roughness = 1.0f;
+    glm::vec3 emission{0.0f};  // emissiveFactor * KHR_materials_emissive_strength
+    float transmission = 0.0f;
+    float ior = 1.5f;
+    float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
+    glm::vec3 attenuationColor{1.0f};
+    float attenuationDistance = std::numeric_limits<float>::infinity();
+    bool doubleSided = false;
+
+    bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+    bool hasVolume() const { return thickness > 0.0f; }
+};
+
+enum class LightType : uint8_t { Point, Spot, Directional };
+
+// KHR_lights_punctual in its photometric units: point and spot intensity in candela, directional in lux.
+struct PunctualLight {
+    std::string name;
+    LightType type = LightType::Point;
+    glm::dvec3 position{0.0};
+    glm::dvec3 direction{0.0, 0.0, -1.0};  // the direction the light shines (the node's -Z)
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f;  // 0 means unlimited
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = 0.7853981633974483f;
+};
+
+enum class Projection : uint8_t { Perspective, Orthographic };
+
+// A camera placed in the world. It looks along `forward`, with `up` and `right` completing an
+// orthonormal frame (glTF cameras look down their node's -Z with +Y up).
+struct Camera {
+    std::string name;
+    Projection projection = Projection::Perspective;
+    glm::dvec3 position{0.0};
+    glm::dvec3 forward{0.0, 0.0, -1.0};
+    glm::dvec3 up{0.0, 1.0, 0.0};
+    glm::dvec3 right{1.0, 0.0, 0.0};
+    double yfov = 0.8;         // perspective: vertical field of view in radians
+    double xmag = 1.0;         // orthographic: half width of the view
+    double ymag = 1.0;         // orthographic: half height of the view
+    double aspectRatio = 0.0;  // from the file; 0 when absent (the image's own aspect is used)
+    bool generated = false;    // true for the default camera made when the file has none
+};
+
+struct Scene {
+    std::string sourcePath;
+    std::vector<Triangle> triangles;
+    std::vector<TriangleShading> shading;  // parallel to triangles
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<PunctualLight> lights;
+    std::vector<Camera> cameras;  // camera instances in node order
+    std::vector<uint32_t> emissiveTriangles;  // indices of triangles whose material emits
+    std::vector<std::string> warnings;
+    Aabb bounds;
+};
+
+}  // namespace vkrt

@@ -1,0 +1,62 @@
+// Counter-based random numbers, shared verbatim by the C++ reference renderer and the GLSL shaders.
+//
+// Every random decision has its own number: a hash of (seed, pixel, sample, dimension). No generator
+// state is carried along a path, so the GPU and the CPU draw identical numbers for the same decision,
+// in any order and on any thread, and stochastic images can be compared pixel by pixel.
+//
+// The integer hash is Chris Wellons' "lowbias32" (hash-prospector, 2020): two multiply-xorshift rounds
+// with bias about 0.17 of the ideal. Only 32-bit unsigned arithmetic is used, which C++ and GLSL define
+// identically (wrap-around multiplication, logical shifts).
+#ifndef VKRT_RANDOM_H
+#define VKRT_RANDOM_H
+
+#ifdef __cplusplus
+#include <cstdint>
+namespace vkrt {
+using uint = uint32_t;
+#define VKRT_FUNC inline
+#else
+#define VKRT_FUNC
+#endif
+
+// Dimensions: the pixel jitter uses the first two; each node of the ray tree (the camera ray's hit is
+// node 0, the reflection child of node k is 2k + 1 and the transmission child 2k + 2) owns
+// VKRT_DIMS_PER_NODE consecutive dimensions after those.
+#define VKRT_DIM_PIXEL_X 0u
+#define VKRT_DIM_PIXEL_Y 1u
+#define VKRT_DIM_NODE_BASE 2u
+#define VKRT_DIMS_PER_NODE 16u
+#define VKRT_DIM_LIGHT_PICK 0u      // which area light to sample
+#define VKRT_DIM_LIGHT_U 1u         // where on it
+#define VKRT_DIM_LIGHT_V 2u
+
+VKRT_FUNC uint vkrtHash(uint x) {
+    x ^= x >> 16u;
+    x *= 0x7feb352du;
+    x ^= x >> 15u;
+    x *= 0x846ca68bu;
+    x ^= x >> 16u;
+    return x;
+}
+
+VKRT_FUNC uint vkrtRandomBits(uint seed, uint pixel, uint sampleIndex, uint dimension) {
+    // Chained hashing with distinct additive constants keeps (a, b) and (b, a) apart.
+    uint h = vkrtHash(seed + 0x9e3779b9u);
+    h = vkrtHash(h ^ (pixel + 0x85ebca6bu));
+    h = vkrtHash(h ^ (sampleIndex + 0xc2b2ae35u));
+    return vkrtHash(h ^ (dimension + 0x27d4eb2fu));
+}
+
+// A number in [0, 1) with 24 random bits, exactly representable as a float.
+VKRT_FUNC float vkrtRandom(uint seed, uint pixel, uint sampleIndex, uint dimension) {
+    return float(vkrtRandomBits(seed, pixel, sampleIndex, dimension) >> 8u) * 5.9604644775390625e-8;
+}
+
+VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) { return VKRT_DIM_NODE_BASE + node * VKRT_DIMS_PER_NODE + k; }
+
+#ifdef __cplusplus
+}  // namespace vkrt
+#endif
+#undef VKRT_FUNC
+
+#endif  // VKRT_RANDOM_H
