@@ -1,0 +1,172 @@
+"""A small glTF 2.0 writer for vkrt's generated scenes: meshes, materials, cameras and punctual lights,
+with all binary data embedded as one base64 data URI so each scene is a single self-contained file."""
+
+import base64
+import json
+import math
+import struct
+
+
+class GltfBuilder:
+    def __init__(self, generator):
+        self.gltf = {
+            "asset": {"version": "2.0", "generator": generator},
+            "scenes": [{"nodes": []}],
+            "scene": 0,
+            "nodes": [],
+            "meshes": [],
+            "materials": [],
+            "accessors": [],
+            "bufferViews": [],
+            "buffers": [],
+        }
+        self.data = bytearray()
+        self.extensions = set()
+
+    # Binary data -----------------------------------------------------------------------------------
+    def _view(self, payload, target):
+        while len(self.data) % 4:
+            self.data.append(0)
+        self.gltf["bufferViews"].append(
+            {"buffer": 0, "byteOffset": len(self.data), "byteLength": len(payload), "target": target})
+        self.data.extend(payload)
+        return len(self.gltf["bufferViews"]) - 1
+
+    def _accessor(self, view, component_type, count, kind, **extra):
+        self.gltf["accessors"].append(
+            {"bufferView": view, "componentType": component_type, "count": count, "type": kind, **extra})
+        return len(self.gltf["accessors"]) - 1
+
+    def vec3_accessor(self, vectors, with_bounds=False):
+        payload = b"".join(struct.pack("<3f", *v) for v in vectors)
+        extra = {}
+        if with_bounds:  # POSITION accessors must carry min and max
+            extra["min"] = [min(v[i] for v in vectors) for i in range(3)]
+            extra["max"] = [max(v[i] for v in vectors) for i in range(3)]
+        return self._accessor(self._view(payload, 34962), 5126, len(vectors), "VEC3", **extra)
+
+    def index_accessor(self, indices):
+        payload = struct.pack("<%dI" % len(indices), *indices)
+        return self._accessor(self._view(payload, 34963), 5125, len(indices), "SCALAR")
+
+    # Scene objects -----------------------------------------------------------------------------------
+    def material(self, name, base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0, emission=None,
+                 emission_strength=None, transmission=None, ior=None, thickness=None,
+                 attenuation_color=None, attenuation_distance=None):
+        material = {"name": name, "pbrMetallicRoughness": {
+            "baseColorFactor": list(base_color) + [1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}
+        extensions = {}
+        if emission is not None:
+            material["emissiveFactor"] = list(emission)
+        if emission_strength is not None:
+            extensions["KHR_materials_emissive_strength"] = {"emissiveStrength": emission_strength}
+        if transmission is not None:
+            extensions["KHR_materials_transmission"] = {"transmissionFactor": transmission}
+        if ior is not None:
+            extensions["KHR_materials_ior"] = {"ior": ior}
+        if thickness is not None:
+            volume = {"thicknessFactor": thickness}
+            if attenuation_color is not None:
+                volume["attenuationColor"] = list(attenuation_color)
+                volume["attenuationDistance"] = attenuation_distance
+            extensions["KHR_materials_volume"] = volume
+        if extensions:
+            material["extensions"] = extensions
+            self.extensions.update(extensions)
+        self.gltf["materials"].append(material)
+        return len(self.gltf["materials"]) - 1
+
+    def mesh(self, name, primitives):
+        """primitives: list of (positions, normals or None, indices, material)."""
+        out = []
+        for positions, normals, indices, material in primitives:
+            attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
+            if normals is not None:
+                attributes["NORMAL"] = self.vec3_accessor(normals)
+            out.append({"attributes": attributes, "indices": self.index_accessor(indices), "material": material})
+        self.gltf["meshes"].append({"name": name, "primitives": out})
+        return len(self.gltf["meshes"]) - 1
+
+    def node(self, name, parent=None, **fields):
+        self.gltf["nodes"].append({"name": name, **fields})
+        index = len(self.gltf["nodes"]) - 1
+        if parent is None:
+            self.gltf["scenes"][0]["nodes"].append(index)
+        else:
+            self.gltf["nodes"][parent].setdefault("children", []).append(index)
+        return index
+
+    def perspective_camera(self, name, yfov, aspect_ratio=None, znear=0.01):
+        camera = {"type": "perspective", "name": name, "perspective": {"yfov": yfov, "znear": znear}}
+        if aspect_ratio:
+            camera["perspective"]["aspectRatio"] = aspect_ratio
+        self.gltf.setdefault("cameras", []).append(camera)
+        return len(self.gltf["cameras"]) - 1
+
+    def light(self, light):
+        self.extensions.add("KHR_lights_punctual")
+        lights = self.gltf.setdefault("extensions", {}).setdefault("KHR_lights_punctual", {"lights": []})
+        lights["lights"].append(light)
+        return len(lights["lights"]) - 1
+
+    def write(self, path):
+        self.gltf["buffers"] = [{
+            "byteLength": len(self.data),
+            "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode("ascii")}]
+        if self.extensions:
+            self.gltf["extensionsUsed"] = sorted(self.extensions)
+        with open(path, "w") as f:
+            json.dump(self.gltf, f, indent=1)
+            f.write("\n")
+
+
+# Geometry helpers --------------------------------------------------------------------------------------
+def sub(a, b):
+    return [a[i] - b[i] for i in range(3)]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def dot(a, b):
+    return sum(a[i] * b[i] for i in range(3))
+
+
+def quad(corners, facing):
+    """Two triangles over four corners (in order around the quad), wound so the front faces `facing`."""
+    a, b, c, d = corners
+    normal = cross(sub(b, a), sub(c, a))
+    if dot(normal, facing) < 0:
+        a, b, c, d = d, c, b, a
+    return [a, b, c, d], [0, 1, 2, 0, 2, 3]
+
+
+def merge(parts):
+    """Concatenates (positions, indices) parts into one indexed triangle list."""
+    positions, indices = [], []
+    for part_positions, part_indices in parts:
+        indices += [i + len(positions) for i in part_indices]
+        positions += part_positions
+    return positions, indices
+
+
+def uv_sphere(center, radius, rings, segments):
+    """Positions, smooth normals and indices of a UV sphere, outward-facing."""
+    positions, normals, indices = [], [], []
+    for r in range(rings + 1):
+        theta = math.pi * r / rings
+        for s in range(segments + 1):
+            phi = 2 * math.pi * s / segments
+            n = [math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi)]
+            normals.append(n)
+            positions.append([center[i] + radius * n[i] for i in range(3)])
+    for r in range(rings):
+        for s in range(segments):
+            a = r * (segments + 1) + s
+            b = a + segments + 1
+            if r != 0:
+                indices += [a, a + 1, b]
+            if r != rings - 1:
+                indices += [a + 1, b + 1, b]
+    return positions, normals, indices

@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""Generates vkrt's own scenes in scenes/.
+
+cornell.gltf: the Cornell box as published by the Cornell University Program of Computer Graphics,
+"Cornell Box Data", https://www.graphics.cornell.edu/online/box/data.html: every corner of the walls, the
+light and the two blocks in millimetres, and the camera (position 278 273 -800 looking along +z, focal
+length 35 mm on a 25 x 25 mm film). The published data gives reflectance spectra; the RGB values used here
+are the ones commonly used by renderers (for example Benedikt Bitterli's "Rendering Resources" Cornell box
+and the pbrt-v4 and Mitsuba scene ports): white 0.725 0.71 0.68, red 0.63 0.065 0.05, green 0.14 0.45
+0.091, and the light's radiance 17 12 4. The published light sits in the ceiling plane (y = 548.8), so
+the ceiling is built with a hole where the light is, rather than moving the light.
+
+whitted.gltf: in the spirit of Whitted's 1980 picture: a mirror sphere and a glass sphere over a red and
+yellow checkerboard, lit by one point light.
+
+lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
+objects.
+
+Run from the repository root: python3 tools/make_scenes.py
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gltf_builder import GltfBuilder, merge, quad, uv_sphere  # noqa: E402
+
+SCENES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
+
+
+def cornell():
+    g = GltfBuilder("vkrt tools/make_scenes.py (Cornell Box Data, Cornell University PCG)")
+    white = g.material("white", base_color=(0.725, 0.71, 0.68))
+    red = g.material("red", base_color=(0.63, 0.065, 0.05))
+    green = g.material("green", base_color=(0.14, 0.45, 0.091))
+    light = g.material("light", base_color=(0.78, 0.78, 0.78), emission=(1.0, 12.0 / 17.0, 4.0 / 17.0),
+                       emission_strength=17.0)
+
+    inside = [278.0, 274.4, 279.6]  # the middle of the box; walls face it
+
+    def wall(corners):
+        center = [sum(c[i] for c in corners) / 4 for i in range(3)]
+        return quad(corners, [inside[i] - center[i] for i in range(3)])
+
+    floor = wall([[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]])
+    back = wall([[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]])
+    right_green = wall([[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]])
+    left_red = wall([[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]])
+
+    # Ceiling (556.0 x 559.2 at y = 548.8) with a hole for the light (x 213..343, z 227..332).
+    y = 548.8
+    down = [0.0, -1.0, 0.0]
+    ceiling = merge([
+        quad([[0.0, y, 0.0], [556.0, y, 0.0], [556.0, y, 227.0], [0.0, y, 227.0]], down),
+        quad([[0.0, y, 332.0], [556.0, y, 332.0], [556.0, y, 559.2], [0.0, y, 559.2]], down),
+        quad([[0.0, y, 227.0], [213.0, y, 227.0], [213.0, y, 332.0], [0.0, y, 332.0]], down),
+        quad([[343.0, y, 227.0], [556.0, y, 227.0], [556.0, y, 332.0], [343.0, y, 332.0]], down),
+    ])
+    lamp = quad([[343.0, y, 227.0], [343.0, y, 332.0], [213.0, y, 332.0], [213.0, y, 227.0]], down)
+
+    def block(top, height):
+        """A block from its four top corners (published order) and height; faces point outward."""
+        center = [sum(c[i] for c in top) / 4 for i in range(3)]
+        center[1] = height / 2
+        parts = [quad(top, [0.0, 1.0, 0.0])]
+        for k in range(4):
+            a, b = top[k], top[(k + 1) % 4]
+            side = [[a[0], 0.0, a[2]], [a[0], height, a[2]], [b[0], height, b[2]], [b[0], 0.0, b[2]]]
+            mid = [(a[0] + b[0]) / 2, height / 2, (a[2] + b[2]) / 2]
+            parts.append(quad(side, [mid[i] - center[i] for i in range(3)]))
+        return merge(parts)
+
+    short_block = block([[130.0, 165.0, 65.0], [82.0, 165.0, 225.0], [240.0, 165.0, 272.0],
+                         [290.0, 165.0, 114.0]], 165.0)
+    tall_block = block([[423.0, 330.0, 247.0], [265.0, 330.0, 296.0], [314.0, 330.0, 456.0],
+                        [472.0, 330.0, 406.0]], 330.0)
+
+    whites = merge([floor, back, ceiling, short_block, tall_block])
+    mesh = g.mesh("cornell-box", [
+        (whites[0], None, whites[1], white),
+        (left_red[0], None, left_red[1], red),
+        (right_green[0], None, right_green[1], green),
+        (lamp[0], None, lamp[1], light),
+    ])
+    # The data is in millimetres; glTF's unit is the metre.
+    root = g.node("cornell-box (millimetres)", scale=[0.001, 0.001, 0.001])
+    g.node("geometry", parent=root, mesh=mesh)
+    # 35 mm focal length on 25 mm film: yfov = 2 atan(12.5 / 35).
+    camera = g.perspective_camera("cornell-camera", 2.0 * math.atan(12.5 / 35.0), aspect_ratio=1.0)
+    # glTF cameras look down -z; turning half a circle about y makes them look down +z as published.
+    g.node("camera", parent=root, camera=camera, translation=[278.0, 273.0, -800.0], rotation=[0.0, 1.0, 0.0, 0.0])
+    g.write(os.path.join(SCENES, "cornell.gltf"))
+
+
+def look_at_rotation(eye, target):
+    """Quaternion (x, y, z, w) turning a glTF camera (looking down -z, +y up) to look from eye at target."""
+    f = [target[i] - eye[i] for i in range(3)]
+    n = math.sqrt(sum(c * c for c in f))
+    f = [c / n for c in f]
+    yaw = math.atan2(-f[0], -f[2])
+    pitch = math.asin(max(-1.0, min(1.0, f[1])))
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    # yaw about y, then pitch about the rotated x: q = q_yaw * q_pitch
+    return [cy * sp, sy * cp, -sy * sp, cy * cp]
+
+
+def checkerboard(size, cells, height):
+    """Two (positions, indices) sets: the light and the dark cells of a square board centred at the origin."""
+    light, dark = [], []
+    step = 2 * size / cells
+    for i in range(cells):
+        for j in range(cells):
+            x0, z0 = -size + i * step, -size + j * step
+            cell = quad([[x0, height, z0], [x0 + step, height, z0], [x0 + step, height, z0 + step],
+                         [x0, height, z0 + step]], [0.0, 1.0, 0.0])
+            (light if (i + j) % 2 == 0 else dark).append(cell)
+    return merge(light), merge(dark)
+
+
+def whitted():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    yellow = g.material("yellow", base_color=(0.9, 0.75, 0.1))
+    red = g.material("red", base_color=(0.8, 0.1, 0.05))
+    mirror = g.material("mirror", base_color=(0.9, 0.9, 0.9), metallic=1.0, roughness=0.0)
+    glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
+                       thickness=1.0)
+    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
+    mirror_sphere = uv_sphere([0.9, 1.0, -1.2], 1.0, 48, 96)
+    glass_sphere = uv_sphere([-0.6, 1.3, 0.8], 0.8, 48, 96)
+    mesh = g.mesh("whitted", [
+        (light_cells[0], None, light_cells[1], yellow),
+        (dark_cells[0], None, dark_cells[1], red),
+        (mirror_sphere[0], mirror_sphere[1], mirror_sphere[2], mirror),
+        (glass_sphere[0], glass_sphere[1], glass_sphere[2], glass),
+    ])
+    g.node("scene", mesh=mesh)
+    eye, target = [0.0, 2.6, 6.5], [0.0, 0.9, 0.0]
+    camera = g.perspective_camera("whitted-camera", math.radians(45.0))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    light = g.light({"type": "point", "name": "lamp", "color": [1.0, 0.97, 0.9], "intensity": 40.0})
+    g.node("lamp", translation=[3.0, 6.0, 4.0], extensions={"KHR_lights_punctual": {"light": light}})
+    g.write(os.path.join(SCENES, "whitted.gltf"))
+
+
+def lights():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.8, 0.8, 0.8))
+    object_material = g.material("plastic", base_color=(0.6, 0.6, 0.7), roughness=0.4)
+    floor = quad([[-6.0, 0.0, -6.0], [6.0, 0.0, -6.0], [6.0, 0.0, 6.0], [-6.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    spheres = [uv_sphere([x, 0.6, 0.0], 0.6, 24, 48) for x in (-2.2, 0.0, 2.2)]
+    primitives = [(floor[0], None, floor[1], floor_material)]
+    primitives += [(s[0], s[1], s[2], object_material) for s in spheres]
+    g.node("scene", mesh=g.mesh("lights", primitives))
+    eye, target = [0.0, 4.0, 8.0], [0.0, 0.5, 0.0]
+    camera = g.perspective_camera("lights-camera", math.radians(45.0))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    point = g.light({"type": "point", "name": "warm point", "color": [1.0, 0.6, 0.3], "intensity": 6.0,
+                     "range": 8.0})
+    g.node("point", translation=[-2.2, 2.0, 1.5], extensions={"KHR_lights_punctual": {"light": point}})
+    spot = g.light({"type": "spot", "name": "cool spot", "color": [0.4, 0.6, 1.0], "intensity": 30.0,
+                    "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.45}})
+    g.node("spot", translation=[2.2, 4.0, 0.0], rotation=[-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)],
+           extensions={"KHR_lights_punctual": {"light": spot}})
+    sun = g.light({"type": "directional", "name": "dim sun", "color": [1.0, 1.0, 1.0], "intensity": 0.4})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.5, -1.0, -0.3]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    g.write(os.path.join(SCENES, "lights.gltf"))
+
+
+if __name__ == "__main__":
+    os.makedirs(SCENES, exist_ok=True)
+    cornell()
+    whitted()
+    lights()
