@@ -38,6 +38,8 @@ AreaLightSample AreaLights::sample(double pick, double u, double v) const {
     AreaLightSample s;
     s.triangle = triangles_[i];
     s.point = b0 * glm::dvec3(t.v0) + b1 * glm::dvec3(t.v1) + b2 * glm::dvec3(t.v2);
+    s.u = b1;
+    s.v = b2;
     s.normal = glm::normalize(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
     s.pdfArea = pdfArea_[i];
     return s;

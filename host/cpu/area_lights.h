@@ -13,6 +13,7 @@ namespace vkrt {
 struct AreaLightSample {
     uint32_t triangle = 0;
     glm::dvec3 point{0.0};
+    double u = 0.0, v = 0.0;  // barycentric weights of the triangle's v1 and v2 at `point`
     glm::dvec3 normal{0.0};  // the emitting (front) side
     double pdfArea = 0.0;    // probability density of this point per unit area, light choice included
 };

@@ -86,15 +86,25 @@ bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude
     return found;
 }
 
+glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {
+    const TriangleShading& s = scene_.shading[hit.triangle];
+    return (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) + hit.v * glm::dvec2(s.uv[2]);
+}
+
 glm::dvec3 ReferenceRenderer::albedoAt(const Material& material, const SurfaceHit& hit) const {
     glm::dvec3 albedo(material.baseColor);
     if (material.baseColorTexture >= 0) {
-        const TriangleShading& s = scene_.shading[hit.triangle];
-        const glm::dvec2 uv = (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) +
-                              hit.v * glm::dvec2(s.uv[2]);
-        albedo *= glm::dvec3(sampleBaseColor(scene_.textures[material.baseColorTexture], uv));
+        albedo *= glm::dvec3(sampleBaseColor(scene_.textures[material.baseColorTexture], uvAt(hit)));
     }
     return albedo;
+}
+
+glm::dvec3 ReferenceRenderer::emissionAt(const Material& material, const SurfaceHit& hit) const {
+    glm::dvec3 emission(material.emission);
+    if (material.emissiveTexture >= 0) {
+        emission *= glm::dvec3(sampleBaseColor(scene_.textures[material.emissiveTexture], uvAt(hit)));
+    }
+    return emission;
 }
 
 glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_t excludeA,
@@ -152,7 +162,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dv
                 ++counters.shadow;
                 const glm::dvec3 visible = transmittance({origin, toLight}, distance * (1.0 - 1e-9), triangle, light.triangle);
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
-                const glm::dvec3 irradiance = glm::dvec3(emitter.emission) * cosLight / (distance2 * light.pdfArea);
+                const glm::dvec3 irradiance = emissionAt(emitter, {light.triangle, 0.0, light.u, light.v}) * cosLight / (distance2 * light.pdfArea);
                 sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
         }
@@ -185,10 +195,11 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     if (!(glm::dot(normal, toViewer) > 0.0)) normal = geometricNormal;  // shading normal faces away: use the true one
 
     glm::dvec3 result(0.0);
-    if (frontFace || material.doubleSided) result += glm::dvec3(material.emission);
+    if (frontFace || material.doubleSided) result += emissionAt(material, hit);
 
     const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
-    result += settings_.ambient * surface.diffuse;
+    // Ambient light reaches the diffuse part and the part of the specular reflection not traced as a mirror.
+    result += settings_.ambient * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
     result += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sample, node, counters);
 
     if (depth < settings_.maxDepth) {

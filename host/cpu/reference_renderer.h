@@ -43,7 +43,9 @@ private:
     glm::dvec3 directLight(const glm::dvec3& point, const glm::dvec3& normal, const glm::dvec3& geometricNormal,
                            const glm::dvec3& toViewer, const SurfaceResponse& surface, uint32_t triangle,
                            uint32_t pixel, uint32_t sample, uint32_t node, RayCounters& counters) const;
+    glm::dvec2 uvAt(const SurfaceHit& hit) const;
     glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
+    glm::dvec3 emissionAt(const Material& material, const SurfaceHit& hit) const;
 
     const Scene& scene_;
     const FlatBvh& bvh_;

@@ -18,9 +18,9 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 5> kSupportedExtensions = {
+constexpr std::array<const char*, 6> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_volume", "KHR_lights_punctual"};
+    "KHR_materials_volume", "KHR_lights_punctual", "EXT_mesh_gpu_instancing"};
 
 // Everything the node walk needs, so that helpers stay small.
 class GltfConverter {
@@ -47,6 +47,7 @@ private:
     glm::dmat4 localTransform(int nodeIndex) const;
     void walk(int nodeIndex, const glm::dmat4& parent);
     void addMesh(int meshIndex, const glm::dmat4& world);
+    std::vector<glm::dmat4> instanceTransforms(const tinygltf::Value& extension, const std::string& where) const;
     void addPrimitive(const tinygltf::Primitive& primitive, const std::string& where, const glm::dmat4& world);
     void addCamera(int cameraIndex, const glm::dmat4& world, const std::string& nodeName);
     void addLight(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
@@ -249,7 +250,7 @@ void GltfConverter::convertMaterials() {
         if (material.ior == 0.0f) material.ior = 1e6f;
         if (strength < 0.0f) fail(where + ": emissiveStrength must not be negative");
         material.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
-        if (m.emissiveTexture.index >= 0) warn(where + ": emissive texture ignored (factor used)");
+        material.emissiveTexture = textureIndex(m.emissiveTexture.index, where);
         scene_.materials.push_back(material);
     }
 }
@@ -366,12 +367,62 @@ void GltfConverter::walk(int nodeIndex, const glm::dmat4& parent) {
         if (node.mesh >= static_cast<int>(model_.meshes.size())) {
             fail(where + " refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
         }
-        addMesh(node.mesh, world);
+        auto instancing = node.extensions.find("EXT_mesh_gpu_instancing");
+        if (instancing == node.extensions.end()) {
+            addMesh(node.mesh, world);
+        } else {
+            for (const glm::dmat4& instance : instanceTransforms(instancing->second, where)) {
+                addMesh(node.mesh, world * instance);
+            }
+        }
     }
     if (node.camera >= 0) addCamera(node.camera, world, node.name);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) addLight(light->second, world, where);
     for (int child : node.children) walk(child, world);
+}
+
+// EXT_mesh_gpu_instancing: one translation / rotation / scale per instance, applied before the node's own
+// transform (instance transforms are in the node's local space).
+std::vector<glm::dmat4> GltfConverter::instanceTransforms(const tinygltf::Value& extension,
+                                                          const std::string& where) const {
+    const std::string extWhere = where + " EXT_mesh_gpu_instancing";
+    if (!extension.IsObject() || !extension.Has("attributes") || !extension.Get("attributes").IsObject()) {
+        fail(extWhere + " needs an 'attributes' object");
+    }
+    const tinygltf::Value& attributes = extension.Get("attributes");
+    std::vector<float> translation, rotation, scale;
+    size_t count = 0;
+    bool any = false;
+    auto read = [&](const char* name, int components, std::vector<float>& out) {
+        if (!attributes.Has(name)) return;
+        if (!attributes.Get(name).IsInt()) fail(extWhere + ": attribute " + name + " must be an accessor index");
+        out = accessors_.readFloats(attributes.Get(name).GetNumberAsInt(), components, extWhere + " " + name);
+        const size_t n = out.size() / components;
+        if (any && n != count) fail(extWhere + ": attributes have different counts");
+        count = n;
+        any = true;
+        for (float v : out) {
+            if (!std::isfinite(v)) fail(extWhere + " " + name + " has a non-finite value");
+        }
+    };
+    read("TRANSLATION", 3, translation);
+    read("ROTATION", 4, rotation);
+    read("SCALE", 3, scale);
+    if (!any) fail(extWhere + " has no TRANSLATION, ROTATION or SCALE attribute");
+    std::vector<glm::dmat4> transforms(count, glm::dmat4(1.0));
+    for (size_t i = 0; i < count; ++i) {
+        glm::dmat4& m = transforms[i];
+        if (!translation.empty()) m = glm::translate(m, glm::dvec3(translation[3 * i], translation[3 * i + 1], translation[3 * i + 2]));
+        if (!rotation.empty()) {
+            glm::dquat q(rotation[4 * i + 3], rotation[4 * i], rotation[4 * i + 1], rotation[4 * i + 2]);
+            const double length = glm::length(q);
+            if (!(length > 0.0)) fail(extWhere + ": instance " + std::to_string(i) + " has a zero rotation quaternion");
+            m = m * glm::mat4_cast(q / length);
+        }
+        if (!scale.empty()) m = glm::scale(m, glm::dvec3(scale[3 * i], scale[3 * i + 1], scale[3 * i + 2]));
+    }
+    return transforms;
 }
 
 void GltfConverter::addMesh(int meshIndex, const glm::dmat4& world) {

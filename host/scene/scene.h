@@ -82,6 +82,7 @@ struct Material {
     float metallic = 1.0f;
     float roughness = 1.0f;
     glm::vec3 emission{0.0f};  // emissiveFactor * KHR_materials_emissive_strength
+    int emissiveTexture = -1;  // index into Scene::textures; multiplies `emission`
     float transmission = 0.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
