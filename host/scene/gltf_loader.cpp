@@ -13,6 +13,7 @@
 #include <tiny_gltf.h>
 
 #include "scene/gltf_accessors.h"
+#include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 
 namespace vkrt {
@@ -90,11 +91,7 @@ Scene GltfConverter::convert() {
     }
     if (scene_.triangles.empty()) warn("the scene has no triangles");
 
-    for (uint32_t i = 0; i < scene_.triangles.size(); ++i) {
-        const Triangle& t = scene_.triangles[i];
-        scene_.bounds.grow(t.bounds());
-        if (scene_.materials[t.material].emissive()) scene_.emissiveTriangles.push_back(i);
-    }
+    finalizeScene(scene_);
     return std::move(scene_);
 }
 

@@ -1,0 +1,225 @@
+// Malformed input: each class gets one clear error naming the file and the problem, exit code 2, no
+// crash and no output file.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/gltf_loader.h"
+#include "scene/scene_error.h"
+#include "test_support.h"
+
+namespace vkrt {
+namespace {
+
+using nlohmann::json;
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        const size_t available = std::min<size_t>(3, bytes.size() - i);
+        uint32_t chunk = 0;
+        for (size_t k = 0; k < 3; ++k) chunk = (chunk << 8) | (k < available ? bytes[i + k] : 0);
+        for (size_t k = 0; k < 4; ++k) out += k <= available ? alphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
+}
+
+std::filesystem::path fileFor(const std::filesystem::path& folder, std::string name) {
+    std::replace(name.begin(), name.end(), ' ', '-');
+    return folder / (name + ".gltf");
+}
+
+// One triangle: 3 float positions (36 bytes) then 3 uint16 indices (6 bytes, padded to 8).
+std::vector<uint8_t> triangleBytes(float firstX = 0.0f) {
+    const float positions[9] = {firstX, 0, 0, 1, 0, 0, 0, 1, 0};
+    const uint16_t indices[4] = {0, 1, 2, 0};
+    std::vector<uint8_t> bytes(44);
+    std::memcpy(bytes.data(), positions, 36);
+    std::memcpy(bytes.data() + 36, indices, 8);
+    return bytes;
+}
+
+json validTriangle(const std::vector<uint8_t>& bytes = triangleBytes()) {
+    return json{
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+        {"accessors",
+         {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+          {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+        {"buffers",
+         {{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+    };
+}
+
+struct BadCase {
+    const char* name;
+    std::function<void(const std::filesystem::path& folder, std::filesystem::path& file)> make;
+    const char* expected;  // a phrase the one-line error must contain
+};
+
+void writeJson(const std::filesystem::path& file, const json& document) { test::writeText(file, document.dump()); }
+
+std::vector<BadCase> badCases() {
+    return {
+        {"missing file", [](auto& folder, auto& file) { file = folder / "does-not-exist.gltf"; }, "cannot open"},
+        {"malformed JSON", [](auto&, auto& file) { test::writeText(file, "{\"asset\": {\"version\": \"2.0\"}, "); }, ""},
+        {"wrong JSON type",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][0]["count"] = "three";
+             writeJson(file, d);
+         },
+         "count"},
+        {"missing external buffer",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["buffers"][0]["uri"] = "missing.bin";
+             writeJson(file, d);
+         },
+         "missing.bin"},
+        {"short buffer",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["bufferViews"][1]["byteLength"] = 100;  // past the 44-byte buffer
+             writeJson(file, d);
+         },
+         "holds only"},
+        {"accessor overflow",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][0]["count"] = 4;  // 4 VEC3 floats need 48 bytes, the view has 36
+             writeJson(file, d);
+         },
+         "overflows"},
+        {"index out of range",
+         [](auto&, auto& file) {
+             std::vector<uint8_t> bytes = triangleBytes();
+             const uint16_t bad = 7;
+             std::memcpy(bytes.data() + 40, &bad, 2);
+             writeJson(file, validTriangle(bytes));
+         },
+         "out of range"},
+        {"non-finite position",
+         [](auto&, auto& file) { writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::quiet_NaN()))); },
+         "non-finite"},
+        {"infinite position",
+         [](auto&, auto& file) { writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::infinity()))); },
+         "non-finite"},
+        {"node cycle",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"] = json::array({{{"mesh", 0}, {"children", {1}}}, {{"children", {2}}}, {{"children", {1}}}});
+             writeJson(file, d);
+         },
+         "cycle"},
+        {"node that is its own child",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"][0]["children"] = {0};
+             writeJson(file, d);
+         },
+         "cycle"},
+        {"node with two parents",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"] = json::array({{{"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}});
+             d["scenes"][0]["nodes"] = {0, 1};
+             writeJson(file, d);
+         },
+         "two parents"},
+        {"mesh index out of range",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"][0]["mesh"] = 5;
+             writeJson(file, d);
+         },
+         "mesh 5"},
+        {"missing image",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["images"] = {{{"uri", "no-such-image.png"}}};
+             d["textures"] = {{{"source", 0}}};
+             d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+             d["meshes"][0]["primitives"][0]["material"] = 0;
+             writeJson(file, d);
+         },
+         "no-such-image.png"},
+        {"unsupported required extension",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+             d["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+             writeJson(file, d);
+         },
+         "KHR_draco_mesh_compression"},
+        {"truncated GLB",
+         [](auto&, auto& file) {
+             file.replace_extension(".glb");
+             test::writeText(file, std::string("glTF\x02\x00\x00\x00\xff\x00\x00\x00", 12));
+         },
+         ""},
+        {"not glTF at all", [](auto&, auto& file) { test::writeText(file, "P6\n1 1\n255\n\x01\x02\x03"); }, ""},
+    };
+}
+
+TEST(BadInput, LoaderThrowsOneLineSceneError) {
+    const auto folder = test::temporaryFolder();
+    for (const BadCase& c : badCases()) {
+        SCOPED_TRACE(c.name);
+        std::filesystem::path file = fileFor(folder, c.name);
+        c.make(folder, file);
+        try {
+            loadGltf(file.string());
+            ADD_FAILURE() << "loaded without error";
+        } catch (const SceneError& e) {
+            const std::string message = e.what();
+            EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+            EXPECT_NE(message.find(file.string()), std::string::npos) << "names the file: " << message;
+            EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+        }
+    }
+}
+
+TEST(BadInput, CommandExitsWithCodeTwoAndWritesNothing) {
+    const auto folder = test::temporaryFolder();
+    for (const BadCase& c : badCases()) {
+        SCOPED_TRACE(c.name);
+        std::filesystem::path file = fileFor(folder, c.name);
+        c.make(folder, file);
+        const auto output = folder / "out.png";
+        const auto stats = folder / "stats.json";
+        const test::CommandResult result = test::runVkrt("--scene '" + file.string() + "' --out '" + output.string() +
+                                                         "' --stats '" + stats.string() + "' --width 8 --height 8");
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_NE(result.output.find("vkrt: error: "), std::string::npos) << result.output;
+        EXPECT_FALSE(std::filesystem::exists(output));
+        EXPECT_FALSE(std::filesystem::exists(stats));
+    }
+    // Nothing half-written is left behind either.
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+        EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    }
+}
+
+TEST(BadInput, ValidTriangleLoads) {
+    // The generator above makes valid files: each bad case differs from this by its one defect.
+    const auto folder = test::temporaryFolder();
+    writeJson(folder / "valid.gltf", validTriangle());
+    const Scene scene = loadGltf((folder / "valid.gltf").string());
+    EXPECT_EQ(scene.triangles.size(), 1u);
+}
+
+}  // namespace
+}  // namespace vkrt

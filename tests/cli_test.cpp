@@ -1,0 +1,95 @@
+// The vkrt command: help, exit codes, outputs and the stats JSON.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "image/image_io.h"
+#include "test_support.h"
+
+namespace vkrt {
+namespace {
+
+std::string quoted(const std::filesystem::path& path) {
+    std::string text = "'";
+    text += path.string();
+    text += "'";
+    return text;
+}
+
+const std::string kCornell = quoted(test::sourceDir() / "scenes/cornell.gltf");
+
+TEST(Cli, HelpListsTheOptionsAndExitsZero) {
+    const auto result = test::runVkrt("--help");
+    EXPECT_EQ(result.exitCode, 0);
+    for (const char* option : {"--scene", "--out", "--width", "--height", "--spp", "--max-depth", "--device",
+                               "--seed", "--camera", "--stats"}) {
+        EXPECT_NE(result.output.find(option), std::string::npos) << option;
+    }
+}
+
+TEST(Cli, BadUsageExitsTwoWithOneLine) {
+    for (const char* arguments : {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
+                                  "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu"}) {
+        const auto result = test::runVkrt(arguments);
+        EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.output;
+        EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+    }
+}
+
+TEST(Cli, CameraOutOfRangeIsBadInput) {
+    const auto folder = test::temporaryFolder();
+    const auto result = test::runVkrt("--scene " + kCornell + " --camera 3 --out '" + (folder / "x.png").string() + "'");
+    EXPECT_EQ(result.exitCode, 2) << result.output;
+    EXPECT_NE(result.output.find("camera"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+}
+
+TEST(Cli, GpuDeviceSaysItIsNotBuiltYet) {
+    const auto folder = test::temporaryFolder();
+    const auto result = test::runVkrt("--scene " + kCornell + " --device gpu --out '" + (folder / "x.png").string() + "'");
+    EXPECT_EQ(result.exitCode, 1);
+    EXPECT_NE(result.output.find("not built yet"), std::string::npos) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+}
+
+TEST(Cli, RendersEveryFormatAndWritesStats) {
+    const auto folder = test::temporaryFolder();
+    for (const char* name : {"c.png", "c.exr", "c.pfm"}) {
+        const auto out = folder / name;
+        const auto stats = folder / "stats.json";
+        const auto result = test::runVkrt("--scene " + kCornell + " --device cpu --width 24 --height 16 --spp 2 --out '" +
+                                          out.string() + "' --stats '" + stats.string() + "'");
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        ASSERT_TRUE(std::filesystem::exists(out)) << name;
+        if (std::string(name) != "c.png") {
+            const Image image = readImage(out.string());
+            EXPECT_EQ(image.width, 24);
+            EXPECT_EQ(image.height, 16);
+        }
+        std::ifstream file(stats);
+        const nlohmann::json json = nlohmann::json::parse(file);
+        for (const char* key : {"scene", "device", "width", "height", "spp", "render_ms", "mrays_per_s",
+                                "nonfinite_samples"}) {
+            EXPECT_TRUE(json.contains(key)) << key;
+        }
+        for (const char* key : {"build_ms", "nodes", "depth", "sah_cost"}) EXPECT_TRUE(json["bvh"].contains(key)) << key;
+        for (const char* key : {"primary", "shadow", "secondary"}) EXPECT_TRUE(json["rays"].contains(key)) << key;
+        EXPECT_EQ(json["rays"]["primary"], 24 * 16 * 2);
+        EXPECT_EQ(json["device"], "cpu");
+        EXPECT_EQ(json["nonfinite_samples"], 0);
+    }
+}
+
+TEST(Cli, HeightFollowsTheCameraAspectRatio) {
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "c.pfm";
+    const auto result = test::runVkrt("--scene " + kCornell + " --quiet --width 20 --spp 1 --out '" + out.string() + "'");
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_EQ(readImage(out.string()).height, 20);  // the Cornell camera's aspect ratio is 1
+}
+
+}  // namespace
+}  // namespace vkrt

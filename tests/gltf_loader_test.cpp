@@ -1,0 +1,179 @@
+// Loading real glTF files: every third-party scene loads (or names what it lacks), with counts checked.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "scene/camera_selection.h"
+#include "scene/gltf_loader.h"
+#include "scene/scene_error.h"
+#include "test_support.h"
+
+namespace vkrt {
+namespace {
+
+Scene loadReal(const std::string& relative) { return loadGltf((test::scenesReal() / relative).string()); }
+
+#define REQUIRE_SCENES_REAL() \
+    if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal()
+
+TEST(GltfLoader, EveryThirdPartySceneLoads) {
+    REQUIRE_SCENES_REAL();
+    const auto files = test::gltfFilesUnder(test::scenesReal());
+    ASSERT_GE(files.size(), 15u);
+    for (const auto& file : files) {
+        SCOPED_TRACE(file.string());
+        try {
+            const Scene scene = loadGltf(file.string());
+            EXPECT_FALSE(scene.triangles.empty());
+            EXPECT_EQ(scene.triangles.size(), scene.shading.size());
+            EXPECT_FALSE(scene.bounds.empty());
+            for (const Triangle& t : scene.triangles) ASSERT_LT(t.material, scene.materials.size());
+        } catch (const SceneError& e) {
+            // Allowed only when the file needs something vkrt names as unsupported.
+            EXPECT_NE(std::string(e.what()).find("does not support"), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(GltfLoader, BoxCounts) {
+    REQUIRE_SCENES_REAL();
+    for (const char* file : {"khronos-Box/glTF/Box.gltf", "khronos-Box/glTF-Binary/Box.glb"}) {
+        const Scene scene = loadReal(file);
+        EXPECT_EQ(scene.triangles.size(), 12u) << file;
+        EXPECT_TRUE(scene.cameras.empty()) << file;
+        // The Box's node rotates it by -90 degrees about x: its 1 x 1 x 1 extent stays a unit cube.
+        EXPECT_NEAR(scene.bounds.extent().x, 1.0f, 1e-5f);
+        EXPECT_NEAR(scene.bounds.extent().y, 1.0f, 1e-5f);
+        EXPECT_NEAR(scene.bounds.extent().z, 1.0f, 1e-5f);
+    }
+}
+
+TEST(GltfLoader, DuckHasTexturedMaterialAndCamera) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("khronos-Duck/glTF/Duck.gltf");
+    EXPECT_EQ(scene.triangles.size(), 4212u);
+    ASSERT_EQ(scene.cameras.size(), 1u);
+    EXPECT_EQ(scene.cameras[0].projection, Projection::Perspective);
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_GT(scene.textures[0].width, 0);
+    EXPECT_EQ(scene.materials[scene.triangles[0].material].baseColorTexture, 0);
+    // The binary and text versions are the same model.
+    EXPECT_EQ(loadReal("khronos-Duck/glTF-Binary/Duck.glb").triangles.size(), 4212u);
+}
+
+TEST(GltfLoader, CamerasPerspectiveAndOrthographic) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("khronos-Cameras/glTF/Cameras.gltf");
+    ASSERT_EQ(scene.cameras.size(), 2u);
+    EXPECT_EQ(scene.cameras[0].projection, Projection::Perspective);
+    EXPECT_EQ(scene.cameras[1].projection, Projection::Orthographic);
+    EXPECT_EQ(selectCamera(scene, 1, 1.0).projection, Projection::Orthographic);
+    EXPECT_THROW(selectCamera(scene, 2, 1.0), SceneError);
+}
+
+TEST(GltfLoader, PunctualLightsInPhotometricUnits) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("playcanvas-lights/Lights.glb");
+    int point = 0, spot = 0, directional = 0;
+    for (const PunctualLight& light : scene.lights) {
+        point += light.type == LightType::Point;
+        spot += light.type == LightType::Spot;
+        directional += light.type == LightType::Directional;
+        EXPECT_NEAR(glm::length(light.direction), 1.0, 1e-9);
+        if (light.type == LightType::Spot) {
+            EXPECT_LT(light.innerConeAngle, light.outerConeAngle);
+        }
+    }
+    EXPECT_EQ(point, 1);
+    EXPECT_EQ(spot, 2);
+    EXPECT_EQ(directional, 1);
+}
+
+TEST(GltfLoader, GpuInstancingExpandsInstances) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("khronos-SimpleInstancing/SimpleInstancing.glb");
+    EXPECT_EQ(scene.triangles.size(), 12u * 125u);
+}
+
+TEST(GltfLoader, VolumeAndTransmissionExtensions) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("khronos-AttenuationTest/AttenuationTest.glb");
+    int volumes = 0, attenuating = 0;
+    for (const Material& m : scene.materials) {
+        volumes += m.hasVolume() && m.transmission > 0.0f;
+        attenuating += std::isfinite(m.attenuationDistance);
+    }
+    EXPECT_GT(volumes, 0);
+    EXPECT_GT(attenuating, 0);
+}
+
+TEST(GltfLoader, NvidiaCornellWarnsAboutItsVendorExtension) {
+    REQUIRE_SCENES_REAL();
+    const Scene scene = loadReal("cornell-box-nvidia/cornellBox.gltf");
+    bool named = false;
+    for (const std::string& warning : scene.warnings) named |= warning.find("NV_materials_mdl") != std::string::npos;
+    EXPECT_TRUE(named);
+    EXPECT_FALSE(scene.emissiveTriangles.empty());
+}
+
+TEST(GltfLoader, OwnCornellBoxMatchesThePublishedData) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    EXPECT_EQ(scene.triangles.size(), 38u);  // 5 walls (ceiling in 4 parts), 2 blocks of 5 faces, the light
+    EXPECT_EQ(scene.emissiveTriangles.size(), 2u);
+    ASSERT_EQ(scene.cameras.size(), 1u);
+    const Camera& camera = scene.cameras[0];
+    EXPECT_NEAR(camera.yfov, 2.0 * std::atan(12.5 / 35.0), 1e-12);
+    EXPECT_NEAR(camera.position.x, 0.278, 1e-9);
+    EXPECT_NEAR(camera.position.y, 0.273, 1e-9);
+    EXPECT_NEAR(camera.position.z, -0.800, 1e-9);
+    EXPECT_NEAR(camera.forward.z, 1.0, 1e-12);
+    EXPECT_NEAR(camera.up.y, 1.0, 1e-12);
+    // Box extents in metres: 556.0 x 548.8 x 559.2 mm.
+    EXPECT_NEAR(scene.bounds.max.x, 0.556f, 1e-6f);
+    EXPECT_NEAR(scene.bounds.max.y, 0.5488f, 1e-6f);
+    EXPECT_NEAR(scene.bounds.max.z, 0.5592f, 1e-6f);
+    // The light faces down into the box.
+    for (uint32_t index : scene.emissiveTriangles) {
+        const Triangle& t = scene.triangles[index];
+        EXPECT_LT(glm::cross(t.v1 - t.v0, t.v2 - t.v0).y, 0.0f);
+    }
+}
+
+TEST(GltfLoader, OwnScenesLoad) {
+    const Scene whitted = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
+    EXPECT_EQ(whitted.lights.size(), 1u);
+    int mirrors = 0, glass = 0;
+    for (const Material& m : whitted.materials) {
+        mirrors += m.metallic == 1.0f && m.roughness == 0.0f;
+        glass += m.transmission == 1.0f && m.hasVolume();
+    }
+    EXPECT_EQ(mirrors, 1);
+    EXPECT_EQ(glass, 1);
+    const Scene lights = loadGltf((test::sourceDir() / "scenes/lights.gltf").string());
+    ASSERT_EQ(lights.lights.size(), 3u);
+    EXPECT_EQ(lights.lights[0].type, LightType::Point);
+    EXPECT_EQ(lights.lights[1].type, LightType::Spot);
+    EXPECT_EQ(lights.lights[2].type, LightType::Directional);
+    EXPECT_NEAR(lights.lights[1].direction.y, -1.0, 1e-9);  // the spot points down
+}
+
+TEST(CameraSelection, DefaultCameraFramesTheScene) {
+    Aabb bounds;
+    bounds.grow(glm::vec3(-1.0f, -2.0f, -3.0f));
+    bounds.grow(glm::vec3(3.0f, 2.0f, 1.0f));
+    for (double aspect : {0.5, 1.0, 2.0}) {
+        const Camera camera = frameBounds(bounds, aspect);
+        EXPECT_TRUE(camera.generated);
+        // The bounding sphere's silhouette fits both fields of view.
+        const glm::dvec3 center(1.0, 0.0, -1.0);
+        const double radius = glm::length(glm::dvec3(2.0, 2.0, 2.0));
+        const double distance = glm::length(center - camera.position);
+        const double halfAngle = std::asin(radius / distance);
+        const double halfY = 0.5 * camera.yfov;
+        const double halfX = std::atan(std::tan(halfY) * aspect);
+        EXPECT_LE(halfAngle, std::min(halfX, halfY) + 1e-9) << aspect;
+    }
+}
+
+}  // namespace
+}  // namespace vkrt

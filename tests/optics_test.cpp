@@ -1,0 +1,123 @@
+// Fresnel, Snell and total internal reflection against closed forms.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "cpu/optics.h"
+#include "cpu/triangle_intersection.h"
+#include "cpu/whitted_model.h"
+
+namespace vkrt {
+namespace {
+
+glm::dvec3 fromAngle(double theta) { return {std::sin(theta), 0.0, std::cos(theta)}; }  // normal is +z
+
+TEST(Fresnel, NormalIncidence) {
+    EXPECT_NEAR(fresnelDielectric(1.0, 1.5), 0.04, 1e-15);  // ((n - 1) / (n + 1))^2
+    EXPECT_NEAR(fresnelDielectric(1.0, 1.333), std::pow(0.333 / 2.333, 2), 1e-15);
+    EXPECT_NEAR(fresnelDielectric(1.0, 1.0 / 1.5), 0.04, 1e-15);  // the same from inside
+    EXPECT_DOUBLE_EQ(dielectricF0(1.5), 0.04);
+}
+
+TEST(Fresnel, GrazingIncidenceReflectsEverything) {
+    EXPECT_DOUBLE_EQ(fresnelDielectric(0.0, 1.5), 1.0);
+    EXPECT_GT(fresnelDielectric(std::cos(89.9 * M_PI / 180.0), 1.5), 0.98);
+    // Monotonic from Brewster's angle to grazing.
+    double previous = 0.0;
+    for (double degrees = 57.0; degrees < 90.0; degrees += 1.0) {
+        const double f = fresnelDielectric(std::cos(degrees * M_PI / 180.0), 1.5);
+        EXPECT_GT(f, previous) << degrees;
+        previous = f;
+    }
+}
+
+TEST(Fresnel, BrewsterAngleLeavesOnlyTheSPolarisation) {
+    // At tan(theta) = n the p-polarised reflectance vanishes; the s part follows from Snell's law.
+    const double n = 1.5, theta = std::atan(n);
+    const double thetaT = std::asin(std::sin(theta) / n);
+    EXPECT_NEAR(theta + thetaT, M_PI / 2, 1e-12);  // at Brewster's angle the two rays are perpendicular
+    const double rs = std::sin(theta - thetaT) / std::sin(theta + thetaT);  // Fresnel's sine law
+    EXPECT_NEAR(fresnelDielectric(std::cos(theta), n), 0.5 * rs * rs, 1e-12);
+}
+
+TEST(Fresnel, IndexMatchedInterfaceIsInvisible) {
+    for (double c = 0.05; c <= 1.0; c += 0.05) EXPECT_NEAR(fresnelDielectric(c, 1.0), 0.0, 1e-15);
+}
+
+TEST(Snell, RefractionObeysSnellsLaw) {
+    const glm::dvec3 normal(0, 0, 1);
+    for (double degrees : {0.0, 10.0, 30.0, 60.0, 89.0}) {
+        const double theta = degrees * M_PI / 180.0;
+        glm::dvec3 t;
+        ASSERT_TRUE(refract(fromAngle(theta), normal, 1.5, t));
+        EXPECT_NEAR(glm::length(t), 1.0, 1e-14);
+        EXPECT_LT(t.z, 0.0);                                             // goes into the surface
+        EXPECT_NEAR(-t.x, std::sin(theta) / 1.5, 1e-14) << degrees;      // n1 sin(i) = n2 sin(t)
+        EXPECT_NEAR(t.y, 0.0, 1e-15);                                    // stays in the plane of incidence
+    }
+}
+
+TEST(Snell, TotalInternalReflectionPastTheCriticalAngle) {
+    const double eta = 1.0 / 1.5;  // glass to air
+    const double critical = std::asin(eta);
+    EXPECT_NEAR(critical * 180.0 / M_PI, 41.8103, 1e-4);
+    glm::dvec3 t;
+    EXPECT_TRUE(refract(fromAngle(critical - 1e-6), {0, 0, 1}, eta, t));
+    EXPECT_FALSE(refract(fromAngle(critical + 1e-6), {0, 0, 1}, eta, t));
+    EXPECT_LT(fresnelDielectric(std::cos(critical - 1e-3), eta), 1.0);
+    EXPECT_DOUBLE_EQ(fresnelDielectric(std::cos(critical + 1e-6), eta), 1.0);
+    EXPECT_DOUBLE_EQ(fresnelDielectric(std::cos(1.2), eta), 1.0);
+}
+
+TEST(Snell, ReflectionMirrorsAboutTheNormal) {
+    const glm::dvec3 r = reflect(fromAngle(0.3), {0, 0, 1});
+    EXPECT_NEAR(r.x, -std::sin(0.3), 1e-15);
+    EXPECT_NEAR(r.z, std::cos(0.3), 1e-15);
+}
+
+TEST(GlassSlab, RayLeavesParallelAndShiftedByTheAnalyticAmount) {
+    // A slab between z = 0 and z = -d, made of two large triangles per face, traced with the renderer's
+    // intersection and refraction code.
+    const double d = 0.37, n = 1.5;
+    const Triangle top{{-100, -100, 0}, {100, -100, 0}, {0, 100, 0}, 0};
+    const Triangle bottom{{-100, -100, static_cast<float>(-d)}, {0, 100, static_cast<float>(-d)},
+                          {100, -100, static_cast<float>(-d)}, 0};
+    for (double degrees : {5.0, 25.0, 45.0, 70.0, 85.0}) {
+        const double theta = degrees * M_PI / 180.0;
+        const glm::dvec3 direction = -fromAngle(theta);  // coming down towards the slab
+        const glm::dvec3 origin = glm::dvec3(0.1, 0.2, 0.0) - 5.0 * direction;
+        TriangleHit hit;
+        ASSERT_TRUE(intersectTriangle(top, origin, direction, 0.0, 1e9, hit));
+        const glm::dvec3 entry = origin + hit.t * direction;
+        glm::dvec3 inside;
+        ASSERT_TRUE(refract(-direction, {0, 0, 1}, n, inside));
+        ASSERT_TRUE(intersectTriangle(bottom, entry, inside, 0.0, 1e9, hit));
+        const glm::dvec3 exit = entry + hit.t * inside;
+        glm::dvec3 outside;
+        ASSERT_TRUE(refract(-inside, {0, 0, 1}, 1.0 / n, outside));  // normal on the incident side
+        EXPECT_NEAR(glm::length(glm::cross(outside, direction)), 0.0, 1e-12) << "parallel at " << degrees;
+        EXPECT_GT(glm::dot(outside, direction), 0.0);
+        // Lateral displacement: d sin(theta - theta_t) / cos(theta_t).
+        const double thetaT = std::asin(std::sin(theta) / n);
+        const double expected = d * std::sin(theta - thetaT) / std::cos(thetaT);
+        const glm::dvec3 offset = exit - entry;
+        const double shift = glm::length(offset - glm::dot(offset, direction) * direction);
+        EXPECT_NEAR(shift, expected, 1e-6 * d) << degrees;
+    }
+}
+
+TEST(WhittedModel, BlinnPhongLobeIsNormalisedAndMatchesRoughness) {
+    EXPECT_DOUBLE_EQ(blinnPhongExponent(1.0), 0.0);          // roughness 1: a constant lobe
+    EXPECT_NEAR(blinnPhongExponent(0.5), 2.0 / 0.0625 - 2.0, 1e-12);
+    EXPECT_GT(blinnPhongExponent(0.0), 1e5);                  // mirror-like
+    // Lambert part: a white diffuse surface reflects albedo / pi per unit irradiance.
+    Material white;
+    white.metallic = 0.0f;
+    white.ior = 1.0f;  // no specular reflectance
+    const SurfaceResponse s = surfaceResponse(white, glm::dvec3(1.0));
+    const glm::dvec3 f = whittedBrdf(s, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.9));
+    EXPECT_NEAR(f.x, 1.0 / M_PI, 1e-15);
+}
+
+}  // namespace
+}  // namespace vkrt

@@ -1,0 +1,80 @@
+// The counter-based generator: pinned values (the GPU must reproduce them bit for bit), range,
+// uniformity and independence between dimensions.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "random.h"
+
+namespace vkrt {
+namespace {
+
+TEST(Random, PinnedValues) {
+    // Computed independently (Python, 32-bit masked arithmetic) from the definition in shaders/random.h.
+    EXPECT_EQ(vkrtHash(1u), 0x688990c0u);
+    EXPECT_EQ(vkrtRandomBits(0, 0, 0, 0), 0x352bad60u);
+    EXPECT_EQ(vkrtRandomBits(0, 1, 0, 0), 0x7e8c5aabu);
+    EXPECT_EQ(vkrtRandomBits(0, 0, 1, 0), 0x44dd4ff3u);
+    EXPECT_EQ(vkrtRandomBits(0, 0, 0, 1), 0x05711438u);
+    EXPECT_EQ(vkrtRandomBits(42, 12345, 678, 9), 0xde29bffbu);
+    EXPECT_EQ(vkrtRandomBits(0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu), 0x8cd0dcd5u);
+    EXPECT_EQ(vkrtRandom(42, 12345, 678, 9), static_cast<float>(0xde29bfu) / 16777216.0f);
+}
+
+TEST(Random, RangeIsHalfOpenUnitInterval) {
+    for (uint32_t i = 0; i < 200000; ++i) {
+        const float u = vkrtRandom(1, i, i * 7, i % 13);
+        ASSERT_GE(u, 0.0f);
+        ASSERT_LT(u, 1.0f);
+    }
+}
+
+TEST(Random, UniformByChiSquare) {
+    constexpr int bins = 64;
+    constexpr int samples = 1 << 20;
+    std::vector<int> counts(bins, 0);
+    double sum = 0.0;
+    for (uint32_t i = 0; i < samples; ++i) {
+        const float u = vkrtRandom(3, i % 4096, i / 4096, 5);
+        ++counts[static_cast<int>(u * bins)];
+        sum += u;
+    }
+    double chi2 = 0.0;
+    const double expected = static_cast<double>(samples) / bins;
+    for (int c : counts) chi2 += (c - expected) * (c - expected) / expected;
+    EXPECT_LT(chi2, 110.0);  // 63 degrees of freedom: p < 0.0002 to fail by chance
+    EXPECT_NEAR(sum / samples, 0.5, 0.002);
+}
+
+TEST(Random, DimensionsPixelsAndSamplesAreUncorrelated) {
+    constexpr int n = 200000;
+    auto correlation = [&](auto a, auto b) {
+        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            const double x = a(i), y = b(i);
+            sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y;
+        }
+        const double cov = sab / n - sa / n * sb / n;
+        return cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
+    };
+    EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 0); },
+                                   [](uint32_t i) { return vkrtRandom(0, i, 0, 1); })), 0.01);
+    EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 2); },
+                                   [](uint32_t i) { return vkrtRandom(0, i + 1, 0, 2); })), 0.01);
+    EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, 5, i, 2); },
+                                   [](uint32_t i) { return vkrtRandom(0, 5, i + 1, 2); })), 0.01);
+    EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 3); },
+                                   [](uint32_t i) { return vkrtRandom(1, i, 0, 3); })), 0.01);
+}
+
+TEST(Random, RayTreeNodesOwnDisjointDimensions) {
+    // Node k's dimensions end before node k + 1's begin, and the pixel jitter comes first.
+    EXPECT_GT(vkrtNodeDimension(0, 0), VKRT_DIM_PIXEL_Y);
+    EXPECT_EQ(vkrtNodeDimension(1, 0), vkrtNodeDimension(0, VKRT_DIMS_PER_NODE - 1) + 1);
+    // The deepest node of a depth-24 tree (2^25 - 2) still fits in 32 bits.
+    EXPECT_GT(vkrtNodeDimension((1u << 25) - 2, VKRT_DIMS_PER_NODE - 1), vkrtNodeDimension((1u << 24), 0));
+}
+
+}  // namespace
+}  // namespace vkrt

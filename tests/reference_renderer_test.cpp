@@ -1,0 +1,262 @@
+// The CPU reference renderer against closed forms: a Lambertian plane under punctual lights, irradiance
+// from a square area light, Beer's law through a slab, and a Cornell box a person would recognise.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "cpu/punctual_light.h"
+#include "cpu/reference_renderer.h"
+#include "image/image_metrics.h"
+#include "scene/camera_selection.h"
+#include "scene/gltf_loader.h"
+#include "scene/scene_builder.h"
+#include "test_support.h"
+
+namespace vkrt {
+namespace {
+
+FlatBvh bvhFor(const Scene& scene) {
+    std::vector<Aabb> bounds;
+    for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
+    return flatten(BinnedSahBuilder::build(bounds));
+}
+
+Material lambert(glm::vec3 albedo) {
+    Material m;
+    m.baseColor = glm::vec4(albedo, 1.0f);
+    m.metallic = 0.0f;
+    m.roughness = 1.0f;
+    m.ior = 1.0f;  // index 1: no specular reflectance at all, so the surface is exactly Lambertian
+    return m;
+}
+
+RenderSettings quietSettings() {
+    RenderSettings settings;
+    settings.ambient = glm::dvec3(0.0);
+    settings.width = settings.height = 16;
+    settings.samplesPerPixel = 1;
+    return settings;
+}
+
+// A 20 x 20 Lambertian floor at z = 0 facing +z.
+Scene floorScene(float albedo) {
+    Scene scene;
+    scene.materials.push_back(lambert(glm::vec3(albedo)));
+    addFlatQuad(scene, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
+    return scene;
+}
+
+glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
+    RayCounters counters;
+    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu, counters);
+}
+
+TEST(ReferenceRenderer, LambertianPlaneUnderPointLightMatchesClosedForm) {
+    Scene scene = floorScene(0.625f);  // binary fractions keep float storage exact
+    PunctualLight light;
+    light.type = LightType::Point;
+    light.position = {0.3, -0.2, 1.5};
+    light.intensity = 7.0f;
+    light.color = {1.0f, 0.5f, 0.25f};
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), quietSettings());
+    for (double x : {-3.0, -0.5, 0.3, 1.0, 4.0}) {
+        for (double y : {-2.0, 0.0, 2.5}) {
+            // L = rho / pi * I cos(theta) / d^2, with cos(theta) = h / d.
+            const glm::dvec3 toLight = light.position - glm::dvec3(x, y, 0.0);
+            const double d = glm::length(toLight);
+            const double expected = 0.625 / M_PI * 7.0 * (1.5 / d) / (d * d);
+            const glm::dvec3 L = radianceDown(renderer, x, y);
+            EXPECT_NEAR(L.x, expected * 1.0, 1e-12 * expected) << x << "," << y;
+            EXPECT_NEAR(L.y, expected * 0.5, 1e-12 * expected);
+            EXPECT_NEAR(L.z, expected * 0.25, 1e-12 * expected);
+        }
+    }
+}
+
+TEST(ReferenceRenderer, SpotAndDirectionalLightsFollowTheSpec) {
+    Scene scene = floorScene(1.0f);
+    PunctualLight spot;
+    spot.type = LightType::Spot;
+    spot.position = {0.0, 0.0, 2.0};
+    spot.direction = {0.0, 0.0, -1.0};
+    spot.intensity = 10.0f;
+    spot.innerConeAngle = 0.25f;
+    spot.outerConeAngle = 0.5f;
+    scene.lights.push_back(spot);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), quietSettings());
+    // Inside the inner cone: full intensity; outside the outer cone: dark; between: the spec's smooth
+    // falloff, squared.
+    const double x0 = 2.0 * std::tan(0.1);
+    const double d0 = std::hypot(x0, 2.0);
+    EXPECT_NEAR(radianceDown(renderer, x0, 0).x, 10.0 / M_PI * (2.0 / d0) / (d0 * d0), 1e-12);
+    EXPECT_EQ(radianceDown(renderer, 2.0 * std::tan(0.55), 0).x, 0.0);
+    const double angle = 0.35, x1 = 2.0 * std::tan(angle), d1 = std::hypot(x1, 2.0);
+    const double t = (std::cos(angle) - std::cos(0.5)) / (std::cos(0.25) - std::cos(0.5));
+    EXPECT_NEAR(radianceDown(renderer, x1, 0).x, 10.0 / M_PI * (2.0 / d1) / (d1 * d1) * t * t, 1e-12);
+
+    Scene sunny = floorScene(0.5f);
+    PunctualLight sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::dvec3(1.0, 0.0, -1.0));
+    sun.intensity = 3.0f;
+    sunny.lights.push_back(sun);
+    finalizeScene(sunny);
+    const FlatBvh sunnyBvh = bvhFor(sunny);
+    const ReferenceRenderer sunRenderer(sunny, sunnyBvh, frameBounds(sunny.bounds, 1.0), quietSettings());
+    EXPECT_NEAR(radianceDown(sunRenderer, 1.0, 1.0).x, 0.5 / M_PI * 3.0 * std::sqrt(0.5), 1e-12);
+}
+
+TEST(ReferenceRenderer, PointLightRangeWindow) {
+    PunctualLight light;
+    light.position = {0.0, 0.0, 0.0};
+    light.range = 2.0f;
+    EXPECT_NEAR(arriveFrom(light, {1.0, 0.0, 0.0}).irradiance.x, 1.0 - std::pow(0.5, 4), 1e-12);
+    EXPECT_EQ(arriveFrom(light, {2.5, 0.0, 0.0}).irradiance.x, 0.0);
+}
+
+TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
+    Scene scene = floorScene(1.0f);
+    addFlatQuad(scene, {-0.5f, -0.5f, 1.0f}, {0.5f, -0.5f, 1.0f}, {0.5f, 0.5f, 1.0f}, {-0.5f, 0.5f, 1.0f}, 0);
+    PunctualLight light;
+    light.position = {0.0, 0.0, 3.0};
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), quietSettings());
+    // The shadow of the unit square at height 1 under a light at height 3 spans |x| < 0.75 on the floor.
+    RayCounters counters;
+    auto floorRadiance = [&](double x) {
+        return renderer.radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu, counters).x;
+    };
+    EXPECT_EQ(floorRadiance(0.7), 0.0);
+    EXPECT_GT(floorRadiance(0.8), 0.0);
+}
+
+// Differential form factor from a point to a parallel rectangle of size a x b with one corner straight
+// above it at height h (Howell's catalogue, configuration B-3).
+double cornerFormFactor(double a, double b, double h) {
+    const double x = a / h, y = b / h;
+    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) / (2.0 * M_PI);
+}
+
+TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
+    Scene scene = floorScene(0.8f);
+    Material emitter = lambert(glm::vec3(0.0f));
+    emitter.emission = glm::vec3(5.0f);
+    scene.materials.push_back(emitter);
+    // A 1 x 1 emitter at height 1.2 facing down (clockwise seen from above).
+    const float h = 1.2f;
+    addFlatQuad(scene, {-0.5f, -0.5f, h}, {-0.5f, 0.5f, h}, {0.5f, 0.5f, h}, {0.5f, -0.5f, h}, 1);
+    finalizeScene(scene);
+    ASSERT_EQ(scene.emissiveTriangles.size(), 2u);
+    const FlatBvh bvh = bvhFor(scene);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), quietSettings());
+    // Under the centre: four corner rectangles of 0.5 x 0.5. Lambertian radiance = rho * L_e * F.
+    const double expected = 0.8 * 5.0 * 4.0 * cornerFormFactor(0.5, 0.5, h);
+    constexpr int samples = 40000;
+    double sum = 0.0, sumSquares = 0.0;
+    for (int s = 0; s < samples; ++s) {
+        RayCounters counters;
+        const double L = renderer.radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), 0, 0,
+                                           glm::dvec3(1.0), -1, 0xffffffffu, counters).x;
+        sum += L;
+        sumSquares += L * L;
+    }
+    const double mean = sum / samples;
+    const double standardError = std::sqrt((sumSquares / samples - mean * mean) / samples);
+    EXPECT_NEAR(mean, expected, 4.0 * standardError + 1e-9) << "standard error " << standardError;
+    EXPECT_LT(standardError, 0.01 * expected);  // the test is sharp enough to mean something
+}
+
+TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
+    // A slab of thickness 0.5 with ior 1 (no refraction, no Fresnel), attenuation colour c at distance 0.25:
+    // transmittance c^(0.5 / 0.25) = c^2 per channel; behind it, a white background.
+    Scene scene;
+    Material glass = lambert(glm::vec3(1.0f));
+    glass.transmission = 1.0f;
+    glass.thickness = 0.5f;
+    glass.attenuationColor = {0.5f, 0.75f, 1.0f};
+    glass.attenuationDistance = 0.25f;
+    scene.materials.push_back(glass);
+    const glm::vec3 corners[4] = {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}};
+    addFlatQuad(scene, corners[0], corners[1], corners[2], corners[3], 0);  // top, facing +z
+    addFlatQuad(scene, corners[3] - glm::vec3(0, 0, 0.5f), corners[2] - glm::vec3(0, 0, 0.5f),
+                corners[1] - glm::vec3(0, 0, 0.5f), corners[0] - glm::vec3(0, 0, 0.5f), 0);  // bottom, facing -z
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings = quietSettings();
+    settings.background = glm::dvec3(1.0);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
+    const glm::dvec3 L = radianceDown(renderer, 0.1, 0.2);
+    EXPECT_NEAR(L.x, 0.25, 1e-9);
+    EXPECT_NEAR(L.y, 0.5625, 1e-9);
+    EXPECT_NEAR(L.z, 1.0, 1e-9);
+}
+
+TEST(ReferenceRenderer, CornellBoxIsRecognisable) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 48;
+    settings.samplesPerPixel = 4;
+    const ReferenceRenderer renderer(scene, bvh, selectCamera(scene, 0, 1.0), settings);
+    const RenderResult result = renderer.render();
+    EXPECT_EQ(result.rays.nonFiniteSamples, 0u);
+    EXPECT_EQ(result.rays.primary, 48u * 48u * 4u);
+    auto meanOver = [&](int x0, int x1, int y0, int y1) {
+        glm::dvec3 sum(0.0);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) sum += glm::dvec3(result.image.at(x, y));
+        return sum / static_cast<double>((x1 - x0) * (y1 - y0));
+    };
+    const glm::dvec3 left = meanOver(2, 6, 12, 36), right = meanOver(42, 46, 12, 36);
+    EXPECT_GT(left.x, 2.0 * left.y) << "the left wall is red";
+    EXPECT_GT(right.y, 2.0 * right.x) << "the right wall is green";
+    // The light in the ceiling is the brightest thing in view.
+    const glm::dvec3 lamp = meanOver(22, 26, 6, 8);  // rows 5.95 to 7.63 and columns 20 to 28 see it
+    EXPECT_GT(lamp.x, 5.0);
+    const glm::dvec3 floor = meanOver(20, 28, 44, 47);
+    EXPECT_GT(floor.x, 0.05);
+}
+
+TEST(ReferenceRenderer, SameSeedSameImageOtherSeedOtherNoise) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 2;
+    const Camera camera = selectCamera(scene, 0, 1.0);
+    const Image a = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    settings.threads = 1;
+    const Image b = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    settings.seed = 1;
+    const Image c = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    EXPECT_EQ(compareImages(a, b).rmse, 0.0) << "threads must not change the result";
+    EXPECT_GT(compareImages(a, c).rmse, 0.0);
+}
+
+TEST(ReferenceRenderer, WhittedSceneHasNoNonFiniteSamplesAndTracesSecondaryRays) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 1;
+    const RenderResult result = ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    EXPECT_EQ(result.rays.nonFiniteSamples, 0u);
+    EXPECT_GT(result.rays.secondary, 100u);
+    // Depth 0 traces no reflection or refraction at all.
+    settings.maxDepth = 0;
+    const RenderResult flat = ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    EXPECT_EQ(flat.rays.secondary, 0u);
+}
+
+}  // namespace
+}  // namespace vkrt
