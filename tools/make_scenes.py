@@ -16,9 +16,10 @@ yellow checkerboard, lit by one point light.
 lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
 objects.
 
-Run from the repository root: python3 tools/make_scenes.py
+Usage: python3 tools/make_scenes.py [OUTPUT_FOLDER]   (default: the repository's scenes/)
 """
 
+import argparse
 import math
 import os
 import sys
@@ -90,7 +91,7 @@ def cornell():
     camera = g.perspective_camera("cornell-camera", 2.0 * math.atan(12.5 / 35.0), aspect_ratio=1.0)
     # glTF cameras look down -z; turning half a circle about y makes them look down +z as published.
     g.node("camera", parent=root, camera=camera, translation=[278.0, 273.0, -800.0], rotation=[0.0, 1.0, 0.0, 0.0])
-    g.write(os.path.join(SCENES, "cornell.gltf"))
+    g.write(os.path.join(OUTPUT, "cornell.gltf"))
 
 
 def look_at_rotation(eye, target):
@@ -141,7 +142,7 @@ def whitted():
     g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
     light = g.light({"type": "point", "name": "lamp", "color": [1.0, 0.97, 0.9], "intensity": 40.0})
     g.node("lamp", translation=[3.0, 6.0, 4.0], extensions={"KHR_lights_punctual": {"light": light}})
-    g.write(os.path.join(SCENES, "whitted.gltf"))
+    g.write(os.path.join(OUTPUT, "whitted.gltf"))
 
 
 def lights():
@@ -166,11 +167,14 @@ def lights():
     sun = g.light({"type": "directional", "name": "dim sun", "color": [1.0, 1.0, 1.0], "intensity": 0.4})
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.5, -1.0, -0.3]),
            extensions={"KHR_lights_punctual": {"light": sun}})
-    g.write(os.path.join(SCENES, "lights.gltf"))
+    g.write(os.path.join(OUTPUT, "lights.gltf"))
 
 
 if __name__ == "__main__":
-    os.makedirs(SCENES, exist_ok=True)
+    parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
+    parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
+    OUTPUT = parser.parse_args().output
+    os.makedirs(OUTPUT, exist_ok=True)
     cornell()
     whitted()
     lights()
