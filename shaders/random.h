@@ -26,8 +26,8 @@ using uint = uint32_t;
 #define VKRT_DIM_PIXEL_Y 1u
 #define VKRT_DIM_NODE_BASE 2u
 #define VKRT_DIMS_PER_NODE 16u
-#define VKRT_DIM_LIGHT_PICK 0u      // which area light to sample
-#define VKRT_DIM_LIGHT_U 1u         // where on it
+#define VKRT_DIM_LIGHT_PICK 0u  // which area light to sample
+#define VKRT_DIM_LIGHT_U 1u     // where on it
 #define VKRT_DIM_LIGHT_V 2u
 
 VKRT_FUNC uint vkrtHash(uint x) {
@@ -52,7 +52,9 @@ VKRT_FUNC float vkrtRandom(uint seed, uint pixel, uint sampleIndex, uint dimensi
     return float(vkrtRandomBits(seed, pixel, sampleIndex, dimension) >> 8u) * 5.9604644775390625e-8;
 }
 
-VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) { return VKRT_DIM_NODE_BASE + node * VKRT_DIMS_PER_NODE + k; }
+VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) {
+    return VKRT_DIM_NODE_BASE + node * VKRT_DIMS_PER_NODE + k;
+}
 
 #ifdef __cplusplus
 }  // namespace vkrt

@@ -57,7 +57,8 @@ json validTriangle(const std::vector<uint8_t>& bytes = triangleBytes()) {
          {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
           {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}},
         {"bufferViews",
-         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+          {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
         {"buffers",
          {{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
     };
@@ -69,12 +70,16 @@ struct BadCase {
     const char* expected;  // a phrase the one-line error must contain
 };
 
-void writeJson(const std::filesystem::path& file, const json& document) { test::writeText(file, document.dump()); }
+void writeJson(const std::filesystem::path& file, const json& document) {
+    test::writeText(file, document.dump());
+}
 
 std::vector<BadCase> badCases() {
     return {
-        {"missing file", [](auto& folder, auto& file) { file = folder / "does-not-exist.gltf"; }, "cannot open"},
-        {"malformed JSON", [](auto&, auto& file) { test::writeText(file, "{\"asset\": {\"version\": \"2.0\"}, "); }, ""},
+        {"missing file", [](auto& folder, auto& file) { file = folder / "does-not-exist.gltf"; },
+         "cannot open"},
+        {"malformed JSON",
+         [](auto&, auto& file) { test::writeText(file, "{\"asset\": {\"version\": \"2.0\"}, "); }, ""},
         {"wrong JSON type",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -112,15 +117,20 @@ std::vector<BadCase> badCases() {
          },
          "out of range"},
         {"non-finite position",
-         [](auto&, auto& file) { writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::quiet_NaN()))); },
+         [](auto&, auto& file) {
+             writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::quiet_NaN())));
+         },
          "non-finite"},
         {"infinite position",
-         [](auto&, auto& file) { writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::infinity()))); },
+         [](auto&, auto& file) {
+             writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::infinity())));
+         },
          "non-finite"},
         {"node cycle",
          [](auto&, auto& file) {
              json d = validTriangle();
-             d["nodes"] = json::array({{{"mesh", 0}, {"children", {1}}}, {{"children", {2}}}, {{"children", {1}}}});
+             d["nodes"] =
+                 json::array({{{"mesh", 0}, {"children", {1}}}, {{"children", {2}}}, {{"children", {1}}}});
              writeJson(file, d);
          },
          "cycle"},
@@ -170,7 +180,8 @@ std::vector<BadCase> badCases() {
              test::writeText(file, std::string("glTF\x02\x00\x00\x00\xff\x00\x00\x00", 12));
          },
          ""},
-        {"not glTF at all", [](auto&, auto& file) { test::writeText(file, "P6\n1 1\n255\n\x01\x02\x03"); }, ""},
+        {"not glTF at all", [](auto&, auto& file) { test::writeText(file, "P6\n1 1\n255\n\x01\x02\x03"); },
+         ""},
     };
 }
 
@@ -200,8 +211,9 @@ TEST(BadInput, CommandExitsWithCodeTwoAndWritesNothing) {
         c.make(folder, file);
         const auto output = folder / "out.png";
         const auto stats = folder / "stats.json";
-        const test::CommandResult result = test::runVkrt("--scene '" + file.string() + "' --out '" + output.string() +
-                                                         "' --stats '" + stats.string() + "' --width 8 --height 8");
+        const test::CommandResult result =
+            test::runVkrt("--scene '" + file.string() + "' --out '" + output.string() + "' --stats '" +
+                          stats.string() + "' --width 8 --height 8");
         EXPECT_EQ(result.exitCode, 2) << result.output;
         EXPECT_NE(result.output.find("vkrt: error: "), std::string::npos) << result.output;
         EXPECT_FALSE(std::filesystem::exists(output));

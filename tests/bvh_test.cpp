@@ -41,12 +41,14 @@ void expectValidBvh(const Bvh& bvh, const std::vector<Aabb>& bounds, const BvhCo
             for (uint32_t i = 0; i < node.primCount; ++i) {
                 const uint32_t prim = bvh.primIndices[node.leftOrFirst + i];
                 ++seen[prim];
-                EXPECT_TRUE(node.bounds.contains(bounds[prim])) << "leaf " << index << " does not contain " << prim;
+                EXPECT_TRUE(node.bounds.contains(bounds[prim]))
+                    << "leaf " << index << " does not contain " << prim;
             }
         } else {
             for (uint32_t child : {node.leftOrFirst, node.leftOrFirst + 1}) {
                 ASSERT_LT(child, bvh.nodes.size());
-                EXPECT_TRUE(node.bounds.contains(bvh.nodes[child].bounds)) << "child " << child << " of " << index;
+                EXPECT_TRUE(node.bounds.contains(bvh.nodes[child].bounds))
+                    << "child " << child << " of " << index;
                 stack.push_back({child, level + 1});
             }
         }
@@ -86,7 +88,8 @@ Closest throughBvh(const std::vector<Triangle>& triangles, const FlatBvh& bvh, c
 }
 
 // Rays from random points around the mesh towards random points inside its bounds; most hit.
-void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, int rayCount, const char* name) {
+void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, int rayCount,
+                                      const char* name) {
     const std::vector<Aabb> bounds = boundsOf(triangles);
     const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
     Aabb all;
@@ -94,7 +97,9 @@ void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, in
     const glm::dvec3 lo(all.min), extent(all.extent());
     int hits = 0, ties = 0;
     for (int i = 0; i < rayCount; ++i) {
-        auto r = [&](uint32_t d) { return static_cast<double>(vkrtRandom(7, static_cast<uint32_t>(i), 0, d)); };
+        auto r = [&](uint32_t d) {
+            return static_cast<double>(vkrtRandom(7, static_cast<uint32_t>(i), 0, d));
+        };
         const glm::dvec3 origin = lo + extent * glm::dvec3(3 * r(0) - 1, 3 * r(1) - 1, 3 * r(2) - 1);
         const glm::dvec3 target = lo + extent * glm::dvec3(r(3), r(4), r(5));
         const RayT<double> ray{origin, glm::normalize(target - origin)};
@@ -181,7 +186,8 @@ TEST(Bvh, ParallelAndSerialBuildsAgree) {
 }
 
 TEST(Bvh, SahCostOfASingleLeafIsItsPrimitiveCount) {
-    const std::vector<Triangle> two{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0}};
+    const std::vector<Triangle> two{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0},
+                                    {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0}};
     const BvhConfig config;
     const Bvh bvh = BinnedSahBuilder::build(boundsOf(two), config);
     EXPECT_DOUBLE_EQ(measureBvh(bvh, config).sahCost, 2.0);  // identical centroids: one leaf of two

@@ -30,8 +30,9 @@ TEST(Cli, HelpListsTheOptionsAndExitsZero) {
 }
 
 TEST(Cli, BadUsageExitsTwoWithOneLine) {
-    for (const char* arguments : {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
-                                  "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu"}) {
+    for (const char* arguments :
+         {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
+          "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu"}) {
         const auto result = test::runVkrt(arguments);
         EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.output;
         EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
@@ -41,7 +42,8 @@ TEST(Cli, BadUsageExitsTwoWithOneLine) {
 
 TEST(Cli, CameraOutOfRangeIsBadInput) {
     const auto folder = test::temporaryFolder();
-    const auto result = test::runVkrt("--scene " + kCornell + " --camera 3 --out '" + (folder / "x.png").string() + "'");
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --camera 3 --out '" + (folder / "x.png").string() + "'");
     EXPECT_EQ(result.exitCode, 2) << result.output;
     EXPECT_NE(result.output.find("camera"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
@@ -49,7 +51,8 @@ TEST(Cli, CameraOutOfRangeIsBadInput) {
 
 TEST(Cli, GpuDeviceSaysItIsNotBuiltYet) {
     const auto folder = test::temporaryFolder();
-    const auto result = test::runVkrt("--scene " + kCornell + " --device gpu --out '" + (folder / "x.png").string() + "'");
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --device gpu --out '" + (folder / "x.png").string() + "'");
     EXPECT_EQ(result.exitCode, 1);
     EXPECT_NE(result.output.find("not built yet"), std::string::npos) << result.output;
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
@@ -60,8 +63,9 @@ TEST(Cli, RendersEveryFormatAndWritesStats) {
     for (const char* name : {"c.png", "c.exr", "c.pfm"}) {
         const auto out = folder / name;
         const auto stats = folder / "stats.json";
-        const auto result = test::runVkrt("--scene " + kCornell + " --device cpu --width 24 --height 16 --spp 2 --out '" +
-                                          out.string() + "' --stats '" + stats.string() + "'");
+        const auto result =
+            test::runVkrt("--scene " + kCornell + " --device cpu --width 24 --height 16 --spp 2 --out '" +
+                          out.string() + "' --stats '" + stats.string() + "'");
         ASSERT_EQ(result.exitCode, 0) << result.output;
         ASSERT_TRUE(std::filesystem::exists(out)) << name;
         if (std::string(name) != "c.png") {
@@ -71,12 +75,14 @@ TEST(Cli, RendersEveryFormatAndWritesStats) {
         }
         std::ifstream file(stats);
         const nlohmann::json json = nlohmann::json::parse(file);
-        for (const char* key : {"scene", "device", "width", "height", "spp", "render_ms", "mrays_per_s",
-                                "nonfinite_samples"}) {
+        for (const char* key :
+             {"scene", "device", "width", "height", "spp", "render_ms", "mrays_per_s", "nonfinite_samples"}) {
             EXPECT_TRUE(json.contains(key)) << key;
         }
-        for (const char* key : {"build_ms", "nodes", "depth", "sah_cost"}) EXPECT_TRUE(json["bvh"].contains(key)) << key;
-        for (const char* key : {"primary", "shadow", "secondary"}) EXPECT_TRUE(json["rays"].contains(key)) << key;
+        for (const char* key : {"build_ms", "nodes", "depth", "sah_cost"})
+            EXPECT_TRUE(json["bvh"].contains(key)) << key;
+        for (const char* key : {"primary", "shadow", "secondary"})
+            EXPECT_TRUE(json["rays"].contains(key)) << key;
         EXPECT_EQ(json["rays"]["primary"], 24 * 16 * 2);
         EXPECT_EQ(json["device"], "cpu");
         EXPECT_EQ(json["nonfinite_samples"], 0);
@@ -86,9 +92,23 @@ TEST(Cli, RendersEveryFormatAndWritesStats) {
 TEST(Cli, HeightFollowsTheCameraAspectRatio) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "c.pfm";
-    const auto result = test::runVkrt("--scene " + kCornell + " --quiet --width 20 --spp 1 --out '" + out.string() + "'");
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --quiet --width 20 --spp 1 --out '" + out.string() + "'");
     ASSERT_EQ(result.exitCode, 0) << result.output;
     EXPECT_EQ(readImage(out.string()).height, 20);  // the Cornell camera's aspect ratio is 1
+}
+
+TEST(Cli, EveryThirdPartySceneRenders) {
+    if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal();
+    const auto folder = test::temporaryFolder();
+    for (const auto& file : test::gltfFilesUnder(test::scenesReal())) {
+        const auto out = folder / "x.pfm";
+        const auto result = test::runVkrt("--scene " + quoted(file) + " --quiet --width 12 --height 8 --spp 1 --out " +
+                                          quoted(out));
+        EXPECT_EQ(result.exitCode, 0) << file << ": " << result.output;
+        EXPECT_TRUE(std::filesystem::exists(out)) << file;
+        std::filesystem::remove(out);
+    }
 }
 
 }  // namespace

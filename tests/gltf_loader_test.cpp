@@ -11,7 +11,9 @@
 namespace vkrt {
 namespace {
 
-Scene loadReal(const std::string& relative) { return loadGltf((test::scenesReal() / relative).string()); }
+Scene loadReal(const std::string& relative) {
+    return loadGltf((test::scenesReal() / relative).string());
+}
 
 #define REQUIRE_SCENES_REAL() \
     if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal()
@@ -111,7 +113,8 @@ TEST(GltfLoader, NvidiaCornellWarnsAboutItsVendorExtension) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("cornell-box-nvidia/cornellBox.gltf");
     bool named = false;
-    for (const std::string& warning : scene.warnings) named |= warning.find("NV_materials_mdl") != std::string::npos;
+    for (const std::string& warning : scene.warnings)
+        named |= warning.find("NV_materials_mdl") != std::string::npos;
     EXPECT_TRUE(named);
     EXPECT_FALSE(scene.emissiveTriangles.empty());
 }

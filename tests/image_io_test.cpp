@@ -35,10 +35,10 @@ TEST(ImageIo, LinearFormatsRoundTripExactly) {
 TEST(ImageIo, SrgbEncoding) {
     EXPECT_EQ(toSrgb8(0.0f, 0.0), 0);
     EXPECT_EQ(toSrgb8(1.0f, 0.0), 255);
-    EXPECT_EQ(toSrgb8(7.0f, 0.0), 255);                      // clamped
-    EXPECT_EQ(toSrgb8(0.5f, 0.0), 188);                      // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
-    EXPECT_EQ(toSrgb8(0.001f, 0.0), 3);                      // linear toe: 12.92 * 0.001 * 255 = 3.29
-    EXPECT_EQ(toSrgb8(0.25f, 1.0), toSrgb8(0.5f, 0.0));      // one stop of exposure doubles
+    EXPECT_EQ(toSrgb8(7.0f, 0.0), 255);                  // clamped
+    EXPECT_EQ(toSrgb8(0.5f, 0.0), 188);                  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
+    EXPECT_EQ(toSrgb8(0.001f, 0.0), 3);                  // linear toe: 12.92 * 0.001 * 255 = 3.29
+    EXPECT_EQ(toSrgb8(0.25f, 1.0), toSrgb8(0.5f, 0.0));  // one stop of exposure doubles
     EXPECT_EQ(toSrgb8(std::nanf(""), 0.0), 0);
     EXPECT_EQ(toSrgb8(-1.0f, 0.0), 0);
 }

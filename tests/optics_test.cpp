@@ -10,7 +10,9 @@
 namespace vkrt {
 namespace {
 
-glm::dvec3 fromAngle(double theta) { return {std::sin(theta), 0.0, std::cos(theta)}; }  // normal is +z
+glm::dvec3 fromAngle(double theta) {
+    return {std::sin(theta), 0.0, std::cos(theta)};
+}  // normal is +z
 
 TEST(Fresnel, NormalIncidence) {
     EXPECT_NEAR(fresnelDielectric(1.0, 1.5), 0.04, 1e-15);  // ((n - 1) / (n + 1))^2
@@ -51,9 +53,9 @@ TEST(Snell, RefractionObeysSnellsLaw) {
         glm::dvec3 t;
         ASSERT_TRUE(refract(fromAngle(theta), normal, 1.5, t));
         EXPECT_NEAR(glm::length(t), 1.0, 1e-14);
-        EXPECT_LT(t.z, 0.0);                                             // goes into the surface
-        EXPECT_NEAR(-t.x, std::sin(theta) / 1.5, 1e-14) << degrees;      // n1 sin(i) = n2 sin(t)
-        EXPECT_NEAR(t.y, 0.0, 1e-15);                                    // stays in the plane of incidence
+        EXPECT_LT(t.z, 0.0);                                         // goes into the surface
+        EXPECT_NEAR(-t.x, std::sin(theta) / 1.5, 1e-14) << degrees;  // n1 sin(i) = n2 sin(t)
+        EXPECT_NEAR(t.y, 0.0, 1e-15);                                // stays in the plane of incidence
     }
 }
 
@@ -80,8 +82,10 @@ TEST(GlassSlab, RayLeavesParallelAndShiftedByTheAnalyticAmount) {
     // intersection and refraction code.
     const double d = 0.37, n = 1.5;
     const Triangle top{{-100, -100, 0}, {100, -100, 0}, {0, 100, 0}, 0};
-    const Triangle bottom{{-100, -100, static_cast<float>(-d)}, {0, 100, static_cast<float>(-d)},
-                          {100, -100, static_cast<float>(-d)}, 0};
+    const Triangle bottom{{-100, -100, static_cast<float>(-d)},
+                          {0, 100, static_cast<float>(-d)},
+                          {100, -100, static_cast<float>(-d)},
+                          0};
     for (double degrees : {5.0, 25.0, 45.0, 70.0, 85.0}) {
         const double theta = degrees * M_PI / 180.0;
         const glm::dvec3 direction = -fromAngle(theta);  // coming down towards the slab
@@ -107,9 +111,9 @@ TEST(GlassSlab, RayLeavesParallelAndShiftedByTheAnalyticAmount) {
 }
 
 TEST(WhittedModel, BlinnPhongLobeIsNormalisedAndMatchesRoughness) {
-    EXPECT_DOUBLE_EQ(blinnPhongExponent(1.0), 0.0);          // roughness 1: a constant lobe
+    EXPECT_DOUBLE_EQ(blinnPhongExponent(1.0), 0.0);  // roughness 1: a constant lobe
     EXPECT_NEAR(blinnPhongExponent(0.5), 2.0 / 0.0625 - 2.0, 1e-12);
-    EXPECT_GT(blinnPhongExponent(0.0), 1e5);                  // mirror-like
+    EXPECT_GT(blinnPhongExponent(0.0), 1e5);  // mirror-like
     // Lambert part: a white diffuse surface reflects albedo / pi per unit irradiance.
     Material white;
     white.metallic = 0.0f;

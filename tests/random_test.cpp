@@ -59,13 +59,17 @@ TEST(Random, DimensionsPixelsAndSamplesAreUncorrelated) {
         return cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
     };
     EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 0); },
-                                   [](uint32_t i) { return vkrtRandom(0, i, 0, 1); })), 0.01);
+                                   [](uint32_t i) { return vkrtRandom(0, i, 0, 1); })),
+              0.01);
     EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 2); },
-                                   [](uint32_t i) { return vkrtRandom(0, i + 1, 0, 2); })), 0.01);
+                                   [](uint32_t i) { return vkrtRandom(0, i + 1, 0, 2); })),
+              0.01);
     EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, 5, i, 2); },
-                                   [](uint32_t i) { return vkrtRandom(0, 5, i + 1, 2); })), 0.01);
+                                   [](uint32_t i) { return vkrtRandom(0, 5, i + 1, 2); })),
+              0.01);
     EXPECT_LT(std::abs(correlation([](uint32_t i) { return vkrtRandom(0, i, 0, 3); },
-                                   [](uint32_t i) { return vkrtRandom(1, i, 0, 3); })), 0.01);
+                                   [](uint32_t i) { return vkrtRandom(1, i, 0, 3); })),
+              0.01);
 }
 
 TEST(Random, RayTreeNodesOwnDisjointDimensions) {

@@ -49,7 +49,8 @@ Scene floorScene(float albedo) {
 
 glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
     RayCounters counters;
-    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu, counters);
+    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu,
+                             counters);
 }
 
 TEST(ReferenceRenderer, LambertianPlaneUnderPointLightMatchesClosedForm) {
@@ -132,7 +133,10 @@ TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
     // The shadow of the unit square at height 1 under a light at height 3 spans |x| < 0.75 on the floor.
     RayCounters counters;
     auto floorRadiance = [&](double x) {
-        return renderer.radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu, counters).x;
+        return renderer
+            .radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu,
+                      counters)
+            .x;
     };
     EXPECT_EQ(floorRadiance(0.7), 0.0);
     EXPECT_GT(floorRadiance(0.8), 0.0);
@@ -143,7 +147,8 @@ TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
 double cornerFormFactor(double a, double b, double h) {
     const double x = a / h, y = b / h;
     return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
-            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) / (2.0 * M_PI);
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
+           (2.0 * M_PI);
 }
 
 TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
@@ -164,8 +169,10 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
     double sum = 0.0, sumSquares = 0.0;
     for (int s = 0; s < samples; ++s) {
         RayCounters counters;
-        const double L = renderer.radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), 0, 0,
-                                           glm::dvec3(1.0), -1, 0xffffffffu, counters).x;
+        const double L = renderer
+                             .radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), 0,
+                                       0, glm::dvec3(1.0), -1, 0xffffffffu, counters)
+                             .x;
         sum += L;
         sumSquares += L * L;
     }
@@ -188,7 +195,8 @@ TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     const glm::vec3 corners[4] = {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}};
     addFlatQuad(scene, corners[0], corners[1], corners[2], corners[3], 0);  // top, facing +z
     addFlatQuad(scene, corners[3] - glm::vec3(0, 0, 0.5f), corners[2] - glm::vec3(0, 0, 0.5f),
-                corners[1] - glm::vec3(0, 0, 0.5f), corners[0] - glm::vec3(0, 0, 0.5f), 0);  // bottom, facing -z
+                corners[1] - glm::vec3(0, 0, 0.5f), corners[0] - glm::vec3(0, 0, 0.5f),
+                0);  // bottom, facing -z
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
     RenderSettings settings = quietSettings();
@@ -200,14 +208,25 @@ TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     EXPECT_NEAR(L.z, 1.0, 1e-9);
 }
 
-TEST(ReferenceRenderer, CornellBoxIsRecognisable) {
+// The Cornell box, loaded once per test, rendered small.
+class CornellBox : public ::testing::Test {
+protected:
+    RenderResult render(int size, int samplesPerPixel, uint32_t seed = 0, int threads = 0) const {
+        RenderSettings settings;
+        settings.width = settings.height = size;
+        settings.samplesPerPixel = samplesPerPixel;
+        settings.seed = seed;
+        settings.threads = threads;
+        return ReferenceRenderer(scene, bvh, camera, settings).render();
+    }
+
     const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
     const FlatBvh bvh = bvhFor(scene);
-    RenderSettings settings;
-    settings.width = settings.height = 48;
-    settings.samplesPerPixel = 4;
-    const ReferenceRenderer renderer(scene, bvh, selectCamera(scene, 0, 1.0), settings);
-    const RenderResult result = renderer.render();
+    const Camera camera = selectCamera(scene, 0, 1.0);
+};
+
+TEST_F(CornellBox, IsRecognisable) {
+    const RenderResult result = render(48, 4);
     EXPECT_EQ(result.rays.nonFiniteSamples, 0u);
     EXPECT_EQ(result.rays.primary, 48u * 48u * 4u);
     auto meanOver = [&](int x0, int x1, int y0, int y1) {
@@ -226,18 +245,10 @@ TEST(ReferenceRenderer, CornellBoxIsRecognisable) {
     EXPECT_GT(floor.x, 0.05);
 }
 
-TEST(ReferenceRenderer, SameSeedSameImageOtherSeedOtherNoise) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
-    RenderSettings settings;
-    settings.width = settings.height = 24;
-    settings.samplesPerPixel = 2;
-    const Camera camera = selectCamera(scene, 0, 1.0);
-    const Image a = ReferenceRenderer(scene, bvh, camera, settings).render().image;
-    settings.threads = 1;
-    const Image b = ReferenceRenderer(scene, bvh, camera, settings).render().image;
-    settings.seed = 1;
-    const Image c = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+TEST_F(CornellBox, SameSeedSameImageOtherSeedOtherNoise) {
+    const Image a = render(24, 2).image;
+    const Image b = render(24, 2, 0, 1).image;
+    const Image c = render(24, 2, 1).image;
     EXPECT_EQ(compareImages(a, b).rmse, 0.0) << "threads must not change the result";
     EXPECT_GT(compareImages(a, c).rmse, 0.0);
 }
@@ -249,12 +260,14 @@ TEST(ReferenceRenderer, WhittedSceneHasNoNonFiniteSamplesAndTracesSecondaryRays)
     settings.width = 40;
     settings.height = 30;
     settings.samplesPerPixel = 1;
-    const RenderResult result = ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    const RenderResult result =
+        ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
     EXPECT_EQ(result.rays.nonFiniteSamples, 0u);
     EXPECT_GT(result.rays.secondary, 100u);
     // Depth 0 traces no reflection or refraction at all.
     settings.maxDepth = 0;
-    const RenderResult flat = ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    const RenderResult flat =
+        ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
     EXPECT_EQ(flat.rays.secondary, 0u);
 }
 

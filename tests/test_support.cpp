@@ -12,9 +12,15 @@
 
 namespace vkrt::test {
 
-std::filesystem::path sourceDir() { return VKRT_SOURCE_DIR; }
-std::filesystem::path scenesReal() { return VKRT_SCENES_REAL; }
-bool haveScenesReal() { return std::filesystem::is_directory(scenesReal()); }
+std::filesystem::path sourceDir() {
+    return VKRT_SOURCE_DIR;
+}
+std::filesystem::path scenesReal() {
+    return VKRT_SCENES_REAL;
+}
+bool haveScenesReal() {
+    return std::filesystem::is_directory(scenesReal());
+}
 
 std::filesystem::path temporaryFolder() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
@@ -36,7 +42,8 @@ std::vector<std::filesystem::path> gltfFilesUnder(const std::filesystem::path& f
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
         const std::string extension = entry.path().extension().string();
-        if (entry.is_regular_file() && (extension == ".gltf" || extension == ".glb")) files.push_back(entry.path());
+        if (entry.is_regular_file() && (extension == ".gltf" || extension == ".glb"))
+            files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());
     return files;

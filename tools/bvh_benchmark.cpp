@@ -23,12 +23,17 @@ int main(int argc, char** argv) {
     std::string scenePath;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string flag = argv[i];
-        if (flag == "--triangles") triangleTarget = std::stoull(argv[i + 1]);
-        else if (flag == "--runs") runs = std::max(1, std::stoi(argv[i + 1]));
-        else if (flag == "--threads") threads = std::stoi(argv[i + 1]);
-        else if (flag == "--scene") scenePath = argv[i + 1];
+        if (flag == "--triangles")
+            triangleTarget = std::stoull(argv[i + 1]);
+        else if (flag == "--runs")
+            runs = std::max(1, std::stoi(argv[i + 1]));
+        else if (flag == "--threads")
+            threads = std::stoi(argv[i + 1]);
+        else if (flag == "--scene")
+            scenePath = argv[i + 1];
         else {
-            std::fprintf(stderr, "usage: bvh_benchmark [--triangles N] [--runs R] [--threads T] [--scene FILE]\n");
+            std::fprintf(stderr,
+                         "usage: bvh_benchmark [--triangles N] [--runs R] [--threads T] [--scene FILE]\n");
             return 2;
         }
     }
@@ -53,13 +58,15 @@ int main(int argc, char** argv) {
     for (int run = 0; run < runs; ++run) {
         const auto start = std::chrono::steady_clock::now();
         const Bvh bvh = BinnedSahBuilder::build(bounds, config);
-        times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        times.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         if (run == 0) stats = measureBvh(bvh, config);
     }
     std::vector<double> sorted = times;
     std::sort(sorted.begin(), sorted.end());
-    const double median = sorted.size() % 2 ? sorted[sorted.size() / 2]
-                                            : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+    const double median = sorted.size() % 2
+                              ? sorted[sorted.size() / 2]
+                              : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
     const nlohmann::json report = {
         {"benchmark", "bvh_build"},
         {"input", input},

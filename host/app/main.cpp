@@ -41,13 +41,16 @@ int run(Options options) {
     RenderSettings& settings = options.render;
     if (!options.heightGiven && options.camera < static_cast<int>(scene.cameras.size()) &&
         scene.cameras[options.camera].aspectRatio > 0.0) {
-        settings.height = std::max(1, static_cast<int>(std::lround(settings.width / scene.cameras[options.camera].aspectRatio)));
+        settings.height = std::max(
+            1, static_cast<int>(std::lround(settings.width / scene.cameras[options.camera].aspectRatio)));
     }
-    const Camera camera = selectCamera(scene, options.camera, static_cast<double>(settings.width) / settings.height);
+    const Camera camera =
+        selectCamera(scene, options.camera, static_cast<double>(settings.width) / settings.height);
     const bool hasLights = !scene.lights.empty() || !scene.emissiveTriangles.empty();
     settings.ambient = options.ambient.value_or(glm::dvec3(hasLights ? 0.05 : 1.0));
     if (!hasLights && !options.ambient && !options.quiet) {
-        std::fprintf(stderr, "vkrt: warning: %s: the scene has no lights; an ambient radiance of 1 lights it\n",
+        std::fprintf(stderr,
+                     "vkrt: warning: %s: the scene has no lights; an ambient radiance of 1 lights it\n",
                      options.scenePath.c_str());
     }
 
@@ -71,7 +74,8 @@ int run(Options options) {
     ProgressBar progress("cpu", !options.quiet);
     const ReferenceRenderer renderer(scene, flatBvh, camera, settings);
     const auto renderStart = std::chrono::steady_clock::now();
-    RenderResult result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
+    RenderResult result =
+        renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
     report.renderMs = millisecondsSince(renderStart);
     progress.finish();
 
@@ -86,8 +90,9 @@ int run(Options options) {
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
-        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s\n", options.outputPath.c_str(),
-                     settings.width, settings.height, settings.samplesPerPixel, report.renderMs, mrays);
+        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s\n",
+                     options.outputPath.c_str(), settings.width, settings.height, settings.samplesPerPixel,
+                     report.renderMs, mrays);
     }
     return 0;
 }

@@ -99,9 +99,12 @@ Options parseOptions(int argc, const char* const argv[]) {
             options.render.maxDepth = parseInt(flag, value(), 0, 24);
         } else if (flag == "--device") {
             const std::string device = value();
-            if (device == "gpu") options.device = DeviceKind::Gpu;
-            else if (device == "cpu") options.device = DeviceKind::Cpu;
-            else throw UsageError("--device must be gpu or cpu");
+            if (device == "gpu")
+                options.device = DeviceKind::Gpu;
+            else if (device == "cpu")
+                options.device = DeviceKind::Cpu;
+            else
+                throw UsageError("--device must be gpu or cpu");
         } else if (flag == "--seed") {
             options.render.seed = static_cast<uint32_t>(parseInt(flag, value(), 0, 2147483647));
         } else if (flag == "--camera") {

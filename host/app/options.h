@@ -11,7 +11,7 @@
 namespace vkrt {
 
 class UsageError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -20,7 +20,7 @@ enum class DeviceKind { Gpu, Cpu };
 struct Options {
     std::string scenePath;
     std::string outputPath = "out.png";
-    std::string statsPath;  // empty: no stats file
+    std::string statsPath;                // empty: no stats file
     DeviceKind device = DeviceKind::Cpu;  // becomes Gpu when the GPU tracer lands
     int camera = 0;
     bool widthGiven = false, heightGiven = false;

@@ -1,13 +1,15 @@
 #include "app/progress_bar.h"
 
-#include <cstdio>
 #include <unistd.h>
+#include <cstdio>
 
 namespace vkrt {
 
 ProgressBar::ProgressBar(std::string label, bool enabled)
-    : label_(std::move(label)), enabled_(enabled && isatty(STDERR_FILENO)),
-      start_(std::chrono::steady_clock::now()), lastDraw_(start_) {}
+    : label_(std::move(label)),
+      enabled_(enabled && isatty(STDERR_FILENO)),
+      start_(std::chrono::steady_clock::now()),
+      lastDraw_(start_) {}
 
 void ProgressBar::update(uint64_t done, uint64_t total) {
     if (!enabled_ || total == 0) return;

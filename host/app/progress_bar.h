@@ -8,12 +8,12 @@
 namespace vkrt {
 
 class ProgressBar {
-public:
+  public:
     ProgressBar(std::string label, bool enabled);
     void update(uint64_t done, uint64_t total);
     void finish();
 
-private:
+  private:
     std::string label_;
     bool enabled_;
     std::chrono::steady_clock::time_point start_;

@@ -35,7 +35,7 @@ int levelsNeeded(uint32_t count, int maxLeafSize) {
 }
 
 class Builder {
-public:
+  public:
     Builder(std::span<const Aabb> bounds, const BvhConfig& config) : bounds_(bounds), config_(config) {
         centers_.resize(bounds.size());
         for (size_t i = 0; i < bounds.size(); ++i) centers_[i] = bounds[i].center();
@@ -56,7 +56,7 @@ public:
         return std::move(bvh_);
     }
 
-private:
+  private:
     void buildNode(uint32_t nodeIndex, uint32_t begin, uint32_t end, int level) {
         BvhBuildNode& node = bvh_.nodes[nodeIndex];
         Aabb centerBounds;
@@ -121,7 +121,8 @@ private:
 
     int binOf(const glm::vec3& center, const Aabb& centerBounds, int axis) const {
         const float extent = centerBounds.max[axis] - centerBounds.min[axis];
-        const float scaled = (center[axis] - centerBounds.min[axis]) * (static_cast<float>(config_.binCount) / extent);
+        const float scaled =
+            (center[axis] - centerBounds.min[axis]) * (static_cast<float>(config_.binCount) / extent);
         return std::clamp(static_cast<int>(scaled), 0, config_.binCount - 1);
     }
 
@@ -156,10 +157,10 @@ private:
                 accumulated.grow(bins[b].bounds);
                 accumulatedCount += bins[b].count;
                 if (accumulatedCount == 0 || rightCount[b + 1] == 0) continue;
-                const float cost = config_.traversalCost +
-                                   config_.intersectionCost *
-                                       (accumulated.surfaceArea() * accumulatedCount +
-                                        rightArea[b + 1] * rightCount[b + 1]) / nodeArea;
+                const float cost = config_.traversalCost + config_.intersectionCost *
+                                                               (accumulated.surfaceArea() * accumulatedCount +
+                                                                rightArea[b + 1] * rightCount[b + 1]) /
+                                                               nodeArea;
                 if (cost < best.cost) best = Split{axis, b, cost};
             }
         }

@@ -10,24 +10,25 @@
 namespace vkrt {
 
 struct BvhConfig {
-    int binCount = 16;        // SAH bins per axis (Wald 2007: 16 is close to a full sweep)
-    int maxLeafSize = 4;      // leaves never hold more primitives than this
-    int maxDepth = 64;        // levels, root included; must not exceed VKRT_BVH_MAX_DEPTH
+    int binCount = 16;    // SAH bins per axis (Wald 2007: 16 is close to a full sweep)
+    int maxLeafSize = 4;  // leaves never hold more primitives than this
+    int maxDepth = 64;    // levels, root included; must not exceed VKRT_BVH_MAX_DEPTH
     float traversalCost = 1.0f;
     float intersectionCost = 1.0f;
-    int threads = 0;          // 0: all hardware threads
+    int threads = 0;  // 0: all hardware threads
 };
 
 struct BvhBuildNode {
     Aabb bounds;
-    uint32_t leftOrFirst = 0;  // interior: index of the left child (the right one follows); leaf: first primitive
-    uint32_t primCount = 0;    // 0 for interior nodes
+    uint32_t leftOrFirst =
+        0;  // interior: index of the left child (the right one follows); leaf: first primitive
+    uint32_t primCount = 0;  // 0 for interior nodes
     bool isLeaf() const { return primCount > 0; }
 };
 
 struct Bvh {
-    std::vector<BvhBuildNode> nodes;     // nodes[0] is the root
-    std::vector<uint32_t> primIndices;   // leaves refer to ranges of this array
+    std::vector<BvhBuildNode> nodes;    // nodes[0] is the root
+    std::vector<uint32_t> primIndices;  // leaves refer to ranges of this array
 };
 
 struct BvhStats {

@@ -52,7 +52,9 @@ void traverseBvh(const FlatBvh& bvh, const RayT<Real>& ray, Real tMin, Real& tMa
     uint32_t stack[VKRT_BVH_MAX_DEPTH];
     int stackSize = 0;
     uint32_t current = 0;
-    if (intersectBox(bvh.nodes[0], ray, inverseDirection, tMin, tMax) == std::numeric_limits<Real>::infinity()) return;
+    if (intersectBox(bvh.nodes[0], ray, inverseDirection, tMin, tMax) ==
+        std::numeric_limits<Real>::infinity())
+        return;
     while (true) {
         const gpu::BvhNode& node = bvh.nodes[current];
         if (node.primCount > 0) {

@@ -23,7 +23,8 @@ void writeFileAtomically(const std::string& path, Write&& write) {
         write(temporary);
         std::error_code error;
         std::filesystem::rename(temporary, path, error);
-        if (error) throw std::runtime_error(path + ": cannot move the finished file into place: " + error.message());
+        if (error)
+            throw std::runtime_error(path + ": cannot move the finished file into place: " + error.message());
     } catch (...) {
         std::error_code ignored;
         std::filesystem::remove(temporary, ignored);

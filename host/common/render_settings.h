@@ -14,12 +14,12 @@ struct RenderSettings {
     int width = 512;
     int height = 512;
     int samplesPerPixel = 16;
-    int maxDepth = 8;              // reflection and refraction bounces after the camera ray's hit
+    int maxDepth = 8;  // reflection and refraction bounces after the camera ray's hit
     uint32_t seed = 0;
-    glm::dvec3 ambient{0.05};      // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
-    glm::dvec3 background{0.0};    // radiance seen by rays that leave the scene
-    double minThroughput = 1e-3;   // branches of the ray tree weighted less than this are cut
-    int threads = 0;               // CPU renderer: 0 means all hardware threads
+    glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
+    glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
+    double minThroughput = 1e-3;  // branches of the ray tree weighted less than this are cut
+    int threads = 0;              // CPU renderer: 0 means all hardware threads
 };
 
 struct RayCounters {

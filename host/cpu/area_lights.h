@@ -14,23 +14,23 @@ struct AreaLightSample {
     uint32_t triangle = 0;
     glm::dvec3 point{0.0};
     double u = 0.0, v = 0.0;  // barycentric weights of the triangle's v1 and v2 at `point`
-    glm::dvec3 normal{0.0};  // the emitting (front) side
-    double pdfArea = 0.0;    // probability density of this point per unit area, light choice included
+    glm::dvec3 normal{0.0};   // the emitting (front) side
+    double pdfArea = 0.0;     // probability density of this point per unit area, light choice included
 };
 
 class AreaLights {
-public:
+  public:
     explicit AreaLights(const Scene& scene);
     bool empty() const { return triangles_.empty(); }
 
     // `pick` chooses the triangle, (u, v) the point on it; all three in [0, 1).
     AreaLightSample sample(double pick, double u, double v) const;
 
-private:
+  private:
     const Scene& scene_;
     std::vector<uint32_t> triangles_;
-    std::vector<double> cdf_;     // cumulative power, normalised to end at 1
-    std::vector<double> pdfArea_; // per triangle: pick probability / area
+    std::vector<double> cdf_;      // cumulative power, normalised to end at 1
+    std::vector<double> pdfArea_;  // per triangle: pick probability / area
 };
 
 }  // namespace vkrt

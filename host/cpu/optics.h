@@ -17,7 +17,8 @@ inline glm::dvec3 reflect(const glm::dvec3& toViewer, const glm::dvec3& normal) 
 
 // Refracts `toViewer` through a surface with relative index eta = n_transmitted / n_incident.
 // Returns false on total internal reflection.
-inline bool refract(const glm::dvec3& toViewer, const glm::dvec3& normal, double eta, glm::dvec3& transmitted) {
+inline bool refract(const glm::dvec3& toViewer, const glm::dvec3& normal, double eta,
+                    glm::dvec3& transmitted) {
     const double cosI = glm::dot(toViewer, normal);
     const double sin2I = std::max(0.0, 1.0 - cosI * cosI);
     const double sin2T = sin2I / (eta * eta);

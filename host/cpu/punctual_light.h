@@ -12,9 +12,9 @@
 namespace vkrt {
 
 struct LightArrival {
-    glm::dvec3 toLight{0.0};      // unit vector from the shaded point towards the light
-    double distance = 0.0;        // infinity for directional lights
-    glm::dvec3 irradiance{0.0};   // on a surface facing the light (multiply by the cosine), in lux
+    glm::dvec3 toLight{0.0};     // unit vector from the shaded point towards the light
+    double distance = 0.0;       // infinity for directional lights
+    glm::dvec3 irradiance{0.0};  // on a surface facing the light (multiply by the cosine), in lux
 };
 
 // Irradiance as the KHR_lights_punctual spec defines it: intensity / d^2 for point and spot lights

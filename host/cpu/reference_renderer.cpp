@@ -27,10 +27,13 @@ glm::dvec3 offsetOrigin(const glm::dvec3& point, const glm::dvec3& geometricNorm
     return point + side * 1e-9 * magnitude * geometricNormal;
 }
 
-double maxComponent(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
+double maxComponent(const glm::dvec3& v) {
+    return std::max({v.x, v.y, v.z});
+}
 
 glm::dvec3 geometricNormalOf(const Triangle& t) {
-    return glm::normalize(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+    return glm::normalize(
+        glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
 }
 
 // Beer-Lambert: transmittance over `distance` inside a volume material.
@@ -54,7 +57,11 @@ glm::dvec3 beerLambert(const Material& material, double distance) {
 
 ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                      const RenderSettings& settings)
-    : scene_(scene), bvh_(bvh), camera_(camera), settings_(settings), areaLights_(scene),
+    : scene_(scene),
+      bvh_(bvh),
+      camera_(camera),
+      settings_(settings),
+      areaLights_(scene),
       aspect_(static_cast<double>(settings.width) / settings.height) {}
 
 Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
@@ -62,7 +69,8 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
     const double sx = 2.0 * filmX / settings_.width - 1.0;
     const double sy = 1.0 - 2.0 * filmY / settings_.height;
     if (camera_.projection == Projection::Orthographic) {
-        const glm::dvec3 origin = camera_.position + sx * camera_.xmag * camera_.right + sy * camera_.ymag * camera_.up;
+        const glm::dvec3 origin =
+            camera_.position + sx * camera_.xmag * camera_.right + sy * camera_.ymag * camera_.up;
         return {origin, camera_.forward};
     }
     const double tanHalf = std::tan(0.5 * camera_.yfov);
@@ -88,7 +96,8 @@ bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude
 
 glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {
     const TriangleShading& s = scene_.shading[hit.triangle];
-    return (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) + hit.v * glm::dvec2(s.uv[2]);
+    return (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) +
+           hit.v * glm::dvec2(s.uv[2]);
 }
 
 glm::dvec3 ReferenceRenderer::albedoAt(const Material& material, const SurfaceHit& hit) const {
@@ -135,12 +144,15 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dv
     for (const PunctualLight& light : scene_.lights) {
         const LightArrival arrival = arriveFrom(light, point);
         const double cosine = glm::dot(normal, arrival.toLight);
-        if (cosine <= 0.0 || glm::dot(geometricNormal, arrival.toLight) <= 0.0 || maxComponent(arrival.irradiance) <= 0.0) {
+        if (cosine <= 0.0 || glm::dot(geometricNormal, arrival.toLight) <= 0.0 ||
+            maxComponent(arrival.irradiance) <= 0.0) {
             continue;
         }
         ++counters.shadow;
-        const glm::dvec3 visible = transmittance({origin, arrival.toLight}, arrival.distance, triangle, kNoTriangle);
-        sum += whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
+        const glm::dvec3 visible =
+            transmittance({origin, arrival.toLight}, arrival.distance, triangle, kNoTriangle);
+        sum +=
+            whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
     }
     // Area lights: one sample of one emissive triangle per shading point, chosen by power.
     if (!areaLights_.empty()) {
@@ -160,9 +172,11 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dv
             const double cosine = glm::dot(normal, toLight);
             if (cosLight > 0.0 && cosine > 0.0 && glm::dot(geometricNormal, toLight) > 0.0) {
                 ++counters.shadow;
-                const glm::dvec3 visible = transmittance({origin, toLight}, distance * (1.0 - 1e-9), triangle, light.triangle);
+                const glm::dvec3 visible =
+                    transmittance({origin, toLight}, distance * (1.0 - 1e-9), triangle, light.triangle);
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
-                const glm::dvec3 irradiance = emissionAt(emitter, {light.triangle, 0.0, light.u, light.v}) * cosLight / (distance2 * light.pdfArea);
+                const glm::dvec3 irradiance = emissionAt(emitter, {light.triangle, 0.0, light.u, light.v}) *
+                                              cosLight / (distance2 * light.pdfArea);
                 sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
         }
@@ -170,13 +184,13 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dv
     return sum;
 }
 
-glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
-                                       const glm::dvec3& throughput, int medium, uint32_t exclude,
+glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node,
+                                       int depth, const glm::dvec3& throughput, int medium, uint32_t exclude,
                                        RayCounters& counters) const {
     SurfaceHit hit;
     const bool found = closestHit(ray, std::numeric_limits<double>::infinity(), exclude, hit);
-    const glm::dvec3 absorbed = medium >= 0 ? beerLambert(scene_.materials[medium], found ? hit.t : INFINITY)
-                                            : glm::dvec3(1.0);
+    const glm::dvec3 absorbed =
+        medium >= 0 ? beerLambert(scene_.materials[medium], found ? hit.t : INFINITY) : glm::dvec3(1.0);
     if (!found) return absorbed * settings_.background;
 
     const Triangle& triangle = scene_.triangles[hit.triangle];
@@ -189,10 +203,12 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     glm::dvec3 geometricNormal = geometricNormalOf(triangle);
     const bool frontFace = glm::dot(geometricNormal, toViewer) > 0.0;
     if (!frontFace) geometricNormal = -geometricNormal;
-    glm::dvec3 normal = glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
-                                       hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
+    glm::dvec3 normal =
+        glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
+                       hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
     if (!frontFace) normal = -normal;
-    if (!(glm::dot(normal, toViewer) > 0.0)) normal = geometricNormal;  // shading normal faces away: use the true one
+    if (!(glm::dot(normal, toViewer) > 0.0))
+        normal = geometricNormal;  // shading normal faces away: use the true one
 
     glm::dvec3 result(0.0);
     if (frontFace || material.doubleSided) result += emissionAt(material, hit);
@@ -200,7 +216,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
     // Ambient light reaches the diffuse part and the part of the specular reflection not traced as a mirror.
     result += settings_.ambient * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
-    result += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sample, node, counters);
+    result += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sample,
+                          node, counters);
 
     if (depth < settings_.maxDepth) {
         // Relative index across this interface: entering a volume from outside, leaving it, or a surface
@@ -226,10 +243,12 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             if (volume) passes = refract(toViewer, normal, eta, direction);
             if (passes) {
                 ++counters.secondary;
-                const int nextMedium = volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
+                const int nextMedium =
+                    volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
                 const Ray transmitted{offsetOrigin(point, geometricNormal, -1.0), direction};
                 result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
-                                                    throughput * transmitWeight, nextMedium, hit.triangle, counters);
+                                                    throughput * transmitWeight, nextMedium, hit.triangle,
+                                                    counters);
             }
         }
     }
@@ -253,7 +272,8 @@ glm::dvec3 ReferenceRenderer::renderPixel(int x, int y, RayCounters& counters) c
         }
         ++counters.primary;
         const Ray ray = cameraRay(x + jx, y + jy);
-        const glm::dvec3 value = radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters);
+        const glm::dvec3 value =
+            radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters);
         if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) {
             sum += value;
             ++finite;
@@ -273,7 +293,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress) const {
     auto worker = [&] {
         RayCounters counters;
         for (int y = nextRow++; y < settings_.height; y = nextRow++) {
-            for (int x = 0; x < settings_.width; ++x) result.image.at(x, y) = glm::vec3(renderPixel(x, y, counters));
+            for (int x = 0; x < settings_.width; ++x)
+                result.image.at(x, y) = glm::vec3(renderPixel(x, y, counters));
             const uint64_t done = ++rowsDone;
             if (progress) {
                 std::lock_guard<std::mutex> lock(merge);
@@ -286,7 +307,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress) const {
         result.rays.secondary += counters.secondary;
         result.rays.nonFiniteSamples += counters.nonFiniteSamples;
     };
-    const unsigned threads = settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads =
+        settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
     for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
     worker();

@@ -23,8 +23,9 @@ struct SurfaceHit {
 };
 
 class ReferenceRenderer {
-public:
-    ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera, const RenderSettings& settings);
+  public:
+    ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                      const RenderSettings& settings);
 
     RenderResult render(const ProgressCallback& progress = {}) const;
 
@@ -36,13 +37,15 @@ public:
     glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB) const;
     // Radiance arriving along `ray`; `node` numbers the ray-tree node for the random dimensions.
     glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
-                        const glm::dvec3& throughput, int medium, uint32_t exclude, RayCounters& counters) const;
+                        const glm::dvec3& throughput, int medium, uint32_t exclude,
+                        RayCounters& counters) const;
     glm::dvec3 renderPixel(int x, int y, RayCounters& counters) const;
 
-private:
-    glm::dvec3 directLight(const glm::dvec3& point, const glm::dvec3& normal, const glm::dvec3& geometricNormal,
-                           const glm::dvec3& toViewer, const SurfaceResponse& surface, uint32_t triangle,
-                           uint32_t pixel, uint32_t sample, uint32_t node, RayCounters& counters) const;
+  private:
+    glm::dvec3 directLight(const glm::dvec3& point, const glm::dvec3& normal,
+                           const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
+                           const SurfaceResponse& surface, uint32_t triangle, uint32_t pixel, uint32_t sample,
+                           uint32_t node, RayCounters& counters) const;
     glm::dvec2 uvAt(const SurfaceHit& hit) const;
     glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
     glm::dvec3 emissionAt(const Material& material, const SurfaceHit& hit) const;

@@ -8,14 +8,16 @@ namespace {
 
 int wrapTexel(int i, int size, WrapMode mode) {
     switch (mode) {
-        case WrapMode::ClampToEdge: return std::clamp(i, 0, size - 1);
+        case WrapMode::ClampToEdge:
+            return std::clamp(i, 0, size - 1);
         case WrapMode::MirroredRepeat: {
             const int period = 2 * size;
             int m = ((i % period) + period) % period;
             return m < size ? m : period - 1 - m;
         }
         case WrapMode::Repeat:
-        default: return ((i % size) + size) % size;
+        default:
+            return ((i % size) + size) % size;
     }
 }
 

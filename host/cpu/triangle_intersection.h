@@ -18,7 +18,8 @@ struct TriangleHit {
 
 inline bool intersectTriangle(const Triangle& triangle, const glm::dvec3& origin, const glm::dvec3& direction,
                               double tMin, double tMax, TriangleHit& hit) {
-    const glm::dvec3 v0(triangle.v0), edge1 = glm::dvec3(triangle.v1) - v0, edge2 = glm::dvec3(triangle.v2) - v0;
+    const glm::dvec3 v0(triangle.v0), edge1 = glm::dvec3(triangle.v1) - v0,
+                                      edge2 = glm::dvec3(triangle.v2) - v0;
     const glm::dvec3 p = glm::cross(direction, edge2);
     const double determinant = glm::dot(edge1, p);
     if (determinant == 0.0 || !std::isfinite(determinant)) return false;  // parallel to the plane

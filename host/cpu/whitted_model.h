@@ -13,12 +13,12 @@
 namespace vkrt {
 
 struct SurfaceResponse {
-    glm::dvec3 albedo{1.0};    // base colour (factor times texture), linear
-    glm::dvec3 diffuse{0.0};   // Lambert reflectance: albedo * (1 - metallic) * (1 - transmission)
-    glm::dvec3 specular{0.0};  // highlight colour: F0 of the dielectric, or the base colour for metals
-    double shininess = 0.0;    // Blinn-Phong exponent
-    double mirror = 0.0;       // how much of the Fresnel reflectance is traced as a mirror ray
-    double transmission = 0.0; // (1 - metallic) * transmission
+    glm::dvec3 albedo{1.0};     // base colour (factor times texture), linear
+    glm::dvec3 diffuse{0.0};    // Lambert reflectance: albedo * (1 - metallic) * (1 - transmission)
+    glm::dvec3 specular{0.0};   // highlight colour: F0 of the dielectric, or the base colour for metals
+    double shininess = 0.0;     // Blinn-Phong exponent
+    double mirror = 0.0;        // how much of the Fresnel reflectance is traced as a mirror ray
+    double transmission = 0.0;  // (1 - metallic) * transmission
     double metallic = 0.0;
     double ior = 1.5;
 };

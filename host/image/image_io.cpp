@@ -17,7 +17,8 @@ namespace {
 
 std::string lowerExtension(const std::string& path) {
     std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     return extension;
 }
 
@@ -49,7 +50,8 @@ void writePfm(const Image& image, const std::string& path) {
     if (!file) throw ImageError(path + ": cannot open for writing");
     file << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
     for (int y = image.height - 1; y >= 0; --y) {
-        file.write(reinterpret_cast<const char*>(&image.at(0, y)), static_cast<std::streamsize>(image.width) * 12);
+        file.write(reinterpret_cast<const char*>(&image.at(0, y)),
+                   static_cast<std::streamsize>(image.width) * 12);
     }
     if (!file.flush()) throw ImageError(path + ": write failed");
 }
@@ -112,9 +114,15 @@ void writeImage(const Image& image, const std::string& path, double exposure) {
     const ImageFormat format = imageFormatFromPath(path);
     writeFileAtomically(path, [&](const std::string& temporary) {
         switch (format) {
-            case ImageFormat::Png: writePng(image, temporary, exposure); break;
-            case ImageFormat::Exr: writeExr(image, temporary); break;
-            case ImageFormat::Pfm: writePfm(image, temporary); break;
+            case ImageFormat::Png:
+                writePng(image, temporary, exposure);
+                break;
+            case ImageFormat::Exr:
+                writeExr(image, temporary);
+                break;
+            case ImageFormat::Pfm:
+                writePfm(image, temporary);
+                break;
         }
     });
 }

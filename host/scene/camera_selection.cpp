@@ -38,8 +38,9 @@ Camera selectCamera(const Scene& scene, int index, double aspectRatio) {
         return frameBounds(scene.bounds, aspectRatio);
     }
     if (index < 0 || index >= static_cast<int>(scene.cameras.size())) {
-        throw SceneError(scene.sourcePath + ": --camera " + std::to_string(index) + " requested, but the file has " +
-                         std::to_string(scene.cameras.size()) + " camera(s)");
+        throw SceneError(scene.sourcePath + ": --camera " + std::to_string(index) +
+                         " requested, but the file has " + std::to_string(scene.cameras.size()) +
+                         " camera(s)");
     }
     return scene.cameras[index];
 }

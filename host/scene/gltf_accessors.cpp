@@ -14,25 +14,37 @@ namespace {
 int componentSize(int componentType) {
     switch (componentType) {
         case TINYGLTF_COMPONENT_TYPE_BYTE:
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return 1;
         case TINYGLTF_COMPONENT_TYPE_SHORT:
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return 2;
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-        default: return 0;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return 4;
+        default:
+            return 0;
     }
 }
 
 int componentCount(int type) {
     switch (type) {
-        case TINYGLTF_TYPE_SCALAR: return 1;
-        case TINYGLTF_TYPE_VEC2: return 2;
-        case TINYGLTF_TYPE_VEC3: return 3;
-        case TINYGLTF_TYPE_VEC4: return 4;
-        case TINYGLTF_TYPE_MAT2: return 4;
-        case TINYGLTF_TYPE_MAT3: return 9;
-        case TINYGLTF_TYPE_MAT4: return 16;
-        default: return 0;
+        case TINYGLTF_TYPE_SCALAR:
+            return 1;
+        case TINYGLTF_TYPE_VEC2:
+            return 2;
+        case TINYGLTF_TYPE_VEC3:
+            return 3;
+        case TINYGLTF_TYPE_VEC4:
+            return 4;
+        case TINYGLTF_TYPE_MAT2:
+            return 4;
+        case TINYGLTF_TYPE_MAT3:
+            return 9;
+        case TINYGLTF_TYPE_MAT4:
+            return 16;
+        default:
+            return 0;
     }
 }
 
@@ -44,7 +56,8 @@ double decodeComponent(const unsigned char* p, int componentType, bool normalize
             std::memcpy(&v, p, 1);
             return normalized ? std::max(v / 127.0, -1.0) : v;
         }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return normalized ? p[0] / 255.0 : p[0];
         case TINYGLTF_COMPONENT_TYPE_SHORT: {
             int16_t v;
             std::memcpy(&v, p, 2);
@@ -76,7 +89,9 @@ struct ElementRun {
 
 }  // namespace
 
-void AccessorReader::fail(const std::string& message) const { throw SceneError(file_ + ": " + message); }
+void AccessorReader::fail(const std::string& message) const {
+    throw SceneError(file_ + ": " + message);
+}
 
 size_t AccessorReader::count(int accessorIndex, const std::string& what) const {
     if (accessorIndex < 0 || accessorIndex >= static_cast<int>(model_.accessors.size())) {
@@ -115,8 +130,8 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
         }
         const tinygltf::BufferView& view = model_.bufferViews[viewIndex];
         if (view.buffer < 0 || view.buffer >= static_cast<int>(model_.buffers.size())) {
-            fail("bufferView " + std::to_string(viewIndex) + " refers to buffer " + std::to_string(view.buffer) +
-                 ", which does not exist");
+            fail("bufferView " + std::to_string(viewIndex) + " refers to buffer " +
+                 std::to_string(view.buffer) + ", which does not exist");
         }
         const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
         if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset) {
@@ -138,9 +153,9 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
                         (n - 1) <= (available - byteOffset - elemSize) / stride;
             if (!fits) {
                 std::ostringstream s;
-                s << label << " overflows bufferView " << viewIndex << ": " << n << " elements of " << elemSize
-                  << " bytes, stride " << stride << ", at offset " << byteOffset << " need more than its "
-                  << available << " bytes";
+                s << label << " overflows bufferView " << viewIndex << ": " << n << " elements of "
+                  << elemSize << " bytes, stride " << stride << ", at offset " << byteOffset
+                  << " need more than its " << available << " bytes";
                 fail(s.str());
             }
         }
@@ -172,12 +187,13 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
         }
         ElementRun indices = locate(sparse.indices.bufferView, sparse.indices.byteOffset, n, indexSize,
                                     name + " sparse indices");
-        ElementRun replacements =
-            locate(sparse.values.bufferView, sparse.values.byteOffset, n, elementSize, name + " sparse values");
-        indices.stride = indexSize;          // sparse data is tightly packed
+        ElementRun replacements = locate(sparse.values.bufferView, sparse.values.byteOffset, n, elementSize,
+                                         name + " sparse values");
+        indices.stride = indexSize;  // sparse data is tightly packed
         replacements.stride = elementSize;
         for (size_t i = 0; i < n; ++i) {
-            const double target = decodeComponent(indices.data + i * indexSize, sparse.indices.componentType, false);
+            const double target =
+                decodeComponent(indices.data + i * indexSize, sparse.indices.componentType, false);
             if (target >= static_cast<double>(elementCount)) {
                 fail(name + " has a sparse index " + std::to_string(static_cast<uint64_t>(target)) +
                      " out of range");
@@ -192,7 +208,8 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
     return values;
 }
 
-std::vector<float> AccessorReader::readFloats(int accessorIndex, int components, const std::string& what) const {
+std::vector<float> AccessorReader::readFloats(int accessorIndex, int components,
+                                              const std::string& what) const {
     std::vector<double> values = readComponents(accessorIndex, components, false, what);
     std::vector<float> result(values.size());
     for (size_t i = 0; i < values.size(); ++i) result[i] = static_cast<float>(values[i]);

@@ -14,7 +14,7 @@ class Model;
 namespace vkrt {
 
 class AccessorReader {
-public:
+  public:
     AccessorReader(const tinygltf::Model& model, std::string file) : model_(model), file_(std::move(file)) {}
 
     // Reads `components` values per element (VEC2 = 2, VEC3 = 3, ...). Float accessors are read as they
@@ -27,7 +27,7 @@ public:
     // The element count of an accessor, after checking that the index is valid.
     size_t count(int accessorIndex, const std::string& what) const;
 
-private:
+  private:
     [[noreturn]] void fail(const std::string& message) const;
     std::vector<double> readComponents(int accessorIndex, int components, bool wantIndices,
                                        const std::string& what) const;

@@ -8,9 +8,9 @@
 #include <set>
 #include <sstream>
 
+#include <tiny_gltf.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <tiny_gltf.h>
 
 #include "scene/gltf_accessors.h"
 #include "scene/scene_builder.h"
@@ -19,26 +19,30 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 6> kSupportedExtensions = {
-    "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_volume", "KHR_lights_punctual", "EXT_mesh_gpu_instancing"};
+constexpr std::array<const char*, 6> kSupportedExtensions = {"KHR_materials_emissive_strength",
+                                                             "KHR_materials_transmission",
+                                                             "KHR_materials_ior",
+                                                             "KHR_materials_volume",
+                                                             "KHR_lights_punctual",
+                                                             "EXT_mesh_gpu_instancing"};
 
 // Everything the node walk needs, so that helpers stay small.
 class GltfConverter {
-public:
+  public:
     GltfConverter(const tinygltf::Model& model, std::string path)
         : model_(model), path_(std::move(path)), accessors_(model_, path_) {}
 
     Scene convert();
 
-private:
+  private:
     [[noreturn]] void fail(const std::string& message) const { throw SceneError(path_ + ": " + message); }
     void warn(const std::string& message) { scene_.warnings.push_back(message); }
 
     void checkExtensions();
     void convertTextures();
     void convertMaterials();
-    double number(const tinygltf::Value& object, const char* key, double fallback, const std::string& where) const;
+    double number(const tinygltf::Value& object, const char* key, double fallback,
+                  const std::string& where) const;
     glm::vec3 vector3(const tinygltf::Value& object, const char* key, glm::vec3 fallback,
                       const std::string& where) const;
     int textureIndex(int gltfTexture, const std::string& where) const;
@@ -48,8 +52,10 @@ private:
     glm::dmat4 localTransform(int nodeIndex) const;
     void walk(int nodeIndex, const glm::dmat4& parent);
     void addMesh(int meshIndex, const glm::dmat4& world);
-    std::vector<glm::dmat4> instanceTransforms(const tinygltf::Value& extension, const std::string& where) const;
-    void addPrimitive(const tinygltf::Primitive& primitive, const std::string& where, const glm::dmat4& world);
+    std::vector<glm::dmat4> instanceTransforms(const tinygltf::Value& extension,
+                                               const std::string& where) const;
+    void addPrimitive(const tinygltf::Primitive& primitive, const std::string& where,
+                      const glm::dmat4& world);
     void addCamera(int cameraIndex, const glm::dmat4& world, const std::string& nodeName);
     void addLight(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
     uint32_t defaultMaterial();
@@ -87,7 +93,8 @@ Scene GltfConverter::convert() {
         warn(std::to_string(degenerateTriangles_) + " degenerate (zero-area) triangle(s) skipped");
     }
     for (int mode : skippedModes_) {
-        warn("primitives with mode " + std::to_string(mode) + " (points or lines) skipped: vkrt renders triangles");
+        warn("primitives with mode " + std::to_string(mode) +
+             " (points or lines) skipped: vkrt renders triangles");
     }
     if (scene_.triangles.empty()) warn("the scene has no triangles");
 
@@ -110,7 +117,8 @@ void GltfConverter::convertTextures() {
         Texture texture;
         texture.name = gltfTexture.name;
         if (gltfTexture.source < 0 || gltfTexture.source >= static_cast<int>(model_.images.size())) {
-            // Textures without a core image source (e.g. only KHR_texture_basisu) stay empty; using one fails.
+            // Textures without a core image source (e.g. only KHR_texture_basisu) stay empty; using one
+            // fails.
             scene_.textures.push_back(texture);
             continue;
         }
@@ -172,7 +180,8 @@ glm::vec3 GltfConverter::vector3(const tinygltf::Value& object, const char* key,
                                  const std::string& where) const {
     if (!object.IsObject() || !object.Has(key)) return fallback;
     const tinygltf::Value& value = object.Get(key);
-    if (!value.IsArray() || value.ArrayLen() != 3) fail(where + ": '" + key + "' must be an array of 3 numbers");
+    if (!value.IsArray() || value.ArrayLen() != 3)
+        fail(where + ": '" + key + "' must be an array of 3 numbers");
     glm::vec3 v;
     for (int c = 0; c < 3; ++c) {
         if (!value.Get(c).IsNumber()) fail(where + ": '" + key + "' must be an array of 3 numbers");
@@ -212,9 +221,9 @@ void GltfConverter::convertMaterials() {
         material.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
                                        pbr.baseColorFactor[3]);
         material.baseColorTexture = textureIndex(pbr.baseColorTexture.index, where);
-        if (pbr.baseColorTexture.texCoord != 0) warn(where + ": base colour texture uses TEXCOORD_" +
-                                                     std::to_string(pbr.baseColorTexture.texCoord) +
-                                                     "; vkrt reads TEXCOORD_0");
+        if (pbr.baseColorTexture.texCoord != 0)
+            warn(where + ": base colour texture uses TEXCOORD_" +
+                 std::to_string(pbr.baseColorTexture.texCoord) + "; vkrt reads TEXCOORD_0");
         material.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
         material.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
         if (m.emissiveFactor.size() != 3 || !allFinite(m.emissiveFactor)) {
@@ -230,16 +239,19 @@ void GltfConverter::convertMaterials() {
             if (name == "KHR_materials_emissive_strength") {
                 strength = static_cast<float>(number(value, "emissiveStrength", 1.0, extWhere));
             } else if (name == "KHR_materials_transmission") {
-                material.transmission =
-                    static_cast<float>(std::clamp(number(value, "transmissionFactor", 0.0, extWhere), 0.0, 1.0));
+                material.transmission = static_cast<float>(
+                    std::clamp(number(value, "transmissionFactor", 0.0, extWhere), 0.0, 1.0));
             } else if (name == "KHR_materials_ior") {
                 material.ior = static_cast<float>(number(value, "ior", 1.5, extWhere));
-                if (material.ior != 0.0f && material.ior < 1.0f) fail(extWhere + ": ior must be 0 or at least 1");
+                if (material.ior != 0.0f && material.ior < 1.0f)
+                    fail(extWhere + ": ior must be 0 or at least 1");
             } else if (name == "KHR_materials_volume") {
-                material.thickness = static_cast<float>(std::max(0.0, number(value, "thicknessFactor", 0.0, extWhere)));
+                material.thickness =
+                    static_cast<float>(std::max(0.0, number(value, "thicknessFactor", 0.0, extWhere)));
                 material.attenuationDistance = static_cast<float>(
                     number(value, "attenuationDistance", std::numeric_limits<double>::infinity(), extWhere));
-                if (!(material.attenuationDistance > 0.0f)) fail(extWhere + ": attenuationDistance must be positive");
+                if (!(material.attenuationDistance > 0.0f))
+                    fail(extWhere + ": attenuationDistance must be positive");
                 material.attenuationColor = vector3(value, "attenuationColor", glm::vec3(1.0f), extWhere);
             }
         }
@@ -318,8 +330,10 @@ void GltfConverter::checkNodeGraph(const std::vector<int>& roots) const {
         for (int c : chain) state[c] = 2;
     }
     for (int root : roots) {
-        if (root < 0 || root >= nodeCount) fail("the scene refers to node " + std::to_string(root) + ", which does not exist");
-        if (parent[root] >= 0) fail(describe("node", root, model_.nodes[root].name) + " is a scene root and a child");
+        if (root < 0 || root >= nodeCount)
+            fail("the scene refers to node " + std::to_string(root) + ", which does not exist");
+        if (parent[root] >= 0)
+            fail(describe("node", root, model_.nodes[root].name) + " is a scene root and a child");
     }
 }
 
@@ -327,7 +341,8 @@ glm::dmat4 GltfConverter::localTransform(int nodeIndex) const {
     const tinygltf::Node& node = model_.nodes[nodeIndex];
     const std::string where = describe("node", nodeIndex, node.name);
     auto check = [&](const std::vector<double>& v, size_t n, const char* what) {
-        if (!v.empty() && v.size() != n) fail(where + ": " + what + " must have " + std::to_string(n) + " numbers");
+        if (!v.empty() && v.size() != n)
+            fail(where + ": " + what + " must have " + std::to_string(n) + " numbers");
         if (!allFinite(v)) fail(where + ": " + what + " is not finite");
     };
     check(node.matrix, 16, "matrix");
@@ -393,7 +408,8 @@ std::vector<glm::dmat4> GltfConverter::instanceTransforms(const tinygltf::Value&
     bool any = false;
     auto read = [&](const char* name, int components, std::vector<float>& out) {
         if (!attributes.Has(name)) return;
-        if (!attributes.Get(name).IsInt()) fail(extWhere + ": attribute " + name + " must be an accessor index");
+        if (!attributes.Get(name).IsInt())
+            fail(extWhere + ": attribute " + name + " must be an accessor index");
         out = accessors_.readFloats(attributes.Get(name).GetNumberAsInt(), components, extWhere + " " + name);
         const size_t n = out.size() / components;
         if (any && n != count) fail(extWhere + ": attributes have different counts");
@@ -410,11 +426,14 @@ std::vector<glm::dmat4> GltfConverter::instanceTransforms(const tinygltf::Value&
     std::vector<glm::dmat4> transforms(count, glm::dmat4(1.0));
     for (size_t i = 0; i < count; ++i) {
         glm::dmat4& m = transforms[i];
-        if (!translation.empty()) m = glm::translate(m, glm::dvec3(translation[3 * i], translation[3 * i + 1], translation[3 * i + 2]));
+        if (!translation.empty())
+            m = glm::translate(
+                m, glm::dvec3(translation[3 * i], translation[3 * i + 1], translation[3 * i + 2]));
         if (!rotation.empty()) {
             glm::dquat q(rotation[4 * i + 3], rotation[4 * i], rotation[4 * i + 1], rotation[4 * i + 2]);
             const double length = glm::length(q);
-            if (!(length > 0.0)) fail(extWhere + ": instance " + std::to_string(i) + " has a zero rotation quaternion");
+            if (!(length > 0.0))
+                fail(extWhere + ": instance " + std::to_string(i) + " has a zero rotation quaternion");
             m = m * glm::mat4_cast(q / length);
         }
         if (!scale.empty()) m = glm::scale(m, glm::dvec3(scale[3 * i], scale[3 * i + 1], scale[3 * i + 2]));
@@ -477,14 +496,18 @@ void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std
     // Triangle list from strips and fans (glTF 2.0 section 3.7.2.1).
     std::vector<std::array<uint32_t, 3>> faces;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
-        for (size_t i = 0; i + 2 < indices.size(); i += 3) faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
+        for (size_t i = 0; i + 2 < indices.size(); i += 3)
+            faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
     } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (size_t i = 0; i + 2 < indices.size(); ++i) {
-            if (i % 2 == 0) faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
-            else faces.push_back({indices[i], indices[i + 2], indices[i + 1]});
+            if (i % 2 == 0)
+                faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
+            else
+                faces.push_back({indices[i], indices[i + 2], indices[i + 1]});
         }
     } else {
-        for (size_t i = 0; i + 2 < indices.size(); ++i) faces.push_back({indices[i + 1], indices[i + 2], indices[0]});
+        for (size_t i = 0; i + 2 < indices.size(); ++i)
+            faces.push_back({indices[i + 1], indices[i + 2], indices[0]});
     }
 
     uint32_t material;
@@ -523,7 +546,8 @@ void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std
             const uint32_t v = face[k];
             shading.normal[k] = geometric;
             if (!normals.empty()) {
-                glm::dvec3 n = normalMatrix * glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+                glm::dvec3 n =
+                    normalMatrix * glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
                 double length = glm::length(n);
                 if (length > 0.0 && std::isfinite(length)) shading.normal[k] = glm::vec3(n / length);
             }
@@ -536,7 +560,8 @@ void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std
 
 void GltfConverter::addCamera(int cameraIndex, const glm::dmat4& world, const std::string& nodeName) {
     if (cameraIndex >= static_cast<int>(model_.cameras.size())) {
-        fail("node '" + nodeName + "' refers to camera " + std::to_string(cameraIndex) + ", which does not exist");
+        fail("node '" + nodeName + "' refers to camera " + std::to_string(cameraIndex) +
+             ", which does not exist");
     }
     const tinygltf::Camera& source = model_.cameras[cameraIndex];
     const std::string where = describe("camera", cameraIndex, source.name);
@@ -551,7 +576,8 @@ void GltfConverter::addCamera(int cameraIndex, const glm::dmat4& world, const st
         camera.projection = Projection::Orthographic;
         camera.xmag = source.orthographic.xmag;
         camera.ymag = source.orthographic.ymag;
-        if (!(camera.xmag != 0.0 && camera.ymag != 0.0 && std::isfinite(camera.xmag) && std::isfinite(camera.ymag))) {
+        if (!(camera.xmag != 0.0 && camera.ymag != 0.0 && std::isfinite(camera.xmag) &&
+              std::isfinite(camera.ymag))) {
             fail(where + ": xmag and ymag must be finite and non-zero");
         }
     } else {
@@ -564,11 +590,13 @@ void GltfConverter::addCamera(int cameraIndex, const glm::dmat4& world, const st
     glm::dvec3 up = linear * glm::dvec3(0.0, 1.0, 0.0);
     camera.right = glm::normalize(glm::cross(camera.forward, up));
     camera.up = glm::cross(camera.right, camera.forward);
-    if (!std::isfinite(camera.right.x + camera.right.y + camera.right.z)) fail(where + ": its node transform is singular");
+    if (!std::isfinite(camera.right.x + camera.right.y + camera.right.z))
+        fail(where + ": its node transform is singular");
     scene_.cameras.push_back(camera);
 }
 
-void GltfConverter::addLight(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where) {
+void GltfConverter::addLight(const tinygltf::Value& extension, const glm::dmat4& world,
+                             const std::string& where) {
     if (!extension.IsObject() || !extension.Has("light") || !extension.Get("light").IsInt()) {
         fail(where + ": KHR_lights_punctual must name a light by index");
     }
@@ -580,15 +608,21 @@ void GltfConverter::addLight(const tinygltf::Value& extension, const glm::dmat4&
     const std::string lightWhere = describe("light", index, source.name);
     PunctualLight light;
     light.name = source.name;
-    if (source.type == "point") light.type = LightType::Point;
-    else if (source.type == "spot") light.type = LightType::Spot;
-    else if (source.type == "directional") light.type = LightType::Directional;
-    else fail(lightWhere + " has unknown type '" + source.type + "'");
+    if (source.type == "point")
+        light.type = LightType::Point;
+    else if (source.type == "spot")
+        light.type = LightType::Spot;
+    else if (source.type == "directional")
+        light.type = LightType::Directional;
+    else
+        fail(lightWhere + " has unknown type '" + source.type + "'");
     if (!source.color.empty()) {
-        if (source.color.size() != 3 || !allFinite(source.color)) fail(lightWhere + ": color must be 3 numbers");
+        if (source.color.size() != 3 || !allFinite(source.color))
+            fail(lightWhere + ": color must be 3 numbers");
         light.color = glm::vec3(source.color[0], source.color[1], source.color[2]);
     }
-    if (!std::isfinite(source.intensity) || source.intensity < 0.0) fail(lightWhere + ": intensity must be >= 0");
+    if (!std::isfinite(source.intensity) || source.intensity < 0.0)
+        fail(lightWhere + ": intensity must be >= 0");
     light.intensity = static_cast<float>(source.intensity);
     light.range = static_cast<float>(std::max(0.0, source.range));
     light.innerConeAngle = static_cast<float>(source.spot.innerConeAngle);
@@ -613,7 +647,8 @@ bool hasGlbMagic(const std::string& path) {
 }  // namespace
 
 bool isSupportedExtension(const std::string& name) {
-    return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), name) != kSupportedExtensions.end();
+    return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), name) !=
+           kSupportedExtensions.end();
 }
 
 Scene loadGltf(const std::string& path) {

@@ -6,7 +6,8 @@
 
 namespace vkrt {
 
-std::vector<Triangle> makeUvSphere(glm::vec3 center, float radius, int rings, int segments, uint32_t material) {
+std::vector<Triangle> makeUvSphere(glm::vec3 center, float radius, int rings, int segments,
+                                   uint32_t material) {
     auto point = [&](int ring, int segment) {
         const double theta = M_PI * ring / rings;
         const double phi = 2.0 * M_PI * segment / segments;
@@ -17,7 +18,8 @@ std::vector<Triangle> makeUvSphere(glm::vec3 center, float radius, int rings, in
     triangles.reserve(static_cast<size_t>(2) * rings * segments);
     for (int r = 0; r < rings; ++r) {
         for (int s = 0; s < segments; ++s) {
-            const glm::vec3 a = point(r, s), b = point(r, s + 1), c = point(r + 1, s), d = point(r + 1, s + 1);
+            const glm::vec3 a = point(r, s), b = point(r, s + 1), c = point(r + 1, s),
+                            d = point(r + 1, s + 1);
             triangles.push_back({a, b, c, material});
             triangles.push_back({b, d, c, material});
         }

@@ -134,7 +134,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<PunctualLight> lights;
-    std::vector<Camera> cameras;  // camera instances in node order
+    std::vector<Camera> cameras;              // camera instances in node order
     std::vector<uint32_t> emissiveTriangles;  // indices of triangles whose material emits
     std::vector<std::string> warnings;
     Aabb bounds;

@@ -7,7 +7,7 @@
 namespace vkrt {
 
 class SceneError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
