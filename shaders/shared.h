@@ -1,5 +1,6 @@
 // Every struct, binding index and size that the host and the shaders share. Included by C++ (which maps
-// the GLSL types onto GLM) and by GLSL, so each layout has exactly one definition.
+// the GLSL types onto GLM) and by GLSL, so each layout has exactly one definition. All structs follow
+// std430 and are built from 16-byte vec4/uvec4 rows, so C++ and GLSL agree without padding rules.
 #ifndef VKRT_SHARED_H
 #define VKRT_SHARED_H
 
@@ -12,7 +13,13 @@ namespace vkrt::gpu {
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using ivec4 = glm::ivec4;
 using uint = uint32_t;
+// A buffer device address: a plain 64-bit integer on the host, a typed buffer reference in GLSL.
+#define VKRT_ADDRESS(Type, name) uint64_t name
+#else
+#define VKRT_ADDRESS(Type, name) Type name
 #endif
 
 // The deepest BVH the builder emits (levels, root included). The GPU traversal stack holds one entry per
@@ -20,9 +27,34 @@ using uint = uint32_t;
 // guarantee it, whatever the input.
 #define VKRT_BVH_MAX_DEPTH 64
 
+// The deepest ray tree (--max-depth); the GPU's stack of pending rays holds one more entry than this.
+#define VKRT_MAX_RAY_DEPTH 24
+
+// Compute workgroups are 8 x 8 pixels.
+#define VKRT_WORKGROUP_WIDTH 8
+#define VKRT_WORKGROUP_HEIGHT 8
+
+// The one descriptor: a storage buffer holding SceneParams. Everything else is reached through the
+// buffer device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
+#define VKRT_BINDING_PARAMS 0
+
+// Ray counters, indices into the counter buffer.
+#define VKRT_COUNTER_PRIMARY 0
+#define VKRT_COUNTER_SHADOW 1
+#define VKRT_COUNTER_SECONDARY 2
+#define VKRT_COUNTER_NONFINITE 3
+#define VKRT_COUNTER_COUNT 4
+
+#define VKRT_LIGHT_POINT 0
+#define VKRT_LIGHT_SPOT 1
+#define VKRT_LIGHT_DIRECTIONAL 2
+
+#define VKRT_PROJECTION_PERSPECTIVE 0
+#define VKRT_PROJECTION_ORTHOGRAPHIC 1
+
 // A flattened BVH node, 32 bytes (std430 packs a vec3 and a uint into 16 bytes).
 // Interior node: primCount == 0, the children are nodes leftOrFirst and leftOrFirst + 1.
-// Leaf: primCount > 0 primitives starting at leftOrFirst in the primitive index array.
+// Leaf: primCount > 0 triangles starting at leftOrFirst (triangles are stored in leaf order).
 struct BvhNode {
     vec3 boundsMin;
     uint leftOrFirst;
@@ -30,11 +62,124 @@ struct BvhNode {
     uint primCount;
 };
 
+// A triangle's corners and material, 48 bytes (each vec3 shares its 16 bytes with a uint). The index
+// stays an integer: integer bits kept in float slots do not survive lavapipe's denormal flushing.
+struct GpuTriangle {
+    vec3 v0;
+    uint material;
+    vec3 v1;
+    uint unused1;
+    vec3 v2;
+    uint unused2;
+};
+
+// Per-vertex normals and texture coordinates, 64 bytes: normal.xyz with u in .w, and the three v's.
+struct GpuShading {
+    vec4 normalU0;
+    vec4 normalU1;
+    vec4 normalU2;
+    vec4 v012;
+};
+
+// A material, 80 bytes. See docs/materials.md for what each value means.
+struct GpuMaterial {
+    vec4 baseColorMetallic;   // rgb base colour, metallic
+    vec4 emissionRoughness;   // rgb emission (factor * strength), roughness
+    vec4 attenuation;         // rgb attenuation colour, attenuation distance (infinity: none)
+    vec4 transmission;        // transmission, ior, thickness (0: thin-walled), double-sided (0 or 1)
+    ivec4 textures;           // base colour texture, emissive texture (-1: none), unused, unused
+};
+
+// A texture's place in the texel buffer (RGBA8, one uint per texel, rows top to bottom).
+struct GpuTexture {
+    uint firstTexel;
+    uint width;
+    uint height;
+    uint flags;  // wrap S in bits 0-1, wrap T in bits 2-3 (0 repeat, 1 clamp, 2 mirror), bit 4 nearest
+};
+
+struct GpuPunctualLight {
+    vec4 positionType;    // xyz position, w type (VKRT_LIGHT_*)
+    vec4 directionRange;  // xyz the direction the light shines, w range (0: unlimited)
+    vec4 radiantColor;    // rgb colour * intensity
+    vec4 cone;            // cos(outer cone), 1 / max(0.001, cos(inner) - cos(outer))
+};
+
+// One emissive triangle: its index, the cumulative power up to and including it, and its area pdf.
+struct GpuAreaLight {
+    uint triangle;
+    float cdf;
+    float pdfArea;
+    float unused;
+};
+
+struct GpuCamera {
+    vec4 positionProjection;  // xyz position, w projection (VKRT_PROJECTION_*)
+    vec4 forwardTanHalfFov;   // xyz forward, w tan(yfov / 2)
+    vec4 rightXmag;           // xyz right, w xmag
+    vec4 upYmag;              // xyz up, w ymag
+};
+
+#ifndef __cplusplus
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodeBuffer { BvhNode nodes[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleBuffer { GpuTriangle triangles[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShadingBuffer { GpuShading shading[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBuffer { GpuTexture textures[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer { uint texels[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightBuffer { GpuPunctualLight lights[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer AreaLightBuffer { GpuAreaLight areaLights[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer AccumulationBuffer { vec4 pixels[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer CounterBuffer { uint counters[]; };
+#endif
+
+// Everything a render needs that stays fixed for the whole render.
+struct SceneParams {
+    GpuCamera camera;
+    vec4 ambientMinThroughput;  // rgb ambient radiance, w the throughput below which branches are cut
+    vec4 background;            // rgb radiance of rays that leave the scene
+    uvec4 imageDepthSeed;       // width, height, max depth, seed
+    uvec4 counts;               // punctual lights, area lights, triangles, unused
+    VKRT_ADDRESS(NodeBuffer, nodes);
+    VKRT_ADDRESS(TriangleBuffer, triangles);
+    VKRT_ADDRESS(ShadingBuffer, shading);
+    VKRT_ADDRESS(MaterialBuffer, materials);
+    VKRT_ADDRESS(TextureBuffer, textures);
+    VKRT_ADDRESS(TexelBuffer, texels);
+    VKRT_ADDRESS(LightBuffer, lights);
+    VKRT_ADDRESS(AreaLightBuffer, areaLights);
+    VKRT_ADDRESS(AccumulationBuffer, accumulation);
+    VKRT_ADDRESS(CounterBuffer, counters);
+};
+
+// Per dispatch: which samples of which rows.
+struct PassConstants {
+    uint sampleStart;
+    uint sampleCount;
+    uint rowStart;
+    uint rowCount;
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(offsetof(BvhNode, leftOrFirst) == 12, "std430: uint packs after vec3");
 static_assert(offsetof(BvhNode, boundsMax) == 16, "std430: vec3 aligns to 16 bytes");
 static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3");
+static_assert(sizeof(GpuTriangle) == 48);
+static_assert(offsetof(GpuTriangle, material) == 12 && offsetof(GpuTriangle, v1) == 16);
+static_assert(sizeof(GpuShading) == 64);
+static_assert(sizeof(GpuMaterial) == 80);
+static_assert(offsetof(GpuMaterial, textures) == 64);
+static_assert(sizeof(GpuTexture) == 16);
+static_assert(sizeof(GpuPunctualLight) == 64);
+static_assert(sizeof(GpuAreaLight) == 16);
+static_assert(sizeof(GpuCamera) == 64);
+static_assert(offsetof(SceneParams, ambientMinThroughput) == 64);
+static_assert(offsetof(SceneParams, imageDepthSeed) == 96);
+static_assert(offsetof(SceneParams, nodes) == 128, "addresses start on an 8-byte boundary");
+static_assert(offsetof(SceneParams, counters) == 128 + 9 * 8);
+static_assert(sizeof(SceneParams) == 208);
+static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif
 

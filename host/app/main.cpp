@@ -11,6 +11,9 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/flat_bvh.h"
 #include "cpu/reference_renderer.h"
+#include "gpu/gpu_renderer.h"
+#include "gpu/vulkan_check.h"
+#include "gpu/vulkan_context.h"
 #include "image/image_io.h"
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
@@ -54,11 +57,6 @@ int run(Options options) {
                      options.scenePath.c_str());
     }
 
-    if (options.device == DeviceKind::Gpu) {
-        std::fprintf(stderr, "vkrt: error: the GPU tracer is not built yet; use --device cpu\n");
-        return kExitRuntimeFailure;
-    }
-
     // Acceleration structure.
     const BvhConfig bvhConfig;
     std::vector<Aabb> bounds(scene.triangles.size());
@@ -70,19 +68,42 @@ int run(Options options) {
     report.bvh = measureBvh(bvh, bvhConfig);
     report.bvh.buildMs = buildMs;
 
-    // Render.
-    ProgressBar progress("cpu", !options.quiet);
-    const ReferenceRenderer renderer(scene, flatBvh, camera, settings);
-    const auto renderStart = std::chrono::steady_clock::now();
-    RenderResult result =
-        renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
-    report.renderMs = millisecondsSince(renderStart);
-    progress.finish();
+    RenderResult result;
+    if (options.device == DeviceKind::Gpu) {
+        ContextOptions contextOptions;
+        contextOptions.validation = options.validate;
+        contextOptions.deviceIndex = options.deviceIndex;
+        const VulkanContext context(contextOptions);
+        GpuRenderOptions gpuOptions;
+        gpuOptions.timeLimitSeconds = options.timeLimitSeconds;
+        GpuRenderer renderer(context, scene, flatBvh, camera, settings, gpuOptions);
+        ProgressBar progress("gpu", !options.quiet);
+        const auto renderStart = std::chrono::steady_clock::now();
+        result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
+        report.renderMs = millisecondsSince(renderStart);
+        progress.finish();
+        const GpuRenderReport& g = renderer.report();
+        report.samplesRendered = static_cast<int>(g.samplesPerPixel);
+        report.gpu = RunReport::Gpu{context.description().name, context.description().type, context.description().driver,
+                                    g.gpuMs, g.compileMs, g.shaderFromCache, renderer.features().names(),
+                                    g.deviceMemoryBytes, g.dispatches, g.longestDispatchMs};
+        if (options.validate && context.validationMessages() > 0) {
+            throw GpuError(std::to_string(context.validationMessages()) + " validation message(s), see above");
+        }
+    } else {
+        ProgressBar progress("cpu", !options.quiet);
+        const ReferenceRenderer renderer(scene, flatBvh, camera, settings);
+        const auto renderStart = std::chrono::steady_clock::now();
+        result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
+        report.renderMs = millisecondsSince(renderStart);
+        progress.finish();
+        report.samplesRendered = settings.samplesPerPixel;
+    }
 
     writeImage(result.image, options.outputPath, options.exposure);
 
     report.scene = options.scenePath;
-    report.device = "cpu";
+    report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
     report.camera = camera.name;
     report.triangles = scene.triangles.size();
     report.settings = settings;
@@ -90,9 +111,10 @@ int run(Options options) {
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
-        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s\n",
-                     options.outputPath.c_str(), settings.width, settings.height, settings.samplesPerPixel,
-                     report.renderMs, mrays);
+        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s%s%s\n",
+                     options.outputPath.c_str(), settings.width, settings.height, report.samplesRendered,
+                     report.renderMs, mrays, report.gpu ? " on " : "",
+                     report.gpu ? report.gpu->deviceName.c_str() : "");
     }
     return 0;
 }
@@ -106,6 +128,14 @@ int main(int argc, char** argv) {
         Options options = parseOptions(argc, argv);
         if (options.help) {
             std::fputs(helpText(), stdout);
+            return 0;
+        }
+        if (options.listDevices) {
+            for (const DeviceDescription& d : listDevices()) {
+                std::printf("%d: %s (%s, Vulkan %s%s%s)%s%s\n", d.index, d.name.c_str(), d.type.c_str(),
+                            d.apiVersion.c_str(), d.driver.empty() ? "" : ", ", d.driver.c_str(),
+                            d.usable ? "" : " unusable: ", d.unusableBecause.c_str());
+            }
             return 0;
         }
         return run(std::move(options));

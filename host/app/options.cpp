@@ -53,7 +53,11 @@ Usage: vkrt --scene FILE [options]
   --height H            image height in pixels  [width / the camera's aspect ratio, else 512]
   --spp N               samples per pixel (jittered, stratified)                      [16]
   --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
-  --device cpu|gpu      CPU reference renderer, or the GPU tracer (not built yet)     [cpu]
+  --device gpu|cpu      GPU tracer (Vulkan compute) or the CPU reference renderer   [gpu]
+  --device-index N      which Vulkan device (see --list-devices)    [discrete GPU first]
+  --list-devices        print the Vulkan devices and exit
+  --validate            enable the Khronos validation layer
+  --time-limit SECONDS  GPU: stop after the pass that crosses this time
   --seed S              seed of the counter-based random numbers                      [0]
   --camera N            which camera of the file to use (node order)                  [0]
   --ambient R[,G,B]     ambient radiance       [0.05; 1 when the scene has no lights]
@@ -105,6 +109,15 @@ Options parseOptions(int argc, const char* const argv[]) {
                 options.device = DeviceKind::Cpu;
             else
                 throw UsageError("--device must be gpu or cpu");
+        } else if (flag == "--device-index") {
+            options.deviceIndex = parseInt(flag, value(), 0, 255);
+        } else if (flag == "--list-devices") {
+            options.listDevices = true;
+        } else if (flag == "--validate") {
+            options.validate = true;
+        } else if (flag == "--time-limit") {
+            options.timeLimitSeconds = parseNumber<double>(flag, value());
+            if (options.timeLimitSeconds <= 0.0) throw UsageError("--time-limit must be positive");
         } else if (flag == "--seed") {
             options.render.seed = static_cast<uint32_t>(parseInt(flag, value(), 0, 2147483647));
         } else if (flag == "--camera") {
@@ -125,7 +138,9 @@ Options parseOptions(int argc, const char* const argv[]) {
             throw UsageError("unknown option '" + flag + "' (see --help)");
         }
     }
-    if (!options.help && options.scenePath.empty()) throw UsageError("--scene FILE is required (see --help)");
+    if (!options.help && !options.listDevices && options.scenePath.empty()) {
+        throw UsageError("--scene FILE is required (see --help)");
+    }
     return options;
 }
 

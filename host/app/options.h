@@ -21,7 +21,11 @@ struct Options {
     std::string scenePath;
     std::string outputPath = "out.png";
     std::string statsPath;                // empty: no stats file
-    DeviceKind device = DeviceKind::Cpu;  // becomes Gpu when the GPU tracer lands
+    DeviceKind device = DeviceKind::Gpu;
+    int deviceIndex = -1;       // -1: choose (discrete GPU first)
+    bool listDevices = false;
+    bool validate = false;      // Khronos validation layer
+    double timeLimitSeconds = 0.0;
     int camera = 0;
     bool widthGiven = false, heightGiven = false;
     std::optional<glm::dvec3> ambient;  // unset: 0.05, or 1 for a scene without lights

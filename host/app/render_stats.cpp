@@ -9,14 +9,15 @@ namespace vkrt {
 
 nlohmann::json toJson(const RunReport& r) {
     const double seconds = r.renderMs / 1000.0;
-    return {
+    nlohmann::json json = {
         {"scene", r.scene},
         {"device", r.device},
         {"camera", r.camera},
         {"triangles", r.triangles},
         {"width", r.settings.width},
         {"height", r.settings.height},
-        {"spp", r.settings.samplesPerPixel},
+        {"spp", r.samplesRendered},
+        {"spp_requested", r.settings.samplesPerPixel},
         {"max_depth", r.settings.maxDepth},
         {"seed", r.settings.seed},
         {"load_ms", r.loadMs},
@@ -31,6 +32,19 @@ nlohmann::json toJson(const RunReport& r) {
         {"mrays_per_s", seconds > 0.0 ? static_cast<double>(r.rays.total()) / seconds / 1e6 : 0.0},
         {"nonfinite_samples", r.rays.nonFiniteSamples},
     };
+    if (r.gpu) {
+        const RunReport::Gpu& g = *r.gpu;
+        json["device_name"] = g.deviceName;
+        json["device_type"] = g.deviceType;
+        json["driver"] = g.driver;
+        json["gpu_ms"] = g.gpuMs;
+        json["mrays_per_gpu_s"] = g.gpuMs > 0.0 ? static_cast<double>(r.rays.total()) / g.gpuMs / 1e3 : 0.0;
+        json["features"] = g.features;
+        json["gpu_memory_bytes"] = g.deviceMemoryBytes;
+        json["shader"] = {{"compile_ms", g.compileMs}, {"from_cache", g.shaderFromCache}};
+        json["dispatches"] = {{"count", g.dispatches}, {"longest_ms", g.longestDispatchMs}};
+    }
+    return json;
 }
 
 void writeJson(const nlohmann::json& json, const std::string& path) {

@@ -1,7 +1,9 @@
 // The statistics JSON written by --stats.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +22,22 @@ struct RunReport {
     double loadMs = 0.0;
     double renderMs = 0.0;
     RayCounters rays;
+    int samplesRendered = 0;  // fewer than settings.samplesPerPixel when a time limit stopped the render
+
+    // The GPU tracer's own figures; absent for the CPU reference.
+    struct Gpu {
+        std::string deviceName;
+        std::string deviceType;
+        std::string driver;
+        double gpuMs = 0.0;
+        double compileMs = 0.0;
+        bool shaderFromCache = false;
+        std::vector<std::string> features;
+        uint64_t deviceMemoryBytes = 0;
+        uint32_t dispatches = 0;
+        double longestDispatchMs = 0.0;
+    };
+    std::optional<Gpu> gpu;
 };
 
 nlohmann::json toJson(const RunReport& report);

@@ -26,6 +26,12 @@ class AreaLights {
     // `pick` chooses the triangle, (u, v) the point on it; all three in [0, 1).
     AreaLightSample sample(double pick, double u, double v) const;
 
+    // The tables behind sample(), for the GPU: emissive triangles, cumulative power (ending at 1) and the
+    // area density of each triangle's points.
+    const std::vector<uint32_t>& triangles() const { return triangles_; }
+    const std::vector<double>& cdf() const { return cdf_; }
+    const std::vector<double>& pdfArea() const { return pdfArea_; }
+
   private:
     const Scene& scene_;
     std::vector<uint32_t> triangles_;

@@ -220,6 +220,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
                           node, counters);
 
     if (depth < settings_.maxDepth) {
+        // The weight of this branch of the ray tree so far, absorption on the way here included.
+        const glm::dvec3 pathThroughput = throughput * absorbed;
         // Relative index across this interface: entering a volume from outside, leaving it, or a surface
         // seen from outside (thin-walled and opaque materials look the same from both sides).
         const bool volume = material.hasVolume() && surface.transmission > 0.0;
@@ -231,13 +233,13 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
         const glm::dvec3 reflectWeight = fresnel * surface.mirror;
         const glm::dvec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
 
-        if (maxComponent(throughput * reflectWeight) >= settings_.minThroughput) {
+        if (maxComponent(pathThroughput * reflectWeight) >= settings_.minThroughput) {
             ++counters.secondary;
             const Ray reflected{offsetOrigin(point, geometricNormal, 1.0), reflect(toViewer, normal)};
             result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
-                                               throughput * reflectWeight, medium, hit.triangle, counters);
+                                               pathThroughput * reflectWeight, medium, hit.triangle, counters);
         }
-        if (maxComponent(throughput * transmitWeight) >= settings_.minThroughput) {
+        if (maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
             glm::dvec3 direction = ray.direction;  // thin-walled: straight through
             bool passes = true;
             if (volume) passes = refract(toViewer, normal, eta, direction);
@@ -247,7 +249,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
                     volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
                 const Ray transmitted{offsetOrigin(point, geometricNormal, -1.0), direction};
                 result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
-                                                    throughput * transmitWeight, nextMedium, hit.triangle,
+                                                    pathThroughput * transmitWeight, nextMedium, hit.triangle,
                                                     counters);
             }
         }

@@ -1,19 +1,20 @@
-#version 450
+#version 460
 // Compiles the headers that C++ and GLSL share, so a change that only C++ accepts fails a test now rather
 // than when the GPU tracer is built. Writes random numbers and node fields so nothing is optimised away.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
 
 #include "shared.h"
 #include "random.h"
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer Nodes { BvhNode nodes[]; };
+layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
 layout(std430, binding = 1) writeonly buffer Out { float values[]; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    BvhNode node = nodes[i];
+    BvhNode node = params.nodes.nodes[i];
     values[i] = vkrtRandom(1u, i, 2u, vkrtNodeDimension(3u, VKRT_DIM_LIGHT_U)) + node.boundsMin.x +
                 float(node.primCount + node.leftOrFirst) + node.boundsMax.y;
 }

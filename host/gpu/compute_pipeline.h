@@ -1,0 +1,43 @@
+// One compute pipeline: a shader module, a descriptor set of storage buffers and a push-constant block.
+// dispatch() checks the push-constant size and that every binding has a buffer.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/gpu_buffer.h"
+#include "gpu/vulkan_context.h"
+
+namespace vkrt {
+
+class ComputePipeline {
+public:
+    ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv, uint32_t storageBuffers,
+                    uint32_t pushConstantBytes);
+    ~ComputePipeline();
+    ComputePipeline(const ComputePipeline&) = delete;
+    ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+    // Binds buffers[i] to binding i; the count must equal the pipeline's storage-buffer count.
+    void bind(const std::vector<const GpuBuffer*>& buffers);
+
+    // Records binding the pipeline, its descriptors and push constants, and the dispatch.
+    void dispatch(VkCommandBuffer commands, const void* pushConstants, uint32_t pushConstantBytes, uint32_t groupsX,
+                  uint32_t groupsY, uint32_t groupsZ = 1) const;
+
+private:
+    const VulkanContext& context_;
+    uint32_t storageBuffers_;
+    uint32_t pushConstantBytes_;
+    bool bound_ = false;
+    VkShaderModule module_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+}  // namespace vkrt

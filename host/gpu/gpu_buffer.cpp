@@ -1,0 +1,129 @@
+#include "gpu/gpu_buffer.h"
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+#include "gpu/vulkan_check.h"
+
+namespace vkrt {
+
+GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes) : context_(&context) { create(bytes, false); }
+
+GpuBuffer::GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes) : context_(&context) {
+    create(bytes, false);
+    if (bytes > 0) upload(data, bytes);
+}
+
+GpuBuffer::~GpuBuffer() { release(); }
+
+GpuBuffer::GpuBuffer(GpuBuffer&& other) noexcept { *this = std::move(other); }
+
+GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
+    if (this != &other) {
+        release();
+        context_ = std::exchange(other.context_, nullptr);
+        buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+        memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+        address_ = std::exchange(other.address_, 0);
+        size_ = std::exchange(other.size_, 0);
+        hostVisible_ = std::exchange(other.hostVisible_, false);
+    }
+    return *this;
+}
+
+void GpuBuffer::release() {
+    if (!context_) return;
+    if (buffer_) vkDestroyBuffer(context_->device(), buffer_, nullptr);
+    if (memory_) {
+        vkFreeMemory(context_->device(), memory_, nullptr);
+        context_->trackAllocation(-static_cast<int64_t>(size_));
+    }
+    buffer_ = VK_NULL_HANDLE;
+    memory_ = VK_NULL_HANDLE;
+}
+
+void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
+    size_ = std::max<VkDeviceSize>(bytes, 16);
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = size_;
+    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(context_->device(), &info, nullptr, &buffer_));
+    VkMemoryRequirements requirements;
+    vkGetBufferMemoryRequirements(context_->device(), buffer_, &requirements);
+
+    // Device-local and host-visible memory serves both sides; failing that, device-local (or, for staging,
+    // host-visible) alone.
+    const VkMemoryPropertyFlags mappable = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    int type = context_->findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | mappable);
+    if (type < 0) {
+        type = context_->findMemoryType(requirements.memoryTypeBits,
+                                        preferHostVisible ? mappable : VkMemoryPropertyFlags{VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+    }
+    if (type < 0) type = context_->findMemoryType(requirements.memoryTypeBits, 0);
+    if (type < 0) throw GpuError("no memory type for a storage buffer");
+    hostVisible_ = (context_->memoryProperties().memoryTypes[type].propertyFlags & mappable) == mappable;
+
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    allocate.pNext = &flags;
+    allocate.allocationSize = requirements.size;
+    allocate.memoryTypeIndex = static_cast<uint32_t>(type);
+    const VkResult result = vkAllocateMemory(context_->device(), &allocate, nullptr, &memory_);
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY) {
+        throw GpuError("out of GPU memory allocating " + std::to_string(size_ >> 20) + " MiB");
+    }
+    VK_CHECK(result);
+    context_->trackAllocation(static_cast<int64_t>(size_));
+    VK_CHECK(vkBindBufferMemory(context_->device(), buffer_, memory_, 0));
+    VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    addressInfo.buffer = buffer_;
+    address_ = vkGetBufferDeviceAddress(context_->device(), &addressInfo);
+}
+
+void GpuBuffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    if (hostVisible_) {
+        void* mapped = nullptr;
+        VK_CHECK(vkMapMemory(context_->device(), memory_, offset, bytes, 0, &mapped));
+        std::memcpy(mapped, data, bytes);
+        vkUnmapMemory(context_->device(), memory_);
+        return;
+    }
+    GpuBuffer staging;
+    staging.context_ = context_;
+    staging.create(bytes, true);
+    staging.upload(data, bytes);
+    context_->submitAndWait([&](VkCommandBuffer commands) {
+        const VkBufferCopy region{0, offset, bytes};
+        vkCmdCopyBuffer(commands, staging.buffer_, buffer_, 1, &region);
+    });
+}
+
+void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+    if (bytes == 0) return;
+    if (hostVisible_) {
+        void* mapped = nullptr;
+        VK_CHECK(vkMapMemory(context_->device(), memory_, offset, bytes, 0, &mapped));
+        std::memcpy(data, mapped, bytes);
+        vkUnmapMemory(context_->device(), memory_);
+        return;
+    }
+    GpuBuffer staging;
+    staging.context_ = context_;
+    staging.create(bytes, true);
+    context_->submitAndWait([&](VkCommandBuffer commands) {
+        const VkBufferCopy region{offset, 0, bytes};
+        vkCmdCopyBuffer(commands, buffer_, staging.buffer_, 1, &region);
+    });
+    staging.download(data, bytes);
+}
+
+void GpuBuffer::fillZero() {
+    context_->submitAndWait([&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, buffer_, 0, VK_WHOLE_SIZE, 0); });
+}
+
+}  // namespace vkrt

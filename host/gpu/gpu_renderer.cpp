@@ -1,0 +1,170 @@
+#include "gpu/gpu_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "gpu/vulkan_check.h"
+
+namespace vkrt {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+uint32_t groupsFor(uint32_t count, uint32_t size) { return (count + size - 1) / size; }
+
+}  // namespace
+
+GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                         const RenderSettings& settings, const GpuRenderOptions& options)
+    : context_(context), settings_(settings), options_(options), data_(packScene(scene, bvh)) {
+    if (settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
+        throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU limit of " +
+                       std::to_string(VKRT_MAX_RAY_DEPTH));
+    }
+    defines_ = data_.features.defines();
+    const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
+    spirv_ = shader.spirv;
+    report_.compileMs = shader.compileMs;
+    report_.shaderFromCache = shader.fromCache;
+    report_.shaderKey = shader.cacheKey;
+    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, 1, static_cast<uint32_t>(sizeof(gpu::PassConstants)));
+
+    // Upload what the scene uses; absent features keep a zero address and no buffer.
+    gpu::SceneParams params = makeSceneParams(data_, camera, settings);
+    auto upload = [&](const auto& values) -> uint64_t {
+        if (values.empty()) return 0;
+        sceneBuffers_.emplace_back(context, values);
+        return sceneBuffers_.back().address();
+    };
+    params.nodes = upload(data_.nodes);
+    params.triangles = upload(data_.triangles);
+    params.shading = upload(data_.shading);
+    params.materials = upload(data_.materials);
+    params.textures = upload(data_.textures);
+    params.texels = upload(data_.texels);
+    params.lights = upload(data_.lights);
+    params.areaLights = upload(data_.areaLights);
+    const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
+    accumulation_ = GpuBuffer(context, pixels * sizeof(glm::vec4));
+    accumulation_.fillZero();
+    counters_ = GpuBuffer(context, VKRT_COUNTER_COUNT * sizeof(uint32_t));
+    counters_.fillZero();
+    params.accumulation = accumulation_.address();
+    params.counters = counters_.address();
+    params_ = GpuBuffer(context, &params, sizeof(params));
+    pipeline_->bind({&params_});
+
+    if (context.hasTimestamps()) {
+        VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        info.queryCount = 2;
+        VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, &queries_));
+    }
+}
+
+GpuRenderer::~GpuRenderer() {
+    if (queries_) vkDestroyQueryPool(context_.device(), queries_, nullptr);
+}
+
+double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount) {
+    const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount};
+    const auto start = std::chrono::steady_clock::now();
+    context_.submitAndWait([&](VkCommandBuffer commands) {
+        // Earlier dispatches' and transfers' writes must land before this one reads and adds to them.
+        VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        before.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
+        if (queries_) {
+            vkCmdResetQueryPool(commands, queries_, 0, 2);
+            vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
+        }
+        pipeline_->dispatch(commands, &pass, sizeof(pass), groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH),
+                            groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT));
+        if (queries_) vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
+        // Make the results visible to the host (mapped reads) and to copies (staged reads).
+        VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        after.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0, nullptr, 0,
+                             nullptr);
+    });
+    const double wallMs = millisecondsSince(start);
+    if (queries_) {
+        uint64_t stamps[2] = {};
+        VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_, 0, 2, sizeof(stamps), stamps, sizeof(uint64_t),
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        report_.gpuMs += static_cast<double>(stamps[1] - stamps[0]) * context_.timestampPeriodNs() * 1e-6;
+    }
+    ++report_.dispatches;
+    report_.longestDispatchMs = std::max(report_.longestDispatchMs, wallMs);
+    return wallMs;
+}
+
+void GpuRenderer::readCounters(RayCounters& counters) {
+    // The device counters are 32-bit and wrap; per-dispatch differences are added up in 64 bits.
+    uint32_t now[VKRT_COUNTER_COUNT];
+    counters_.download(now, sizeof(now));
+    uint32_t delta[VKRT_COUNTER_COUNT];
+    for (int i = 0; i < VKRT_COUNTER_COUNT; ++i) {
+        delta[i] = now[i] - lastCounters_[i];
+        lastCounters_[i] = now[i];
+    }
+    counters.primary += delta[VKRT_COUNTER_PRIMARY];
+    counters.shadow += delta[VKRT_COUNTER_SHADOW];
+    counters.secondary += delta[VKRT_COUNTER_SECONDARY];
+    counters.nonFiniteSamples += delta[VKRT_COUNTER_NONFINITE];
+}
+
+RenderResult GpuRenderer::render(const ProgressCallback& progress) {
+    RenderResult result;
+    const uint32_t height = static_cast<uint32_t>(settings_.height);
+    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
+    const auto start = std::chrono::steady_clock::now();
+
+    // Passes of `samples` samples over the whole image, in bands of rows. Each dispatch is sized from the
+    // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
+    // the cost of a band depends on what it sees.
+    double unitsPerMs = 0.0;   // rows x samples traced per millisecond, as last measured
+    double lastUnits = 8.0;    // rows x samples of the last dispatch
+    auto nextUnits = [&] {
+        return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits) : lastUnits;
+    };
+    uint32_t samplesDone = 0;
+    while (samplesDone < spp) {
+        const uint32_t samples =
+            static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(spp - samplesDone)));
+        for (uint32_t row = 0; row < height;) {
+            const uint32_t rows = static_cast<uint32_t>(
+                std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
+            const double ms = runDispatch(samplesDone, samples, row, rows);
+            lastUnits = static_cast<double>(rows) * samples;
+            unitsPerMs = lastUnits / std::max(ms, 0.01);
+            readCounters(result.rays);
+            row += rows;
+            if (progress) progress(static_cast<uint64_t>(samplesDone) * height + static_cast<uint64_t>(row) * samples,
+                                   static_cast<uint64_t>(spp) * height);
+        }
+        samplesDone += samples;
+        if (options_.timeLimitSeconds > 0.0 && millisecondsSince(start) >= options_.timeLimitSeconds * 1000.0) break;
+    }
+    report_.samplesPerPixel = samplesDone;
+    if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
+
+    // Average the finite samples of each pixel.
+    std::vector<glm::vec4> sums(static_cast<size_t>(settings_.width) * settings_.height);
+    accumulation_.download(sums.data(), sums.size() * sizeof(glm::vec4));
+    result.image = Image(settings_.width, settings_.height);
+    for (size_t i = 0; i < sums.size(); ++i) {
+        result.image.pixels[i] = sums[i].w > 0.0f ? glm::vec3(sums[i]) / sums[i].w : glm::vec3(0.0f);
+    }
+    report_.deviceMemoryBytes = context_.peakAllocatedBytes();
+    return result;
+}
+
+}  // namespace vkrt

@@ -1,0 +1,71 @@
+// The GPU tracer: uploads the scene, compiles the shader variant the scene needs, and renders in passes of
+// bounded length (so a real GPU's watchdog never fires), accumulating samples on the device.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bvh/flat_bvh.h"
+#include "common/render_settings.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/gpu_buffer.h"
+#include "gpu/gpu_scene.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/vulkan_context.h"
+#include "scene/scene.h"
+
+namespace vkrt {
+
+struct GpuRenderOptions {
+    double timeLimitSeconds = 0.0;   // 0: render every sample; otherwise stop after the pass crossing it
+    double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
+    std::string shaderCacheDir = defaultShaderCacheDir();
+};
+
+struct GpuRenderReport {
+    double gpuMs = 0.0;  // summed timestamp intervals of the tracing dispatches (0 without timestamps)
+    double compileMs = 0.0;
+    bool shaderFromCache = false;
+    std::string shaderKey;
+    uint32_t dispatches = 0;
+    uint32_t samplesPerPixel = 0;  // samples actually rendered (fewer than asked when a time limit stopped it)
+    double longestDispatchMs = 0.0;
+    uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
+};
+
+class GpuRenderer {
+public:
+    GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                const RenderSettings& settings, const GpuRenderOptions& options = {});
+    ~GpuRenderer();
+
+    RenderResult render(const ProgressCallback& progress = {});
+
+    const GpuRenderReport& report() const { return report_; }
+    const SceneFeatures& features() const { return data_.features; }
+    const std::vector<std::string>& defines() const { return defines_; }
+    const std::vector<uint32_t>& spirv() const { return spirv_; }
+
+private:
+    // Records and runs one dispatch; returns its wall time in milliseconds.
+    double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
+    void readCounters(RayCounters& counters);
+
+    const VulkanContext& context_;
+    RenderSettings settings_;
+    GpuRenderOptions options_;
+    GpuSceneData data_;
+    std::vector<std::string> defines_;
+    std::vector<uint32_t> spirv_;
+    std::unique_ptr<ComputePipeline> pipeline_;
+    std::vector<GpuBuffer> sceneBuffers_;
+    GpuBuffer accumulation_;
+    GpuBuffer counters_;
+    GpuBuffer params_;
+    VkQueryPool queries_ = VK_NULL_HANDLE;
+    uint32_t lastCounters_[VKRT_COUNTER_COUNT] = {};
+    GpuRenderReport report_;
+};
+
+}  // namespace vkrt

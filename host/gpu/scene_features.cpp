@@ -1,0 +1,71 @@
+#include "gpu/scene_features.h"
+
+#include <cmath>
+
+namespace vkrt {
+namespace {
+
+struct FeatureName {
+    bool SceneFeatures::*flag;
+    const char* name;
+    const char* define;
+};
+
+constexpr FeatureName kFeatures[] = {
+    {&SceneFeatures::smoothNormals, "smooth_normals", "VKRT_HAS_SMOOTH_NORMALS"},
+    {&SceneFeatures::textures, "textures", "VKRT_HAS_TEXTURES"},
+    {&SceneFeatures::transmission, "transmission", "VKRT_HAS_TRANSMISSION"},
+    {&SceneFeatures::volumes, "volumes", "VKRT_HAS_VOLUMES"},
+    {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
+    {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
+};
+
+bool isFlat(const Triangle& t, const TriangleShading& s) {
+    const glm::vec3 face = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+    for (const glm::vec3& n : s.normal) {
+        if (glm::dot(n, face) < 1.0f - 1e-6f) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::string> SceneFeatures::defines() const {
+    std::vector<std::string> result;
+    for (const FeatureName& f : kFeatures) {
+        if (this->*f.flag) result.push_back(f.define);
+    }
+    return result;
+}
+
+std::vector<std::string> SceneFeatures::names() const {
+    std::vector<std::string> result;
+    for (const FeatureName& f : kFeatures) {
+        if (this->*f.flag) result.push_back(f.name);
+    }
+    return result;
+}
+
+SceneFeatures detectFeatures(const Scene& scene) {
+    SceneFeatures features;
+    std::vector<bool> used(scene.materials.size(), false);
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        used[scene.triangles[i].material] = true;
+        if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i])) features.smoothNormals = true;
+    }
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+        if (!used[m]) continue;
+        const Material& material = scene.materials[m];
+        if (material.baseColorTexture >= 0 || (material.emissiveTexture >= 0 && material.emissive())) {
+            features.textures = true;
+        }
+        const bool transmits = material.transmission > 0.0f && material.metallic < 1.0f;
+        features.transmission |= transmits;
+        features.volumes |= transmits && material.hasVolume();
+    }
+    features.punctualLights = !scene.lights.empty();
+    features.areaLights = !scene.emissiveTriangles.empty();
+    return features;
+}
+
+}  // namespace vkrt

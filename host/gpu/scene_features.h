@@ -1,0 +1,28 @@
+// What a scene uses, so the GPU tracer compiles and uploads only that (DESIGN.md: "leave out what a scene
+// does not need").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace vkrt {
+
+struct SceneFeatures {
+    bool smoothNormals = false;   // some vertex normal differs from its face normal
+    bool textures = false;        // a material samples a texture
+    bool transmission = false;    // a material transmits light
+    bool volumes = false;         // a transmissive material bounds a volume (refraction, Beer's law)
+    bool punctualLights = false;
+    bool areaLights = false;      // emissive triangles
+
+    // Shader defines (VKRT_HAS_...), one per feature present.
+    std::vector<std::string> defines() const;
+    // Short names of the features present, for the stats JSON.
+    std::vector<std::string> names() const;
+};
+
+SceneFeatures detectFeatures(const Scene& scene);
+
+}  // namespace vkrt

@@ -1,0 +1,146 @@
+#include "gpu/shader_compiler.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <glslang/build_info.h>
+
+#include "common/atomic_file.h"
+
+namespace vkrt {
+namespace {
+
+// Resolves #include "name" against the embedded shader sources.
+class EmbeddedIncluder : public glslang::TShader::Includer {
+public:
+    IncludeResult* includeLocal(const char* headerName, const char*, size_t) override { return find(headerName); }
+    IncludeResult* includeSystem(const char* headerName, const char*, size_t) override { return find(headerName); }
+    void releaseInclude(IncludeResult* result) override { delete result; }
+
+private:
+    IncludeResult* find(const char* name) {
+        const auto& sources = embeddedShaders();
+        auto it = sources.find(name);
+        if (it == sources.end()) return nullptr;
+        return new IncludeResult(it->first, it->second.data(), it->second.size(), nullptr);
+    }
+};
+
+// FNV-1a, 64 bits: a stable key for the cache (not a security boundary).
+uint64_t fnv1a(const std::string& text, uint64_t hash = 1469598103934665603ull) {
+    for (unsigned char c : text) {
+        hash ^= c;
+        hash *= 1099511628211ull;
+    }
+    return hash;
+}
+
+std::string cacheKeyFor(const std::string& mainFile, const std::string& preamble) {
+    uint64_t hash = fnv1a(std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
+                          std::to_string(GLSLANG_VERSION_PATCH));
+    hash = fnv1a(mainFile, hash);
+    hash = fnv1a(preamble, hash);
+    for (const auto& [name, text] : embeddedShaders()) hash = fnv1a(text, fnv1a(name, hash));
+    std::ostringstream key;
+    key << std::hex << hash;
+    return key.str();
+}
+
+bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) {
+    std::ifstream in(file, std::ios::binary | std::ios::ate);
+    if (!in) return false;
+    const std::streamsize bytes = in.tellg();
+    if (bytes <= 0 || bytes % 4 != 0) return false;
+    spirv.resize(static_cast<size_t>(bytes) / 4);
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(spirv.data()), bytes);
+    return in && spirv[0] == 0x07230203u;  // the SPIR-V magic number
+}
+
+void initializeGlslangOnce() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        glslang::InitializeProcess();
+        std::atexit([] { glslang::FinalizeProcess(); });
+    });
+}
+
+}  // namespace
+
+std::string defaultShaderCacheDir() {
+    if (const char* explicitDir = std::getenv("VKRT_SHADER_CACHE")) return explicitDir;
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/vkrt";
+    if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/vkrt";
+    return "";
+}
+
+CompiledShader compileShader(const std::string& mainFile, const std::vector<std::string>& defines,
+                             const std::string& cacheDir) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto& sources = embeddedShaders();
+    const auto main = sources.find(mainFile);
+    if (main == sources.end()) throw ShaderError("no embedded shader named " + mainFile);
+
+    std::string preamble;
+    for (const std::string& define : defines) {
+        std::string line = define;
+        const size_t space = line.find(' ');
+        if (space == std::string::npos) line += " 1";
+        preamble += "#define " + line + "\n";
+    }
+    CompiledShader result;
+    result.cacheKey = cacheKeyFor(mainFile, preamble);
+    const std::filesystem::path cacheFile =
+        cacheDir.empty() ? std::filesystem::path() : std::filesystem::path(cacheDir) / (result.cacheKey + ".spv");
+    if (!cacheDir.empty() && readCache(cacheFile, result.spirv)) {
+        result.fromCache = true;
+        return result;
+    }
+
+    initializeGlslangOnce();
+    glslang::TShader shader(EShLangCompute);
+    const char* text = main->second.c_str();
+    const char* name = main->first.c_str();
+    shader.setStringsWithLengthsAndNames(&text, nullptr, &name, 1);
+    shader.setPreamble(preamble.c_str());
+    shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+    EmbeddedIncluder includer;
+    const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+    if (!shader.parse(GetDefaultResources(), 460, false, messages, includer)) {
+        throw ShaderError(mainFile + ": " + shader.getInfoLog());
+    }
+    glslang::TProgram program;
+    program.addShader(&shader);
+    if (!program.link(messages)) throw ShaderError(mainFile + ": link failed: " + program.getInfoLog());
+    glslang::SpvOptions options;
+    options.disableOptimizer = false;
+    options.optimizeSize = false;
+    glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), result.spirv, &options);
+    result.compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    if (!cacheDir.empty()) {
+        // A cache that cannot be written is no reason to fail the render.
+        try {
+            std::filesystem::create_directories(cacheDir);
+            writeFileAtomically(cacheFile.string(), [&](const std::string& temporary) {
+                std::ofstream out(temporary, std::ios::binary);
+                out.write(reinterpret_cast<const char*>(result.spirv.data()),
+                          static_cast<std::streamsize>(result.spirv.size() * 4));
+                if (!out.flush()) throw std::runtime_error("cannot write the shader cache");
+            });
+        } catch (const std::exception&) {
+        }
+    }
+    return result;
+}
+
+}  // namespace vkrt

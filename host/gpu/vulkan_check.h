@@ -1,0 +1,29 @@
+// Checking every VkResult: a failure throws GpuError naming the call, the result and the place. The check
+// stays on in release builds (zeux/niagara's VK_CHECK_FORCE).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+namespace vkrt {
+
+class GpuError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+const char* vkResultName(VkResult result);
+
+[[noreturn]] void throwVkError(VkResult result, const char* call, const char* file, int line);
+
+}  // namespace vkrt
+
+#define VK_CHECK(call)                                                              \
+    do {                                                                            \
+        const VkResult vkCheckResult_ = (call);                                     \
+        if (vkCheckResult_ != VK_SUCCESS) {                                         \
+            ::vkrt::throwVkError(vkCheckResult_, #call, __FILE__, __LINE__);        \
+        }                                                                           \
+    } while (0)

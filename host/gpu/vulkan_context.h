@@ -1,0 +1,86 @@
+// The Vulkan instance, the chosen device, its compute queue and a command pool. Device choice: discrete
+// GPU first, then integrated, virtual and CPU (lavapipe), or the one `deviceIndex` names.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace vkrt {
+
+struct ContextOptions {
+    bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its messages
+    int deviceIndex = -1;     // -1: choose automatically
+};
+
+struct DeviceDescription {
+    int index = 0;
+    std::string name;
+    std::string type;    // "discrete GPU", "integrated GPU", "CPU", ...
+    std::string driver;  // driver name and version string
+    std::string apiVersion;
+    bool usable = false;
+    std::string unusableBecause;
+};
+
+// Every physical device Vulkan reports, with whether vkrt can use it.
+std::vector<DeviceDescription> listDevices();
+
+class VulkanContext {
+public:
+    explicit VulkanContext(const ContextOptions& options = {});
+    ~VulkanContext();
+    VulkanContext(const VulkanContext&) = delete;
+    VulkanContext& operator=(const VulkanContext&) = delete;
+
+    VkDevice device() const { return device_; }
+    VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
+    VkQueue queue() const { return queue_; }
+    const VkPhysicalDeviceProperties& properties() const { return properties_; }
+    const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memoryProperties_; }
+    const DeviceDescription& description() const { return description_; }
+    bool hasTimestamps() const { return timestampValidBits_ > 0; }
+    double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
+
+    // Validation-layer warnings and errors seen so far (0 when validation is off).
+    uint32_t validationMessages() const { return validationMessages_.load(); }
+
+    // Records commands into a one-time command buffer, submits it and waits for it to finish.
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+
+    // A memory type index with all of `required` among `allowedTypes`, or -1.
+    int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required) const;
+
+    // Device memory that vkrt's buffers hold now, and the most they held at once.
+    void trackAllocation(int64_t bytes) const;
+    uint64_t allocatedBytes() const { return allocatedBytes_.load(); }
+    uint64_t peakAllocatedBytes() const { return peakAllocatedBytes_.load(); }
+
+private:
+    void release();
+    static VkBool32 VKAPI_PTR onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                  VkDebugUtilsMessageTypeFlagsEXT types,
+                                                  const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    uint32_t queueFamily_ = 0;
+    uint32_t timestampValidBits_ = 0;
+    VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceProperties properties_{};
+    VkPhysicalDeviceMemoryProperties memoryProperties_{};
+    DeviceDescription description_;
+    std::atomic<uint32_t> validationMessages_{0};
+    mutable std::atomic<uint64_t> allocatedBytes_{0};
+    mutable std::atomic<uint64_t> peakAllocatedBytes_{0};
+};
+
+}  // namespace vkrt

@@ -1,0 +1,178 @@
+#version 460
+// vkrt's tracing kernel: per pixel, jittered stratified samples, each a Whitted ray tree walked with an
+// explicit stack of pending rays; the BVH walk uses its own fixed stack. Shading follows the CPU
+// reference (host/cpu/reference_renderer.cpp) step for step and draws the same random numbers.
+//
+// Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
+// VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+
+#include "shared.h"
+#include "random.h"
+
+layout(local_size_x = VKRT_WORKGROUP_WIDTH, local_size_y = VKRT_WORKGROUP_HEIGHT) in;
+
+layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
+layout(push_constant) uniform Pass { PassConstants pass; };
+
+#include "ray.glsl"
+#include "intersect.glsl"
+#include "traverse.glsl"
+#include "materials.glsl"
+#include "lights.glsl"
+
+// One pending branch of the ray tree.
+struct RayTask {
+    vec3 origin;
+    uint node;  // ray-tree node number: children of k are 2k + 1 (reflection) and 2k + 2 (transmission)
+    vec3 direction;
+    int depth;
+    vec3 throughput;
+    int medium;  // material index of the volume the ray travels in, -1 outside
+    uint exclude;  // the triangle the ray leaves
+};
+
+struct Counters {
+    uint primary;
+    uint shadow;
+    uint secondary;
+};
+
+Ray cameraRay(float filmX, float filmY) {
+    const GpuCamera camera = params.camera;
+    const float width = float(params.imageDepthSeed.x), height = float(params.imageDepthSeed.y);
+    const float sx = 2.0 * filmX / width - 1.0;
+    const float sy = 1.0 - 2.0 * filmY / height;
+    if (uint(camera.positionProjection.w) == VKRT_PROJECTION_ORTHOGRAPHIC) {
+        const vec3 origin = camera.positionProjection.xyz + sx * camera.rightXmag.w * camera.rightXmag.xyz +
+                            sy * camera.upYmag.w * camera.upYmag.xyz;
+        return Ray(origin, camera.forwardTanHalfFov.xyz);
+    }
+    const float tanHalf = camera.forwardTanHalfFov.w;
+    const vec3 direction = camera.forwardTanHalfFov.xyz + sx * tanHalf * (width / height) * camera.rightXmag.xyz +
+                           sy * tanHalf * camera.upYmag.xyz;
+    return Ray(camera.positionProjection.xyz, normalize(direction));
+}
+
+// Radiance arriving along one camera ray: the ray tree, depth first.
+vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters counters) {
+    const uint maxDepth = params.imageDepthSeed.z;
+    const float minThroughput = params.ambientMinThroughput.w;
+    RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
+    int size = 0;
+    stack[size++] = RayTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), -1, VKRT_NO_TRIANGLE);
+    vec3 radiance = vec3(0.0);
+    while (size > 0) {
+        const RayTask task = stack[--size];
+        Hit hit;
+        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, VKRT_INFINITY, hit);
+        vec3 weight = task.throughput;
+#ifdef VKRT_HAS_VOLUMES
+        if (task.medium >= 0) weight *= beerLambert(params.materials.materials[task.medium], found ? hit.t : VKRT_INFINITY);
+#endif
+        if (!found) {
+            radiance += weight * params.background.rgb;
+            continue;
+        }
+
+        const GpuTriangle triangle = params.triangles.triangles[hit.triangle];
+        const uint materialIndex = triangle.material;
+        const GpuMaterial material = params.materials.materials[materialIndex];
+        const vec3 point = (1.0 - hit.u - hit.v) * triangle.v0 + hit.u * triangle.v1 + hit.v * triangle.v2;
+        const vec3 toViewer = -task.direction;
+
+        // Orient both normals towards the viewer; remember which side was hit.
+        vec3 geometricNormal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+        const bool frontFace = dot(geometricNormal, toViewer) > 0.0;
+        if (!frontFace) geometricNormal = -geometricNormal;
+#ifdef VKRT_HAS_SMOOTH_NORMALS
+        const GpuShading shading = params.shading.shading[hit.triangle];
+        vec3 normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
+                                hit.v * shading.normalU2.xyz);
+        if (!frontFace) normal = -normal;
+        if (!(dot(normal, toViewer) > 0.0)) normal = geometricNormal;
+#else
+        const vec3 normal = geometricNormal;
+#endif
+
+        vec3 local = vec3(0.0);
+        if (frontFace || material.transmission.w != 0.0) local += emissionAt(material, hit.triangle, hit.u, hit.v);
+        const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit.triangle, hit.u, hit.v));
+        local += params.ambientMinThroughput.rgb * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
+        local += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sampleIndex,
+                             task.node, counters.shadow);
+        radiance += weight * local;
+
+        if (uint(task.depth) < maxDepth) {
+#ifdef VKRT_HAS_VOLUMES
+            const bool volume = material.transmission.z > 0.0 && surface.transmission > 0.0;
+#else
+            const bool volume = false;
+#endif
+            const float eta = (volume && !frontFace) ? 1.0 / surface.ior : surface.ior;
+            const float cosI = dot(normal, toViewer);
+            const float dielectric = fresnelDielectric(cosI, eta);
+            const vec3 fresnel = (1.0 - surface.metallic) * vec3(dielectric) +
+                                 surface.metallic * fresnelSchlick(surface.albedo, cosI);
+            const vec3 reflectWeight = fresnel * surface.mirror;
+#ifdef VKRT_HAS_TRANSMISSION
+            // Pushed first so that the reflection, pushed last, is traced first, as on the CPU.
+            const vec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
+            if (maxComponent(weight * transmitWeight) >= minThroughput) {
+                vec3 direction = task.direction;  // thin-walled: straight through
+                bool passes = true;
+                if (volume) passes = refractThrough(toViewer, normal, eta, direction);
+                if (passes) {
+                    ++counters.secondary;
+                    const int nextMedium = volume ? (frontFace ? int(materialIndex) : -1) : task.medium;
+                    stack[size++] = RayTask(offsetRayOrigin(point, -geometricNormal), 2u * task.node + 2u, direction,
+                                            task.depth + 1, weight * transmitWeight, nextMedium, hit.triangle);
+                }
+            }
+#endif
+            if (maxComponent(weight * reflectWeight) >= minThroughput) {
+                ++counters.secondary;
+                stack[size++] = RayTask(offsetRayOrigin(point, geometricNormal), 2u * task.node + 1u,
+                                        reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
+                                        task.medium, hit.triangle);
+            }
+        }
+    }
+    return radiance;
+}
+
+void main() {
+    const uint width = params.imageDepthSeed.x;
+    const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + gl_GlobalInvocationID.y);
+    if (xy.x >= width || gl_GlobalInvocationID.y >= pass.rowCount) return;
+    const uint pixel = xy.y * width + xy.x;
+    const uint seed = params.imageDepthSeed.w;
+    const uint spp = params.counts.w;
+    // Jittered stratification: the first m*m samples cover an m x m grid of strata, the rest are uniform.
+    const uint strata = uint(sqrt(float(spp)));
+
+    Counters counters = Counters(0u, 0u, 0u);
+    uint nonFinite = 0u;
+    vec4 sum = vec4(0.0);
+    for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
+        float jx = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_X);
+        float jy = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_Y);
+        if (s < strata * strata) {
+            jx = (float(s % strata) + jx) / float(strata);
+            jy = (float(s / strata) + jy) / float(strata);
+        }
+        ++counters.primary;
+        const vec3 value = traceRayTree(cameraRay(float(xy.x) + jx, float(xy.y) + jy), pixel, s, counters);
+        if (allFinite(value)) {
+            sum += vec4(value, 1.0);
+        } else {
+            ++nonFinite;
+        }
+    }
+    params.accumulation.pixels[pixel] += sum;
+    atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], counters.primary);
+    atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], counters.shadow);
+    atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], counters.secondary);
+    if (nonFinite > 0u) atomicAdd(params.counters.counters[VKRT_COUNTER_NONFINITE], nonFinite);
+}
