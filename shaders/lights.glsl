@@ -3,53 +3,6 @@
 #ifndef VKRT_LIGHTS_GLSL
 #define VKRT_LIGHTS_GLSL
 
-// Fraction of light passing from the ray's origin to tMax: 0 behind an opaque surface, the product of the
-// transmission tints of transmissive ones.
-vec3 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB) {
-    const ShearedRay r = shearRay(ray);
-    vec3 result = vec3(1.0);
-    if (params.counts.z == 0u) return result;
-    float entry;
-    if (!intersectBox(params.nodes.nodes[0], r, tMax, entry)) return result;
-    uint stack[VKRT_BVH_MAX_DEPTH];
-    int size = 0;
-    uint current = 0u;
-    while (true) {
-        const BvhNode node = params.nodes.nodes[current];
-        if (node.primCount > 0u) {
-            for (uint i = 0u; i < node.primCount; ++i) {
-                const uint triangle = node.leftOrFirst + i;
-                float t, u, v;
-                if (triangle == excludeA || triangle == excludeB ||
-                    !intersectTriangle(r, params.triangles.triangles[triangle], 0.0, tMax, t, u, v)) {
-                    continue;
-                }
-#ifdef VKRT_HAS_TRANSMISSION
-                const GpuMaterial material = params.materials.materials[materialOf(triangle)];
-                const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
-                result *= transmission * albedoAt(material, triangle, u, v);
-                if (maxComponent(result) <= 0.0) return vec3(0.0);
-#else
-                return vec3(0.0);  // every surface is opaque
-#endif
-            }
-        } else {
-            const uint left = node.leftOrFirst;
-            float tLeft, tRight;
-            const bool hitLeft = intersectBox(params.nodes.nodes[left], r, tMax, tLeft);
-            const bool hitRight = intersectBox(params.nodes.nodes[left + 1u], r, tMax, tRight);
-            if (hitLeft && hitRight) stack[size++] = left + 1u;
-            if (hitLeft || hitRight) {
-                current = hitLeft ? left : left + 1u;
-                continue;
-            }
-        }
-        if (size == 0) break;
-        current = stack[--size];
-    }
-    return result;
-}
-
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
 struct LightArrival {
     vec3 toLight;
@@ -108,7 +61,7 @@ vec3 directLight(vec3 point, vec3 normal, vec3 geometricNormal, vec3 toViewer, S
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
-    {
+    if (params.counts.y > 0u) {
         const uint seed = params.imageDepthSeed.w;
         const float pick = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT_PICK));
         const float su = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT_U));

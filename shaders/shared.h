@@ -83,11 +83,11 @@ struct GpuShading {
 
 // A material, 80 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
-    vec4 baseColorMetallic;   // rgb base colour, metallic
-    vec4 emissionRoughness;   // rgb emission (factor * strength), roughness
-    vec4 attenuation;         // rgb attenuation colour, attenuation distance (infinity: none)
-    vec4 transmission;        // transmission, ior, thickness (0: thin-walled), double-sided (0 or 1)
-    ivec4 textures;           // base colour texture, emissive texture (-1: none), unused, unused
+    vec4 baseColorMetallic;  // rgb base colour, metallic
+    vec4 emissionRoughness;  // rgb emission (factor * strength), roughness
+    vec4 attenuation;        // rgb attenuation colour, attenuation distance (infinity: none)
+    vec4 transmission;       // transmission, ior, thickness (0: thin-walled), double-sided (0 or 1)
+    ivec4 textures;          // base colour texture, emissive texture (-1: none), unused, unused
 };
 
 // A texture's place in the texel buffer (RGBA8, one uint per texel, rows top to bottom).
@@ -120,17 +120,64 @@ struct GpuCamera {
     vec4 upYmag;              // xyz up, w ymag
 };
 
+// A ray for the ray-casting kernel (shaders/raycast.comp), 32 bytes.
+struct GpuRay {
+    vec3 origin;
+    float tMin;
+    vec3 direction;
+    float tMax;
+};
+
+// Its result, 16 bytes: distance (tMax on a miss), triangle (VKRT_NO_HIT on a miss) and barycentrics.
+struct GpuHit {
+    float t;
+    uint triangle;
+    float u;
+    float v;
+};
+
+#define VKRT_NO_HIT 0xffffffffu
+#define VKRT_RAYCAST_CLOSEST 0u
+#define VKRT_RAYCAST_ANY 1u
+#define VKRT_RAYCAST_WORKGROUP 64
+
 #ifndef __cplusplus
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodeBuffer { BvhNode nodes[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleBuffer { GpuTriangle triangles[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShadingBuffer { GpuShading shading[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialBuffer { GpuMaterial materials[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBuffer { GpuTexture textures[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer { uint texels[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightBuffer { GpuPunctualLight lights[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer AreaLightBuffer { GpuAreaLight areaLights[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer AccumulationBuffer { vec4 pixels[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer CounterBuffer { uint counters[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodeBuffer {
+    BvhNode nodes[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleBuffer {
+    GpuTriangle triangles[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShadingBuffer {
+    GpuShading shading[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialBuffer {
+    GpuMaterial materials[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBuffer {
+    GpuTexture textures[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
+    uint texels[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightBuffer {
+    GpuPunctualLight lights[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer AreaLightBuffer {
+    GpuAreaLight areaLights[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer AccumulationBuffer {
+    vec4 pixels[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer CounterBuffer {
+    uint counters[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer RayBuffer {
+    GpuRay rays[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer HitBuffer {
+    GpuHit hits[];
+};
 #endif
 
 // Everything a render needs that stays fixed for the whole render.
@@ -160,7 +207,18 @@ struct PassConstants {
     uint rowCount;
 };
 
+// Push constants of the ray-casting kernel.
+struct RaycastConstants {
+    VKRT_ADDRESS(RayBuffer, rays);
+    VKRT_ADDRESS(HitBuffer, hits);
+    uint count;
+    uint mode;  // VKRT_RAYCAST_CLOSEST or VKRT_RAYCAST_ANY
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(GpuRay) == 32 && offsetof(GpuRay, direction) == 16);
+static_assert(sizeof(GpuHit) == 16);
+static_assert(sizeof(RaycastConstants) == 24);
 static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(offsetof(BvhNode, leftOrFirst) == 12, "std430: uint packs after vec3");
 static_assert(offsetof(BvhNode, boundsMax) == 16, "std430: vec3 aligns to 16 bytes");

@@ -18,8 +18,8 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 
 #include "ray.glsl"
 #include "intersect.glsl"
-#include "traverse.glsl"
 #include "materials.glsl"
+#include "traverse.glsl"
 #include "lights.glsl"
 
 // One pending branch of the ray tree.
@@ -66,7 +66,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
     while (size > 0) {
         const RayTask task = stack[--size];
         Hit hit;
-        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, VKRT_INFINITY, hit);
+        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, 0.0, VKRT_INFINITY, hit);
         vec3 weight = task.throughput;
 #ifdef VKRT_HAS_VOLUMES
         if (task.medium >= 0) weight *= beerLambert(params.materials.materials[task.medium], found ? hit.t : VKRT_INFINITY);

@@ -1,7 +1,13 @@
 // BVH traversal: near child first, far child on a fixed stack whose size the builder's depth bound
-// guarantees (VKRT_BVH_MAX_DEPTH). Requires `params` (SceneParams) in scope.
+// guarantees (VKRT_BVH_MAX_DEPTH). One walk serves closest-hit, any-hit and shadow-transmittance queries;
+// callers pass the mode as a constant, so each inlined copy keeps only its own branch.
+// Requires `params` (SceneParams) and materials.glsl in scope.
 #ifndef VKRT_TRAVERSE_GLSL
 #define VKRT_TRAVERSE_GLSL
+
+#define VKRT_TRACE_CLOSEST 0  // the nearest hit
+#define VKRT_TRACE_ANY 1      // stop at the first hit
+#define VKRT_TRACE_SHADOW 2   // multiply the transmission of every surface crossed; stop when opaque
 
 struct Hit {
     float t;
@@ -11,24 +17,23 @@ struct Hit {
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
 // touches (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
-bool intersectBox(BvhNode node, ShearedRay r, float tMax, out float tEntry) {
-    vec3 t0 = (node.boundsMin - r.origin) * r.inverseDirection;
-    vec3 t1 = (node.boundsMax - r.origin) * r.inverseDirection;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    tEntry = max(max(near.x, near.y), max(near.z, 0.0));
+bool intersectBox(BvhNode node, ShearedRay r, float tMin, float tMax, out float tEntry) {
+    const vec3 t0 = (node.boundsMin - r.origin) * r.inverseDirection;
+    const vec3 t1 = (node.boundsMax - r.origin) * r.inverseDirection;
+    const vec3 near = min(t0, t1), far = max(t0, t1);
+    tEntry = max(max(near.x, near.y), max(near.z, tMin));
     const float tExit = min(min(far.x, far.y), min(far.z, tMax)) * 1.0000003576;
     return tEntry <= tExit;
 }
 
-// The closest triangle along the ray before tMax, other than `exclude`.
-bool traceClosest(ShearedRay r, uint exclude, float tMax, out Hit hit) {
-    hit.t = tMax;
-    hit.u = 0.0;
-    hit.v = 0.0;
-    hit.triangle = VKRT_NO_TRIANGLE;
+// Walks the BVH for hits in (tMin, tMax), skipping triangles excludeA and excludeB. CLOSEST and ANY fill
+// `hit` and return whether there was one; SHADOW multiplies `transmittance` and returns true once it is 0.
+bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
+                 inout vec3 transmittance) {
+    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_TRIANGLE);
     if (params.counts.z == 0u) return false;
     float entry;
-    if (!intersectBox(params.nodes.nodes[0], r, hit.t, entry)) return false;
+    if (!intersectBox(params.nodes.nodes[0], r, tMin, hit.t, entry)) return false;
     uint stack[VKRT_BVH_MAX_DEPTH];
     int size = 0;
     uint current = 0u;
@@ -38,17 +43,36 @@ bool traceClosest(ShearedRay r, uint exclude, float tMax, out Hit hit) {
             for (uint i = 0u; i < node.primCount; ++i) {
                 const uint triangle = node.leftOrFirst + i;
                 float t, u, v;
-                if (triangle != exclude &&
-                    intersectTriangle(r, params.triangles.triangles[triangle], 0.0, hit.t, t, u, v)) {
+                if (triangle == excludeA || triangle == excludeB ||
+                    !intersectTriangle(r, params.triangles.triangles[triangle], tMin, hit.t, t, u, v)) {
+                    continue;
+                }
+                if (mode == VKRT_TRACE_CLOSEST) {
                     hit = Hit(t, u, v, triangle);
+                } else if (mode == VKRT_TRACE_ANY) {
+                    hit = Hit(t, u, v, triangle);
+                    return true;
+                } else {
+#ifdef VKRT_HAS_TRANSMISSION
+                    const GpuMaterial material = params.materials.materials[materialOf(triangle)];
+                    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
+                    transmittance *= transmission * albedoAt(material, triangle, u, v);
+                    if (maxComponent(transmittance) <= 0.0) {
+                        transmittance = vec3(0.0);
+                        return true;
+                    }
+#else
+                    transmittance = vec3(0.0);  // every surface is opaque
+                    return true;
+#endif
                 }
             }
         } else {
             // Enter the nearer child now; put the farther one on the stack.
             uint near = node.leftOrFirst, far = node.leftOrFirst + 1u;
             float tNear, tFar;
-            const bool hitNear = intersectBox(params.nodes.nodes[near], r, hit.t, tNear);
-            const bool hitFar = intersectBox(params.nodes.nodes[far], r, hit.t, tFar);
+            const bool hitNear = intersectBox(params.nodes.nodes[near], r, tMin, hit.t, tNear);
+            const bool hitFar = intersectBox(params.nodes.nodes[far], r, tMin, hit.t, tFar);
             if (hitNear && hitFar) {
                 if (tFar < tNear) {
                     const uint swap = near;
@@ -68,14 +92,33 @@ bool traceClosest(ShearedRay r, uint exclude, float tMax, out Hit hit) {
         bool found = false;
         while (size > 0) {
             current = stack[--size];
-            if (intersectBox(params.nodes.nodes[current], r, hit.t, entry)) {
+            if (mode != VKRT_TRACE_CLOSEST || intersectBox(params.nodes.nodes[current], r, tMin, hit.t, entry)) {
                 found = true;
                 break;
             }
         }
         if (!found) break;
     }
-    return hit.triangle != VKRT_NO_TRIANGLE;
+    return mode == VKRT_TRACE_CLOSEST && hit.triangle != VKRT_NO_TRIANGLE;
+}
+
+bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit) {
+    vec3 unused = vec3(1.0);
+    return traverseBvh(r, exclude, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused);
+}
+
+bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit) {
+    vec3 unused = vec3(1.0);
+    return traverseBvh(r, VKRT_NO_TRIANGLE, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_ANY, hit, unused);
+}
+
+// Fraction of light passing from the ray's origin to tMax: 0 behind an opaque surface, the product of the
+// transmission tints of transmissive ones (shadow rays do not refract).
+vec3 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB) {
+    vec3 transmittance = vec3(1.0);
+    Hit unused;
+    traverseBvh(shearRay(ray), excludeA, excludeB, 0.0, tMax, VKRT_TRACE_SHADOW, unused, transmittance);
+    return transmittance;
 }
 
 #endif

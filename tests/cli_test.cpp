@@ -49,13 +49,54 @@ TEST(Cli, CameraOutOfRangeIsBadInput) {
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
 }
 
-TEST(Cli, GpuDeviceSaysItIsNotBuiltYet) {
+TEST(Cli, ListsDevices) {
+    const auto result = test::runVkrt("--list-devices");
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_EQ(result.output.rfind("0: ", 0), 0u) << result.output;
+}
+
+TEST(Cli, MissingDeviceIndexIsARuntimeFailure) {
     const auto folder = test::temporaryFolder();
     const auto result =
-        test::runVkrt("--scene " + kCornell + " --device gpu --out '" + (folder / "x.png").string() + "'");
-    EXPECT_EQ(result.exitCode, 1);
-    EXPECT_NE(result.output.find("not built yet"), std::string::npos) << result.output;
+        test::runVkrt("--scene " + kCornell + " --device-index 200 --out " + quoted(folder / "x.png"));
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    EXPECT_NE(result.output.find("--list-devices"), std::string::npos) << result.output;
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+}
+
+TEST(Cli, GpuRenderUnderValidationWritesGpuStats) {
+    const auto folder = test::temporaryFolder();
+    const auto stats = folder / "stats.json";
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --validate --width 32 --height 32 --spp 2 --out " +
+                      quoted(folder / "c.png") + " --stats " + quoted(stats));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_EQ(result.output.find("validation"), std::string::npos) << result.output;
+    std::ifstream file(stats);
+    const nlohmann::json json = nlohmann::json::parse(file);
+    EXPECT_EQ(json["device"], "gpu");
+    for (const char* key :
+         {"device_name", "driver", "gpu_ms", "features", "gpu_memory_bytes", "mrays_per_gpu_s"}) {
+        EXPECT_TRUE(json.contains(key)) << key;
+    }
+    EXPECT_EQ(json["features"], nlohmann::json::array({"area_lights"}));
+    EXPECT_EQ(json["rays"]["primary"], 32 * 32 * 2);
+    EXPECT_GT(json["gpu_memory_bytes"].get<uint64_t>(), 0u);
+}
+
+TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {
+    const auto folder = test::temporaryFolder();
+    const auto stats = folder / "stats.json";
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --quiet --width 16 --height 16 --spp 1000000 " +
+                      "--time-limit 0.01 --out " + quoted(folder / "c.exr") + " --stats " + quoted(stats));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    std::ifstream file(stats);
+    const nlohmann::json json = nlohmann::json::parse(file);
+    EXPECT_GE(json["spp"].get<int>(), 1);
+    EXPECT_LT(json["spp"].get<int>(), 1000000);
+    EXPECT_EQ(json["spp_requested"], 1000000);
+    EXPECT_TRUE(std::filesystem::exists(folder / "c.exr"));
 }
 
 TEST(Cli, RendersEveryFormatAndWritesStats) {
@@ -103,8 +144,8 @@ TEST(Cli, EveryThirdPartySceneRenders) {
     const auto folder = test::temporaryFolder();
     for (const auto& file : test::gltfFilesUnder(test::scenesReal())) {
         const auto out = folder / "x.pfm";
-        const auto result = test::runVkrt("--scene " + quoted(file) + " --quiet --width 12 --height 8 --spp 1 --out " +
-                                          quoted(out));
+        const auto result = test::runVkrt("--scene " + quoted(file) +
+                                          " --quiet --width 12 --height 8 --spp 1 --out " + quoted(out));
         EXPECT_EQ(result.exitCode, 0) << file << ": " << result.output;
         EXPECT_TRUE(std::filesystem::exists(out)) << file;
         std::filesystem::remove(out);

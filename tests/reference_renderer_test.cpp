@@ -210,7 +210,7 @@ TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
 
 // The Cornell box, loaded once per test, rendered small.
 class CornellBox : public ::testing::Test {
-protected:
+  protected:
     RenderResult render(int size, int samplesPerPixel, uint32_t seed = 0, int threads = 0) const {
         RenderSettings settings;
         settings.width = settings.height = size;

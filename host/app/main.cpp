@@ -84,11 +84,19 @@ int run(Options options) {
         progress.finish();
         const GpuRenderReport& g = renderer.report();
         report.samplesRendered = static_cast<int>(g.samplesPerPixel);
-        report.gpu = RunReport::Gpu{context.description().name, context.description().type, context.description().driver,
-                                    g.gpuMs, g.compileMs, g.shaderFromCache, renderer.features().names(),
-                                    g.deviceMemoryBytes, g.dispatches, g.longestDispatchMs};
+        report.gpu = RunReport::Gpu{context.description().name,
+                                    context.description().type,
+                                    context.description().driver,
+                                    g.gpuMs,
+                                    g.compileMs,
+                                    g.shaderFromCache,
+                                    renderer.features().names(),
+                                    g.deviceMemoryBytes,
+                                    g.dispatches,
+                                    g.longestDispatchMs};
         if (options.validate && context.validationMessages() > 0) {
-            throw GpuError(std::to_string(context.validationMessages()) + " validation message(s), see above");
+            throw GpuError(std::to_string(context.validationMessages()) +
+                           " validation message(s), see above");
         }
     } else {
         ProgressBar progress("cpu", !options.quiet);

@@ -20,11 +20,11 @@ enum class DeviceKind { Gpu, Cpu };
 struct Options {
     std::string scenePath;
     std::string outputPath = "out.png";
-    std::string statsPath;                // empty: no stats file
+    std::string statsPath;  // empty: no stats file
     DeviceKind device = DeviceKind::Gpu;
-    int deviceIndex = -1;       // -1: choose (discrete GPU first)
+    int deviceIndex = -1;  // -1: choose (discrete GPU first)
     bool listDevices = false;
-    bool validate = false;      // Khronos validation layer
+    bool validate = false;  // Khronos validation layer
     double timeLimitSeconds = 0.0;
     int camera = 0;
     bool widthGiven = false, heightGiven = false;

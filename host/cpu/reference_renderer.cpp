@@ -236,8 +236,9 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
         if (maxComponent(pathThroughput * reflectWeight) >= settings_.minThroughput) {
             ++counters.secondary;
             const Ray reflected{offsetOrigin(point, geometricNormal, 1.0), reflect(toViewer, normal)};
-            result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
-                                               pathThroughput * reflectWeight, medium, hit.triangle, counters);
+            result +=
+                reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
+                                         pathThroughput * reflectWeight, medium, hit.triangle, counters);
         }
         if (maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
             glm::dvec3 direction = ray.direction;  // thin-walled: straight through

@@ -11,7 +11,8 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
     : context_(context), storageBuffers_(storageBuffers), pushConstantBytes_(pushConstantBytes) {
     const VkDevice device = context.device();
     if (pushConstantBytes > context.properties().limits.maxPushConstantsSize) {
-        throw GpuError("push constants of " + std::to_string(pushConstantBytes) + " bytes exceed the device's " +
+        throw GpuError("push constants of " + std::to_string(pushConstantBytes) +
+                       " bytes exceed the device's " +
                        std::to_string(context.properties().limits.maxPushConstantsSize));
     }
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -83,21 +84,24 @@ void ComputePipeline::bind(const std::vector<const GpuBuffer*>& buffers) {
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &infos[i];
     }
-    vkUpdateDescriptorSets(context_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+    vkUpdateDescriptorSets(context_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                           nullptr);
     bound_ = true;
 }
 
-void ComputePipeline::dispatch(VkCommandBuffer commands, const void* pushConstants, uint32_t pushConstantBytes,
-                               uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const {
+void ComputePipeline::dispatch(VkCommandBuffer commands, const void* pushConstants,
+                               uint32_t pushConstantBytes, uint32_t groupsX, uint32_t groupsY,
+                               uint32_t groupsZ) const {
     if (pushConstantBytes != pushConstantBytes_) {
-        throw GpuError("dispatch with " + std::to_string(pushConstantBytes) + " bytes of push constants, pipeline takes " +
-                       std::to_string(pushConstantBytes_));
+        throw GpuError("dispatch with " + std::to_string(pushConstantBytes) +
+                       " bytes of push constants, pipeline takes " + std::to_string(pushConstantBytes_));
     }
     if (!bound_ && storageBuffers_ > 0) throw GpuError("dispatch before its buffers were bound");
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
     if (pushConstantBytes > 0) {
-        vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes, pushConstants);
+        vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes,
+                           pushConstants);
     }
     vkCmdDispatch(commands, groupsX, groupsY, groupsZ);
 }

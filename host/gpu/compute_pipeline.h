@@ -13,7 +13,7 @@
 namespace vkrt {
 
 class ComputePipeline {
-public:
+  public:
     ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv, uint32_t storageBuffers,
                     uint32_t pushConstantBytes);
     ~ComputePipeline();
@@ -24,10 +24,10 @@ public:
     void bind(const std::vector<const GpuBuffer*>& buffers);
 
     // Records binding the pipeline, its descriptors and push constants, and the dispatch.
-    void dispatch(VkCommandBuffer commands, const void* pushConstants, uint32_t pushConstantBytes, uint32_t groupsX,
-                  uint32_t groupsY, uint32_t groupsZ = 1) const;
+    void dispatch(VkCommandBuffer commands, const void* pushConstants, uint32_t pushConstantBytes,
+                  uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ = 1) const;
 
-private:
+  private:
     const VulkanContext& context_;
     uint32_t storageBuffers_;
     uint32_t pushConstantBytes_;

@@ -8,16 +8,23 @@
 
 namespace vkrt {
 
-GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes) : context_(&context) { create(bytes, false); }
+GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes) : context_(&context) {
+    create(bytes, false);
+}
 
-GpuBuffer::GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes) : context_(&context) {
+GpuBuffer::GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes)
+    : context_(&context) {
     create(bytes, false);
     if (bytes > 0) upload(data, bytes);
 }
 
-GpuBuffer::~GpuBuffer() { release(); }
+GpuBuffer::~GpuBuffer() {
+    release();
+}
 
-GpuBuffer::GpuBuffer(GpuBuffer&& other) noexcept { *this = std::move(other); }
+GpuBuffer::GpuBuffer(GpuBuffer&& other) noexcept {
+    *this = std::move(other);
+}
 
 GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
     if (this != &other) {
@@ -56,11 +63,14 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
 
     // Device-local and host-visible memory serves both sides; failing that, device-local (or, for staging,
     // host-visible) alone.
-    const VkMemoryPropertyFlags mappable = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    int type = context_->findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | mappable);
+    const VkMemoryPropertyFlags mappable =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    int type =
+        context_->findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | mappable);
     if (type < 0) {
-        type = context_->findMemoryType(requirements.memoryTypeBits,
-                                        preferHostVisible ? mappable : VkMemoryPropertyFlags{VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+        type = context_->findMemoryType(
+            requirements.memoryTypeBits,
+            preferHostVisible ? mappable : VkMemoryPropertyFlags{VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
     }
     if (type < 0) type = context_->findMemoryType(requirements.memoryTypeBits, 0);
     if (type < 0) throw GpuError("no memory type for a storage buffer");
@@ -123,7 +133,8 @@ void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) co
 }
 
 void GpuBuffer::fillZero() {
-    context_->submitAndWait([&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, buffer_, 0, VK_WHOLE_SIZE, 0); });
+    context_->submitAndWait(
+        [&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, buffer_, 0, VK_WHOLE_SIZE, 0); });
 }
 
 }  // namespace vkrt

@@ -13,7 +13,7 @@
 namespace vkrt {
 
 class GpuBuffer {
-public:
+  public:
     GpuBuffer() = default;
     // A buffer of `bytes` (at least 16) in device-local memory where possible.
     GpuBuffer(const VulkanContext& context, VkDeviceSize bytes);
@@ -37,7 +37,7 @@ public:
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
     void fillZero();
 
-private:
+  private:
     void release();
     void create(VkDeviceSize bytes, bool preferHostVisible);
 

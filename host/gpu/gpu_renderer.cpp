@@ -13,13 +13,21 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-uint32_t groupsFor(uint32_t count, uint32_t size) { return (count + size - 1) / size; }
+uint32_t groupsFor(uint32_t count, uint32_t size) {
+    return (count + size - 1) / size;
+}
+
+const SceneFeatures kAllFeatures{true, true, true, true, true, true};
 
 }  // namespace
 
-GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, const Camera& camera,
-                         const RenderSettings& settings, const GpuRenderOptions& options)
-    : context_(context), settings_(settings), options_(options), data_(packScene(scene, bvh)) {
+GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
+                         const Camera& camera, const RenderSettings& settings,
+                         const GpuRenderOptions& options)
+    : context_(context),
+      settings_(settings),
+      options_(options),
+      data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)) {
     if (settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU limit of " +
                        std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -30,23 +38,13 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.compileMs = shader.compileMs;
     report_.shaderFromCache = shader.fromCache;
     report_.shaderKey = shader.cacheKey;
-    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, 1, static_cast<uint32_t>(sizeof(gpu::PassConstants)));
+    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, 1,
+                                                  static_cast<uint32_t>(sizeof(gpu::PassConstants)));
 
     // Upload what the scene uses; absent features keep a zero address and no buffer.
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
-    auto upload = [&](const auto& values) -> uint64_t {
-        if (values.empty()) return 0;
-        sceneBuffers_.emplace_back(context, values);
-        return sceneBuffers_.back().address();
-    };
-    params.nodes = upload(data_.nodes);
-    params.triangles = upload(data_.triangles);
-    params.shading = upload(data_.shading);
-    params.materials = upload(data_.materials);
-    params.textures = upload(data_.textures);
-    params.texels = upload(data_.texels);
-    params.lights = upload(data_.lights);
-    params.areaLights = upload(data_.areaLights);
+    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
+    sceneBuffers_->fillAddresses(params);
     const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
     accumulation_ = GpuBuffer(context, pixels * sizeof(glm::vec4));
     accumulation_.fillZero();
@@ -69,7 +67,8 @@ GpuRenderer::~GpuRenderer() {
     if (queries_) vkDestroyQueryPool(context_.device(), queries_, nullptr);
 }
 
-double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount) {
+double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart,
+                                uint32_t rowCount) {
     const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
@@ -91,14 +90,14 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
         after.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
         vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0, nullptr, 0,
-                             nullptr);
+                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0,
+                             nullptr, 0, nullptr);
     });
     const double wallMs = millisecondsSince(start);
     if (queries_) {
         uint64_t stamps[2] = {};
-        VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_, 0, 2, sizeof(stamps), stamps, sizeof(uint64_t),
-                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_, 0, 2, sizeof(stamps), stamps,
+                                       sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
         report_.gpuMs += static_cast<double>(stamps[1] - stamps[0]) * context_.timestampPeriodNs() * 1e-6;
     }
     ++report_.dispatches;
@@ -130,15 +129,16 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     // Passes of `samples` samples over the whole image, in bands of rows. Each dispatch is sized from the
     // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
     // the cost of a band depends on what it sees.
-    double unitsPerMs = 0.0;   // rows x samples traced per millisecond, as last measured
-    double lastUnits = 8.0;    // rows x samples of the last dispatch
+    double unitsPerMs = 0.0;  // rows x samples traced per millisecond, as last measured
+    double lastUnits = 8.0;   // rows x samples of the last dispatch
     auto nextUnits = [&] {
-        return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits) : lastUnits;
+        return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits)
+                                : lastUnits;
     };
     uint32_t samplesDone = 0;
     while (samplesDone < spp) {
-        const uint32_t samples =
-            static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(spp - samplesDone)));
+        const uint32_t samples = static_cast<uint32_t>(
+            std::clamp(nextUnits() / height, 1.0, static_cast<double>(spp - samplesDone)));
         for (uint32_t row = 0; row < height;) {
             const uint32_t rows = static_cast<uint32_t>(
                 std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
@@ -147,11 +147,13 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
             unitsPerMs = lastUnits / std::max(ms, 0.01);
             readCounters(result.rays);
             row += rows;
-            if (progress) progress(static_cast<uint64_t>(samplesDone) * height + static_cast<uint64_t>(row) * samples,
-                                   static_cast<uint64_t>(spp) * height);
+            if (progress)
+                progress(static_cast<uint64_t>(samplesDone) * height + static_cast<uint64_t>(row) * samples,
+                         static_cast<uint64_t>(spp) * height);
         }
         samplesDone += samples;
-        if (options_.timeLimitSeconds > 0.0 && millisecondsSince(start) >= options_.timeLimitSeconds * 1000.0) break;
+        if (options_.timeLimitSeconds > 0.0 && millisecondsSince(start) >= options_.timeLimitSeconds * 1000.0)
+            break;
     }
     report_.samplesPerPixel = samplesDone;
     if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);

@@ -21,6 +21,7 @@ struct GpuRenderOptions {
     double timeLimitSeconds = 0.0;   // 0: render every sample; otherwise stop after the pass crossing it
     double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
     std::string shaderCacheDir = defaultShaderCacheDir();
+    bool allFeatures = false;  // compile every feature path, needed or not (for tests)
 };
 
 struct GpuRenderReport {
@@ -29,13 +30,14 @@ struct GpuRenderReport {
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
-    uint32_t samplesPerPixel = 0;  // samples actually rendered (fewer than asked when a time limit stopped it)
+    uint32_t samplesPerPixel =
+        0;  // samples actually rendered (fewer than asked when a time limit stopped it)
     double longestDispatchMs = 0.0;
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
 };
 
 class GpuRenderer {
-public:
+  public:
     GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                 const RenderSettings& settings, const GpuRenderOptions& options = {});
     ~GpuRenderer();
@@ -47,7 +49,7 @@ public:
     const std::vector<std::string>& defines() const { return defines_; }
     const std::vector<uint32_t>& spirv() const { return spirv_; }
 
-private:
+  private:
     // Records and runs one dispatch; returns its wall time in milliseconds.
     double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
     void readCounters(RayCounters& counters);
@@ -59,7 +61,7 @@ private:
     std::vector<std::string> defines_;
     std::vector<uint32_t> spirv_;
     std::unique_ptr<ComputePipeline> pipeline_;
-    std::vector<GpuBuffer> sceneBuffers_;
+    std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
     GpuBuffer accumulation_;
     GpuBuffer counters_;
     GpuBuffer params_;

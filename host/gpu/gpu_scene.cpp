@@ -10,17 +10,20 @@ namespace {
 
 uint32_t wrapBits(WrapMode mode) {
     switch (mode) {
-        case WrapMode::ClampToEdge: return 1;
-        case WrapMode::MirroredRepeat: return 2;
-        default: return 0;
+        case WrapMode::ClampToEdge:
+            return 1;
+        case WrapMode::MirroredRepeat:
+            return 2;
+        default:
+            return 0;
     }
 }
 
 }  // namespace
 
-GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh) {
+GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
     GpuSceneData data;
-    data.features = detectFeatures(scene);
+    data.features = features ? *features : detectFeatures(scene);
     data.nodes = bvh.nodes;
 
     // Triangles in leaf order, so leaves index them directly.
@@ -36,7 +39,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh) {
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
             data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
-                                    glm::vec4(s.normal[2], s.uv[2].x), glm::vec4(s.uv[0].y, s.uv[1].y, s.uv[2].y, 0.0f)});
+                                    glm::vec4(s.normal[2], s.uv[2].x),
+                                    glm::vec4(s.uv[0].y, s.uv[1].y, s.uv[2].y, 0.0f)});
         }
     }
 
@@ -67,7 +71,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh) {
 
     for (const PunctualLight& light : scene.lights) {
         gpu::GpuPunctualLight g;
-        const float type = light.type == LightType::Point ? VKRT_LIGHT_POINT
+        const float type = light.type == LightType::Point  ? VKRT_LIGHT_POINT
                            : light.type == LightType::Spot ? VKRT_LIGHT_SPOT
                                                            : VKRT_LIGHT_DIRECTIONAL;
         g.positionType = glm::vec4(glm::vec3(light.position), type);
@@ -75,32 +79,65 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh) {
         g.radiantColor = glm::vec4(light.color * light.intensity, 0.0f);
         const double cosOuter = std::cos(static_cast<double>(light.outerConeAngle));
         const double cosInner = std::cos(static_cast<double>(light.innerConeAngle));
-        g.cone = glm::vec4(static_cast<float>(cosOuter), static_cast<float>(1.0 / std::max(0.001, cosInner - cosOuter)),
-                           0.0f, 0.0f);
+        g.cone = glm::vec4(static_cast<float>(cosOuter),
+                           static_cast<float>(1.0 / std::max(0.001, cosInner - cosOuter)), 0.0f, 0.0f);
         data.lights.push_back(g);
     }
 
     const AreaLights areaLights(scene);
     for (size_t i = 0; i < areaLights.triangles().size(); ++i) {
-        data.areaLights.push_back({gpuIndexOf[areaLights.triangles()[i]], static_cast<float>(areaLights.cdf()[i]),
+        data.areaLights.push_back({gpuIndexOf[areaLights.triangles()[i]],
+                                   static_cast<float>(areaLights.cdf()[i]),
                                    static_cast<float>(areaLights.pdfArea()[i]), 0.0f});
     }
-    data.features.areaLights = !data.areaLights.empty();
+    if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }
 
-gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera, const RenderSettings& settings) {
+GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
+    buffers_.reserve(8);
+    auto upload = [&](const auto& values) -> uint64_t {
+        if (values.empty()) return 0;
+        buffers_.emplace_back(context, values);
+        return buffers_.back().address();
+    };
+    addresses_.nodes = upload(data.nodes);
+    addresses_.triangles = upload(data.triangles);
+    addresses_.shading = upload(data.shading);
+    addresses_.materials = upload(data.materials);
+    addresses_.textures = upload(data.textures);
+    addresses_.texels = upload(data.texels);
+    addresses_.lights = upload(data.lights);
+    addresses_.areaLights = upload(data.areaLights);
+}
+
+void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
+    params.nodes = addresses_.nodes;
+    params.triangles = addresses_.triangles;
+    params.shading = addresses_.shading;
+    params.materials = addresses_.materials;
+    params.textures = addresses_.textures;
+    params.texels = addresses_.texels;
+    params.lights = addresses_.lights;
+    params.areaLights = addresses_.areaLights;
+}
+
+gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
+                                 const RenderSettings& settings) {
     gpu::SceneParams p{};
-    const float projection =
-        camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC : VKRT_PROJECTION_PERSPECTIVE;
+    const float projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
+                                                                           : VKRT_PROJECTION_PERSPECTIVE;
     p.camera.positionProjection = glm::vec4(glm::vec3(camera.position), projection);
-    p.camera.forwardTanHalfFov = glm::vec4(glm::vec3(camera.forward), static_cast<float>(std::tan(0.5 * camera.yfov)));
+    p.camera.forwardTanHalfFov =
+        glm::vec4(glm::vec3(camera.forward), static_cast<float>(std::tan(0.5 * camera.yfov)));
     p.camera.rightXmag = glm::vec4(glm::vec3(camera.right), static_cast<float>(camera.xmag));
     p.camera.upYmag = glm::vec4(glm::vec3(camera.up), static_cast<float>(camera.ymag));
-    p.ambientMinThroughput = glm::vec4(glm::vec3(settings.ambient), static_cast<float>(settings.minThroughput));
+    p.ambientMinThroughput =
+        glm::vec4(glm::vec3(settings.ambient), static_cast<float>(settings.minThroughput));
     p.background = glm::vec4(glm::vec3(settings.background), 0.0f);
     p.imageDepthSeed = glm::uvec4(settings.width, settings.height, settings.maxDepth, settings.seed);
-    p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(), settings.samplesPerPixel);
+    p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(),
+                          settings.samplesPerPixel);
     return p;
 }
 

@@ -6,6 +6,7 @@
 
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
+#include "gpu/gpu_buffer.h"
 #include "gpu/scene_features.h"
 #include "scene/scene.h"
 #include "shared.h"
@@ -17,17 +18,33 @@ struct GpuSceneData {
     std::vector<gpu::BvhNode> nodes;
     std::vector<gpu::GpuTriangle> triangles;  // triangles[i] is scene triangle sceneTriangle[i]
     std::vector<uint32_t> sceneTriangle;
-    std::vector<gpu::GpuShading> shading;     // only with smooth normals or textures
+    std::vector<gpu::GpuShading> shading;  // only with smooth normals or textures
     std::vector<gpu::GpuMaterial> materials;
-    std::vector<gpu::GpuTexture> textures;    // only with textures
+    std::vector<gpu::GpuTexture> textures;  // only with textures
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
 };
 
-GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh);
+// Packs what the scene's features need; `features`, when given, replaces the detected set (a superset
+// compiles and packs paths the scene does not need, which tests use to show leaving them out is exact).
+GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features = nullptr);
 
-// The fixed per-render parameters; buffer addresses are filled in by the renderer.
-gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera, const RenderSettings& settings);
+// The fixed per-render parameters, scene buffer addresses not yet filled in.
+gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
+                                 const RenderSettings& settings);
+
+// The scene's arrays in device buffers. Empty arrays (features the scene lacks) get no buffer and
+// address 0.
+class GpuSceneBuffers {
+  public:
+    GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data);
+    // Writes the buffer addresses into `params` (all but accumulation and counters).
+    void fillAddresses(gpu::SceneParams& params) const;
+
+  private:
+    std::vector<GpuBuffer> buffers_;
+    gpu::SceneParams addresses_{};
+};
 
 }  // namespace vkrt

@@ -51,7 +51,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
     std::vector<bool> used(scene.materials.size(), false);
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         used[scene.triangles[i].material] = true;
-        if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i])) features.smoothNormals = true;
+        if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i]))
+            features.smoothNormals = true;
     }
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;

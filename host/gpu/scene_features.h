@@ -10,12 +10,12 @@
 namespace vkrt {
 
 struct SceneFeatures {
-    bool smoothNormals = false;   // some vertex normal differs from its face normal
-    bool textures = false;        // a material samples a texture
-    bool transmission = false;    // a material transmits light
-    bool volumes = false;         // a transmissive material bounds a volume (refraction, Beer's law)
+    bool smoothNormals = false;  // some vertex normal differs from its face normal
+    bool textures = false;       // a material samples a texture
+    bool transmission = false;   // a material transmits light
+    bool volumes = false;        // a transmissive material bounds a volume (refraction, Beer's law)
     bool punctualLights = false;
-    bool areaLights = false;      // emissive triangles
+    bool areaLights = false;  // emissive triangles
 
     // Shader defines (VKRT_HAS_...), one per feature present.
     std::vector<std::string> defines() const;

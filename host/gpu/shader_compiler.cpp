@@ -19,12 +19,16 @@ namespace {
 
 // Resolves #include "name" against the embedded shader sources.
 class EmbeddedIncluder : public glslang::TShader::Includer {
-public:
-    IncludeResult* includeLocal(const char* headerName, const char*, size_t) override { return find(headerName); }
-    IncludeResult* includeSystem(const char* headerName, const char*, size_t) override { return find(headerName); }
+  public:
+    IncludeResult* includeLocal(const char* headerName, const char*, size_t) override {
+        return find(headerName);
+    }
+    IncludeResult* includeSystem(const char* headerName, const char*, size_t) override {
+        return find(headerName);
+    }
     void releaseInclude(IncludeResult* result) override { delete result; }
 
-private:
+  private:
     IncludeResult* find(const char* name) {
         const auto& sources = embeddedShaders();
         auto it = sources.find(name);
@@ -42,10 +46,13 @@ uint64_t fnv1a(const std::string& text, uint64_t hash = 1469598103934665603ull) 
     return hash;
 }
 
-std::string cacheKeyFor(const std::string& mainFile, const std::string& preamble) {
-    uint64_t hash = fnv1a(std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
-                          std::to_string(GLSLANG_VERSION_PATCH));
+std::string cacheKeyFor(const std::string& mainFile, const std::string& mainText,
+                        const std::string& preamble) {
+    uint64_t hash =
+        fnv1a(std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
+              std::to_string(GLSLANG_VERSION_PATCH));
     hash = fnv1a(mainFile, hash);
+    hash = fnv1a(mainText, hash);
     hash = fnv1a(preamble, hash);
     for (const auto& [name, text] : embeddedShaders()) hash = fnv1a(text, fnv1a(name, hash));
     std::ostringstream key;
@@ -83,10 +90,15 @@ std::string defaultShaderCacheDir() {
 
 CompiledShader compileShader(const std::string& mainFile, const std::vector<std::string>& defines,
                              const std::string& cacheDir) {
-    const auto start = std::chrono::steady_clock::now();
     const auto& sources = embeddedShaders();
     const auto main = sources.find(mainFile);
     if (main == sources.end()) throw ShaderError("no embedded shader named " + mainFile);
+    return compileShaderSource(main->first, main->second, defines, cacheDir);
+}
+
+CompiledShader compileShaderSource(const std::string& mainFile, const std::string& source,
+                                   const std::vector<std::string>& defines, const std::string& cacheDir) {
+    const auto start = std::chrono::steady_clock::now();
 
     std::string preamble;
     for (const std::string& define : defines) {
@@ -96,9 +108,10 @@ CompiledShader compileShader(const std::string& mainFile, const std::vector<std:
         preamble += "#define " + line + "\n";
     }
     CompiledShader result;
-    result.cacheKey = cacheKeyFor(mainFile, preamble);
+    result.cacheKey = cacheKeyFor(mainFile, source, preamble);
     const std::filesystem::path cacheFile =
-        cacheDir.empty() ? std::filesystem::path() : std::filesystem::path(cacheDir) / (result.cacheKey + ".spv");
+        cacheDir.empty() ? std::filesystem::path()
+                         : std::filesystem::path(cacheDir) / (result.cacheKey + ".spv");
     if (!cacheDir.empty() && readCache(cacheFile, result.spirv)) {
         result.fromCache = true;
         return result;
@@ -106,8 +119,8 @@ CompiledShader compileShader(const std::string& mainFile, const std::vector<std:
 
     initializeGlslangOnce();
     glslang::TShader shader(EShLangCompute);
-    const char* text = main->second.c_str();
-    const char* name = main->first.c_str();
+    const char* text = source.c_str();
+    const char* name = mainFile.c_str();
     shader.setStringsWithLengthsAndNames(&text, nullptr, &name, 1);
     shader.setPreamble(preamble.c_str());
     shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
@@ -125,7 +138,8 @@ CompiledShader compileShader(const std::string& mainFile, const std::vector<std:
     options.disableOptimizer = false;
     options.optimizeSize = false;
     glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), result.spirv, &options);
-    result.compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    result.compileMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     if (!cacheDir.empty()) {
         // A cache that cannot be written is no reason to fail the render.

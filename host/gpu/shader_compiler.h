@@ -12,7 +12,7 @@
 namespace vkrt {
 
 class ShaderError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -34,5 +34,9 @@ std::string defaultShaderCacheDir();
 // (entries may be "NAME VALUE"). Throws ShaderError with glslang's log on failure.
 CompiledShader compileShader(const std::string& mainFile, const std::vector<std::string>& defines,
                              const std::string& cacheDir);
+
+// The same for a main file given as text (tests' own kernels); #include still reads embedded files.
+CompiledShader compileShaderSource(const std::string& name, const std::string& source,
+                                   const std::vector<std::string>& defines, const std::string& cacheDir);
 
 }  // namespace vkrt

@@ -7,7 +7,8 @@ namespace vkrt {
 const char* vkResultName(VkResult result) {
     switch (result) {
 #define VKRT_RESULT_NAME(r) \
-    case r: return #r;
+    case r:                 \
+        return #r;
         VKRT_RESULT_NAME(VK_SUCCESS)
         VKRT_RESULT_NAME(VK_NOT_READY)
         VKRT_RESULT_NAME(VK_TIMEOUT)
@@ -30,7 +31,8 @@ const char* vkResultName(VkResult result) {
         VKRT_RESULT_NAME(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
         VKRT_RESULT_NAME(VK_ERROR_UNKNOWN)
 #undef VKRT_RESULT_NAME
-        default: return "unknown VkResult";
+        default:
+            return "unknown VkResult";
     }
 }
 

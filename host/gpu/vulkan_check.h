@@ -10,7 +10,7 @@
 namespace vkrt {
 
 class GpuError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -20,10 +20,10 @@ const char* vkResultName(VkResult result);
 
 }  // namespace vkrt
 
-#define VK_CHECK(call)                                                              \
-    do {                                                                            \
-        const VkResult vkCheckResult_ = (call);                                     \
-        if (vkCheckResult_ != VK_SUCCESS) {                                         \
-            ::vkrt::throwVkError(vkCheckResult_, #call, __FILE__, __LINE__);        \
-        }                                                                           \
+#define VK_CHECK(call)                                                       \
+    do {                                                                     \
+        const VkResult vkCheckResult_ = (call);                              \
+        if (vkCheckResult_ != VK_SUCCESS) {                                  \
+            ::vkrt::throwVkError(vkCheckResult_, #call, __FILE__, __LINE__); \
+        }                                                                    \
     } while (0)

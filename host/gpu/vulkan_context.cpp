@@ -17,11 +17,13 @@ VkInstance createInstance(bool validation) {
         VK_CHECK(vkEnumerateInstanceLayerProperties(&count, nullptr));
         std::vector<VkLayerProperties> layers(count);
         VK_CHECK(vkEnumerateInstanceLayerProperties(&count, layers.data()));
-        const bool found = std::any_of(layers.begin(), layers.end(),
-                                       [](const VkLayerProperties& l) { return std::strcmp(l.layerName, kValidationLayer) == 0; });
+        const bool found = std::any_of(layers.begin(), layers.end(), [](const VkLayerProperties& l) {
+            return std::strcmp(l.layerName, kValidationLayer) == 0;
+        });
         if (!found) {
-            throw GpuError(std::string(kValidationLayer) + " was requested but is not installed "
-                                                           "(Debian: vulkan-validationlayers)");
+            throw GpuError(std::string(kValidationLayer) +
+                           " was requested but is not installed "
+                           "(Debian: vulkan-validationlayers)");
         }
     }
     VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -47,22 +49,32 @@ VkInstance createInstance(bool validation) {
 
 const char* typeName(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
     }
 }
 
 // Lower is preferred.
 int typeRank(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-        default: return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 3;
+        default:
+            return 4;
     }
 }
 
@@ -104,9 +116,12 @@ DeviceDescription describe(VkPhysicalDevice device, int index) {
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &features12;
     vkGetPhysicalDeviceFeatures2(device, &features);
-    if (!features12.bufferDeviceAddress) d.unusableBecause = "bufferDeviceAddress is not supported";
-    else if (computeQueueFamily(device, nullptr) < 0) d.unusableBecause = "no compute queue";
-    else d.usable = true;
+    if (!features12.bufferDeviceAddress)
+        d.unusableBecause = "bufferDeviceAddress is not supported";
+    else if (computeQueueFamily(device, nullptr) < 0)
+        d.unusableBecause = "no compute queue";
+    else
+        d.usable = true;
     return d;
 }
 
@@ -125,7 +140,8 @@ std::vector<DeviceDescription> listDevices() {
     std::vector<DeviceDescription> result;
     try {
         const auto devices = physicalDevices(instance);
-        for (size_t i = 0; i < devices.size(); ++i) result.push_back(describe(devices[i], static_cast<int>(i)));
+        for (size_t i = 0; i < devices.size(); ++i)
+            result.push_back(describe(devices[i], static_cast<int>(i)));
     } catch (...) {
         vkDestroyInstance(instance, nullptr);
         throw;
@@ -142,8 +158,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
                 vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
             if (!create) throw GpuError("vkCreateDebugUtilsMessengerEXT is unavailable");
             VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-            info.messageSeverity =
-                VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+            info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                   VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
             info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
                                VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
@@ -154,15 +170,19 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
 
         // Choose the device.
         const auto devices = physicalDevices(instance_);
-        if (devices.empty()) throw GpuError("Vulkan reports no devices (for the CPU device, install mesa-vulkan-drivers)");
+        if (devices.empty())
+            throw GpuError("Vulkan reports no devices (for the CPU device, install mesa-vulkan-drivers)");
         int chosen = -1;
         if (options.deviceIndex >= 0) {
             if (options.deviceIndex >= static_cast<int>(devices.size())) {
-                throw GpuError("--device-index " + std::to_string(options.deviceIndex) + ": Vulkan reports only " +
-                               std::to_string(devices.size()) + " device(s) (see --list-devices)");
+                throw GpuError("--device-index " + std::to_string(options.deviceIndex) +
+                               ": Vulkan reports only " + std::to_string(devices.size()) +
+                               " device(s) (see --list-devices)");
             }
             const DeviceDescription d = describe(devices[options.deviceIndex], options.deviceIndex);
-            if (!d.usable) throw GpuError("device " + std::to_string(d.index) + " (" + d.name + "): " + d.unusableBecause);
+            if (!d.usable)
+                throw GpuError("device " + std::to_string(d.index) + " (" + d.name +
+                               "): " + d.unusableBecause);
             chosen = options.deviceIndex;
         } else {
             int bestRank = 1 << 30;
@@ -210,7 +230,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     }
 }
 
-VulkanContext::~VulkanContext() { release(); }
+VulkanContext::~VulkanContext() {
+    release();
+}
 
 void VulkanContext::release() {
     if (device_) {
@@ -267,7 +289,8 @@ void VulkanContext::submitAndWait(const std::function<void(VkCommandBuffer)>& re
 }
 
 void VulkanContext::trackAllocation(int64_t bytes) const {
-    const uint64_t now = allocatedBytes_.fetch_add(static_cast<uint64_t>(bytes)) + static_cast<uint64_t>(bytes);
+    const uint64_t now =
+        allocatedBytes_.fetch_add(static_cast<uint64_t>(bytes)) + static_cast<uint64_t>(bytes);
     uint64_t peak = peakAllocatedBytes_.load();
     while (now > peak && !peakAllocatedBytes_.compare_exchange_weak(peak, now)) {
     }
@@ -275,7 +298,8 @@ void VulkanContext::trackAllocation(int64_t bytes) const {
 
 int VulkanContext::findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required) const {
     for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i) {
-        if ((allowedTypes & (1u << i)) && (memoryProperties_.memoryTypes[i].propertyFlags & required) == required) {
+        if ((allowedTypes & (1u << i)) &&
+            (memoryProperties_.memoryTypes[i].propertyFlags & required) == required) {
             return static_cast<int>(i);
         }
     }

@@ -31,7 +31,7 @@ struct DeviceDescription {
 std::vector<DeviceDescription> listDevices();
 
 class VulkanContext {
-public:
+  public:
     explicit VulkanContext(const ContextOptions& options = {});
     ~VulkanContext();
     VulkanContext(const VulkanContext&) = delete;
@@ -60,11 +60,12 @@ public:
     uint64_t allocatedBytes() const { return allocatedBytes_.load(); }
     uint64_t peakAllocatedBytes() const { return peakAllocatedBytes_.load(); }
 
-private:
+  private:
     void release();
     static VkBool32 VKAPI_PTR onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                   VkDebugUtilsMessageTypeFlagsEXT types,
-                                                  const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+                                                  const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                  void* self);
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

@@ -1,0 +1,41 @@
+// Traces batches of rays on the GPU with the renderer's own traversal (shaders/raycast.comp): closest hit
+// or any hit. For ray-level conformance tests and ray-throughput benchmarks.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "bvh/flat_bvh.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/gpu_scene.h"
+#include "gpu/vulkan_context.h"
+
+namespace vkrt {
+
+enum class RaycastMode : uint32_t { Closest = VKRT_RAYCAST_CLOSEST, Any = VKRT_RAYCAST_ANY };
+
+struct RaycastTiming {
+    double gpuMs = 0.0;   // from timestamps (0 when the device has none)
+    double wallMs = 0.0;  // submit to completion, as seen by the host
+};
+
+class GpuRaycaster {
+  public:
+    GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
+                 const std::string& shaderCacheDir);
+    ~GpuRaycaster();
+
+    // Hits are reported with scene triangle indices (not the GPU's leaf order).
+    std::vector<gpu::GpuHit> trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
+                                   RaycastTiming* timing = nullptr);
+
+  private:
+    const VulkanContext& context_;
+    GpuSceneData data_;
+    std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
+    GpuBuffer params_;
+    std::unique_ptr<ComputePipeline> pipeline_;
+    VkQueryPool queries_ = VK_NULL_HANDLE;
+};
+
+}  // namespace vkrt

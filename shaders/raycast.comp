@@ -1,0 +1,32 @@
+#version 460
+// Traces a batch of rays through the scene's BVH and writes, per ray, the closest hit (distance, triangle,
+// barycentrics) or, in any-hit mode, whether anything lies between tMin and tMax. Used by the ray-level
+// conformance tests and the ray benchmarks; the traversal is the renderer's own (traverse.glsl).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+
+#include "shared.h"
+
+layout(local_size_x = VKRT_RAYCAST_WORKGROUP) in;
+
+layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
+layout(push_constant) uniform Constants { RaycastConstants constants; };
+
+#include "ray.glsl"
+#include "intersect.glsl"
+#include "materials.glsl"
+#include "traverse.glsl"
+
+void main() {
+    const uint index = gl_GlobalInvocationID.x;
+    if (index >= constants.count) return;
+    const GpuRay ray = constants.rays.rays[index];
+    Hit hit;
+    bool found;
+    if (constants.mode == VKRT_RAYCAST_ANY) {
+        found = traceAny(shearRay(Ray(ray.origin, ray.direction)), ray.tMin, ray.tMax, hit);
+    } else {
+        found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), VKRT_NO_TRIANGLE, ray.tMin, ray.tMax, hit);
+    }
+    constants.hits.hits[index] = found ? GpuHit(hit.t, hit.triangle, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
+}

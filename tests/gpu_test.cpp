@@ -1,0 +1,353 @@
+// The GPU tracer on lavapipe (or whatever Vulkan device is present), always under the Khronos validation
+// layer: images against the CPU reference, rays against CPU traversal, random numbers bit for bit, shader
+// variants, dispatch chunking, time limits and a scene too large for one storage-buffer descriptor.
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "cpu/reference_renderer.h"
+#include "cpu/triangle_intersection.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/gpu_raycaster.h"
+#include "gpu/gpu_renderer.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/vulkan_context.h"
+#include "image/image_metrics.h"
+#include "random.h"
+#include "scene/camera_selection.h"
+#include "scene/gltf_loader.h"
+#include "scene/procedural_meshes.h"
+#include "scene/scene_builder.h"
+#include "test_support.h"
+
+namespace vkrt {
+namespace {
+
+const std::string kShaderCache = (std::filesystem::temp_directory_path() / "vkrt-test-shader-cache").string();
+
+// One validated Vulkan context for the whole test program; every test must leave it without messages.
+class Gpu : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        if (!context_) {
+            ContextOptions options;
+            options.validation = true;
+            context_ = std::make_unique<VulkanContext>(options);
+        }
+    }
+    void SetUp() override { messagesBefore_ = context_->validationMessages(); }
+    void TearDown() override {
+        EXPECT_EQ(context_->validationMessages(), messagesBefore_)
+            << "the validation layer reported problems";
+    }
+    static const VulkanContext& context() { return *context_; }
+
+    static FlatBvh bvhFor(const Scene& scene) {
+        std::vector<Aabb> bounds;
+        for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
+        return flatten(BinnedSahBuilder::build(bounds));
+    }
+
+    static RenderResult renderGpu(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                                  const RenderSettings& settings, GpuRenderOptions options = {},
+                                  GpuRenderReport* report = nullptr) {
+        options.shaderCacheDir = kShaderCache;
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+        RenderResult result = renderer.render();
+        if (report) *report = renderer.report();
+        return result;
+    }
+
+  private:
+    static inline std::unique_ptr<VulkanContext> context_;
+    uint32_t messagesBefore_ = 0;
+};
+
+// GPU against the CPU reference with the same seed: at least 99.5% of pixels within 1% (with a small
+// absolute floor for dark pixels) and a mean relative error of at most 0.2%.
+void expectMatchesReference(const Image& gpu, const Image& cpu, const std::string& name) {
+    const ImageDifference d = compareImages(gpu, cpu, 0.01, 2e-3);
+    EXPECT_LE(d.fractionOff, 0.005) << name << ": " << d.fractionOff * 100 << "% of pixels off";
+    EXPECT_LE(d.meanRelativeError, 0.002) << name;
+    if (d.fractionOff > 0.005 || d.meanRelativeError > 0.002) test::saveForInspection(gpu, cpu, name);
+}
+
+struct SceneCase {
+    std::string path;
+    int width, height, spp;
+};
+
+void PrintTo(const SceneCase& c, std::ostream* out) {
+    *out << std::filesystem::path(c.path).filename().string() << " " << c.width << "x" << c.height << " "
+         << c.spp << " spp";
+}
+
+class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
+
+TEST_P(GpuImage, MatchesCpuReference) {
+    const SceneCase& c = GetParam();
+    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal()) GTEST_SKIP();
+    const Scene scene = loadGltf(c.path);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = c.width;
+    settings.height = c.height;
+    settings.samplesPerPixel = c.spp;
+    settings.seed = 7;
+    const bool hasLights = !scene.lights.empty() || !scene.emissiveTriangles.empty();
+    settings.ambient = glm::dvec3(hasLights ? 0.05 : 1.0);
+    settings.background = glm::dvec3(0.2, 0.3, 0.4);
+    const Camera camera = selectCamera(scene, 0, static_cast<double>(c.width) / c.height);
+    const RenderResult gpu = renderGpu(scene, bvh, camera, settings);
+    const RenderResult cpu = ReferenceRenderer(scene, bvh, camera, settings).render();
+    expectMatchesReference(gpu.image, cpu.image, std::filesystem::path(c.path).stem().string());
+    EXPECT_EQ(gpu.rays.primary, cpu.rays.primary);
+    EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
+                0.002 * cpu.rays.shadow + 2);
+    EXPECT_NEAR(static_cast<double>(gpu.rays.secondary), static_cast<double>(cpu.rays.secondary),
+                0.002 * cpu.rays.secondary + 2);
+    EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
+}
+
+std::string own(const char* name) {
+    return (test::sourceDir() / "scenes" / name).string();
+}
+std::string real(const char* name) {
+    return (test::scenesReal() / name).string();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, GpuImage,
+    ::testing::Values(SceneCase{own("cornell.gltf"), 64, 64, 4}, SceneCase{own("whitted.gltf"), 80, 60, 4},
+                      SceneCase{own("lights.gltf"), 80, 60, 4},
+                      SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
+                      SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
+                      SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},
+                      SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
+                      SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2}),
+    [](const ::testing::TestParamInfo<SceneCase>& info) {
+        std::string name = std::filesystem::path(info.param.path).stem().string();
+        name.erase(std::remove_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }),
+                   name.end());
+        return name;
+    });
+
+TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
+    std::ifstream file(test::sourceDir() / "tests/glsl/random_check.comp");
+    std::stringstream source;
+    source << file.rdbuf();
+    const CompiledShader shader = compileShaderSource("random_check.comp", source.str(), {}, kShaderCache);
+    ComputePipeline pipeline(context(), shader.spirv, 1, 16);
+    constexpr uint32_t count = 100000, seed = 12345;
+    GpuBuffer out(context(), count * 2 * sizeof(uint32_t));
+    pipeline.bind({&out});
+    const uint32_t constants[4] = {seed, count, 0, 0};
+    context().submitAndWait([&](VkCommandBuffer commands) {
+        pipeline.dispatch(commands, constants, sizeof(constants), (count + 63) / 64, 1);
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0,
+                             nullptr, 0, nullptr);
+    });
+    std::vector<uint32_t> words(count * 2);
+    out.download(words.data(), words.size() * sizeof(uint32_t));
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t pixel = i * 7919u, sample = i % 1024u, dimension = i % 37u;
+        ASSERT_EQ(words[2 * i], vkrtRandomBits(seed, pixel, sample, dimension)) << i;
+        const float expected = vkrtRandom(seed, pixel, sample, dimension);
+        uint32_t expectedBits;
+        std::memcpy(&expectedBits, &expected, 4);
+        ASSERT_EQ(words[2 * i + 1], expectedBits) << i;
+    }
+}
+
+// Rays of three kinds against one mesh: camera-like (from a point outside, towards the mesh), shadow-like
+// (between two points near the surface) and incoherent (random origins and directions).
+std::vector<gpu::GpuRay> testRays(const Aabb& bounds, int count) {
+    std::vector<gpu::GpuRay> rays;
+    const glm::vec3 lo = bounds.min, extent = bounds.extent(), center = bounds.center();
+    const float radius = glm::length(extent);
+    for (int i = 0; i < count; ++i) {
+        auto r = [&](uint32_t d) { return vkrtRandom(99, static_cast<uint32_t>(i), 0, d); };
+        const glm::vec3 inside = lo + extent * glm::vec3(r(0), r(1), r(2));
+        glm::vec3 origin, direction;
+        switch (i % 3) {
+            case 0:  // camera: from a fixed eye
+                origin = center + glm::vec3(0.3f, 0.2f, 1.5f) * radius;
+                break;
+            case 1:  // shadow: from another point inside the box
+                origin = lo + extent * glm::vec3(r(3), r(4), r(5));
+                break;
+            default:  // incoherent
+                origin = center + radius * (glm::vec3(r(3), r(4), r(5)) * 2.0f - 1.0f);
+                break;
+        }
+        direction = glm::normalize(inside - origin);
+        if (!std::isfinite(direction.x)) direction = glm::vec3(0, 0, 1);
+        rays.push_back({origin, 0.0f, direction, i % 3 == 1 ? glm::length(inside - origin) : 1e30f});
+    }
+    return rays;
+}
+
+void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle>& triangles,
+                        const char* name) {
+    Scene scene;
+    scene.materials.push_back(Material{});
+    for (const Triangle& t : triangles) addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
+    finalizeScene(scene);
+    std::vector<Aabb> bounds;
+    for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
+    const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
+    GpuRaycaster raycaster(context, scene, bvh, kShaderCache);
+    const std::vector<gpu::GpuRay> rays = testRays(scene.bounds, 30000);
+    const std::vector<gpu::GpuHit> closest = raycaster.trace(rays, RaycastMode::Closest);
+    const std::vector<gpu::GpuHit> any = raycaster.trace(rays, RaycastMode::Any);
+    const double sceneSize = glm::length(scene.bounds.extent());
+    size_t samePrimitive = 0, ties = 0, hitMissDisagreements = 0, occlusionDisagreements = 0, hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const RayT<double> ray{glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)};
+        double tMax = rays[i].tMax;
+        uint32_t cpuTriangle = VKRT_NO_HIT;
+        traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
+            TriangleHit hit;
+            if (intersectTriangle(scene.triangles[prim], ray.origin, ray.direction, 0.0, limit, hit)) {
+                limit = hit.t;
+                cpuTriangle = prim;
+            }
+            return false;
+        });
+        const bool cpuHit = cpuTriangle != VKRT_NO_HIT, gpuHit = closest[i].triangle != VKRT_NO_HIT;
+        hits += cpuHit;
+        if (cpuHit != gpuHit) {
+            ++hitMissDisagreements;
+        } else if (cpuHit) {
+            // Distances agree to 1e-5 relative, plus a floor of a few float ulps of the scene's size for hits
+            // very close to the origin; a different triangle is allowed only at the same distance.
+            ASSERT_NEAR(closest[i].t, tMax, 1e-5 * tMax + 1e-6 * sceneSize) << name << " ray " << i;
+            if (closest[i].triangle == cpuTriangle)
+                ++samePrimitive;
+            else
+                ++ties;
+        }
+        if ((any[i].triangle != VKRT_NO_HIT) != cpuHit) ++occlusionDisagreements;
+    }
+    ASSERT_GT(hits, rays.size() / 4) << name;
+    const double agreeing = static_cast<double>(samePrimitive) / static_cast<double>(hits);
+    EXPECT_GE(agreeing, 0.9999) << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss";
+    EXPECT_LE(hitMissDisagreements, rays.size() / 10000) << name;
+    EXPECT_LE(occlusionDisagreements, rays.size() / 10000) << name;
+}
+
+TEST_F(Gpu, RaysMatchCpuTraversalOnProceduralMeshes) {
+    expectRaysMatchCpu(context(), makeUvSphere(glm::vec3(0.2f), 1.3f, 60, 120), "sphere");
+    expectRaysMatchCpu(context(), makeTriangleSoup(20000, 4, 0.1f), "soup");
+}
+
+TEST_F(Gpu, RaysMatchCpuTraversalOnRealModels) {
+    if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal();
+    for (const char* model : {"khronos-Duck/glTF-Binary/Duck.glb", "khronos-Suzanne/glTF/Suzanne.gltf",
+                              "cornell-box-nvidia/cornellBox.gltf"}) {
+        expectRaysMatchCpu(context(), loadGltf((test::scenesReal() / model).string()).triangles, model);
+    }
+}
+
+TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 2;
+    const Camera camera = selectCamera(scene, 0, 1.0);
+
+    GpuRenderOptions options;
+    options.shaderCacheDir = kShaderCache;
+    GpuRenderer lean(context(), scene, bvh, camera, settings, options);
+    options.allFeatures = true;
+    GpuRenderer full(context(), scene, bvh, camera, settings, options);
+    // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
+    EXPECT_EQ(lean.defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
+    EXPECT_EQ(full.defines().size(), 6u);
+    EXPECT_LT(lean.spirv().size(), full.spirv().size() * 3 / 4) << "the lean variant should be much smaller";
+    const Image a = lean.render().image, b = full.render().image;
+    const ImageDifference d = compareImages(a, b, 1e-5, 1e-7);
+    EXPECT_EQ(d.fractionOff, 0.0) << "leaving out unused paths must not change the image";
+}
+
+TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 6;
+    const Camera camera = selectCamera(scene, 0, 4.0 / 3.0);
+    GpuRenderOptions tiny, huge;
+    tiny.targetDispatchMs = 1e-6;  // one row, one sample per dispatch
+    huge.targetDispatchMs = 1e9;
+    GpuRenderReport tinyReport, hugeReport;
+    const Image a = renderGpu(scene, bvh, camera, settings, tiny, &tinyReport).image;
+    const Image b = renderGpu(scene, bvh, camera, settings, huge, &hugeReport).image;
+    EXPECT_GE(tinyReport.dispatches, 150u);  // single rows after the first 8-row probe
+    EXPECT_LT(hugeReport.dispatches, 10u);
+    EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
+}
+
+TEST_F(Gpu, TimeLimitStopsAfterThePassThatCrossesIt) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 100000;
+    GpuRenderOptions options;
+    options.timeLimitSeconds = 1e-6;
+    GpuRenderReport report;
+    const RenderResult result =
+        renderGpu(scene, bvh, selectCamera(scene, 0, 1.0), settings, options, &report);
+    EXPECT_GE(report.samplesPerPixel, 1u);
+    EXPECT_LT(report.samplesPerPixel, 100000u);
+    EXPECT_EQ(result.rays.primary, 32u * 32u * report.samplesPerPixel);
+    EXPECT_GT(result.image.at(16, 16).x, 0.0f);
+}
+
+TEST_F(Gpu, FiveMillionTrianglesRender) {
+    // 5M triangles: 240 MB of triangles and 320 MB of nodes, beyond lavapipe's 128 MiB storage-buffer
+    // range; buffer device addresses have no such limit.
+    Scene scene;
+    Material white;
+    white.metallic = 0.0f;
+    scene.materials.push_back(white);
+    scene.triangles = makeUvSphere(glm::vec3(0.0f), 1.0f, 1582, 1582);
+    ASSERT_GE(scene.triangles.size(), 5'000'000u);
+    scene.shading.resize(scene.triangles.size());
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const Triangle& t = scene.triangles[i];
+        const glm::vec3 n = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+        scene.shading[i].normal[0] = scene.shading[i].normal[1] = scene.shading[i].normal[2] = n;
+    }
+    PunctualLight light;
+    light.position = {0.0, 0.0, 5.0};
+    light.intensity = 25.0f;
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 16;
+    settings.samplesPerPixel = 1;
+    settings.ambient = glm::dvec3(0.0);
+    GpuRenderReport report;
+    const RenderResult result = renderGpu(scene, bvh, frameBounds(scene.bounds, 1.0), settings, {}, &report);
+    EXPECT_GT(report.deviceMemoryBytes, 128ull << 20);
+    // The sphere faces the light head on: (rho + F0) / pi * I / d^2 with d = 4 (white, F0 = 0.04).
+    const glm::vec3 centre = result.image.at(8, 8);
+    EXPECT_NEAR(centre.x, 1.04 / M_PI * 25.0 / 16.0, 0.02);
+}
+
+}  // namespace
+}  // namespace vkrt
