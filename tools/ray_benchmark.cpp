@@ -1,0 +1,180 @@
+// Ray-throughput benchmark: traces the same camera, shadow and diffuse-bounce rays through vkrt's GPU
+// traversal (shaders/raycast.comp) several times and prints JSON with median, minimum and maximum Mrays/s
+// per ray kind, the BVH build time and SAH cost, and the device.
+//
+//   ray_benchmark [--scene FILE | --triangles N] [--width W --height H] [--runs R] [--device-index N]
+//
+// Without --scene the input is a UV sphere of about N triangles (default 1M) over a ground quad.
+// Camera rays go through every pixel of the scene's camera; shadow rays run from each camera hit to a
+// point above the scene (any hit); diffuse rays leave each camera hit in a cosine-distributed direction
+// (closest hit).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "bvh/binned_sah_builder.h"
+#include "gpu/gpu_raycaster.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/vulkan_context.h"
+#include "random.h"
+#include "scene/camera_selection.h"
+#include "scene/gltf_loader.h"
+#include "scene/procedural_meshes.h"
+#include "scene/scene_builder.h"
+
+namespace vkrt {
+namespace {
+
+struct Statistics {
+    double median, min, max;
+};
+
+Statistics summarize(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+    return {median, values.front(), values.back()};
+}
+
+Scene sphereOverGround(size_t triangleTarget) {
+    Scene scene;
+    Material white;
+    white.metallic = 0.0f;
+    scene.materials.push_back(white);
+    const int segments = std::max(4, static_cast<int>(std::sqrt(static_cast<double>(triangleTarget))));
+    for (const Triangle& t : makeUvSphere(glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, segments / 2, segments)) {
+        if (glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) > 0.0f) addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
+    }
+    addFlatQuad(scene, {-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, 0);
+    finalizeScene(scene);
+    Camera camera;
+    camera.name = "benchmark";
+    camera.position = {0.0, 1.5, 4.0};
+    camera.forward = glm::normalize(glm::dvec3(0.0, -0.35, -1.0));
+    camera.right = glm::dvec3(1.0, 0.0, 0.0);
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = 0.8;
+    scene.cameras.push_back(camera);
+    return scene;
+}
+
+gpu::GpuRay cameraRay(const Camera& camera, int x, int y, int width, int height) {
+    const double sx = 2.0 * (x + 0.5) / width - 1.0, sy = 1.0 - 2.0 * (y + 0.5) / height;
+    const double tanHalf = std::tan(0.5 * camera.yfov);
+    const glm::dvec3 d = glm::normalize(camera.forward + sx * tanHalf * width / height * camera.right + sy * tanHalf * camera.up);
+    return {glm::vec3(camera.position), 0.0f, glm::vec3(d), 1e30f};
+}
+
+}  // namespace
+}  // namespace vkrt
+
+int main(int argc, char** argv) {
+    using namespace vkrt;
+    std::string scenePath;
+    size_t triangles = 1'000'000;
+    int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string flag = argv[i], value = argv[i + 1];
+        if (flag == "--scene") scenePath = value;
+        else if (flag == "--triangles") triangles = std::stoull(value);
+        else if (flag == "--width") width = std::stoi(value);
+        else if (flag == "--height") height = std::stoi(value);
+        else if (flag == "--runs") runs = std::max(1, std::stoi(value));
+        else if (flag == "--device-index") deviceIndex = std::stoi(value);
+        else {
+            std::fprintf(stderr, "usage: ray_benchmark [--scene FILE | --triangles N] [--width W --height H] "
+                                 "[--runs R] [--device-index N]\n");
+            return 2;
+        }
+    }
+    try {
+        const Scene scene = scenePath.empty() ? sphereOverGround(triangles) : loadGltf(scenePath);
+        const Camera camera = selectCamera(scene, 0, static_cast<double>(width) / height);
+
+        std::vector<Aabb> bounds;
+        for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
+        const BvhConfig config;
+        const auto buildStart = std::chrono::steady_clock::now();
+        const Bvh bvh = BinnedSahBuilder::build(bounds, config);
+        const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
+        const BvhStats stats = measureBvh(bvh, config);
+        const FlatBvh flat = flatten(bvh);
+
+        ContextOptions options;
+        options.deviceIndex = deviceIndex;
+        const VulkanContext context(options);
+        GpuRaycaster raycaster(context, scene, flat, defaultShaderCacheDir());
+
+        // Camera rays, then shadow and diffuse rays from their hits.
+        std::vector<gpu::GpuRay> cameraRays;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) cameraRays.push_back(cameraRay(camera, x, y, width, height));
+        const std::vector<gpu::GpuHit> primary = raycaster.trace(cameraRays, RaycastMode::Closest);
+        const glm::vec3 lightPoint = scene.bounds.center() + glm::vec3(0.0f, scene.bounds.extent().y, 0.0f) +
+                                     0.3f * scene.bounds.extent();
+        std::vector<gpu::GpuRay> shadowRays, diffuseRays;
+        for (size_t i = 0; i < primary.size(); ++i) {
+            if (primary[i].triangle == VKRT_NO_HIT) continue;
+            const Triangle& t = scene.triangles[primary[i].triangle];
+            glm::vec3 n = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+            if (glm::dot(n, cameraRays[i].direction) > 0.0f) n = -n;
+            const glm::vec3 p = cameraRays[i].origin + primary[i].t * cameraRays[i].direction;
+            const float epsilon = 1e-4f * glm::length(scene.bounds.extent());
+            const glm::vec3 origin = p + epsilon * n;
+            const glm::vec3 toLight = lightPoint - origin;
+            shadowRays.push_back({origin, 0.0f, glm::normalize(toLight), glm::length(toLight)});
+            // Cosine-weighted direction about n (Malley's method).
+            const float u = vkrtRandom(1, static_cast<uint32_t>(i), 0, 0), v = vkrtRandom(1, static_cast<uint32_t>(i), 0, 1);
+            const float r = std::sqrt(u), phi = 6.2831853f * v;
+            const glm::vec3 a = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+            const glm::vec3 b1 = glm::normalize(glm::cross(a, n)), b2 = glm::cross(n, b1);
+            const glm::vec3 d = r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u)) * n;
+            diffuseRays.push_back({origin, 0.0f, glm::normalize(d), 1e30f});
+        }
+
+        nlohmann::json kinds;
+        auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
+            std::vector<double> gpuRates, wallRates;
+            for (int run = 0; run < runs; ++run) {
+                RaycastTiming timing;
+                raycaster.trace(rays, mode, &timing);
+                if (timing.gpuMs > 0.0) gpuRates.push_back(rays.size() / timing.gpuMs / 1e3);
+                wallRates.push_back(rays.size() / timing.wallMs / 1e3);
+            }
+            const Statistics wall = summarize(wallRates);
+            nlohmann::json entry = {{"rays", rays.size()},
+                                    {"mrays_per_s", {{"median", wall.median}, {"min", wall.min}, {"max", wall.max}}}};
+            if (!gpuRates.empty()) {
+                const Statistics g = summarize(gpuRates);
+                entry["mrays_per_gpu_s"] = {{"median", g.median}, {"min", g.min}, {"max", g.max}};
+            }
+            kinds[kind] = entry;
+        };
+        measure("camera", cameraRays, RaycastMode::Closest);
+        measure("shadow", shadowRays, RaycastMode::Any);
+        measure("diffuse", diffuseRays, RaycastMode::Closest);
+
+        const nlohmann::json report = {
+            {"benchmark", "rays"},
+            {"input", scenePath.empty() ? "uv-sphere over ground" : scenePath},
+            {"triangles", scene.triangles.size()},
+            {"device", context.description().name},
+            {"device_type", context.description().type},
+            {"driver", context.description().driver},
+            {"host_threads", std::thread::hardware_concurrency()},
+            {"runs", runs},
+            {"bvh", {{"build_ms", buildMs}, {"nodes", stats.nodes}, {"depth", stats.depth}, {"sah_cost", stats.sahCost}}},
+            {"kinds", kinds},
+        };
+        std::printf("%s\n", report.dump(2).c_str());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "ray_benchmark: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
