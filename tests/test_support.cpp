@@ -50,7 +50,8 @@ std::vector<std::filesystem::path> gltfFilesUnder(const std::filesystem::path& f
 }
 
 CommandResult runVkrt(const std::string& arguments) {
-    const std::string command = std::string("'") + VKRT_BINARY + "' " + arguments + " 2>&1";
+    // Every GPU run in the suite is checked by the Khronos validation layer (vkrt fails on any message).
+    const std::string command = std::string("VKRT_VALIDATE=1 '") + VKRT_BINARY + "' " + arguments + " 2>&1";
     CommandResult result;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) throw std::runtime_error("cannot run " + command);

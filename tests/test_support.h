@@ -27,7 +27,7 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs the vkrt binary with the given arguments (already quoted where needed).
+// Runs the vkrt binary with the given arguments (already quoted where needed), validation layer on.
 CommandResult runVkrt(const std::string& arguments);
 
 // Writes an image and the absolute difference beside it, for a person to look at when a test fails.
