@@ -32,13 +32,14 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                  inout vec3 transmittance) {
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_TRIANGLE);
     if (params.counts.z == 0u) return false;
+    BvhNode node = params.nodes.nodes[0];
     float entry;
-    if (!intersectBox(params.nodes.nodes[0], r, tMin, hit.t, entry)) return false;
+    if (!intersectBox(node, r, tMin, hit.t, entry)) return false;
+    // Pending far children and the distances at which the ray enters them.
     uint stack[VKRT_BVH_MAX_DEPTH];
+    float stackEntry[VKRT_BVH_MAX_DEPTH];
     int size = 0;
-    uint current = 0u;
     while (true) {
-        const BvhNode node = params.nodes.nodes[current];
         if (node.primCount > 0u) {
             for (uint i = 0u; i < node.primCount; ++i) {
                 const uint triangle = node.leftOrFirst + i;
@@ -68,31 +69,31 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                 }
             }
         } else {
-            // Enter the nearer child now; put the farther one on the stack.
-            uint near = node.leftOrFirst, far = node.leftOrFirst + 1u;
-            float tNear, tFar;
-            const bool hitNear = intersectBox(params.nodes.nodes[near], r, tMin, hit.t, tNear);
-            const bool hitFar = intersectBox(params.nodes.nodes[far], r, tMin, hit.t, tFar);
-            if (hitNear && hitFar) {
-                if (tFar < tNear) {
-                    const uint swap = near;
-                    near = far;
-                    far = swap;
-                }
-                stack[size++] = far;
-                current = near;
+            // Test both children; enter the nearer now (its node is already loaded), stack the farther.
+            const BvhNode left = params.nodes.nodes[node.leftOrFirst];
+            const BvhNode right = params.nodes.nodes[node.leftOrFirst + 1u];
+            float tLeft, tRight;
+            const bool hitLeft = intersectBox(left, r, tMin, hit.t, tLeft);
+            const bool hitRight = intersectBox(right, r, tMin, hit.t, tRight);
+            if (hitLeft && hitRight) {
+                const bool leftFirst = tLeft <= tRight;
+                stack[size] = leftFirst ? node.leftOrFirst + 1u : node.leftOrFirst;
+                stackEntry[size] = leftFirst ? tRight : tLeft;
+                ++size;
+                node = leftFirst ? left : right;
                 continue;
             }
-            if (hitNear || hitFar) {
-                current = hitNear ? near : far;
+            if (hitLeft || hitRight) {
+                node = hitLeft ? left : right;
                 continue;
             }
         }
-        // Pop until a node that is still in front of the closest hit so far.
+        // Pop until a node the ray still enters before the closest hit so far.
         bool found = false;
         while (size > 0) {
-            current = stack[--size];
-            if (mode != VKRT_TRACE_CLOSEST || intersectBox(params.nodes.nodes[current], r, tMin, hit.t, entry)) {
+            --size;
+            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= hit.t) {
+                node = params.nodes.nodes[stack[size]];
                 found = true;
                 break;
             }
