@@ -74,7 +74,7 @@ vec3 directLight(vec3 point, vec3 normal, vec3 geometricNormal, vec3 toViewer, S
             else lo = mid + 1u;
         }
         const GpuAreaLight light = params.areaLights.areaLights[lo];
-        const GpuTriangle emitterTriangle = params.triangles.triangles[light.triangle];
+        const GpuTriangle emitterTriangle = VKRT_TRIANGLE(light.triangle);
         // Uniform point on the triangle (square-root mapping).
         const float root = sqrt(su);
         const float b1 = root * (1.0 - sv), b2 = root * sv;

@@ -46,7 +46,7 @@ vec2 uvAt(uint triangle, float u, float v) {
 }
 #endif
 
-uint materialOf(uint triangle) { return params.triangles.triangles[triangle].material; }
+uint materialOf(uint triangle) { return VKRT_TRIANGLE(triangle).material; }
 
 vec3 albedoAt(GpuMaterial material, uint triangle, float u, float v) {
     vec3 albedo = material.baseColorMetallic.rgb;

@@ -34,9 +34,12 @@ using uint = uint32_t;
 #define VKRT_WORKGROUP_WIDTH 8
 #define VKRT_WORKGROUP_HEIGHT 8
 
-// The one descriptor: a storage buffer holding SceneParams. Everything else is reached through the
-// buffer device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
+// The descriptors: a storage buffer holding SceneParams. Everything else is reached through the buffer
+// device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
 #define VKRT_BINDING_PARAMS 0
+// With VKRT_BOUND_GEOMETRY (see geometry.glsl), nodes and triangles are bound here as well.
+#define VKRT_BINDING_NODES 1
+#define VKRT_BINDING_TRIANGLES 2
 
 // Ray counters, indices into the counter buffer.
 #define VKRT_COUNTER_PRIMARY 0

@@ -16,6 +16,7 @@ layout(local_size_x = VKRT_WORKGROUP_WIDTH, local_size_y = VKRT_WORKGROUP_HEIGHT
 layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
 layout(push_constant) uniform Pass { PassConstants pass; };
 
+#include "geometry.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
 #include "materials.glsl"
@@ -76,7 +77,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
             continue;
         }
 
-        const GpuTriangle triangle = params.triangles.triangles[hit.triangle];
+        const GpuTriangle triangle = VKRT_TRIANGLE(hit.triangle);
         const uint materialIndex = triangle.material;
         const GpuMaterial material = params.materials.materials[materialIndex];
         const vec3 point = (1.0 - hit.u - hit.v) * triangle.v0 + hit.u * triangle.v1 + hit.v * triangle.v2;

@@ -32,7 +32,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                  inout vec3 transmittance) {
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_TRIANGLE);
     if (params.counts.z == 0u) return false;
-    BvhNode node = params.nodes.nodes[0];
+    BvhNode node = VKRT_NODE(0);
     float entry;
     if (!intersectBox(node, r, tMin, hit.t, entry)) return false;
     // Pending far children and the distances at which the ray enters them.
@@ -45,7 +45,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                 const uint triangle = node.leftOrFirst + i;
                 float t, u, v;
                 if (triangle == excludeA || triangle == excludeB ||
-                    !intersectTriangle(r, params.triangles.triangles[triangle], tMin, hit.t, t, u, v)) {
+                    !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, hit.t, t, u, v)) {
                     continue;
                 }
                 if (mode == VKRT_TRACE_CLOSEST) {
@@ -70,8 +70,8 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             }
         } else {
             // Test both children; enter the nearer now (its node is already loaded), stack the farther.
-            const BvhNode left = params.nodes.nodes[node.leftOrFirst];
-            const BvhNode right = params.nodes.nodes[node.leftOrFirst + 1u];
+            const BvhNode left = VKRT_NODE(node.leftOrFirst);
+            const BvhNode right = VKRT_NODE(node.leftOrFirst + 1u);
             float tLeft, tRight;
             const bool hitLeft = intersectBox(left, r, tMin, hit.t, tLeft);
             const bool hitRight = intersectBox(right, r, tMin, hit.t, tRight);
@@ -93,7 +93,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
         while (size > 0) {
             --size;
             if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= hit.t) {
-                node = params.nodes.nodes[stack[size]];
+                node = VKRT_NODE(stack[size)];
                 found = true;
                 break;
             }

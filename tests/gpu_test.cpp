@@ -280,6 +280,24 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(d.fractionOff, 0.0) << "leaving out unused paths must not change the image";
 }
 
+TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 2;
+    const Camera camera = selectCamera(scene, 0, 4.0 / 3.0);
+    GpuRenderOptions addressed;
+    addressed.deviceAddressesOnly = true;
+    GpuRenderReport boundReport, addressedReport;
+    const Image a = renderGpu(scene, bvh, camera, settings, {}, &boundReport).image;
+    const Image b = renderGpu(scene, bvh, camera, settings, addressed, &addressedReport).image;
+    EXPECT_TRUE(boundReport.boundGeometry);
+    EXPECT_FALSE(addressedReport.boundGeometry);
+    EXPECT_EQ(compareImages(a, b, 1e-6, 1e-8).fractionOff, 0.0);
+}
+
 TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
     const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
     const FlatBvh bvh = bvhFor(scene);
@@ -344,6 +362,7 @@ TEST_F(Gpu, FiveMillionTrianglesRender) {
     GpuRenderReport report;
     const RenderResult result = renderGpu(scene, bvh, frameBounds(scene.bounds, 1.0), settings, {}, &report);
     EXPECT_GT(report.deviceMemoryBytes, 128ull << 20);
+    EXPECT_FALSE(report.boundGeometry) << "too large for one storage-buffer descriptor on lavapipe";
     // The sphere faces the light head on: (rho + F0) / pi * I / d^2 with d = 4 (white, F0 = 0.04).
     const glm::vec3 centre = result.image.at(8, 8);
     EXPECT_NEAR(centre.x, 1.04 / M_PI * 25.0 / 16.0, 0.02);

@@ -48,7 +48,8 @@ Scene sphereOverGround(size_t triangleTarget) {
     scene.materials.push_back(white);
     const int segments = std::max(4, static_cast<int>(std::sqrt(static_cast<double>(triangleTarget))));
     for (const Triangle& t : makeUvSphere(glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, segments / 2, segments)) {
-        if (glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) > 0.0f) addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
+        if (glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) > 0.0f)
+            addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
     }
     addFlatQuad(scene, {-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, 0);
     finalizeScene(scene);
@@ -66,7 +67,8 @@ Scene sphereOverGround(size_t triangleTarget) {
 gpu::GpuRay cameraRay(const Camera& camera, int x, int y, int width, int height) {
     const double sx = 2.0 * (x + 0.5) / width - 1.0, sy = 1.0 - 2.0 * (y + 0.5) / height;
     const double tanHalf = std::tan(0.5 * camera.yfov);
-    const glm::dvec3 d = glm::normalize(camera.forward + sx * tanHalf * width / height * camera.right + sy * tanHalf * camera.up);
+    const glm::dvec3 d = glm::normalize(camera.forward + sx * tanHalf * width / height * camera.right +
+                                        sy * tanHalf * camera.up);
     return {glm::vec3(camera.position), 0.0f, glm::vec3(d), 1e30f};
 }
 
@@ -80,15 +82,22 @@ int main(int argc, char** argv) {
     int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scene") scenePath = value;
-        else if (flag == "--triangles") triangles = std::stoull(value);
-        else if (flag == "--width") width = std::stoi(value);
-        else if (flag == "--height") height = std::stoi(value);
-        else if (flag == "--runs") runs = std::max(1, std::stoi(value));
-        else if (flag == "--device-index") deviceIndex = std::stoi(value);
+        if (flag == "--scene")
+            scenePath = value;
+        else if (flag == "--triangles")
+            triangles = std::stoull(value);
+        else if (flag == "--width")
+            width = std::stoi(value);
+        else if (flag == "--height")
+            height = std::stoi(value);
+        else if (flag == "--runs")
+            runs = std::max(1, std::stoi(value));
+        else if (flag == "--device-index")
+            deviceIndex = std::stoi(value);
         else {
-            std::fprintf(stderr, "usage: ray_benchmark [--scene FILE | --triangles N] [--width W --height H] "
-                                 "[--runs R] [--device-index N]\n");
+            std::fprintf(stderr,
+                         "usage: ray_benchmark [--scene FILE | --triangles N] [--width W --height H] "
+                         "[--runs R] [--device-index N]\n");
             return 2;
         }
     }
@@ -101,7 +110,8 @@ int main(int argc, char** argv) {
         const BvhConfig config;
         const auto buildStart = std::chrono::steady_clock::now();
         const Bvh bvh = BinnedSahBuilder::build(bounds, config);
-        const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
+        const double buildMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
         const BvhStats stats = measureBvh(bvh, config);
         const FlatBvh flat = flatten(bvh);
 
@@ -129,11 +139,13 @@ int main(int argc, char** argv) {
             const glm::vec3 toLight = lightPoint - origin;
             shadowRays.push_back({origin, 0.0f, glm::normalize(toLight), glm::length(toLight)});
             // Cosine-weighted direction about n (Malley's method).
-            const float u = vkrtRandom(1, static_cast<uint32_t>(i), 0, 0), v = vkrtRandom(1, static_cast<uint32_t>(i), 0, 1);
+            const float u = vkrtRandom(1, static_cast<uint32_t>(i), 0, 0),
+                        v = vkrtRandom(1, static_cast<uint32_t>(i), 0, 1);
             const float r = std::sqrt(u), phi = 6.2831853f * v;
             const glm::vec3 a = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
             const glm::vec3 b1 = glm::normalize(glm::cross(a, n)), b2 = glm::cross(n, b1);
-            const glm::vec3 d = r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u)) * n;
+            const glm::vec3 d =
+                r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u)) * n;
             diffuseRays.push_back({origin, 0.0f, glm::normalize(d), 1e30f});
         }
 
@@ -147,8 +159,9 @@ int main(int argc, char** argv) {
                 wallRates.push_back(rays.size() / timing.wallMs / 1e3);
             }
             const Statistics wall = summarize(wallRates);
-            nlohmann::json entry = {{"rays", rays.size()},
-                                    {"mrays_per_s", {{"median", wall.median}, {"min", wall.min}, {"max", wall.max}}}};
+            nlohmann::json entry = {
+                {"rays", rays.size()},
+                {"mrays_per_s", {{"median", wall.median}, {"min", wall.min}, {"max", wall.max}}}};
             if (!gpuRates.empty()) {
                 const Statistics g = summarize(gpuRates);
                 entry["mrays_per_gpu_s"] = {{"median", g.median}, {"min", g.min}, {"max", g.max}};
@@ -168,7 +181,11 @@ int main(int argc, char** argv) {
             {"driver", context.description().driver},
             {"host_threads", std::thread::hardware_concurrency()},
             {"runs", runs},
-            {"bvh", {{"build_ms", buildMs}, {"nodes", stats.nodes}, {"depth", stats.depth}, {"sah_cost", stats.sahCost}}},
+            {"bvh",
+             {{"build_ms", buildMs},
+              {"nodes", stats.nodes},
+              {"depth", stats.depth},
+              {"sah_cost", stats.sahCost}}},
             {"kinds", kinds},
         };
         std::printf("%s\n", report.dump(2).c_str());

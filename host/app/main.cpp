@@ -1,11 +1,11 @@
 // vkrt: renders a glTF 2.0 scene to an image file.
 #include <chrono>
-#include <cstdlib>
-#include <string>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "app/options.h"
 #include "app/progress_bar.h"
@@ -97,7 +97,8 @@ int run(Options options) {
                                     renderer.features().names(),
                                     g.deviceMemoryBytes,
                                     g.dispatches,
-                                    g.longestDispatchMs};
+                                    g.longestDispatchMs,
+                                    g.boundGeometry};
         if (context.validationMessages() > 0) {
             throw GpuError(std::to_string(context.validationMessages()) +
                            " validation message(s), see above");

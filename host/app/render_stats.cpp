@@ -40,6 +40,7 @@ nlohmann::json toJson(const RunReport& r) {
         json["gpu_ms"] = g.gpuMs;
         json["mrays_per_gpu_s"] = g.gpuMs > 0.0 ? static_cast<double>(r.rays.total()) / g.gpuMs / 1e3 : 0.0;
         json["features"] = g.features;
+        json["geometry_access"] = g.boundGeometry ? "storage buffers" : "device addresses";
         json["gpu_memory_bytes"] = g.deviceMemoryBytes;
         json["shader"] = {{"compile_ms", g.compileMs}, {"from_cache", g.shaderFromCache}};
         json["dispatches"] = {{"count", g.dispatches}, {"longest_ms", g.longestDispatchMs}};

@@ -36,6 +36,7 @@ struct RunReport {
         uint64_t deviceMemoryBytes = 0;
         uint32_t dispatches = 0;
         double longestDispatchMs = 0.0;
+        bool boundGeometry = false;
     };
     std::optional<Gpu> gpu;
 };

@@ -15,10 +15,15 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     params.counts = glm::uvec4(0, 0, data_.triangles.size(), 0);
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
-    const CompiledShader shader = compileShader("raycast.comp", {}, shaderCacheDir);
-    pipeline_ = std::make_unique<ComputePipeline>(context, shader.spirv, 1,
-                                                  static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
-    pipeline_->bind({&params_});
+    const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
+    const std::vector<std::string> defines =
+        bound ? std::vector<std::string>{"VKRT_BOUND_GEOMETRY"} : std::vector<std::string>{};
+    const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
+    const auto bindings = sceneBuffers_->bindings(params_, bound);
+    pipeline_ =
+        std::make_unique<ComputePipeline>(context, shader.spirv, static_cast<uint32_t>(bindings.size()),
+                                          static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
+    pipeline_->bind(bindings);
     if (context.hasTimestamps()) {
         VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         info.queryType = VK_QUERY_TYPE_TIMESTAMP;

@@ -32,15 +32,6 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU limit of " +
                        std::to_string(VKRT_MAX_RAY_DEPTH));
     }
-    defines_ = data_.features.defines();
-    const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
-    spirv_ = shader.spirv;
-    report_.compileMs = shader.compileMs;
-    report_.shaderFromCache = shader.fromCache;
-    report_.shaderKey = shader.cacheKey;
-    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, 1,
-                                                  static_cast<uint32_t>(sizeof(gpu::PassConstants)));
-
     // Upload what the scene uses; absent features keep a zero address and no buffer.
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
@@ -53,7 +44,20 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     params.accumulation = accumulation_.address();
     params.counters = counters_.address();
     params_ = GpuBuffer(context, &params, sizeof(params));
-    pipeline_->bind({&params_});
+
+    // The shader variant: the scene's features, and how it reads geometry.
+    defines_ = data_.features.defines();
+    report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
+    if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
+    const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
+    spirv_ = shader.spirv;
+    report_.compileMs = shader.compileMs;
+    report_.shaderFromCache = shader.fromCache;
+    report_.shaderKey = shader.cacheKey;
+    const auto bindings = sceneBuffers_->bindings(params_, report_.boundGeometry);
+    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, static_cast<uint32_t>(bindings.size()),
+                                                  static_cast<uint32_t>(sizeof(gpu::PassConstants)));
+    pipeline_->bind(bindings);
 
     if (context.hasTimestamps()) {
         VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};

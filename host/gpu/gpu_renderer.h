@@ -21,7 +21,8 @@ struct GpuRenderOptions {
     double timeLimitSeconds = 0.0;   // 0: render every sample; otherwise stop after the pass crossing it
     double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
     std::string shaderCacheDir = defaultShaderCacheDir();
-    bool allFeatures = false;  // compile every feature path, needed or not (for tests)
+    bool allFeatures = false;          // compile every feature path, needed or not (for tests)
+    bool deviceAddressesOnly = false;  // read geometry through device addresses even when it could be bound
 };
 
 struct GpuRenderReport {
@@ -34,6 +35,7 @@ struct GpuRenderReport {
         0;  // samples actually rendered (fewer than asked when a time limit stopped it)
     double longestDispatchMs = 0.0;
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
+    bool boundGeometry = false;      // nodes and triangles bound as storage buffers (else device addresses)
 };
 
 class GpuRenderer {

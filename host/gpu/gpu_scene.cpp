@@ -102,7 +102,9 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
         return buffers_.back().address();
     };
     addresses_.nodes = upload(data.nodes);
+    nodeBuffer_ = data.nodes.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
     addresses_.triangles = upload(data.triangles);
+    triangleBuffer_ = data.triangles.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
     addresses_.shading = upload(data.shading);
     addresses_.materials = upload(data.materials);
     addresses_.textures = upload(data.textures);
@@ -120,6 +122,17 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.texels = addresses_.texels;
     params.lights = addresses_.lights;
     params.areaLights = addresses_.areaLights;
+}
+
+bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {
+    if (nodeBuffer_ < 0 || triangleBuffer_ < 0) return false;
+    const VkDeviceSize range = context.properties().limits.maxStorageBufferRange;
+    return buffers_[nodeBuffer_].size() <= range && buffers_[triangleBuffer_].size() <= range;
+}
+
+std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params, bool boundGeometry) const {
+    if (!boundGeometry) return {&params};
+    return {&params, &buffers_[nodeBuffer_], &buffers_[triangleBuffer_]};
 }
 
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,

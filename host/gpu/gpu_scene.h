@@ -42,8 +42,15 @@ class GpuSceneBuffers {
     // Writes the buffer addresses into `params` (all but accumulation and counters).
     void fillAddresses(gpu::SceneParams& params) const;
 
+    // Whether nodes and triangles fit the device's storage-buffer range, so kernels can bind them
+    // (VKRT_BOUND_GEOMETRY in shaders/geometry.glsl) instead of reading through device addresses.
+    bool geometryFitsDescriptors(const VulkanContext& context) const;
+    // The storage buffers a kernel binds: SceneParams, then nodes and triangles when `boundGeometry`.
+    std::vector<const GpuBuffer*> bindings(const GpuBuffer& params, bool boundGeometry) const;
+
   private:
     std::vector<GpuBuffer> buffers_;
+    int nodeBuffer_ = -1, triangleBuffer_ = -1;  // indices into buffers_
     gpu::SceneParams addresses_{};
 };
 
