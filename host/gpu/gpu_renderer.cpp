@@ -134,7 +134,7 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
     // the cost of a band depends on what it sees.
     double unitsPerMs = 0.0;  // rows x samples traced per millisecond, as last measured
-    double lastUnits = 8.0;   // rows x samples of the last dispatch
+    double lastUnits = 1.0;   // rows x samples of the last dispatch; the first is a single row
     auto nextUnits = [&] {
         return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits)
                                 : lastUnits;
