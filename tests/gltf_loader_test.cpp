@@ -126,15 +126,22 @@ TEST(GltfLoader, OwnCornellBoxMatchesThePublishedData) {
     ASSERT_EQ(scene.cameras.size(), 1u);
     const Camera& camera = scene.cameras[0];
     EXPECT_NEAR(camera.yfov, 2.0 * std::atan(12.5 / 35.0), 1e-12);
-    EXPECT_NEAR(camera.position.x, 0.278, 1e-9);
-    EXPECT_NEAR(camera.position.y, 0.273, 1e-9);
-    EXPECT_NEAR(camera.position.z, -0.800, 1e-9);
+    // Stored positions are relative to scene.origin (the middle of the box).
+    const glm::dvec3 eye = camera.position + scene.origin;
+    EXPECT_NEAR(eye.x, 0.278, 1e-9);
+    EXPECT_NEAR(eye.y, 0.273, 1e-9);
+    EXPECT_NEAR(eye.z, -0.800, 1e-9);
     EXPECT_NEAR(camera.forward.z, 1.0, 1e-12);
     EXPECT_NEAR(camera.up.y, 1.0, 1e-12);
-    // Box extents in metres: 556.0 x 548.8 x 559.2 mm.
-    EXPECT_NEAR(scene.bounds.max.x, 0.556f, 1e-6f);
-    EXPECT_NEAR(scene.bounds.max.y, 0.5488f, 1e-6f);
-    EXPECT_NEAR(scene.bounds.max.z, 0.5592f, 1e-6f);
+    // Box extents in metres: 556.0 x 548.8 x 559.2 mm, from (0, 0, 0).
+    const glm::dvec3 lo = glm::dvec3(scene.bounds.min) + scene.origin, hi = glm::dvec3(scene.bounds.max) + scene.origin;
+    EXPECT_NEAR(lo.x, 0.0, 1e-6);
+    EXPECT_NEAR(lo.y, 0.0, 1e-6);
+    EXPECT_NEAR(lo.z, 0.0, 1e-6);
+    EXPECT_NEAR(hi.x, 0.556, 1e-6);
+    EXPECT_NEAR(hi.y, 0.5488, 1e-6);
+    EXPECT_NEAR(hi.z, 0.5592, 1e-6);
+    EXPECT_NEAR(scene.origin.x, 0.278, 1e-9);
     // The light faces down into the box.
     for (uint32_t index : scene.emissiveTriangles) {
         const Triangle& t = scene.triangles[index];

@@ -48,6 +48,7 @@ class GltfConverter {
     int textureIndex(int gltfTexture, const std::string& where) const;
 
     std::vector<int> sceneRoots() const;
+    glm::dvec3 approximateCenter(const std::vector<int>& roots) const;
     void checkNodeGraph(const std::vector<int>& roots) const;
     glm::dmat4 localTransform(int nodeIndex) const;
     void walk(int nodeIndex, const glm::dmat4& parent);
@@ -87,7 +88,10 @@ Scene GltfConverter::convert() {
 
     std::vector<int> roots = sceneRoots();
     checkNodeGraph(roots);
-    for (int root : roots) walk(root, glm::dmat4(1.0));
+    // Walk with the scene's approximate centre moved to the origin (re-centring keeps float precision).
+    scene_.origin = approximateCenter(roots);
+    const glm::dmat4 recentre = glm::translate(glm::dmat4(1.0), -scene_.origin);
+    for (int root : roots) walk(root, recentre);
 
     if (degenerateTriangles_ > 0) {
         warn(std::to_string(degenerateTriangles_) + " degenerate (zero-area) triangle(s) skipped");
@@ -294,6 +298,39 @@ std::vector<int> GltfConverter::sceneRoots() const {
         if (!isChild[i]) roots.push_back(static_cast<int>(i));
     }
     return roots;
+}
+
+// The centre of the bounds that the POSITION accessors' min and max give, placed by the node transforms
+// (instancing ignored); the origin when no accessor has bounds.
+glm::dvec3 GltfConverter::approximateCenter(const std::vector<int>& roots) const {
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    std::function<void(int, const glm::dmat4&)> visit = [&](int nodeIndex, const glm::dmat4& parent) {
+        const tinygltf::Node& node = model_.nodes[nodeIndex];
+        const glm::dmat4 world = parent * localTransform(nodeIndex);
+        if (node.mesh >= 0 && node.mesh < static_cast<int>(model_.meshes.size())) {
+            for (const tinygltf::Primitive& primitive : model_.meshes[node.mesh].primitives) {
+                auto position = primitive.attributes.find("POSITION");
+                if (position == primitive.attributes.end() || position->second < 0 ||
+                    position->second >= static_cast<int>(model_.accessors.size())) {
+                    continue;
+                }
+                const tinygltf::Accessor& accessor = model_.accessors[position->second];
+                if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
+                for (int corner = 0; corner < 8; ++corner) {
+                    const glm::dvec4 p(corner & 1 ? accessor.maxValues[0] : accessor.minValues[0],
+                                       corner & 2 ? accessor.maxValues[1] : accessor.minValues[1],
+                                       corner & 4 ? accessor.maxValues[2] : accessor.minValues[2], 1.0);
+                    const glm::dvec3 q(world * p);
+                    if (!std::isfinite(q.x + q.y + q.z)) continue;
+                    lo = glm::min(lo, q);
+                    hi = glm::max(hi, q);
+                }
+            }
+        }
+        for (int child : node.children) visit(child, world);
+    };
+    for (int root : roots) visit(root, glm::dmat4(1.0));
+    return lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(0.0);
 }
 
 // The node graph must be a forest: indices in range, no cycles, no node with two parents.

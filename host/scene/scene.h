@@ -129,6 +129,10 @@ struct Camera {
 
 struct Scene {
     std::string sourcePath;
+    // Positions, cameras and lights are stored relative to this point (world = stored + origin), chosen
+    // near the middle of the scene so that single precision keeps its digits for scenes far from the
+    // file's origin.
+    glm::dvec3 origin{0.0};
     std::vector<Triangle> triangles;
     std::vector<TriangleShading> shading;  // parallel to triangles
     std::vector<Material> materials;
