@@ -44,10 +44,11 @@ LightArrival arriveFrom(GpuPunctualLight light, vec3 point) {
 }
 #endif
 
-vec3 directLight(vec3 point, vec3 normal, vec3 geometricNormal, vec3 toViewer, SurfaceResponse surface,
-                 uint triangle, uint pixel, uint sampleIndex, uint node, inout uint shadowRays) {
+vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, vec3 toViewer, SurfaceResponse surface,
+                 uint triangle, uint pixel, uint sampleIndex, uint node, inout uint shadowRays, inout bool complete) {
     vec3 sum = vec3(0.0);
-    const vec3 origin = offsetRayOrigin(point, geometricNormal);
+    const vec3 point = surfacePoint.position;
+    const vec3 origin = offsetRayOrigin(surfacePoint, geometricNormal);
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
     for (uint i = 0u; i < params.counts.x; ++i) {
         const LightArrival arrival = arriveFrom(params.lights.lights[i], point);
@@ -56,7 +57,8 @@ vec3 directLight(vec3 point, vec3 normal, vec3 geometricNormal, vec3 toViewer, S
             continue;
         }
         ++shadowRays;
-        const vec3 visible = shadowTransmittance(Ray(origin, arrival.toLight), arrival.distance, triangle, VKRT_NO_TRIANGLE);
+        const vec3 visible = shadowTransmittance(Ray(origin, arrival.toLight), arrival.distance, triangle, VKRT_NO_TRIANGLE,
+                                                 complete);
         sum += whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
     }
 #endif
@@ -94,7 +96,7 @@ vec3 directLight(vec3 point, vec3 normal, vec3 geometricNormal, vec3 toViewer, S
             if (cosLight > 0.0 && cosine > 0.0 && dot(geometricNormal, toLight) > 0.0) {
                 ++shadowRays;
                 const vec3 visible = shadowTransmittance(Ray(origin, toLight), distance * (1.0 - 1e-5), triangle,
-                                                         light.triangle);
+                                                         light.triangle, complete);
                 const vec3 irradiance = emissionAt(emitter, light.triangle, b1, b2) * cosLight / (distance2 * light.pdfArea);
                 sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }

@@ -24,10 +24,17 @@ void main() {
     const GpuRay ray = constants.rays.rays[index];
     Hit hit;
     bool found;
+    bool complete = true;
     if (constants.mode == VKRT_RAYCAST_ANY) {
-        found = traceAny(shearRay(Ray(ray.origin, ray.direction)), ray.tMin, ray.tMax, hit);
+        found = traceAny(shearRay(Ray(ray.origin, ray.direction)), ray.tMin, ray.tMax, hit, complete);
     } else {
-        found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), VKRT_NO_TRIANGLE, ray.tMin, ray.tMax, hit);
+        found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), VKRT_NO_TRIANGLE, ray.tMin, ray.tMax, hit,
+                             complete);
+    }
+    // A walk the driver cut short is reported as a miss at NaN distance (see traverse.glsl).
+    if (!complete) {
+        constants.hits.hits[index] = GpuHit(uintBitsToFloat(0x7fc00000u), VKRT_NO_HIT, 0.0, 0.0);
+        return;
     }
     constants.hits.hits[index] = found ? GpuHit(hit.t, hit.triangle, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
 }

@@ -57,7 +57,8 @@ Ray cameraRay(float filmX, float filmY) {
 }
 
 // Radiance arriving along one camera ray: the ray tree, depth first.
-vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters counters) {
+// `complete` turns false when a BVH walk was cut short (see traverse.glsl); the sample is then discarded.
+vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters counters, inout bool complete) {
     const uint maxDepth = params.imageDepthSeed.z;
     const float minThroughput = params.ambientMinThroughput.w;
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
@@ -67,7 +68,8 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
     while (size > 0) {
         const RayTask task = stack[--size];
         Hit hit;
-        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, 0.0, VKRT_INFINITY, hit);
+        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, 0.0, VKRT_INFINITY, hit,
+                                        complete);
         vec3 weight = task.throughput;
 #ifdef VKRT_HAS_VOLUMES
         if (task.medium >= 0) weight *= beerLambert(params.materials.materials[task.medium], found ? hit.t : VKRT_INFINITY);
@@ -80,7 +82,9 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
         const GpuTriangle triangle = VKRT_TRIANGLE(hit.triangle);
         const uint materialIndex = triangle.material;
         const GpuMaterial material = params.materials.materials[materialIndex];
-        const vec3 point = (1.0 - hit.u - hit.v) * triangle.v0 + hit.u * triangle.v1 + hit.v * triangle.v2;
+        const SurfacePoint surfacePoint = hitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1,
+                                                   triangle.v2, hit.u, hit.v);
+        const vec3 point = surfacePoint.position;
         const vec3 toViewer = -task.direction;
 
         // Orient both normals towards the viewer; remember which side was hit.
@@ -101,8 +105,8 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
         if (frontFace || material.transmission.w != 0.0) local += emissionAt(material, hit.triangle, hit.u, hit.v);
         const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit.triangle, hit.u, hit.v));
         local += params.ambientMinThroughput.rgb * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
-        local += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sampleIndex,
-                             task.node, counters.shadow);
+        local += directLight(surfacePoint, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sampleIndex,
+                             task.node, counters.shadow, complete);
         radiance += weight * local;
 
         if (uint(task.depth) < maxDepth) {
@@ -127,14 +131,14 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 if (passes) {
                     ++counters.secondary;
                     const int nextMedium = volume ? (frontFace ? int(materialIndex) : -1) : task.medium;
-                    stack[size++] = RayTask(offsetRayOrigin(point, -geometricNormal), 2u * task.node + 2u, direction,
+                    stack[size++] = RayTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
                                             task.depth + 1, weight * transmitWeight, nextMedium, hit.triangle);
                 }
             }
 #endif
             if (maxComponent(weight * reflectWeight) >= minThroughput) {
                 ++counters.secondary;
-                stack[size++] = RayTask(offsetRayOrigin(point, geometricNormal), 2u * task.node + 1u,
+                stack[size++] = RayTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
                                         reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
                                         task.medium, hit.triangle);
             }
@@ -155,7 +159,8 @@ void main() {
 
     Counters counters = Counters(0u, 0u, 0u);
     uint nonFinite = 0u;
-    vec4 sum = vec4(0.0);
+    precise vec4 sum = vec4(0.0);
+    precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
         float jx = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_X);
         float jy = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_Y);
@@ -164,14 +169,26 @@ void main() {
             jy = (float(s / strata) + jy) / float(strata);
         }
         ++counters.primary;
-        const vec3 value = traceRayTree(cameraRay(float(xy.x) + jx, float(xy.y) + jy), pixel, s, counters);
-        if (allFinite(value)) {
-            sum += vec4(value, 1.0);
+        bool complete = true;
+        const vec3 value = traceRayTree(cameraRay(float(xy.x) + jx, float(xy.y) + jy), pixel, s, counters, complete);
+        if (complete && allFinite(value)) {
+            precise const vec4 corrected = vec4(value, 1.0) - sumLost;
+            precise const vec4 next = sum + corrected;
+            sumLost = (next - sum) - corrected;
+            sum = next;
         } else {
             ++nonFinite;
         }
     }
-    params.accumulation.pixels[pixel] += sum;
+    // Kahan-compensated accumulation: pixels[2p] holds the running sum (rgb and the finite-sample count),
+    // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits.
+    precise vec4 total = params.accumulation.pixels[2u * pixel];
+    precise vec4 lost = params.accumulation.pixels[2u * pixel + 1u];
+    precise const vec4 corrected = (sum - sumLost) - lost;
+    precise const vec4 next = total + corrected;
+    lost = (next - total) - corrected;
+    params.accumulation.pixels[2u * pixel] = next;
+    params.accumulation.pixels[2u * pixel + 1u] = lost;
     atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], counters.primary);
     atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], counters.shadow);
     atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], counters.secondary);

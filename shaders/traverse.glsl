@@ -26,99 +26,119 @@ bool intersectBox(BvhNode node, ShearedRay r, float tMin, float tMax, out float 
     return tEntry <= tExit;
 }
 
+// Tests one triangle of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
+bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, const int mode,
+                   inout Hit hit, inout vec3 transmittance) {
+    float t, u, v;
+    if (triangle == excludeA || triangle == excludeB ||
+        !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, hit.t, t, u, v)) {
+        return false;
+    }
+    if (mode != VKRT_TRACE_SHADOW) {
+        hit = Hit(t, u, v, triangle);
+        return mode == VKRT_TRACE_ANY;
+    }
+#ifdef VKRT_HAS_TRANSMISSION
+    const GpuMaterial material = params.materials.materials[materialOf(triangle)];
+    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
+    transmittance *= transmission * albedoAt(material, triangle, u, v);
+    if (maxComponent(transmittance) > 0.0) return false;
+#endif
+    transmittance = vec3(0.0);  // opaque
+    return true;
+}
+
 // Walks the BVH for hits in (tMin, tMax), skipping triangles excludeA and excludeB. CLOSEST and ANY fill
 // `hit` and return whether there was one; SHADOW multiplies `transmittance` and returns true once it is 0.
+//
+// Each step of the walk is one loop iteration (leaves are unrolled, one stack entry is popped per step):
+// llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total, so fewer iterations
+// mean correct results for longer walks. A walk that still runs out is reported, not silently cut short:
+// `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
-                 inout vec3 transmittance) {
+                 inout vec3 transmittance, out bool complete) {
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_TRIANGLE);
+    complete = true;
     if (params.counts.z == 0u) return false;
-    BvhNode node = VKRT_NODE(0);
+    BvhNode node = VKRT_NODE(0u);
     float entry;
     if (!intersectBox(node, r, tMin, hit.t, entry)) return false;
     // Pending far children and the distances at which the ray enters them.
     uint stack[VKRT_BVH_MAX_DEPTH];
     float stackEntry[VKRT_BVH_MAX_DEPTH];
     int size = 0;
-    while (true) {
-        if (node.primCount > 0u) {
-            for (uint i = 0u; i < node.primCount; ++i) {
-                const uint triangle = node.leftOrFirst + i;
-                float t, u, v;
-                if (triangle == excludeA || triangle == excludeB ||
-                    !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, hit.t, t, u, v)) {
-                    continue;
-                }
-                if (mode == VKRT_TRACE_CLOSEST) {
-                    hit = Hit(t, u, v, triangle);
-                } else if (mode == VKRT_TRACE_ANY) {
-                    hit = Hit(t, u, v, triangle);
+    bool haveNode = true;
+    complete = false;
+    for (uint step = 0u; step < 0xffffffffu; ++step) {
+        if (haveNode) {
+            haveNode = false;
+            if (node.primCount > 0u) {
+                const uint first = node.leftOrFirst, count = node.primCount;
+                if (visitTriangle(r, first, excludeA, excludeB, tMin, mode, hit, transmittance) ||
+                    (count > 1u && visitTriangle(r, first + 1u, excludeA, excludeB, tMin, mode, hit, transmittance)) ||
+                    (count > 2u && visitTriangle(r, first + 2u, excludeA, excludeB, tMin, mode, hit, transmittance)) ||
+                    (count > 3u && visitTriangle(r, first + 3u, excludeA, excludeB, tMin, mode, hit, transmittance))) {
+                    complete = true;
                     return true;
-                } else {
-#ifdef VKRT_HAS_TRANSMISSION
-                    const GpuMaterial material = params.materials.materials[materialOf(triangle)];
-                    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
-                    transmittance *= transmission * albedoAt(material, triangle, u, v);
-                    if (maxComponent(transmittance) <= 0.0) {
-                        transmittance = vec3(0.0);
-                        return true;
-                    }
-#else
-                    transmittance = vec3(0.0);  // every surface is opaque
-                    return true;
-#endif
                 }
-            }
-        } else {
-            // Test both children; enter the nearer now (its node is already loaded), stack the farther.
-            const BvhNode left = VKRT_NODE(node.leftOrFirst);
-            const BvhNode right = VKRT_NODE(node.leftOrFirst + 1u);
-            float tLeft, tRight;
-            const bool hitLeft = intersectBox(left, r, tMin, hit.t, tLeft);
-            const bool hitRight = intersectBox(right, r, tMin, hit.t, tRight);
-            if (hitLeft && hitRight) {
-                const bool leftFirst = tLeft <= tRight;
-                stack[size] = leftFirst ? node.leftOrFirst + 1u : node.leftOrFirst;
-                stackEntry[size] = leftFirst ? tRight : tLeft;
-                ++size;
-                node = leftFirst ? left : right;
-                continue;
-            }
-            if (hitLeft || hitRight) {
-                node = hitLeft ? left : right;
-                continue;
+            } else {
+                // Test both children; enter the nearer now (its node is already loaded), stack the farther.
+                const BvhNode left = VKRT_NODE(node.leftOrFirst);
+                const BvhNode right = VKRT_NODE(node.leftOrFirst + 1u);
+                float tLeft, tRight;
+                const bool hitLeft = intersectBox(left, r, tMin, hit.t, tLeft);
+                const bool hitRight = intersectBox(right, r, tMin, hit.t, tRight);
+                if (hitLeft && hitRight) {
+                    const bool leftFirst = tLeft <= tRight;
+                    stack[size] = leftFirst ? node.leftOrFirst + 1u : node.leftOrFirst;
+                    stackEntry[size] = leftFirst ? tRight : tLeft;
+                    ++size;
+                }
+                haveNode = hitLeft || hitRight;
+                node = (hitLeft && (!hitRight || tLeft <= tRight)) ? left : right;
             }
         }
-        // Pop until a node the ray still enters before the closest hit so far.
-        bool found = false;
-        while (size > 0) {
-            --size;
-            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= hit.t) {
-                node = VKRT_NODE(stack[size)];
-                found = true;
+        if (!haveNode) {
+            // Pop one entry; one the ray now enters beyond the closest hit is dropped (and the next popped
+            // on the next step).
+            if (size == 0) {
+                complete = true;
                 break;
             }
+            --size;
+            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= hit.t) {
+                node = VKRT_NODE(stack[size]);
+                haveNode = true;
+            }
         }
-        if (!found) break;
     }
     return mode == VKRT_TRACE_CLOSEST && hit.triangle != VKRT_NO_TRIANGLE;
 }
 
-bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit) {
+bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
     vec3 unused = vec3(1.0);
-    return traverseBvh(r, exclude, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused);
+    bool walked;
+    const bool found = traverseBvh(r, exclude, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
+    complete = complete && walked;
+    return found;
 }
 
-bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit) {
+bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool complete) {
     vec3 unused = vec3(1.0);
-    return traverseBvh(r, VKRT_NO_TRIANGLE, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_ANY, hit, unused);
+    bool walked;
+    const bool found = traverseBvh(r, VKRT_NO_TRIANGLE, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_ANY, hit, unused, walked);
+    complete = complete && walked;
+    return found;
 }
 
 // Fraction of light passing from the ray's origin to tMax: 0 behind an opaque surface, the product of the
 // transmission tints of transmissive ones (shadow rays do not refract).
-vec3 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB) {
+vec3 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB, inout bool complete) {
     vec3 transmittance = vec3(1.0);
     Hit unused;
-    traverseBvh(shearRay(ray), excludeA, excludeB, 0.0, tMax, VKRT_TRACE_SHADOW, unused, transmittance);
+    bool walked;
+    traverseBvh(shearRay(ray), excludeA, excludeB, 0.0, tMax, VKRT_TRACE_SHADOW, unused, transmittance, walked);
+    complete = complete && walked;
     return transmittance;
 }
 

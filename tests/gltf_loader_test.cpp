@@ -134,7 +134,8 @@ TEST(GltfLoader, OwnCornellBoxMatchesThePublishedData) {
     EXPECT_NEAR(camera.forward.z, 1.0, 1e-12);
     EXPECT_NEAR(camera.up.y, 1.0, 1e-12);
     // Box extents in metres: 556.0 x 548.8 x 559.2 mm, from (0, 0, 0).
-    const glm::dvec3 lo = glm::dvec3(scene.bounds.min) + scene.origin, hi = glm::dvec3(scene.bounds.max) + scene.origin;
+    const glm::dvec3 lo = glm::dvec3(scene.bounds.min) + scene.origin,
+                     hi = glm::dvec3(scene.bounds.max) + scene.origin;
     EXPECT_NEAR(lo.x, 0.0, 1e-6);
     EXPECT_NEAR(lo.y, 0.0, 1e-6);
     EXPECT_NEAR(lo.z, 0.0, 1e-6);

@@ -19,11 +19,13 @@ namespace {
 constexpr uint32_t kNoTriangle = 0xffffffffu;
 
 // New rays start a hair off the surface, on the side they leave from. The offset is relative to the
-// magnitude of the position, so it is scale-invariant; in double precision 1e-9 is far above the rounding
-// of the hit point (about 1e-16 relative) and far below any feature float geometry can resolve (6e-8).
-// Excluding the triangle just hit removes the remaining risk of hitting it again.
-glm::dvec3 offsetOrigin(const glm::dvec3& point, const glm::dvec3& geometricNormal, double side) {
-    const double magnitude = std::max({std::abs(point.x), std::abs(point.y), std::abs(point.z)});
+// magnitude of the numbers the position was computed from (|origin| + t), so it is scale-invariant; in double
+// precision 1e-9 is far above the rounding of the hit point (about 1e-16 relative) and far below any feature
+// float geometry can resolve (6e-8). Excluding the triangle just hit removes the remaining risk of hitting it
+// again.
+glm::dvec3 offsetOrigin(const glm::dvec3& point, double errorScale, const glm::dvec3& geometricNormal,
+                        double side) {
+    const double magnitude = std::max({std::abs(point.x), std::abs(point.y), std::abs(point.z), errorScale});
     return point + side * 1e-9 * magnitude * geometricNormal;
 }
 
@@ -134,12 +136,13 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
     return result;
 }
 
-glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, const glm::dvec3& normal,
-                                          const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
-                                          const SurfaceResponse& surface, uint32_t triangle, uint32_t pixel,
-                                          uint32_t sample, uint32_t node, RayCounters& counters) const {
+glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorScale,
+                                          const glm::dvec3& normal, const glm::dvec3& geometricNormal,
+                                          const glm::dvec3& toViewer, const SurfaceResponse& surface,
+                                          uint32_t triangle, uint32_t pixel, uint32_t sample, uint32_t node,
+                                          RayCounters& counters) const {
     glm::dvec3 sum(0.0);
-    const glm::dvec3 origin = offsetOrigin(point, geometricNormal, 1.0);
+    const glm::dvec3 origin = offsetOrigin(point, errorScale, geometricNormal, 1.0);
     // Punctual lights: hard shadows.
     for (const PunctualLight& light : scene_.lights) {
         const LightArrival arrival = arriveFrom(light, point);
@@ -197,6 +200,9 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const Material& material = scene_.materials[triangle.material];
     const TriangleShading& shading = scene_.shading[hit.triangle];
     const glm::dvec3 point = ray.origin + hit.t * ray.direction;
+    // The magnitude of the numbers `point` came from; rounding errors are relative to it.
+    const double errorScale =
+        std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)}) + hit.t;
     const glm::dvec3 toViewer = -ray.direction;
 
     // Orient both normals towards the viewer; remember which side was hit.
@@ -216,8 +222,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
     // Ambient light reaches the diffuse part and the part of the specular reflection not traced as a mirror.
     result += settings_.ambient * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
-    result += directLight(point, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sample,
-                          node, counters);
+    result += directLight(point, errorScale, normal, geometricNormal, toViewer, surface, hit.triangle, pixel,
+                          sample, node, counters);
 
     if (depth < settings_.maxDepth) {
         // The weight of this branch of the ray tree so far, absorption on the way here included.
@@ -235,7 +241,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
 
         if (maxComponent(pathThroughput * reflectWeight) >= settings_.minThroughput) {
             ++counters.secondary;
-            const Ray reflected{offsetOrigin(point, geometricNormal, 1.0), reflect(toViewer, normal)};
+            const Ray reflected{offsetOrigin(point, errorScale, geometricNormal, 1.0),
+                                reflect(toViewer, normal)};
             result +=
                 reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
                                          pathThroughput * reflectWeight, medium, hit.triangle, counters);
@@ -248,7 +255,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
                 ++counters.secondary;
                 const int nextMedium =
                     volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
-                const Ray transmitted{offsetOrigin(point, geometricNormal, -1.0), direction};
+                const Ray transmitted{offsetOrigin(point, errorScale, geometricNormal, -1.0), direction};
                 result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
                                                     pathThroughput * transmitWeight, nextMedium, hit.triangle,
                                                     counters);

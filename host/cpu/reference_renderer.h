@@ -42,7 +42,7 @@ class ReferenceRenderer {
     glm::dvec3 renderPixel(int x, int y, RayCounters& counters) const;
 
   private:
-    glm::dvec3 directLight(const glm::dvec3& point, const glm::dvec3& normal,
+    glm::dvec3 directLight(const glm::dvec3& point, double errorScale, const glm::dvec3& normal,
                            const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
                            const SurfaceResponse& surface, uint32_t triangle, uint32_t pixel, uint32_t sample,
                            uint32_t node, RayCounters& counters) const;

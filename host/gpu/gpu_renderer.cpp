@@ -37,7 +37,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     sceneBuffers_->fillAddresses(params);
     const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
-    accumulation_ = GpuBuffer(context, pixels * sizeof(glm::vec4));
+    accumulation_ = GpuBuffer(context, 2 * pixels * sizeof(glm::vec4));  // sum and compensation
     accumulation_.fillZero();
     counters_ = GpuBuffer(context, VKRT_COUNTER_COUNT * sizeof(uint32_t));
     counters_.fillZero();
@@ -162,12 +162,13 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     report_.samplesPerPixel = samplesDone;
     if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
 
-    // Average the finite samples of each pixel.
-    std::vector<glm::vec4> sums(static_cast<size_t>(settings_.width) * settings_.height);
+    // Average the finite samples of each pixel; the compensated sum is (sum - lost), evaluated in double.
+    std::vector<glm::vec4> sums(2 * static_cast<size_t>(settings_.width) * settings_.height);
     accumulation_.download(sums.data(), sums.size() * sizeof(glm::vec4));
     result.image = Image(settings_.width, settings_.height);
-    for (size_t i = 0; i < sums.size(); ++i) {
-        result.image.pixels[i] = sums[i].w > 0.0f ? glm::vec3(sums[i]) / sums[i].w : glm::vec3(0.0f);
+    for (size_t i = 0; i < result.image.pixels.size(); ++i) {
+        const glm::dvec4 total = glm::dvec4(sums[2 * i]) - glm::dvec4(sums[2 * i + 1]);
+        result.image.pixels[i] = total.w > 0.0 ? glm::vec3(glm::dvec3(total) / total.w) : glm::vec3(0.0f);
     }
     report_.deviceMemoryBytes = context_.peakAllocatedBytes();
     return result;

@@ -1,6 +1,64 @@
 #include "scene/scene_builder.h"
 
+#include <array>
+#include <cstring>
+#include <unordered_set>
+
 namespace vkrt {
+namespace {
+
+// A triangle's corners rotated so the lexicographically smallest comes first (winding kept), as bits.
+struct TriangleKey {
+    std::array<uint32_t, 10> words;
+    bool operator==(const TriangleKey& other) const { return words == other.words; }
+};
+
+struct TriangleKeyHash {
+    size_t operator()(const TriangleKey& key) const {
+        uint64_t hash = 1469598103934665603ull;
+        for (uint32_t w : key.words) hash = (hash ^ w) * 1099511628211ull;
+        return static_cast<size_t>(hash);
+    }
+};
+
+bool lexicographicallyLess(const glm::vec3& a, const glm::vec3& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+}
+
+TriangleKey keyOf(const Triangle& t) {
+    std::array<glm::vec3, 3> v = {t.v0, t.v1, t.v2};
+    int first = 0;
+    for (int i = 1; i < 3; ++i) {
+        if (lexicographicallyLess(v[i], v[first])) first = i;
+    }
+    TriangleKey key{};
+    for (int i = 0; i < 3; ++i) {
+        const glm::vec3 p = v[(first + i) % 3] + glm::vec3(0.0f);  // + 0 turns -0 into +0
+        std::memcpy(&key.words[3 * i], &p, sizeof(p));
+    }
+    key.words[9] = t.material;
+    return key;
+}
+
+}  // namespace
+
+size_t removeDuplicateTriangles(Scene& scene) {
+    std::unordered_set<TriangleKey, TriangleKeyHash> seen;
+    seen.reserve(scene.triangles.size());
+    size_t kept = 0;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        if (!seen.insert(keyOf(scene.triangles[i])).second) continue;
+        scene.triangles[kept] = scene.triangles[i];
+        scene.shading[kept] = scene.shading[i];
+        ++kept;
+    }
+    const size_t removed = scene.triangles.size() - kept;
+    scene.triangles.resize(kept);
+    scene.shading.resize(kept);
+    return removed;
+}
 
 void addFlatTriangle(Scene& scene, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, uint32_t material) {
     scene.triangles.push_back({v0, v1, v2, material});
@@ -16,6 +74,9 @@ void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 
 }
 
 void finalizeScene(Scene& scene) {
+    if (const size_t removed = removeDuplicateTriangles(scene); removed > 0) {
+        scene.warnings.push_back(std::to_string(removed) + " duplicate triangle(s) removed");
+    }
     scene.bounds = Aabb{};
     scene.emissiveTriangles.clear();
     for (uint32_t i = 0; i < scene.triangles.size(); ++i) {

@@ -1,0 +1,45 @@
+// The numerical-stability suite: stiff and extreme cases (scale, distance from the origin, grazing
+// angles, thin media, total internal reflection, degenerate geometry, watertightness, extreme values),
+// each rendered on the GPU and by the double-precision CPU reference and measured. Shared by
+// tools/stability_report.cpp (which prints the table) and tests/stability_test.cpp (which asserts it).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gpu/vulkan_context.h"
+
+namespace vkrt {
+
+struct StabilityOptions {
+    std::filesystem::path sourceDir;  // for scenes/cornell.gltf and scenes/whitted.gltf
+    std::filesystem::path workDir;    // generated variants go here
+    std::string shaderCacheDir;
+    int width = 48;
+    int height = 48;
+    int samplesPerPixel = 4;
+    int longAccumulationSamples = 100000;
+    std::filesystem::path dumpDir;  // when set, every case's GPU and CPU images are written here (PFM)
+};
+
+struct StabilityResult {
+    std::string group;
+    std::string name;
+    uint64_t nonFiniteSamples = 0;  // GPU and CPU together
+    double gpuVsCpuOff = 0.0;       // fraction of pixels off by more than 1% (+ 2e-3 absolute)
+    double gpuVsCpuMeanRelative = 0.0;
+    std::optional<double> invarianceOff;  // against the unit-scale / untranslated / unchanged image
+    std::optional<double> invarianceMeanRelative;
+    std::optional<uint64_t> leaks;            // rays aimed at shared edges and vertices that got through
+    std::optional<double> acne;               // fraction of lit pixels darker than the closed form by > 1%
+    std::optional<double> accumulationError;  // relative error of a long accumulation of a constant
+};
+
+std::vector<StabilityResult> runStabilitySuite(const VulkanContext& context, const StabilityOptions& options);
+
+// The results as a Markdown table.
+std::string stabilityTable(const std::vector<StabilityResult>& results);
+
+}  // namespace vkrt
