@@ -17,6 +17,8 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
     return (count + size - 1) / size;
 }
 
+constexpr uint32_t kMaxSamplesPerDispatch = 16;
+
 const SceneFeatures kAllFeatures{true, true, true, true, true, true};
 
 }  // namespace
@@ -141,8 +143,10 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     };
     uint32_t samplesDone = 0;
     while (samplesDone < spp) {
-        const uint32_t samples = static_cast<uint32_t>(
-            std::clamp(nextUnits() / height, 1.0, static_cast<double>(spp - samplesDone)));
+        // At most kMaxSamplesPerDispatch per pixel: llvmpipe cuts off an invocation's loops after 65535
+        // iterations in total, so one invocation must not trace too many samples.
+        const uint32_t samples = static_cast<uint32_t>(std::clamp(
+            nextUnits() / height, 1.0, static_cast<double>(std::min(spp - samplesDone, kMaxSamplesPerDispatch))));
         for (uint32_t row = 0; row < height;) {
             const uint32_t rows = static_cast<uint32_t>(
                 std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
