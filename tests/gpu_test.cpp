@@ -15,6 +15,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/gpu_raycaster.h"
 #include "gpu/gpu_renderer.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
 #include "image/image_metrics.h"
@@ -149,12 +150,7 @@ TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
     const uint32_t constants[4] = {seed, count, 0, 0};
     context().submitAndWait([&](VkCommandBuffer commands) {
         pipeline.dispatch(commands, constants, sizeof(constants), (count + 63) / 64, 1);
-        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0,
-                             nullptr, 0, nullptr);
+        makeShaderWritesVisibleToHost(commands);
     });
     std::vector<uint32_t> words(count * 2);
     out.download(words.data(), words.size() * sizeof(uint32_t));

@@ -24,17 +24,10 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
         std::make_unique<ComputePipeline>(context, shader.spirv, static_cast<uint32_t>(bindings.size()),
                                           static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
     pipeline_->bind(bindings);
-    if (context.hasTimestamps()) {
-        VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-        info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        info.queryCount = 2;
-        VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, &queries_));
-    }
+    timer_ = std::make_unique<GpuTimer>(context);
 }
 
-GpuRaycaster::~GpuRaycaster() {
-    if (queries_) vkDestroyQueryPool(context_.device(), queries_, nullptr);
-}
+GpuRaycaster::~GpuRaycaster() = default;
 
 std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
                                              RaycastTiming* timing) {
@@ -46,31 +39,16 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
                                           static_cast<uint32_t>(rays.size()), static_cast<uint32_t>(mode)};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
-        if (queries_) {
-            vkCmdResetQueryPool(commands, queries_, 0, 2);
-            vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
-        }
+        timer_->begin(commands);
         pipeline_->dispatch(commands, &constants, sizeof(constants),
                             (constants.count + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP, 1);
-        if (queries_) vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
-        VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        after.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0,
-                             nullptr, 0, nullptr);
+        timer_->end(commands);
+        makeShaderWritesVisibleToHost(commands);
     });
     if (timing) {
         timing->wallMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        timing->gpuMs = 0.0;
-        if (queries_) {
-            uint64_t stamps[2] = {};
-            VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_, 0, 2, sizeof(stamps), stamps,
-                                           sizeof(uint64_t),
-                                           VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-            timing->gpuMs = static_cast<double>(stamps[1] - stamps[0]) * context_.timestampPeriodNs() * 1e-6;
-        }
+        timing->gpuMs = timer_->elapsedMs();
     }
     hitBuffer.download(hits.data(), hits.size() * sizeof(gpu::GpuHit));
     for (gpu::GpuHit& hit : hits) {

@@ -8,6 +8,7 @@
 #include "bvh/flat_bvh.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/gpu_scene.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/vulkan_context.h"
 
 namespace vkrt {
@@ -35,7 +36,7 @@ class GpuRaycaster {
     std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
     GpuBuffer params_;
     std::unique_ptr<ComputePipeline> pipeline_;
-    VkQueryPool queries_ = VK_NULL_HANDLE;
+    std::unique_ptr<GpuTimer> timer_;
 };
 
 }  // namespace vkrt

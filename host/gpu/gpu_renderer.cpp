@@ -61,17 +61,10 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
                                                   static_cast<uint32_t>(sizeof(gpu::PassConstants)));
     pipeline_->bind(bindings);
 
-    if (context.hasTimestamps()) {
-        VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-        info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        info.queryCount = 2;
-        VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, &queries_));
-    }
+    timer_ = std::make_unique<GpuTimer>(context);
 }
 
-GpuRenderer::~GpuRenderer() {
-    if (queries_) vkDestroyQueryPool(context_.device(), queries_, nullptr);
-}
+GpuRenderer::~GpuRenderer() = default;
 
 double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart,
                                 uint32_t rowCount) {
@@ -84,28 +77,14 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
         vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
-        if (queries_) {
-            vkCmdResetQueryPool(commands, queries_, 0, 2);
-            vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
-        }
+        timer_->begin(commands);
         pipeline_->dispatch(commands, &pass, sizeof(pass), groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH),
                             groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT));
-        if (queries_) vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
-        // Make the results visible to the host (mapped reads) and to copies (staged reads).
-        VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        after.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0,
-                             nullptr, 0, nullptr);
+        timer_->end(commands);
+        makeShaderWritesVisibleToHost(commands);
     });
     const double wallMs = millisecondsSince(start);
-    if (queries_) {
-        uint64_t stamps[2] = {};
-        VK_CHECK(vkGetQueryPoolResults(context_.device(), queries_, 0, 2, sizeof(stamps), stamps,
-                                       sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-        report_.gpuMs += static_cast<double>(stamps[1] - stamps[0]) * context_.timestampPeriodNs() * 1e-6;
-    }
+    report_.gpuMs += timer_->elapsedMs();
     ++report_.dispatches;
     report_.longestDispatchMs = std::max(report_.longestDispatchMs, wallMs);
     return wallMs;

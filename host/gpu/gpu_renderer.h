@@ -11,6 +11,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/gpu_scene.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
 #include "scene/scene.h"
@@ -67,7 +68,7 @@ class GpuRenderer {
     GpuBuffer accumulation_;
     GpuBuffer counters_;
     GpuBuffer params_;
-    VkQueryPool queries_ = VK_NULL_HANDLE;
+    std::unique_ptr<GpuTimer> timer_;
     uint32_t lastCounters_[VKRT_COUNTER_COUNT] = {};
     GpuRenderReport report_;
 };
