@@ -9,7 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "bvh/binned_sah_builder.h"
+#include "bvh/triangle_bvh.h"
+#include "cpu/closest_hit.h"
 #include "cpu/reference_renderer.h"
 #include "cpu/triangle_intersection.h"
 #include "gpu/compute_pipeline.h"
@@ -48,11 +49,7 @@ class Gpu : public ::testing::Test {
     }
     static const VulkanContext& context() { return *context_; }
 
-    static FlatBvh bvhFor(const Scene& scene) {
-        std::vector<Aabb> bounds;
-        for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
-        return flatten(BinnedSahBuilder::build(bounds));
-    }
+    static FlatBvh bvhFor(const Scene& scene) { return buildTriangleBvh(scene.triangles).flat; }
 
     static RenderResult renderGpu(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                   const RenderSettings& settings, GpuRenderOptions options = {},
@@ -198,9 +195,7 @@ void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle
     scene.materials.push_back(Material{});
     for (const Triangle& t : triangles) addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
     finalizeScene(scene);
-    std::vector<Aabb> bounds;
-    for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
-    const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
+    const FlatBvh bvh = buildTriangleBvh(scene.triangles).flat;
     GpuRaycaster raycaster(context, scene, bvh, kShaderCache);
     const std::vector<gpu::GpuRay> rays = testRays(scene.bounds, 30000);
     const std::vector<gpu::GpuHit> closest = raycaster.trace(rays, RaycastMode::Closest);
@@ -209,16 +204,10 @@ void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle
     size_t samePrimitive = 0, ties = 0, hitMissDisagreements = 0, occlusionDisagreements = 0, hits = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayT<double> ray{glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)};
-        double tMax = rays[i].tMax;
-        uint32_t cpuTriangle = VKRT_NO_HIT;
-        traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
-            TriangleHit hit;
-            if (intersectTriangle(scene.triangles[prim], ray.origin, ray.direction, 0.0, limit, hit)) {
-                limit = hit.t;
-                cpuTriangle = prim;
-            }
-            return false;
-        });
+        SurfaceHit cpu;
+        closestHit(scene.triangles, bvh, ray, rays[i].tMax, kNoTriangle, cpu);
+        const uint32_t cpuTriangle = cpu.triangle;
+        const double tMax = cpu.triangle == kNoTriangle ? rays[i].tMax : cpu.t;
         const bool cpuHit = cpuTriangle != VKRT_NO_HIT, gpuHit = closest[i].triangle != VKRT_NO_HIT;
         hits += cpuHit;
         if (cpuHit != gpuHit) {

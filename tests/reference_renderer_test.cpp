@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bvh/binned_sah_builder.h"
+#include "bvh/triangle_bvh.h"
 #include "cpu/punctual_light.h"
 #include "cpu/reference_renderer.h"
 #include "image/image_metrics.h"
@@ -17,9 +17,7 @@ namespace vkrt {
 namespace {
 
 FlatBvh bvhFor(const Scene& scene) {
-    std::vector<Aabb> bounds;
-    for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
-    return flatten(BinnedSahBuilder::build(bounds));
+    return buildTriangleBvh(scene.triangles).flat;
 }
 
 Material lambert(glm::vec3 albedo) {

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bvh/binned_sah_builder.h"
+#include "bvh/triangle_bvh.h"
 #include "gpu/gpu_raycaster.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
@@ -105,15 +105,9 @@ int main(int argc, char** argv) {
         const Scene scene = scenePath.empty() ? sphereOverGround(triangles) : loadGltf(scenePath);
         const Camera camera = selectCamera(scene, 0, static_cast<double>(width) / height);
 
-        std::vector<Aabb> bounds;
-        for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
-        const BvhConfig config;
-        const auto buildStart = std::chrono::steady_clock::now();
-        const Bvh bvh = BinnedSahBuilder::build(bounds, config);
-        const double buildMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
-        const BvhStats stats = measureBvh(bvh, config);
-        const FlatBvh flat = flatten(bvh);
+        const TriangleBvh triangleBvh = buildTriangleBvh(scene.triangles);
+        const FlatBvh& flat = triangleBvh.flat;
+        const BvhStats& stats = triangleBvh.stats;
 
         ContextOptions options;
         options.deviceIndex = deviceIndex;
@@ -182,7 +176,7 @@ int main(int argc, char** argv) {
             {"host_threads", std::thread::hardware_concurrency()},
             {"runs", runs},
             {"bvh",
-             {{"build_ms", buildMs},
+             {{"build_ms", stats.buildMs},
               {"nodes", stats.nodes},
               {"depth", stats.depth},
               {"sah_cost", stats.sahCost}}},

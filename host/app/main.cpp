@@ -10,8 +10,7 @@
 #include "app/options.h"
 #include "app/progress_bar.h"
 #include "app/render_stats.h"
-#include "bvh/binned_sah_builder.h"
-#include "bvh/flat_bvh.h"
+#include "bvh/triangle_bvh.h"
 #include "cpu/reference_renderer.h"
 #include "gpu/gpu_renderer.h"
 #include "gpu/vulkan_check.h"
@@ -60,15 +59,9 @@ int run(Options options) {
     }
 
     // Acceleration structure.
-    const BvhConfig bvhConfig;
-    std::vector<Aabb> bounds(scene.triangles.size());
-    for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.triangles[i].bounds();
-    const auto buildStart = std::chrono::steady_clock::now();
-    const Bvh bvh = BinnedSahBuilder::build(bounds, bvhConfig);
-    const double buildMs = millisecondsSince(buildStart);
-    const FlatBvh flatBvh = flatten(bvh);
-    report.bvh = measureBvh(bvh, bvhConfig);
-    report.bvh.buildMs = buildMs;
+    const TriangleBvh triangleBvh = buildTriangleBvh(scene.triangles);
+    const FlatBvh& flatBvh = triangleBvh.flat;
+    report.bvh = triangleBvh.stats;
 
     RenderResult result;
     if (options.device == DeviceKind::Gpu) {

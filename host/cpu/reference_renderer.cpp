@@ -16,8 +16,6 @@
 namespace vkrt {
 namespace {
 
-constexpr uint32_t kNoTriangle = 0xffffffffu;
-
 // New rays start a hair off the surface, on the side they leave from. The offset is relative to the
 // magnitude of the numbers the position was computed from (|origin| + t), so it is scale-invariant; in double
 // precision 1e-9 is far above the rounding of the hit point (about 1e-16 relative) and far below any feature
@@ -82,18 +80,7 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
 }
 
 bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const {
-    bool found = false;
-    traverseBvh(bvh_, ray, 0.0, tMax, [&](uint32_t prim, double& closest) {
-        TriangleHit candidate;
-        if (prim != exclude &&
-            intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, closest, candidate)) {
-            closest = candidate.t;
-            hit = {prim, candidate.t, candidate.u, candidate.v};
-            found = true;
-        }
-        return false;
-    });
-    return found;
+    return vkrt::closestHit(scene_.triangles, bvh_, ray, tMax, exclude, hit);
 }
 
 glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {

@@ -9,18 +9,13 @@
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
 #include "cpu/area_lights.h"
+#include "cpu/closest_hit.h"
 #include "cpu/whitted_model.h"
 #include "scene/scene.h"
 
 namespace vkrt {
 
 using Ray = RayT<double>;
-
-struct SurfaceHit {
-    uint32_t triangle = 0;
-    double t = 0.0;
-    double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2
-};
 
 class ReferenceRenderer {
   public:

@@ -124,8 +124,9 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     while (samplesDone < spp) {
         // At most kMaxSamplesPerDispatch per pixel: llvmpipe cuts off an invocation's loops after 65535
         // iterations in total, so one invocation must not trace too many samples.
-        const uint32_t samples = static_cast<uint32_t>(std::clamp(
-            nextUnits() / height, 1.0, static_cast<double>(std::min(spp - samplesDone, kMaxSamplesPerDispatch))));
+        const uint32_t samples = static_cast<uint32_t>(
+            std::clamp(nextUnits() / height, 1.0,
+                       static_cast<double>(std::min(spp - samplesDone, kMaxSamplesPerDispatch))));
         for (uint32_t row = 0; row < height;) {
             const uint32_t rows = static_cast<uint32_t>(
                 std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));

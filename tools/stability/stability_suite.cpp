@@ -7,7 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bvh/binned_sah_builder.h"
+#include "bvh/triangle_bvh.h"
+#include "cpu/closest_hit.h"
 #include "cpu/reference_renderer.h"
 #include "cpu/triangle_intersection.h"
 #include "gpu/gpu_raycaster.h"
@@ -24,9 +25,7 @@ namespace vkrt {
 namespace {
 
 FlatBvh bvhFor(const Scene& scene) {
-    std::vector<Aabb> bounds;
-    for (const Triangle& t : scene.triangles) bounds.push_back(t.bounds());
-    return flatten(BinnedSahBuilder::build(bounds));
+    return buildTriangleBvh(scene.triangles).flat;
 }
 
 struct Rendered {
@@ -372,17 +371,8 @@ StabilityResult watertightness(const VulkanContext& context, const StabilityOpti
         if (hits[k].triangle == VKRT_NO_HIT) ++leaks;
         // The CPU reference must not leak either.
         const RayT<double> ray{glm::dvec3(rays[k].origin), glm::dvec3(rays[k].direction)};
-        double tMax = 1e30;
-        bool hit = false;
-        traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
-            TriangleHit h;
-            if (intersectTriangle(scene.triangles[prim], ray.origin, ray.direction, 0.0, limit, h)) {
-                limit = h.t;
-                hit = true;
-            }
-            return false;
-        });
-        if (!hit) ++leaks;
+        SurfaceHit hit;
+        if (!closestHit(scene.triangles, bvh, ray, 1e30, kNoTriangle, hit)) ++leaks;
     }
     result.leaks = leaks;
     return result;
