@@ -26,6 +26,9 @@
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
+#ifdef VKRT_HAVE_EMBREE
+#include "embree_tracer.h"
+#endif
 
 namespace vkrt {
 namespace {
@@ -143,6 +146,10 @@ int main(int argc, char** argv) {
             diffuseRays.push_back({origin, 0.0f, glm::normalize(d), 1e30f});
         }
 
+#ifdef VKRT_HAVE_EMBREE
+        const EmbreeTracer embree(scene.triangles);
+        const int embreeThreads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+#endif
         nlohmann::json kinds;
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
             std::vector<double> gpuRates, wallRates;
@@ -160,6 +167,25 @@ int main(int argc, char** argv) {
                 const Statistics g = summarize(gpuRates);
                 entry["mrays_per_gpu_s"] = {{"median", g.median}, {"min", g.min}, {"max", g.max}};
             }
+#ifdef VKRT_HAVE_EMBREE
+            // The same rays through Embree, interleaved with vkrt's runs; the ratio of same-run medians.
+            std::vector<double> embreeRates;
+            std::vector<uint32_t> embreeHits;
+            for (int run = 0; run < runs; ++run) {
+                const double ms = embree.trace(rays, mode == RaycastMode::Any, embreeThreads, embreeHits);
+                embreeRates.push_back(rays.size() / ms / 1e3);
+            }
+            const Statistics e = summarize(embreeRates);
+            entry["embree_mrays_per_s"] = {{"median", e.median}, {"min", e.min}, {"max", e.max}};
+            entry["vkrt_over_embree"] = wall.median / e.median;
+            // Agreement on which rays hit, as a check that both traced the same thing.
+            const std::vector<gpu::GpuHit> vkrtHits = raycaster.trace(rays, mode);
+            size_t agree = 0;
+            for (size_t i = 0; i < rays.size(); ++i) {
+                agree += (vkrtHits[i].triangle != VKRT_NO_HIT) == (embreeHits[i] != VKRT_NO_HIT);
+            }
+            entry["hit_agreement"] = static_cast<double>(agree) / static_cast<double>(rays.size());
+#endif
             kinds[kind] = entry;
         };
         measure("camera", cameraRays, RaycastMode::Closest);
@@ -181,6 +207,12 @@ int main(int argc, char** argv) {
               {"depth", stats.depth},
               {"sah_cost", stats.sahCost}}},
             {"kinds", kinds},
+#ifdef VKRT_HAVE_EMBREE
+            {"embree",
+             {{"version", EmbreeTracer::version()},
+              {"threads", embreeThreads},
+              {"build_ms", embree.buildMs()}}},
+#endif
         };
         std::printf("%s\n", report.dump(2).c_str());
     } catch (const std::exception& e) {
