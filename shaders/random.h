@@ -52,6 +52,40 @@ VKRT_FUNC float vkrtRandom(uint seed, uint pixel, uint sampleIndex, uint dimensi
     return float(vkrtRandomBits(seed, pixel, sampleIndex, dimension) >> 8u) * 5.9604644775390625e-8;
 }
 
+// Bit reversal of a 32-bit word, written with shifts and masks so C++ and GLSL compute it alike.
+VKRT_FUNC uint vkrtReverseBits(uint x) {
+    x = ((x >> 1u) & 0x55555555u) | ((x & 0x55555555u) << 1u);
+    x = ((x >> 2u) & 0x33333333u) | ((x & 0x33333333u) << 2u);
+    x = ((x >> 4u) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4u);
+    x = ((x >> 8u) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8u);
+    return (x >> 16u) | (x << 16u);
+}
+
+// The second dimension of the Sobol' sequence; with the bit-reversed index (van der Corput) as the first,
+// every run of 2^k consecutive points from the start is a (0,k,2)-net: stratified in every elementary
+// interval (Sobol' 1967; Kollig and Keller, "Efficient multidimensional sampling", 2002).
+VKRT_FUNC uint vkrtSobol2(uint index) {
+    uint result = 0u;
+    for (uint v = 0x80000000u; index != 0u; index >>= 1u) {
+        if ((index & 1u) != 0u) result ^= v;
+        v ^= v >> 1u;
+    }
+    return result;
+}
+
+// Where sample `sampleIndex` falls inside its pixel, in [0, 1)^2. The (0,2)-sequence is scrambled per
+// pixel by XOR with random bits (which keeps the net property), so each pixel is stratified at every
+// power-of-two sample count (progressive images converge as well as finished ones) and unbiased.
+VKRT_FUNC float vkrtPixelJitterX(uint seed, uint pixel, uint sampleIndex) {
+    const uint scramble = vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_X);
+    return float((vkrtReverseBits(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
+}
+
+VKRT_FUNC float vkrtPixelJitterY(uint seed, uint pixel, uint sampleIndex) {
+    const uint scramble = vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_Y);
+    return float((vkrtSobol2(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
+}
+
 VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) {
     return VKRT_DIM_NODE_BASE + node * VKRT_DIMS_PER_NODE + k;
 }

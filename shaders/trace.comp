@@ -153,21 +153,14 @@ void main() {
     if (xy.x >= width || gl_GlobalInvocationID.y >= pass.rowCount) return;
     const uint pixel = xy.y * width + xy.x;
     const uint seed = params.imageDepthSeed.w;
-    const uint spp = params.counts.w;
-    // Jittered stratification: the first m*m samples cover an m x m grid of strata, the rest are uniform.
-    const uint strata = uint(sqrt(float(spp)));
-
     Counters counters = Counters(0u, 0u, 0u);
     uint nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
-        float jx = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_X);
-        float jy = vkrtRandom(seed, pixel, s, VKRT_DIM_PIXEL_Y);
-        if (s < strata * strata) {
-            jx = (float(s % strata) + jx) / float(strata);
-            jy = (float(s / strata) + jy) / float(strata);
-        }
+        // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
+        const float jx = vkrtPixelJitterX(seed, pixel, s);
+        const float jy = vkrtPixelJitterY(seed, pixel, s);
         ++counters.primary;
         bool complete = true;
         const vec3 value = traceRayTree(cameraRay(float(xy.x) + jx, float(xy.y) + jy), pixel, s, counters, complete);

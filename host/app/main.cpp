@@ -4,9 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <new>
+#include <optional>
 #include <string>
 
+#include "app/convergence_report.h"
 #include "app/options.h"
 #include "app/progress_bar.h"
 #include "app/render_stats.h"
@@ -25,6 +28,8 @@ namespace {
 
 constexpr int kExitRuntimeFailure = 1;
 constexpr int kExitBadInput = 2;
+// A reference made for a report without --reference has this many times the samples of the render.
+constexpr int kReferenceSampleFactor = 16;
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -63,48 +68,91 @@ int run(Options options) {
     const FlatBvh& flatBvh = triangleBvh.flat;
     report.bvh = triangleBvh.stats;
 
-    RenderResult result;
+    // The Vulkan device, when rendering on the GPU. VKRT_VALIDATE=1 turns validation on without changing
+    // the command line (the test suite uses it).
+    std::unique_ptr<VulkanContext> context;
     if (options.device == DeviceKind::Gpu) {
         ContextOptions contextOptions;
-        // VKRT_VALIDATE=1 turns validation on without changing the command line (the test suite uses it).
         const char* validateEnv = std::getenv("VKRT_VALIDATE");
         contextOptions.validation = options.validate || (validateEnv && std::string(validateEnv) == "1");
         contextOptions.deviceIndex = options.deviceIndex;
-        const VulkanContext context(contextOptions);
-        GpuRenderOptions gpuOptions;
-        gpuOptions.timeLimitSeconds = options.timeLimitSeconds;
-        GpuRenderer renderer(context, scene, flatBvh, camera, settings, gpuOptions);
-        ProgressBar progress("gpu", !options.quiet);
-        const auto renderStart = std::chrono::steady_clock::now();
-        result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
-        report.renderMs = millisecondsSince(renderStart);
-        progress.finish();
-        const GpuRenderReport& g = renderer.report();
-        report.samplesRendered = static_cast<int>(g.samplesPerPixel);
-        report.gpu = RunReport::Gpu{context.description().name,
-                                    context.description().type,
-                                    context.description().driver,
-                                    g.gpuMs,
-                                    g.compileMs,
-                                    g.shaderFromCache,
-                                    renderer.features().names(),
-                                    g.deviceMemoryBytes,
-                                    g.dispatches,
-                                    g.longestDispatchMs,
-                                    g.boundGeometry};
-        if (context.validationMessages() > 0) {
-            throw GpuError(std::to_string(context.validationMessages()) +
-                           " validation message(s), see above");
-        }
-    } else {
-        ProgressBar progress("cpu", !options.quiet);
-        const ReferenceRenderer renderer(scene, flatBvh, camera, settings);
-        const auto renderStart = std::chrono::steady_clock::now();
-        result = renderer.render([&](uint64_t done, uint64_t total) { progress.update(done, total); });
-        report.renderMs = millisecondsSince(renderStart);
-        progress.finish();
-        report.samplesRendered = settings.samplesPerPixel;
+        context = std::make_unique<VulkanContext>(contextOptions);
     }
+
+    // One render on the chosen device; fills `runReport` when given.
+    auto render = [&](const RenderSettings& renderSettings, const char* label,
+                      const CheckpointCallback& checkpoint, RunReport* runReport) {
+        ProgressBar progress(label, !options.quiet);
+        const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
+        const auto renderStart = std::chrono::steady_clock::now();
+        RenderResult rendered;
+        if (context) {
+            GpuRenderOptions gpuOptions;
+            gpuOptions.timeLimitSeconds = runReport ? options.timeLimitSeconds : 0.0;
+            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs);
+            if (runReport) {
+                const GpuRenderReport& g = renderer.report();
+                runReport->samplesRendered = static_cast<int>(g.samplesPerPixel);
+                runReport->gpu = RunReport::Gpu{context->description().name,
+                                                context->description().type,
+                                                context->description().driver,
+                                                g.gpuMs,
+                                                g.compileMs,
+                                                g.shaderFromCache,
+                                                renderer.features().names(),
+                                                g.deviceMemoryBytes,
+                                                g.dispatches,
+                                                g.longestDispatchMs,
+                                                g.boundGeometry};
+            }
+            if (context->validationMessages() > 0) {
+                throw GpuError(std::to_string(context->validationMessages()) +
+                               " validation message(s), see above");
+            }
+        } else {
+            const ReferenceRenderer renderer(scene, flatBvh, camera, renderSettings);
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs);
+            if (runReport) runReport->samplesRendered = renderSettings.samplesPerPixel;
+        }
+        if (runReport) runReport->renderMs = millisecondsSince(renderStart);
+        progress.finish();
+        return rendered;
+    };
+
+    // Error against run time: a reference from a file, or a long render made here with another seed.
+    std::optional<ConvergenceReport> convergence;
+    if (!options.referencePath.empty()) {
+        Image reference;
+        try {
+            reference = readImage(options.referencePath);
+        } catch (const ImageError& e) {
+            throw UsageError(std::string("--reference: ") + e.what());
+        }
+        if (reference.width != settings.width || reference.height != settings.height) {
+            throw UsageError("--reference: " + options.referencePath + " is " +
+                             std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                             ", the render " + std::to_string(settings.width) + "x" +
+                             std::to_string(settings.height));
+        }
+        convergence.emplace(std::move(reference), "file " + options.referencePath);
+    } else if (!options.reportPath.empty()) {
+        RenderSettings referenceSettings = settings;
+        referenceSettings.samplesPerPixel = settings.samplesPerPixel * kReferenceSampleFactor;
+        referenceSettings.seed = settings.seed + 1;
+        const std::string source = std::string(context ? "gpu" : "cpu") + " render made by this run, " +
+                                   std::to_string(referenceSettings.samplesPerPixel) + " spp, seed " +
+                                   std::to_string(referenceSettings.seed);
+        if (!options.quiet) std::fprintf(stderr, "vkrt: reference: %s\n", source.c_str());
+        convergence.emplace(render(referenceSettings, "reference", {}, nullptr).image, source);
+    }
+    CheckpointCallback checkpoint;
+    if (convergence) {
+        checkpoint = [&](uint32_t samples, double renderMs, double gpuMs, const Image& image) {
+            convergence->add(samples, renderMs, gpuMs, image);
+        };
+    }
+    const RenderResult result = render(settings, context ? "gpu" : "cpu", checkpoint, &report);
 
     writeImage(result.image, options.outputPath, options.exposure);
 
@@ -115,6 +163,24 @@ int run(Options options) {
     report.settings = settings;
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (convergence && !options.reportPath.empty()) {
+        nlohmann::json context = {
+            {"scene", options.scenePath},
+            {"device", report.device},
+            {"device_name", report.gpu ? report.gpu->deviceName : std::string("cpu reference")},
+            {"width", settings.width},
+            {"height", settings.height},
+            {"spp", report.samplesRendered},
+            {"seed", settings.seed}};
+        convergence->write(options.reportPath, context);
+    }
+    if (convergence && !options.quiet && !convergence->points().empty()) {
+        const ConvergencePoint& last = convergence->points().back();
+        std::fprintf(
+            stderr,
+            "vkrt: error against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
+            last.rmse, last.relMse, 100.0 * last.fractionOff);
+    }
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
         std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s%s%s\n",

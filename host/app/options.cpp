@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
@@ -58,6 +59,10 @@ Usage: vkrt --scene FILE [options]
   --list-devices        print the Vulkan devices and exit
   --validate            enable the Khronos validation layer
   --time-limit SECONDS  GPU: stop after the pass that crosses this time
+  --reference FILE      linear image (.exr/.pfm) to measure the error against
+  --report FILE         error against run time at every doubling of samples (.json or .csv);
+                        without --reference, a render with 16x the samples and seed+1 is the reference
+  --report-every-ms N   also record a checkpoint after any pass that crosses N ms
   --seed S              seed of the counter-based random numbers                      [0]
   --camera N            which camera of the file to use (node order)                  [0]
   --ambient R[,G,B]     ambient radiance       [0.05; 1 when the scene has no lights]
@@ -118,6 +123,16 @@ Options parseOptions(int argc, const char* const argv[]) {
         } else if (flag == "--time-limit") {
             options.timeLimitSeconds = parseNumber<double>(flag, value());
             if (options.timeLimitSeconds <= 0.0) throw UsageError("--time-limit must be positive");
+        } else if (flag == "--reference") {
+            options.referencePath = value();
+        } else if (flag == "--report") {
+            options.reportPath = value();
+            const std::string extension = std::filesystem::path(options.reportPath).extension().string();
+            if (extension != ".json" && extension != ".csv")
+                throw UsageError("--report must name a .json or .csv file");
+        } else if (flag == "--report-every-ms") {
+            options.reportEveryMs = parseNumber<double>(flag, value());
+            if (options.reportEveryMs <= 0.0) throw UsageError("--report-every-ms must be positive");
         } else if (flag == "--seed") {
             options.render.seed = static_cast<uint32_t>(parseInt(flag, value(), 0, 2147483647));
         } else if (flag == "--camera") {

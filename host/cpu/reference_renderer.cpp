@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <thread>
@@ -252,21 +253,15 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     return absorbed * result;
 }
 
-glm::dvec3 ReferenceRenderer::renderPixel(int x, int y, RayCounters& counters) const {
+glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,
+                                          RayCounters& counters) const {
     const uint32_t pixel = static_cast<uint32_t>(y) * settings_.width + x;
-    const int spp = settings_.samplesPerPixel;
-    // Jittered stratification: the first m*m samples cover an m x m grid of strata, the rest are uniform.
-    const int strata = static_cast<int>(std::sqrt(static_cast<double>(spp)));
     glm::dvec3 sum(0.0);
     uint64_t finite = 0;
-    for (int s = 0; s < spp; ++s) {
-        const uint32_t sample = static_cast<uint32_t>(s);
-        double jx = vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_PIXEL_X);
-        double jy = vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_PIXEL_Y);
-        if (s < strata * strata) {
-            jx = ((s % strata) + jx) / strata;
-            jy = ((s / strata) + jy) / strata;
-        }
+    for (uint32_t sample = firstSample; sample < endSample; ++sample) {
+        // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
+        const double jx = vkrtPixelJitterX(settings_.seed, pixel, sample);
+        const double jy = vkrtPixelJitterY(settings_.seed, pixel, sample);
         ++counters.primary;
         const Ray ray = cameraRay(x + jx, y + jy);
         const glm::dvec3 value =
@@ -278,38 +273,77 @@ glm::dvec3 ReferenceRenderer::renderPixel(int x, int y, RayCounters& counters) c
             ++counters.nonFiniteSamples;
         }
     }
-    return finite > 0 ? sum / static_cast<double>(finite) : glm::dvec3(0.0);
+    return glm::dvec4(sum, static_cast<double>(finite));
 }
 
-RenderResult ReferenceRenderer::render(const ProgressCallback& progress) const {
+RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
+                                       double checkpointEveryMs) const {
     RenderResult result;
     result.image = Image(settings_.width, settings_.height);
-    std::atomic<int> nextRow{0};
-    std::atomic<uint64_t> rowsDone{0};
-    std::mutex merge;
-    auto worker = [&] {
-        RayCounters counters;
-        for (int y = nextRow++; y < settings_.height; y = nextRow++) {
-            for (int x = 0; x < settings_.width; ++x)
-                result.image.at(x, y) = glm::vec3(renderPixel(x, y, counters));
-            const uint64_t done = ++rowsDone;
-            if (progress) {
-                std::lock_guard<std::mutex> lock(merge);
-                progress(done, static_cast<uint64_t>(settings_.height));
-            }
-        }
-        std::lock_guard<std::mutex> lock(merge);
-        result.rays.primary += counters.primary;
-        result.rays.shadow += counters.shadow;
-        result.rays.secondary += counters.secondary;
-        result.rays.nonFiniteSamples += counters.nonFiniteSamples;
-    };
+    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
+    const uint64_t pixels = static_cast<uint64_t>(settings_.width) * settings_.height;
+    std::vector<glm::dvec4> sums(pixels, glm::dvec4(0.0));
     const unsigned threads =
         settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    const auto start = std::chrono::steady_clock::now();
+    double pausedMs = 0.0;  // time spent in checkpoint callbacks, not rendering
+    double lastCheckpointMs = 0.0;
+
+    // Passes of samples over all rows. Without checkpoints, one pass; with them, passes end at every power
+    // of two (and after any pass that crosses checkpointEveryMs). Per pixel the samples are summed in the
+    // same order either way, so the image does not depend on the passes.
+    uint32_t done = 0;
+    while (done < spp) {
+        uint32_t end = spp;
+        if (checkpoint) {
+            end = 1;
+            while (end <= done) end *= 2;
+            end = std::min(end, spp);
+            if (checkpointEveryMs > 0.0) end = std::min(end, done + std::max(1u, (end - done) / 4));
+        }
+        std::atomic<int> nextRow{0};
+        std::atomic<uint64_t> rowsDone{0};
+        std::mutex merge;
+        auto worker = [&] {
+            RayCounters counters;
+            for (int y = nextRow++; y < settings_.height; y = nextRow++) {
+                for (int x = 0; x < settings_.width; ++x) {
+                    sums[static_cast<size_t>(y) * settings_.width + x] +=
+                        renderPixel(x, y, done, end, counters);
+                }
+                const uint64_t rows = ++rowsDone;
+                if (progress) {
+                    std::lock_guard<std::mutex> lock(merge);
+                    progress(static_cast<uint64_t>(done) * settings_.height + rows * (end - done),
+                             static_cast<uint64_t>(spp) * settings_.height);
+                }
+            }
+            std::lock_guard<std::mutex> lock(merge);
+            result.rays.primary += counters.primary;
+            result.rays.shadow += counters.shadow;
+            result.rays.secondary += counters.secondary;
+            result.rays.nonFiniteSamples += counters.nonFiniteSamples;
+        };
+        std::vector<std::thread> pool;
+        for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
+        worker();
+        for (std::thread& t : pool) t.join();
+        done = end;
+
+        const bool powerOfTwo = (done & (done - 1)) == 0;
+        const double renderMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
+            pausedMs;
+        if (checkpoint && (powerOfTwo || done == spp ||
+                           (checkpointEveryMs > 0.0 && renderMs - lastCheckpointMs >= checkpointEveryMs))) {
+            const auto pause = std::chrono::steady_clock::now();
+            checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+            lastCheckpointMs = renderMs;
+            pausedMs +=
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pause).count();
+        }
+    }
+    result.image = averageOf(sums, settings_.width, settings_.height);
     return result;
 }
 

@@ -22,7 +22,10 @@ class ReferenceRenderer {
     ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                       const RenderSettings& settings);
 
-    RenderResult render(const ProgressCallback& progress = {}) const;
+    // Renders every sample. With a checkpoint callback, it is also called with the image so far at every
+    // power-of-two sample count, at the end, and after any pass that crosses checkpointEveryMs (> 0).
+    RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
+                        double checkpointEveryMs = 0.0) const;
 
     // The pieces, public for tests.
     Ray cameraRay(double filmX, double filmY) const;  // film coordinates in pixels, (0, 0) top-left
@@ -34,7 +37,9 @@ class ReferenceRenderer {
     glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
                         const glm::dvec3& throughput, int medium, uint32_t exclude,
                         RayCounters& counters) const;
-    glm::dvec3 renderPixel(int x, int y, RayCounters& counters) const;
+    // The sum of the finite samples [firstSample, endSample) of a pixel (rgb) and how many there were (w).
+    glm::dvec4 renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,
+                           RayCounters& counters) const;
 
   private:
     glm::dvec3 directLight(const glm::dvec3& point, double errorScale, const glm::dvec3& normal,

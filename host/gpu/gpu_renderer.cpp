@@ -105,11 +105,15 @@ void GpuRenderer::readCounters(RayCounters& counters) {
     counters.nonFiniteSamples += delta[VKRT_COUNTER_NONFINITE];
 }
 
-RenderResult GpuRenderer::render(const ProgressCallback& progress) {
+RenderResult GpuRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
+                                 double checkpointEveryMs) {
     RenderResult result;
     const uint32_t height = static_cast<uint32_t>(settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
     const auto start = std::chrono::steady_clock::now();
+    double pausedMs = 0.0;  // time spent in checkpoint callbacks, not rendering
+    double lastCheckpointMs = 0.0;
+    uint32_t nextPowerOfTwo = 1;
 
     // Passes of `samples` samples over the whole image, in bands of rows. Each dispatch is sized from the
     // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
@@ -124,9 +128,11 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
     while (samplesDone < spp) {
         // At most kMaxSamplesPerDispatch per pixel: llvmpipe cuts off an invocation's loops after 65535
         // iterations in total, so one invocation must not trace too many samples.
-        const uint32_t samples = static_cast<uint32_t>(
-            std::clamp(nextUnits() / height, 1.0,
-                       static_cast<double>(std::min(spp - samplesDone, kMaxSamplesPerDispatch))));
+        // Checkpoints fall on every power of two, so passes must end there.
+        uint32_t limit = std::min(spp - samplesDone, kMaxSamplesPerDispatch);
+        if (checkpoint) limit = std::min(limit, nextPowerOfTwo - samplesDone);
+        const uint32_t samples =
+            static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(limit)));
         for (uint32_t row = 0; row < height;) {
             const uint32_t rows = static_cast<uint32_t>(
                 std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
@@ -140,22 +146,34 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress) {
                          static_cast<uint64_t>(spp) * height);
         }
         samplesDone += samples;
-        if (options_.timeLimitSeconds > 0.0 && millisecondsSince(start) >= options_.timeLimitSeconds * 1000.0)
-            break;
+        const double renderMs = millisecondsSince(start) - pausedMs;
+        const bool timeUp = options_.timeLimitSeconds > 0.0 && renderMs >= options_.timeLimitSeconds * 1000.0;
+        if (checkpoint && (samplesDone == nextPowerOfTwo || samplesDone == spp || timeUp ||
+                           (checkpointEveryMs > 0.0 && renderMs - lastCheckpointMs >= checkpointEveryMs))) {
+            const auto pause = std::chrono::steady_clock::now();
+            checkpoint(samplesDone, renderMs, report_.gpuMs, readImage());
+            lastCheckpointMs = renderMs;
+            pausedMs += millisecondsSince(pause);
+        }
+        while (nextPowerOfTwo <= samplesDone) nextPowerOfTwo *= 2;
+        if (timeUp) break;
     }
     report_.samplesPerPixel = samplesDone;
     if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
 
+    result.image = readImage();
+    report_.deviceMemoryBytes = context_.peakAllocatedBytes();
+    return result;
+}
+
+Image GpuRenderer::readImage() const {
     // Average the finite samples of each pixel; the compensated sum is (sum - lost), evaluated in double.
     std::vector<glm::vec4> sums(2 * static_cast<size_t>(settings_.width) * settings_.height);
     accumulation_.download(sums.data(), sums.size() * sizeof(glm::vec4));
-    result.image = Image(settings_.width, settings_.height);
-    for (size_t i = 0; i < result.image.pixels.size(); ++i) {
-        const glm::dvec4 total = glm::dvec4(sums[2 * i]) - glm::dvec4(sums[2 * i + 1]);
-        result.image.pixels[i] = total.w > 0.0 ? glm::vec3(glm::dvec3(total) / total.w) : glm::vec3(0.0f);
-    }
-    report_.deviceMemoryBytes = context_.peakAllocatedBytes();
-    return result;
+    std::vector<glm::dvec4> totals(sums.size() / 2);
+    for (size_t i = 0; i < totals.size(); ++i)
+        totals[i] = glm::dvec4(sums[2 * i]) - glm::dvec4(sums[2 * i + 1]);
+    return averageOf(totals, settings_.width, settings_.height);
 }
 
 }  // namespace vkrt

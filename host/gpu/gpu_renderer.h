@@ -45,7 +45,11 @@ class GpuRenderer {
                 const RenderSettings& settings, const GpuRenderOptions& options = {});
     ~GpuRenderer();
 
-    RenderResult render(const ProgressCallback& progress = {});
+    // Renders every sample (or until the time limit). With a checkpoint callback, it is also called with
+    // the image so far at every power-of-two sample count, at the end, and after any pass that crosses
+    // checkpointEveryMs (> 0).
+    RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
+                        double checkpointEveryMs = 0.0);
 
     const GpuRenderReport& report() const { return report_; }
     const SceneFeatures& features() const { return data_.features; }
@@ -56,6 +60,7 @@ class GpuRenderer {
     // Records and runs one dispatch; returns its wall time in milliseconds.
     double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
     void readCounters(RayCounters& counters);
+    Image readImage() const;
 
     const VulkanContext& context_;
     RenderSettings settings_;

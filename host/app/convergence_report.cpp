@@ -1,0 +1,53 @@
+#include "app/convergence_report.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "common/atomic_file.h"
+#include "image/image_metrics.h"
+
+namespace vkrt {
+
+ConvergenceReport::ConvergenceReport(Image reference, std::string source)
+    : reference_(std::move(reference)), source_(std::move(source)) {}
+
+void ConvergenceReport::add(uint32_t samples, double renderMs, double gpuMs, const Image& image) {
+    if (image.width != reference_.width || image.height != reference_.height) {
+        throw std::runtime_error("the reference is " + std::to_string(reference_.width) + "x" +
+                                 std::to_string(reference_.height) + " but the render is " +
+                                 std::to_string(image.width) + "x" + std::to_string(image.height));
+    }
+    const ImageDifference d = compareImages(image, reference_, 0.01, 1e-3);
+    points_.push_back({samples, renderMs, gpuMs, d.rmse, d.relMse, d.fractionOff});
+}
+
+void ConvergenceReport::write(const std::string& path, const nlohmann::json& context) const {
+    const bool csv = std::filesystem::path(path).extension() == ".csv";
+    writeFileAtomically(path, [&](const std::string& temporary) {
+        std::ofstream out(temporary);
+        if (csv) {
+            out << "samples,render_ms,gpu_ms,rmse,relmse,fraction_off_1pct\n";
+            for (const ConvergencePoint& p : points_) {
+                out << p.samples << "," << p.renderMs << "," << p.gpuMs << "," << p.rmse << "," << p.relMse
+                    << "," << p.fractionOff << "\n";
+            }
+        } else {
+            nlohmann::json json = context;
+            json["reference"] = source_;
+            json["checkpoints"] = nlohmann::json::array();
+            for (const ConvergencePoint& p : points_) {
+                json["checkpoints"].push_back({{"samples", p.samples},
+                                               {"render_ms", p.renderMs},
+                                               {"gpu_ms", p.gpuMs},
+                                               {"rmse", p.rmse},
+                                               {"relmse", p.relMse},
+                                               {"fraction_off_1pct", p.fractionOff}});
+            }
+            out << json.dump(2) << "\n";
+        }
+        if (!out.flush()) throw std::runtime_error(path + ": cannot write");
+    });
+}
+
+}  // namespace vkrt
