@@ -1,6 +1,7 @@
 // The vkrt command: help, exit codes, outputs and the stats JSON.
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -150,6 +151,76 @@ TEST(Cli, EveryThirdPartySceneRenders) {
         EXPECT_TRUE(std::filesystem::exists(out)) << file;
         std::filesystem::remove(out);
     }
+}
+
+std::vector<std::vector<double>> readCsv(const std::filesystem::path& path) {
+    std::ifstream file(path);
+    std::string line;
+    std::getline(file, line);  // header
+    std::vector<std::vector<double>> rows;
+    while (std::getline(file, line)) {
+        std::vector<double> row;
+        std::stringstream fields(line);
+        std::string field;
+        while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+TEST(Cli, ReportRecordsErrorAtEveryDoublingOfSamples) {
+    const auto folder = test::temporaryFolder();
+    for (const char* device : {"gpu", "cpu"}) {
+        SCOPED_TRACE(device);
+        const auto reference = folder / "reference.pfm";
+        ASSERT_EQ(
+            test::runVkrt("--scene " + kCornell +
+                          " --quiet --device cpu --width 24 --spp 256 --seed 9 --out " + quoted(reference))
+                .exitCode,
+            0);
+        const auto report = folder / "report.csv";
+        const auto result = test::runVkrt(
+            "--scene " + kCornell + " --quiet --device " + device + " --width 24 --spp 32 --reference " +
+            quoted(reference) + " --report " + quoted(report) + " --out " + quoted(folder / "x.pfm"));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        const auto rows = readCsv(report);
+        ASSERT_EQ(rows.size(), 6u);  // 1, 2, 4, 8, 16, 32 samples
+        for (size_t i = 0; i < rows.size(); ++i) {
+            EXPECT_EQ(rows[i][0], static_cast<double>(1u << i));
+            if (i > 0) {
+                EXPECT_GT(rows[i][1], rows[i - 1][1]) << "render time grows";
+            }
+        }
+        EXPECT_LT(rows.back()[3], 0.25 * rows.front()[3])
+            << "RMSE falls at least fourfold from 1 to 32 samples";
+    }
+}
+
+TEST(Cli, ReportWithoutReferenceMakesOneAndSaysSo) {
+    const auto folder = test::temporaryFolder();
+    const auto report = folder / "report.json";
+    const auto result = test::runVkrt("--scene " + kCornell + " --width 16 --spp 4 --report " +
+                                      quoted(report) + " --out " + quoted(folder / "x.png"));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    std::ifstream file(report);
+    const nlohmann::json json = nlohmann::json::parse(file);
+    EXPECT_NE(json["reference"].get<std::string>().find("64 spp, seed 1"), std::string::npos)
+        << json["reference"];
+    EXPECT_EQ(json["checkpoints"].size(), 3u);
+}
+
+TEST(Cli, ReferenceOfTheWrongSizeIsBadInput) {
+    const auto folder = test::temporaryFolder();
+    ASSERT_EQ(test::runVkrt("--scene " + kCornell + " --quiet --device cpu --width 8 --spp 1 --out " +
+                            quoted(folder / "r.pfm"))
+                  .exitCode,
+              0);
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --width 16 --spp 1 --reference " + quoted(folder / "r.pfm") +
+                      " --report " + quoted(folder / "r.csv") + " --out " + quoted(folder / "x.png"));
+    EXPECT_EQ(result.exitCode, 2) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+    EXPECT_FALSE(std::filesystem::exists(folder / "r.csv"));
 }
 
 }  // namespace

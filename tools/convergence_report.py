@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Error against run time for vkrt's scenes: renders a reference with the CPU reference renderer (the
+double-precision oracle), then renders progressively on the GPU and on the CPU with `vkrt --reference
+... --report ...`, and writes per scene a CSV of every checkpoint and a log-log SVG plot of RMSE against
+render time with the fitted slopes, plus a Markdown table of the error at fixed times (stdout and
+table.md). Monte Carlo noise falls as time^-1/2; stratified sampling can do better.
+
+Usage: tools/convergence_report.py [--vkrt build/vkrt] [--out-dir DIR] [--width W] [--gpu-spp N]
+                                   [--cpu-spp N] [--reference-spp N] SCENE.gltf...
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+COLORS = {"gpu": "#1f77b4", "cpu": "#d62728"}
+
+
+def run(command):
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if result.returncode != 0:
+        sys.exit("convergence_report: %s failed:\n%s" % (" ".join(command), result.stderr))
+
+
+def read_report(path):
+    with open(path) as f:
+        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def fit_slope(points):
+    """Least-squares slope of log(rmse) against log(render time), skipping the first samples."""
+    usable = [p for p in points if p["samples"] >= 4 and p["render_ms"] > 0 and p["rmse"] > 0]
+    if len(usable) < 2:
+        return float("nan")
+    xs = [math.log(p["render_ms"]) for p in usable]
+    ys = [math.log(p["rmse"]) for p in usable]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
+
+
+def error_at(points, milliseconds):
+    """RMSE at a given render time, interpolated in log-log between checkpoints (None outside them)."""
+    for a, b in zip(points, points[1:]):
+        if a["render_ms"] <= milliseconds <= b["render_ms"]:
+            t = (math.log(milliseconds) - math.log(a["render_ms"])) / (math.log(b["render_ms"]) - math.log(a["render_ms"]))
+            return math.exp(math.log(a["rmse"]) + t * (math.log(b["rmse"]) - math.log(a["rmse"])))
+    return None
+
+
+def svg_plot(path, title, series):
+    """A log-log plot of RMSE against render time, one polyline per device, in plain SVG."""
+    width, height, left, right, top, bottom = 640, 420, 70, 20, 40, 50
+    points = [p for _, pts, _ in series for p in pts if p["render_ms"] > 0 and p["rmse"] > 0]
+    x0 = math.floor(math.log10(min(p["render_ms"] for p in points)))
+    x1 = math.ceil(math.log10(max(p["render_ms"] for p in points)))
+    y0 = math.floor(math.log10(min(p["rmse"] for p in points)))
+    y1 = math.ceil(math.log10(max(p["rmse"] for p in points)))
+    x1, y1 = max(x1, x0 + 1), max(y1, y0 + 1)
+
+    def px(ms):
+        return left + (math.log10(ms) - x0) / (x1 - x0) * (width - left - right)
+
+    def py(e):
+        return height - bottom - (math.log10(e) - y0) / (y1 - y0) * (height - top - bottom)
+
+    out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">'
+           % (width, height), '<rect width="100%" height="100%" fill="white"/>',
+           '<text x="%d" y="22" font-size="15">%s</text>' % (left, title)]
+    for d in range(x0, x1 + 1):
+        x = px(10 ** d)
+        out.append('<line x1="%.1f" y1="%d" x2="%.1f" y2="%d" stroke="#ddd"/>' % (x, top, x, height - bottom))
+        out.append('<text x="%.1f" y="%d" text-anchor="middle">10<tspan dy="-6" font-size="9">%d</tspan></text>'
+                   % (x, height - bottom + 18, d))
+    for d in range(y0, y1 + 1):
+        y = py(10 ** d)
+        out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (left, y, width - right, y))
+        out.append('<text x="%d" y="%.1f" text-anchor="end">10<tspan dy="-6" font-size="9">%d</tspan></text>'
+                   % (left - 8, y + 4, d))
+    out.append('<text x="%d" y="%d" text-anchor="middle">render time (ms)</text>' % ((left + width - right) // 2, height - 10))
+    out.append('<text x="16" y="%d" transform="rotate(-90 16 %d)" text-anchor="middle">RMSE against the reference</text>'
+               % ((top + height - bottom) // 2, (top + height - bottom) // 2))
+    for i, (name, pts, slope) in enumerate(series):
+        coords = " ".join("%.1f,%.1f" % (px(p["render_ms"]), py(p["rmse"])) for p in pts if p["rmse"] > 0)
+        out.append('<polyline points="%s" fill="none" stroke="%s" stroke-width="2"/>' % (coords, COLORS[name]))
+        for p in pts:
+            out.append('<circle cx="%.1f" cy="%.1f" r="3" fill="%s"/>' % (px(p["render_ms"]), py(p["rmse"]), COLORS[name]))
+        out.append('<text x="%d" y="%d" fill="%s">%s: slope %.2f</text>' % (width - right - 170, top + 20 + 18 * i,
+                                                                          COLORS[name], name.upper(), slope))
+    out.append("</svg>")
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("scenes", nargs="+")
+    parser.add_argument("--vkrt", default="build/vkrt")
+    parser.add_argument("--out-dir", default="convergence")
+    parser.add_argument("--width", type=int, default=256)
+    parser.add_argument("--gpu-spp", type=int, default=256)
+    parser.add_argument("--cpu-spp", type=int, default=64)
+    parser.add_argument("--reference-spp", type=int, default=1024)
+    args = parser.parse_args()
+    os.makedirs(args.out_dir, exist_ok=True)
+
+    times = [100, 1000]
+    table = ["| scene | device | slope | " + " | ".join("RMSE at %d ms" % t for t in times) + " |",
+             "|---|---|---|" + "---|" * len(times)]
+    summary = {}
+    for scene in args.scenes:
+        name = os.path.splitext(os.path.basename(scene))[0]
+        common = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width)]
+        reference = os.path.join(args.out_dir, name + "-reference.exr")
+        run(common + ["--device", "cpu", "--spp", str(args.reference_spp), "--seed", "1000", "--out", reference])
+        series = []
+        for device, spp in (("gpu", args.gpu_spp), ("cpu", args.cpu_spp)):
+            report = os.path.join(args.out_dir, "%s-%s.csv" % (name, device))
+            run(common + ["--device", device, "--spp", str(spp), "--reference", reference, "--report", report,
+                          "--out", os.path.join(args.out_dir, "%s-%s.exr" % (name, device))])
+            points = read_report(report)
+            slope = fit_slope(points)
+            series.append((device, points, slope))
+            errors = [error_at(points, t) for t in times]
+            table.append("| %s | %s | %.2f | %s |" % (name, device, slope,
+                                                      " | ".join("%.4g" % e if e else "-" for e in errors)))
+            summary.setdefault(name, {})[device] = {"slope": slope, "checkpoints": points}
+        svg_plot(os.path.join(args.out_dir, name + ".svg"), "%s, %d px wide: error against render time" % (name, args.width),
+                 series)
+    with open(os.path.join(args.out_dir, "table.md"), "w") as f:
+        f.write("\n".join(table) + "\n")
+    with open(os.path.join(args.out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    print("\n".join(table))
+
+
+if __name__ == "__main__":
+    main()
