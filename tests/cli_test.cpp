@@ -50,6 +50,21 @@ TEST(Cli, CameraOutOfRangeIsBadInput) {
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
 }
 
+TEST(Cli, SceneWithoutGeometryRendersTheBackground) {
+    const auto folder = test::temporaryFolder();
+    test::writeText(folder / "empty.gltf",
+                    R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})");
+    for (const char* device : {"gpu", "cpu"}) {
+        const auto out = folder / (std::string(device) + ".pfm");
+        const auto result =
+            test::runVkrt("--scene " + quoted(folder / "empty.gltf") + " --device " + device +
+                          " --width 8 --height 8 --spp 1 --background 0.25 --out " + quoted(out));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        EXPECT_NE(result.output.find("no triangles"), std::string::npos) << result.output;
+        EXPECT_EQ(readImage(out.string()).at(3, 3), glm::vec3(0.25f));
+    }
+}
+
 TEST(Cli, ListsDevices) {
     const auto result = test::runVkrt("--list-devices");
     EXPECT_EQ(result.exitCode, 0) << result.output;

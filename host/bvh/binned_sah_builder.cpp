@@ -214,6 +214,10 @@ Bvh BinnedSahBuilder::build(std::span<const Aabb> bounds, const BvhConfig& confi
 BvhStats measureBvh(const Bvh& bvh, const BvhConfig& config) {
     BvhStats stats;
     stats.nodes = bvh.nodes.size();
+    if (bvh.primIndices.empty()) {  // the empty tree: one node that nothing can hit
+        stats.depth = 1;
+        return stats;
+    }
     const float rootArea = bvh.nodes[0].bounds.surfaceArea();
     // Walk the tree with an explicit stack of (node, level).
     std::vector<std::pair<uint32_t, int>> stack{{0u, 1}};
