@@ -19,12 +19,14 @@ using uint = uint32_t;
 #define VKRT_FUNC
 #endif
 
-// Dimensions: the pixel jitter uses the first two; each node of the ray tree (the camera ray's hit is
-// node 0, the reflection child of node k is 2k + 1 and the transmission child 2k + 2) owns
-// VKRT_DIMS_PER_NODE consecutive dimensions after those.
+// Dimensions: the pixel jitter uses the first two, the lens the next two; each node of the ray tree (the
+// camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission child 2k + 2)
+// owns VKRT_DIMS_PER_NODE consecutive dimensions after those.
 #define VKRT_DIM_PIXEL_X 0u
 #define VKRT_DIM_PIXEL_Y 1u
-#define VKRT_DIM_NODE_BASE 2u
+#define VKRT_DIM_LENS_U 2u
+#define VKRT_DIM_LENS_V 3u
+#define VKRT_DIM_NODE_BASE 4u
 #define VKRT_DIMS_PER_NODE 16u
 #define VKRT_DIM_LIGHT_PICK 0u  // which area light to sample
 #define VKRT_DIM_LIGHT_U 1u     // where on it

@@ -121,6 +121,7 @@ struct GpuCamera {
     vec4 forwardTanHalfFov;   // xyz forward, w tan(yfov / 2)
     vec4 rightXmag;           // xyz right, w xmag
     vec4 upYmag;              // xyz up, w ymag
+    vec4 lens;                // thin lens: radius, focus distance (along forward), unused, unused
 };
 
 // A ray for the ray-casting kernel (shaders/raycast.comp), 32 bytes.
@@ -234,12 +235,12 @@ static_assert(offsetof(GpuMaterial, textures) == 64);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuPunctualLight) == 64);
 static_assert(sizeof(GpuAreaLight) == 16);
-static_assert(sizeof(GpuCamera) == 64);
-static_assert(offsetof(SceneParams, ambientMinThroughput) == 64);
-static_assert(offsetof(SceneParams, imageDepthSeed) == 96);
-static_assert(offsetof(SceneParams, nodes) == 128, "addresses start on an 8-byte boundary");
-static_assert(offsetof(SceneParams, counters) == 128 + 9 * 8);
-static_assert(sizeof(SceneParams) == 208);
+static_assert(sizeof(GpuCamera) == 80);
+static_assert(offsetof(SceneParams, ambientMinThroughput) == 80);
+static_assert(offsetof(SceneParams, imageDepthSeed) == 112);
+static_assert(offsetof(SceneParams, nodes) == 144, "addresses start on an 8-byte boundary");
+static_assert(offsetof(SceneParams, counters) == 144 + 9 * 8);
+static_assert(sizeof(SceneParams) == 224);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif

@@ -40,7 +40,22 @@ struct Counters {
     uint secondary;
 };
 
-Ray cameraRay(float filmX, float filmY) {
+#ifdef VKRT_HAS_DEPTH_OF_FIELD
+// Shirley and Chiu's concentric map from the unit square to the unit disk.
+vec2 concentricDisk(float u, float v) {
+    const float a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+    if (a == 0.0 && b == 0.0) return vec2(0.0);
+    if (abs(a) > abs(b)) {
+        const float phi = 0.25 * PI * (b / a);
+        return a * vec2(cos(phi), sin(phi));
+    }
+    const float phi = 0.5 * PI - 0.25 * PI * (a / b);
+    return b * vec2(cos(phi), sin(phi));
+}
+#endif
+
+// The camera ray through film position (filmX, filmY) in pixels; with a lens, through lens point (u, v).
+Ray cameraRay(float filmX, float filmY, float lensU, float lensV) {
     const GpuCamera camera = params.camera;
     const float width = float(params.imageDepthSeed.x), height = float(params.imageDepthSeed.y);
     const float sx = 2.0 * filmX / width - 1.0;
@@ -51,9 +66,19 @@ Ray cameraRay(float filmX, float filmY) {
         return Ray(origin, camera.forwardTanHalfFov.xyz);
     }
     const float tanHalf = camera.forwardTanHalfFov.w;
-    const vec3 direction = camera.forwardTanHalfFov.xyz + sx * tanHalf * (width / height) * camera.rightXmag.xyz +
-                           sy * tanHalf * camera.upYmag.xyz;
-    return Ray(camera.positionProjection.xyz, normalize(direction));
+    const vec3 direction = normalize(camera.forwardTanHalfFov.xyz +
+                                     sx * tanHalf * (width / height) * camera.rightXmag.xyz +
+                                     sy * tanHalf * camera.upYmag.xyz);
+#ifdef VKRT_HAS_DEPTH_OF_FIELD
+    // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane.
+    const vec3 focus = camera.positionProjection.xyz +
+                       direction * (camera.lens.y / dot(direction, camera.forwardTanHalfFov.xyz));
+    const vec2 disk = camera.lens.x * concentricDisk(lensU, lensV);
+    const vec3 origin = camera.positionProjection.xyz + disk.x * camera.rightXmag.xyz + disk.y * camera.upYmag.xyz;
+    return Ray(origin, normalize(focus - origin));
+#else
+    return Ray(camera.positionProjection.xyz, direction);
+#endif
 }
 
 // Radiance arriving along one camera ray: the ray tree, depth first.
@@ -163,7 +188,9 @@ void main() {
         const float jy = vkrtPixelJitterY(seed, pixel, s);
         ++counters.primary;
         bool complete = true;
-        const vec3 value = traceRayTree(cameraRay(float(xy.x) + jx, float(xy.y) + jy), pixel, s, counters, complete);
+        const Ray primary = cameraRay(float(xy.x) + jx, float(xy.y) + jy, vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_U),
+                                      vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_V));
+        const vec3 value = traceRayTree(primary, pixel, s, counters, complete);
         if (complete && allFinite(value)) {
             precise const vec4 corrected = vec4(value, 1.0) - sumLost;
             precise const vec4 next = sum + corrected;

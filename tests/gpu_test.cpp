@@ -122,7 +122,7 @@ std::string real(const char* name) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, GpuImage,
     ::testing::Values(SceneCase{own("cornell.gltf"), 64, 64, 4}, SceneCase{own("whitted.gltf"), 80, 60, 4},
-                      SceneCase{own("lights.gltf"), 80, 60, 4},
+                      SceneCase{own("lights.gltf"), 80, 60, 4}, SceneCase{own("dof.gltf"), 64, 48, 4},
                       SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
                       SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
                       SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},

@@ -180,6 +180,54 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
     EXPECT_LT(standardError, 0.01 * expected);  // the test is sharp enough to mean something
 }
 
+// A small emitter (about a pixel wide) on the axis at distance `z`, seen through a thin lens of radius 0.05
+// focused at 4. Returns the diameter of the uniform disk with the same radial second moment as the spot,
+// E[r^2] = D^2 / 8, measured about the image centre: moments average the lens-sampling noise out.
+double spotDiameter(double z, int size) {
+    Scene scene;
+    Material lamp = lambert(glm::vec3(0.0f));
+    lamp.emission = glm::vec3(1000.0f);
+    lamp.doubleSided = true;
+    scene.materials.push_back(lamp);
+    const float s = static_cast<float>(7e-4 * z);
+    const float depth = static_cast<float>(-z);
+    addFlatQuad(scene, {-s, -s, depth}, {s, -s, depth}, {s, s, depth}, {-s, s, depth}, 0);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;  // at the origin, looking down -z
+    camera.yfov = 0.3;
+    camera.aperture = 0.05;
+    camera.focusDistance = 4.0;
+    RenderSettings settings = quietSettings();
+    settings.width = settings.height = size;
+    settings.samplesPerPixel = 256;
+    const Image image = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    double total = 0.0, moment = 0.0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const double dx = x + 0.5 - 0.5 * size, dy = y + 0.5 - 0.5 * size;
+            total += image.at(x, y).x;
+            moment += image.at(x, y).x * (dx * dx + dy * dy);
+        }
+    }
+    return std::sqrt(8.0 * moment / total);
+}
+
+TEST(ReferenceRenderer, ThinLensBlursToTheCircleOfConfusion) {
+    const int size = 96;
+    // On the focal plane the point stays sharp (the spot is about a pixel).
+    EXPECT_LE(spotDiameter(4.0, size), 2.0);
+    // Off it, the blur circle on the focal plane has diameter 2 A |z - f| / z; in pixels that is divided by
+    // the height of the view at the focal plane, 2 f tan(yfov / 2), and multiplied by the image height.
+    for (double z : {2.0, 3.0, 8.0}) {
+        const double circle = 2.0 * 0.05 * std::abs(z - 4.0) / z;
+        const double expected = circle / (2.0 * 4.0 * std::tan(0.15)) * size;
+        const double measured = spotDiameter(z, size);
+        std::printf("z %.1f: spot %.2f px, thin-lens formula %.2f px\n", z, measured, expected);
+        EXPECT_NEAR(measured, expected, 0.1 * expected + 1.0) << "z = " << z;
+    }
+}
+
 TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     // A slab of thickness 0.5 with ior 1 (no refraction, no Fresnel), attenuation colour c at distance 0.25:
     // transmittance c^(0.5 / 0.25) = c^2 per channel; behind it, a white background.

@@ -96,10 +96,12 @@ class GltfBuilder:
             self.gltf["nodes"][parent].setdefault("children", []).append(index)
         return index
 
-    def perspective_camera(self, name, yfov, aspect_ratio=None, znear=0.01):
+    def perspective_camera(self, name, yfov, aspect_ratio=None, znear=0.01, aperture=None, focus_distance=None):
         camera = {"type": "perspective", "name": name, "perspective": {"yfov": yfov, "znear": znear}}
         if aspect_ratio:
             camera["perspective"]["aspectRatio"] = aspect_ratio
+        if aperture is not None:  # vkrt's depth-of-field convention: lens radius and focus distance in extras
+            camera["extras"] = {"aperture": aperture, "focusDistance": focus_distance}
         self.gltf.setdefault("cameras", []).append(camera)
         return len(self.gltf["cameras"]) - 1
 

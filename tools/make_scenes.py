@@ -16,6 +16,9 @@ yellow checkerboard, lit by one point light.
 lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
 objects.
 
+dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
+0.12, described in the camera's extras) focused on the middle one.
+
 Usage: python3 tools/make_scenes.py [OUTPUT_FOLDER]   (default: the repository's scenes/)
 """
 
@@ -170,6 +173,26 @@ def lights():
     g.write(os.path.join(OUTPUT, "lights.gltf"))
 
 
+def dof():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    yellow = g.material("yellow", base_color=(0.9, 0.75, 0.1))
+    red = g.material("red", base_color=(0.8, 0.1, 0.05))
+    white = g.material("white", base_color=(0.8, 0.8, 0.8), roughness=0.5)
+    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
+    primitives = [(light_cells[0], None, light_cells[1], yellow), (dark_cells[0], None, dark_cells[1], red)]
+    for k in range(5):
+        sphere = uv_sphere([-1.5 + 1.2 * k, 0.5, 2.0 - 2.5 * k], 0.5, 24, 48)
+        primitives.append((sphere[0], sphere[1], sphere[2], white))
+    g.node("scene", mesh=g.mesh("dof", primitives))
+    eye, target = [0.0, 1.2, 6.0], [0.9, 0.5, -3.0]
+    focus = math.dist(eye, [0.9, 0.5, -3.0])
+    camera = g.perspective_camera("dof-camera", math.radians(40.0), aperture=0.12, focus_distance=round(focus, 4))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    light = g.light({"type": "point", "name": "lamp", "color": [1.0, 0.97, 0.9], "intensity": 60.0})
+    g.node("lamp", translation=[3.0, 6.0, 4.0], extensions={"KHR_lights_punctual": {"light": light}})
+    g.write(os.path.join(OUTPUT, "dof.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -178,3 +201,4 @@ if __name__ == "__main__":
     cornell()
     whitted()
     lights()
+    dof()

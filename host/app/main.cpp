@@ -53,8 +53,15 @@ int run(Options options) {
         settings.height = std::max(
             1, static_cast<int>(std::lround(settings.width / scene.cameras[options.camera].aspectRatio)));
     }
-    const Camera camera =
+    Camera camera =
         selectCamera(scene, options.camera, static_cast<double>(settings.width) / settings.height);
+    if (options.aperture) camera.aperture = *options.aperture;
+    if (options.focusDistance) camera.focusDistance = *options.focusDistance;
+    if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
+        // Focus on the middle of the scene, measured along the view direction.
+        camera.focusDistance =
+            std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
+    }
     const bool hasLights = !scene.lights.empty() || !scene.emissiveTriangles.empty();
     settings.ambient = options.ambient.value_or(glm::dvec3(hasLights ? 0.05 : 1.0));
     if (!hasLights && !options.ambient && !options.quiet) {

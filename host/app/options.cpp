@@ -59,6 +59,8 @@ Usage: vkrt --scene FILE [options]
   --list-devices        print the Vulkan devices and exit
   --validate            enable the Khronos validation layer
   --time-limit SECONDS  GPU: stop after the pass that crosses this time
+  --aperture R          thin-lens radius in scene units (depth of field)   [the camera's, else 0]
+  --focus-distance D    distance of the plane in focus  [the camera's, else the scene's centre]
   --reference FILE      linear image (.exr/.pfm) to measure the error against
   --report FILE         error against run time at every doubling of samples (.json or .csv);
                         without --reference, a render with 16x the samples and seed+1 is the reference
@@ -123,6 +125,12 @@ Options parseOptions(int argc, const char* const argv[]) {
         } else if (flag == "--time-limit") {
             options.timeLimitSeconds = parseNumber<double>(flag, value());
             if (options.timeLimitSeconds <= 0.0) throw UsageError("--time-limit must be positive");
+        } else if (flag == "--aperture") {
+            options.aperture = parseNumber<double>(flag, value());
+            if (*options.aperture < 0.0) throw UsageError("--aperture must not be negative");
+        } else if (flag == "--focus-distance") {
+            options.focusDistance = parseNumber<double>(flag, value());
+            if (*options.focusDistance <= 0.0) throw UsageError("--focus-distance must be positive");
         } else if (flag == "--reference") {
             options.referencePath = value();
         } else if (flag == "--report") {

@@ -32,6 +32,18 @@ double maxComponent(const glm::dvec3& v) {
     return std::max({v.x, v.y, v.z});
 }
 
+// Shirley and Chiu's concentric map from the unit square to the unit disk.
+glm::dvec2 concentricDisk(double u, double v) {
+    const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+    if (a == 0.0 && b == 0.0) return glm::dvec2(0.0);
+    if (std::abs(a) > std::abs(b)) {
+        const double phi = 0.25 * M_PI * (b / a);
+        return a * glm::dvec2(std::cos(phi), std::sin(phi));
+    }
+    const double phi = 0.5 * M_PI - 0.25 * M_PI * (a / b);
+    return b * glm::dvec2(std::cos(phi), std::sin(phi));
+}
+
 glm::dvec3 geometricNormalOf(const Triangle& t) {
     return glm::normalize(
         glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
@@ -65,7 +77,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       areaLights_(scene),
       aspect_(static_cast<double>(settings.width) / settings.height) {}
 
-Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
+Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, double lensV) const {
     // Film position in [-1, 1]^2, +y up.
     const double sx = 2.0 * filmX / settings_.width - 1.0;
     const double sy = 1.0 - 2.0 * filmY / settings_.height;
@@ -76,8 +88,14 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY) const {
     }
     const double tanHalf = std::tan(0.5 * camera_.yfov);
     const glm::dvec3 direction =
-        camera_.forward + sx * tanHalf * aspect_ * camera_.right + sy * tanHalf * camera_.up;
-    return {camera_.position, glm::normalize(direction)};
+        glm::normalize(camera_.forward + sx * tanHalf * aspect_ * camera_.right + sy * tanHalf * camera_.up);
+    if (!(camera_.aperture > 0.0)) return {camera_.position, direction};
+    // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane.
+    const glm::dvec3 focus =
+        camera_.position + direction * (camera_.focusDistance / glm::dot(direction, camera_.forward));
+    const glm::dvec2 disk = camera_.aperture * concentricDisk(lensU, lensV);
+    const glm::dvec3 origin = camera_.position + disk.x * camera_.right + disk.y * camera_.up;
+    return {origin, glm::normalize(focus - origin)};
 }
 
 bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const {
@@ -263,7 +281,8 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
         const double jx = vkrtPixelJitterX(settings_.seed, pixel, sample);
         const double jy = vkrtPixelJitterY(settings_.seed, pixel, sample);
         ++counters.primary;
-        const Ray ray = cameraRay(x + jx, y + jy);
+        const Ray ray = cameraRay(x + jx, y + jy, vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_U),
+                                  vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_V));
         const glm::dvec3 value =
             radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters);
         if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) {

@@ -28,7 +28,8 @@ class ReferenceRenderer {
                         double checkpointEveryMs = 0.0) const;
 
     // The pieces, public for tests.
-    Ray cameraRay(double filmX, double filmY) const;  // film coordinates in pixels, (0, 0) top-left
+    // Film coordinates in pixels, (0, 0) top-left; (lensU, lensV) in [0, 1)^2 picks the lens point.
+    Ray cameraRay(double filmX, double filmY, double lensU = 0.5, double lensV = 0.5) const;
     bool closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const;
     // Fraction of light that passes from the ray's origin to distance tMax: 0 behind an opaque surface,
     // the product of the transmission tints of transmissive ones.

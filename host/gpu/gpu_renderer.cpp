@@ -19,7 +19,7 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
 
 constexpr uint32_t kMaxSamplesPerDispatch = 16;
 
-const SceneFeatures kAllFeatures{true, true, true, true, true, true};
+const SceneFeatures kAllFeatures{true, true, true, true, true, true, true};
 
 }  // namespace
 
@@ -47,7 +47,9 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     params.counters = counters_.address();
     params_ = GpuBuffer(context, &params, sizeof(params));
 
-    // The shader variant: the scene's features, and how it reads geometry.
+    // The shader variant: the scene's features, the camera's lens, and how it reads geometry.
+    if (camera.projection == Projection::Perspective && camera.aperture > 0.0)
+        data_.features.depthOfField = true;
     defines_ = data_.features.defines();
     report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");

@@ -145,6 +145,8 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
         glm::vec4(glm::vec3(camera.forward), static_cast<float>(std::tan(0.5 * camera.yfov)));
     p.camera.rightXmag = glm::vec4(glm::vec3(camera.right), static_cast<float>(camera.xmag));
     p.camera.upYmag = glm::vec4(glm::vec3(camera.up), static_cast<float>(camera.ymag));
+    p.camera.lens =
+        glm::vec4(static_cast<float>(camera.aperture), static_cast<float>(camera.focusDistance), 0.0f, 0.0f);
     p.ambientMinThroughput =
         glm::vec4(glm::vec3(settings.ambient), static_cast<float>(settings.minThroughput));
     p.background = glm::vec4(glm::vec3(settings.background), 0.0f);

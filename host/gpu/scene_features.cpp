@@ -18,6 +18,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::volumes, "volumes", "VKRT_HAS_VOLUMES"},
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
+    {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {

@@ -620,6 +620,12 @@ void GltfConverter::addCamera(int cameraIndex, const glm::dmat4& world, const st
     } else {
         fail(where + " has unknown type '" + source.type + "'");
     }
+    // Depth of field from the camera's extras (vkrt's convention): {"aperture": lens radius, "focusDistance":
+    // d}.
+    camera.aperture = number(source.extras, "aperture", 0.0, where + " extras");
+    camera.focusDistance = number(source.extras, "focusDistance", 0.0, where + " extras");
+    if (camera.aperture < 0.0 || camera.focusDistance < 0.0)
+        fail(where + ": aperture and focusDistance must be >= 0");
     // glTF cameras look down the node's -Z with +Y up; scale in the node is ignored (section 3.10.1).
     const glm::dmat3 linear(world);
     camera.position = glm::dvec3(world[3]);

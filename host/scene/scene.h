@@ -120,11 +120,13 @@ struct Camera {
     glm::dvec3 forward{0.0, 0.0, -1.0};
     glm::dvec3 up{0.0, 1.0, 0.0};
     glm::dvec3 right{1.0, 0.0, 0.0};
-    double yfov = 0.8;         // perspective: vertical field of view in radians
-    double xmag = 1.0;         // orthographic: half width of the view
-    double ymag = 1.0;         // orthographic: half height of the view
-    double aspectRatio = 0.0;  // from the file; 0 when absent (the image's own aspect is used)
-    bool generated = false;    // true for the default camera made when the file has none
+    double yfov = 0.8;           // perspective: vertical field of view in radians
+    double xmag = 1.0;           // orthographic: half width of the view
+    double ymag = 1.0;           // orthographic: half height of the view
+    double aspectRatio = 0.0;    // from the file; 0 when absent (the image's own aspect is used)
+    double aperture = 0.0;       // thin-lens radius (perspective only); 0 is a pinhole
+    double focusDistance = 0.0;  // distance of the plane in focus, along `forward`
+    bool generated = false;      // true for the default camera made when the file has none
 };
 
 struct Scene {
