@@ -71,6 +71,7 @@ Ray cameraRay(float filmX, float filmY, float lensU, float lensV) {
                                      sy * tanHalf * camera.upYmag.xyz);
 #ifdef VKRT_HAS_DEPTH_OF_FIELD
     // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane.
+    if (!(camera.lens.x > 0.0)) return Ray(camera.positionProjection.xyz, direction);
     const vec3 focus = camera.positionProjection.xyz +
                        direction * (camera.lens.y / dot(direction, camera.forwardTanHalfFov.xyz));
     const vec2 disk = camera.lens.x * concentricDisk(lensU, lensV);

@@ -266,7 +266,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     GpuRenderer full(context(), scene, bvh, camera, settings, options);
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
-    EXPECT_EQ(full.features().defines().size(), 6u);
+    EXPECT_EQ(full.features().defines().size(), 7u);
     for (const std::string& define : lean.defines()) {
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY") << define;
     }
