@@ -63,31 +63,33 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
+    // lightSamples samples, each of one emissive triangle chosen by power, averaged.
+    const uint lightSamples = uint(params.background.w);
     if (params.counts.y > 0u) {
         const uint seed = params.imageDepthSeed.w;
-        const float pick = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT_PICK));
-        const float su = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT_U));
-        const float sv = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT_V));
-        // The first light whose cumulative power exceeds `pick` (binary search).
-        uint lo = 0u, hi = params.counts.y - 1u;
-        while (lo < hi) {
-            const uint mid = (lo + hi) / 2u;
-            if (params.areaLights.areaLights[mid].cdf > pick) hi = mid;
-            else lo = mid + 1u;
-        }
-        const GpuAreaLight light = params.areaLights.areaLights[lo];
-        const GpuTriangle emitterTriangle = VKRT_TRIANGLE(light.triangle);
-        // Uniform point on the triangle (square-root mapping).
-        const float root = sqrt(su);
-        const float b1 = root * (1.0 - sv), b2 = root * sv;
-        const vec3 lightPoint = (1.0 - root) * emitterTriangle.v0 + b1 * emitterTriangle.v1 +
-                                b2 * emitterTriangle.v2;
-        const vec3 lightNormal = normalize(cross(emitterTriangle.v1 - emitterTriangle.v0,
-                                                 emitterTriangle.v2 - emitterTriangle.v0));
-        const vec3 offset = lightPoint - point;
-        const float distance2 = dot(offset, offset);
-        const float distance = sqrt(distance2);
-        if (light.triangle != triangle && distance > 0.0) {
+        vec3 areaSum = vec3(0.0);
+        for (uint k = 0u; k < lightSamples; ++k) {
+            const float pick = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)));
+            const float su = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)));
+            const float sv = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V)));
+            // The first light whose cumulative power exceeds `pick` (binary search).
+            uint lo = 0u, hi = params.counts.y - 1u;
+            while (lo < hi) {
+                const uint mid = (lo + hi) / 2u;
+                if (params.areaLights.areaLights[mid].cdf > pick) hi = mid;
+                else lo = mid + 1u;
+            }
+            const GpuAreaLight light = params.areaLights.areaLights[lo];
+            const GpuTriangle emitterTriangle = VKRT_TRIANGLE(light.triangle);
+            // Uniform point on the triangle (square-root mapping).
+            const float root = sqrt(su);
+            const float b1 = root * (1.0 - sv), b2 = root * sv;
+            const vec3 lightPoint = (1.0 - root) * emitterTriangle.v0 + b1 * emitterTriangle.v1 + b2 * emitterTriangle.v2;
+            const vec3 lightNormal = normalize(cross(emitterTriangle.v1 - emitterTriangle.v0, emitterTriangle.v2 - emitterTriangle.v0));
+            const vec3 offset = lightPoint - point;
+            const float distance2 = dot(offset, offset);
+            const float distance = sqrt(distance2);
+            if (light.triangle == triangle || !(distance > 0.0)) continue;
             const vec3 toLight = offset / distance;
             const GpuMaterial emitter = params.materials.materials[materialOf(light.triangle)];
             float cosLight = -dot(lightNormal, toLight);
@@ -98,9 +100,10 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
                 const vec3 visible = shadowTransmittance(Ray(origin, toLight), distance * (1.0 - 1e-5), triangle,
                                                          light.triangle, complete);
                 const vec3 irradiance = emissionAt(emitter, light.triangle, b1, b2) * cosLight / (distance2 * light.pdfArea);
-                sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
+                areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
         }
+        sum += areaSum / float(lightSamples);
     }
 #endif
     return sum;

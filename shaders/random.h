@@ -27,10 +27,14 @@ using uint = uint32_t;
 #define VKRT_DIM_LENS_U 2u
 #define VKRT_DIM_LENS_V 3u
 #define VKRT_DIM_NODE_BASE 4u
-#define VKRT_DIMS_PER_NODE 16u
-#define VKRT_DIM_LIGHT_PICK 0u  // which area light to sample
-#define VKRT_DIM_LIGHT_U 1u     // where on it
+#define VKRT_DIMS_PER_NODE 64u
+// Area-light sample k of a node (up to VKRT_MAX_LIGHT_SAMPLES) uses dimensions 3k (which light), 3k + 1
+// and 3k + 2 (where on it).
+#define VKRT_MAX_LIGHT_SAMPLES 16u
+#define VKRT_DIM_LIGHT_PICK 0u
+#define VKRT_DIM_LIGHT_U 1u
 #define VKRT_DIM_LIGHT_V 2u
+#define VKRT_DIM_LIGHT(k, which) (3u * (k) + (which))
 
 VKRT_FUNC uint vkrtHash(uint x) {
     x ^= x >> 16u;

@@ -188,7 +188,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer H
 struct SceneParams {
     GpuCamera camera;
     vec4 ambientMinThroughput;  // rgb ambient radiance, w the throughput below which branches are cut
-    vec4 background;            // rgb radiance of rays that leave the scene
+    vec4 background;            // rgb radiance of rays that leave the scene, w area-light samples per hit
     uvec4 imageDepthSeed;       // width, height, max depth, seed
     uvec4 counts;               // punctual lights, area lights, triangles, unused
     VKRT_ADDRESS(NodeBuffer, nodes);

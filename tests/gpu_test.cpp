@@ -135,6 +135,21 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
+TEST_F(Gpu, SeveralLightSamplesMatchCpuReference) {
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 48;
+    settings.samplesPerPixel = 2;
+    settings.lightSamples = 6;
+    const Camera camera = selectCamera(scene, 0, 1.0);
+    const RenderResult gpu = renderGpu(scene, bvh, camera, settings);
+    const RenderResult cpu = ReferenceRenderer(scene, bvh, camera, settings).render();
+    expectMatchesReference(gpu.image, cpu.image, "cornell-6-light-samples");
+    EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
+                0.002 * cpu.rays.shadow);
+}
+
 TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
     std::ifstream file(test::sourceDir() / "tests/glsl/random_check.comp");
     std::stringstream source;

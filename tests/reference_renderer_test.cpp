@@ -228,6 +228,41 @@ TEST(ReferenceRenderer, ThinLensBlursToTheCircleOfConfusion) {
     }
 }
 
+TEST(ReferenceRenderer, MoreLightSamplesLowerTheVarianceNotTheMean) {
+    // The floor under a square emitter: the radiance at one point, estimated many times.
+    Scene scene = floorScene(0.8f);
+    Material emitter = lambert(glm::vec3(0.0f));
+    emitter.emission = glm::vec3(5.0f);
+    scene.materials.push_back(emitter);
+    addFlatQuad(scene, {-0.5f, -0.5f, 1.2f}, {-0.5f, 0.5f, 1.2f}, {0.5f, 0.5f, 1.2f}, {0.5f, -0.5f, 1.2f}, 1);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    auto statistics = [&](int lightSamples) {
+        RenderSettings settings = quietSettings();
+        settings.lightSamples = lightSamples;
+        const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
+        double sum = 0.0, sumSquares = 0.0;
+        const int n = 4000;
+        for (int s = 0; s < n; ++s) {
+            RayCounters counters;
+            const double L = renderer
+                                 .radiance({{0.3, 0.1, 0.5}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s),
+                                           0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters)
+                                 .x;
+            sum += L;
+            sumSquares += L * L;
+        }
+        const double mean = sum / n;
+        return std::make_pair(mean, sumSquares / n - mean * mean);
+    };
+    const auto [meanOne, varianceOne] = statistics(1);
+    const auto [meanEight, varianceEight] = statistics(8);
+    EXPECT_NEAR(meanEight, meanOne, 4.0 * std::sqrt(varianceOne / 4000));
+    // Eight independent samples: an eighth of the variance (a quarter allows for sampling error).
+    EXPECT_LT(varianceEight, 0.25 * varianceOne);
+    EXPECT_GT(varianceEight, 0.06 * varianceOne);
+}
+
 TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     // A slab of thickness 0.5 with ior 1 (no refraction, no Fresnel), attenuation colour c at distance 0.25:
     // transmittance c^(0.5 / 0.25) = c^2 per channel; behind it, a white background.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image/image_io.h"
+#include "random.h"
 
 namespace vkrt {
 namespace {
@@ -54,6 +55,7 @@ Usage: vkrt --scene FILE [options]
   --height H            image height in pixels  [width / the camera's aspect ratio, else 512]
   --spp N               samples per pixel (jittered, stratified)                      [16]
   --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
+  --light-samples N     area-light samples per shading point (1-16)                   [1]
   --device gpu|cpu      GPU tracer (Vulkan compute) or the CPU reference renderer   [gpu]
   --device-index N      which Vulkan device (see --list-devices)    [discrete GPU first]
   --list-devices        print the Vulkan devices and exit
@@ -108,6 +110,8 @@ Options parseOptions(int argc, const char* const argv[]) {
             options.render.samplesPerPixel = parseInt(flag, value(), 1, 1 << 24);
         } else if (flag == "--max-depth") {
             options.render.maxDepth = parseInt(flag, value(), 0, 24);
+        } else if (flag == "--light-samples") {
+            options.render.lightSamples = parseInt(flag, value(), 1, VKRT_MAX_LIGHT_SAMPLES);
         } else if (flag == "--device") {
             const std::string device = value();
             if (device == "gpu")

@@ -19,6 +19,7 @@ nlohmann::json toJson(const RunReport& r) {
         {"spp", r.samplesRendered},
         {"spp_requested", r.settings.samplesPerPixel},
         {"max_depth", r.settings.maxDepth},
+        {"light_samples", r.settings.lightSamples},
         {"seed", r.settings.seed},
         {"load_ms", r.loadMs},
         {"bvh",

@@ -19,6 +19,7 @@ struct RenderSettings {
     glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
     glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
     double minThroughput = 1e-3;  // branches of the ray tree weighted less than this are cut
+    int lightSamples = 1;         // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
     int threads = 0;              // CPU renderer: 0 means all hardware threads
 };
 

@@ -164,16 +164,22 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
             whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
     }
     // Area lights: one sample of one emissive triangle per shading point, chosen by power.
+    // Area lights: lightSamples samples, each of one emissive triangle chosen by power, averaged.
     if (!areaLights_.empty()) {
         const uint32_t seed = settings_.seed;
-        const AreaLightSample light =
-            areaLights_.sample(vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_PICK)),
-                               vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_U)),
-                               vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT_V)));
-        const glm::dvec3 offset = light.point - point;
-        const double distance2 = glm::dot(offset, offset);
-        const double distance = std::sqrt(distance2);
-        if (light.triangle != triangle && distance > 0.0) {
+        const uint32_t count = static_cast<uint32_t>(settings_.lightSamples);
+        glm::dvec3 areaSum(0.0);
+        for (uint32_t k = 0; k < count; ++k) {
+            const AreaLightSample light = areaLights_.sample(
+                vkrtRandom(seed, pixel, sample,
+                           vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK))),
+                vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U))),
+                vkrtRandom(seed, pixel, sample,
+                           vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V))));
+            const glm::dvec3 offset = light.point - point;
+            const double distance2 = glm::dot(offset, offset);
+            const double distance = std::sqrt(distance2);
+            if (light.triangle == triangle || !(distance > 0.0)) continue;
             const glm::dvec3 toLight = offset / distance;
             const Material& emitter = scene_.materials[scene_.triangles[light.triangle].material];
             double cosLight = -glm::dot(light.normal, toLight);
@@ -186,9 +192,10 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
                 const glm::dvec3 irradiance = emissionAt(emitter, {light.triangle, 0.0, light.u, light.v}) *
                                               cosLight / (distance2 * light.pdfArea);
-                sum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
+                areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
         }
+        sum += areaSum / static_cast<double>(count);
     }
     return sum;
 }

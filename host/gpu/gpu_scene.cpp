@@ -149,7 +149,7 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
         glm::vec4(static_cast<float>(camera.aperture), static_cast<float>(camera.focusDistance), 0.0f, 0.0f);
     p.ambientMinThroughput =
         glm::vec4(glm::vec3(settings.ambient), static_cast<float>(settings.minThroughput));
-    p.background = glm::vec4(glm::vec3(settings.background), 0.0f);
+    p.background = glm::vec4(glm::vec3(settings.background), static_cast<float>(settings.lightSamples));
     p.imageDepthSeed = glm::uvec4(settings.width, settings.height, settings.maxDepth, settings.seed);
     p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(),
                           settings.samplesPerPixel);
