@@ -22,6 +22,7 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 #include "materials.glsl"
 #include "traverse.glsl"
 #include "lights.glsl"
+#include "media.glsl"
 
 // One pending branch of the ray tree.
 struct RayTask {
@@ -30,7 +31,7 @@ struct RayTask {
     vec3 direction;
     int depth;
     vec3 throughput;
-    int medium;  // material index of the volume the ray travels in, -1 outside
+    uvec2 media;  // the volumes the ray is inside (media.glsl)
     uint exclude;  // the triangle the ray leaves
 };
 
@@ -89,7 +90,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
     const float minThroughput = params.ambientMinThroughput.w;
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = RayTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), -1, VKRT_NO_TRIANGLE);
+    stack[size++] = RayTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE);
     vec3 radiance = vec3(0.0);
     while (size > 0) {
         const RayTask task = stack[--size];
@@ -98,7 +99,8 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                                         complete);
         vec3 weight = task.throughput;
 #ifdef VKRT_HAS_VOLUMES
-        if (task.medium >= 0) weight *= beerLambert(params.materials.materials[task.medium], found ? hit.t : VKRT_INFINITY);
+        const int medium = innermostMedium(task.media);
+        if (medium >= 0) weight *= beerLambert(params.materials.materials[medium], found ? hit.t : VKRT_INFINITY);
 #endif
         if (!found) {
             radiance += weight * params.background.rgb;
@@ -141,7 +143,17 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
 #else
             const bool volume = false;
 #endif
-            const float eta = (volume && !frontFace) ? 1.0 / surface.ior : surface.ior;
+            // A volume is entered through its front face and left through its back face, from the medium the
+            // ray is in into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the
+            // same from both sides.
+            uvec2 beyond = task.media;
+            float eta = surface.ior;
+#ifdef VKRT_HAS_VOLUMES
+            if (volume) {
+                beyond = frontFace ? mediaEntered(task.media, materialIndex) : mediaExited(task.media, materialIndex);
+                eta = mediaIor(beyond) / mediaIor(task.media);
+            }
+#endif
             const float cosI = dot(normal, toViewer);
             const float dielectric = fresnelDielectric(cosI, eta);
             const vec3 fresnel = (1.0 - surface.metallic) * vec3(dielectric) +
@@ -156,9 +168,8 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 if (volume) passes = refractThrough(toViewer, normal, eta, direction);
                 if (passes) {
                     ++counters.secondary;
-                    const int nextMedium = volume ? (frontFace ? int(materialIndex) : -1) : task.medium;
                     stack[size++] = RayTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
-                                            task.depth + 1, weight * transmitWeight, nextMedium, hit.triangle);
+                                            task.depth + 1, weight * transmitWeight, beyond, hit.triangle);
                 }
             }
 #endif
@@ -166,7 +177,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 ++counters.secondary;
                 stack[size++] = RayTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
                                         reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
-                                        task.medium, hit.triangle);
+                                        task.media, hit.triangle);
             }
         }
     }

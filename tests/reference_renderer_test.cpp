@@ -47,8 +47,8 @@ Scene floorScene(float albedo) {
 
 glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
     RayCounters counters;
-    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu,
-                             counters);
+    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), MediumStack{},
+                             kNoTriangle, counters);
 }
 
 TEST(ReferenceRenderer, LambertianPlaneUnderPointLightMatchesClosedForm) {
@@ -132,8 +132,8 @@ TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
     RayCounters counters;
     auto floorRadiance = [&](double x) {
         return renderer
-            .radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), -1, 0xffffffffu,
-                      counters)
+            .radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), MediumStack{},
+                      kNoTriangle, counters)
             .x;
     };
     EXPECT_EQ(floorRadiance(0.7), 0.0);
@@ -169,7 +169,7 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
         RayCounters counters;
         const double L = renderer
                              .radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), 0,
-                                       0, glm::dvec3(1.0), -1, 0xffffffffu, counters)
+                                       0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
                              .x;
         sum += L;
         sumSquares += L * L;
@@ -247,7 +247,7 @@ TEST(ReferenceRenderer, MoreLightSamplesLowerTheVarianceNotTheMean) {
             RayCounters counters;
             const double L = renderer
                                  .radiance({{0.3, 0.1, 0.5}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s),
-                                           0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters)
+                                           0, 0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
                                  .x;
             sum += L;
             sumSquares += L * L;

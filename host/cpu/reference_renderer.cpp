@@ -201,12 +201,13 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
 }
 
 glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node,
-                                       int depth, const glm::dvec3& throughput, int medium, uint32_t exclude,
-                                       RayCounters& counters) const {
+                                       int depth, const glm::dvec3& throughput, const MediumStack& media,
+                                       uint32_t exclude, RayCounters& counters) const {
     SurfaceHit hit;
     const bool found = closestHit(ray, std::numeric_limits<double>::infinity(), exclude, hit);
-    const glm::dvec3 absorbed =
-        medium >= 0 ? beerLambert(scene_.materials[medium], found ? hit.t : INFINITY) : glm::dvec3(1.0);
+    const glm::dvec3 absorbed = media.top() >= 0
+                                    ? beerLambert(scene_.materials[media.top()], found ? hit.t : INFINITY)
+                                    : glm::dvec3(1.0);
     if (!found) return absorbed * settings_.background;
 
     const Triangle& triangle = scene_.triangles[hit.triangle];
@@ -241,10 +242,13 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     if (depth < settings_.maxDepth) {
         // The weight of this branch of the ray tree so far, absorption on the way here included.
         const glm::dvec3 pathThroughput = throughput * absorbed;
-        // Relative index across this interface: entering a volume from outside, leaving it, or a surface
-        // seen from outside (thin-walled and opaque materials look the same from both sides).
+        // Relative index across this interface. A volume is entered through its front face and left through
+        // its back face, from the medium the ray is in into the one beyond (nested dielectrics); thin-walled
+        // and opaque materials look the same from both sides.
         const bool volume = material.hasVolume() && surface.transmission > 0.0;
-        const double eta = (volume && !frontFace) ? 1.0 / surface.ior : surface.ior;
+        const int self = static_cast<int>(triangle.material);
+        const MediumStack beyond = volume ? (frontFace ? media.entered(self) : media.exited(self)) : media;
+        const double eta = volume ? mediumIor(scene_, beyond) / mediumIor(scene_, media) : surface.ior;
         const double cosI = glm::dot(normal, toViewer);
         const double dielectric = fresnelDielectric(cosI, eta);
         const glm::dvec3 fresnel = (1.0 - surface.metallic) * glm::dvec3(dielectric) +
@@ -256,9 +260,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             ++counters.secondary;
             const Ray reflected{offsetOrigin(point, errorScale, geometricNormal, 1.0),
                                 reflect(toViewer, normal)};
-            result +=
-                reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
-                                         pathThroughput * reflectWeight, medium, hit.triangle, counters);
+            result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
+                                               pathThroughput * reflectWeight, media, hit.triangle, counters);
         }
         if (maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
             glm::dvec3 direction = ray.direction;  // thin-walled: straight through
@@ -266,11 +269,9 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             if (volume) passes = refract(toViewer, normal, eta, direction);
             if (passes) {
                 ++counters.secondary;
-                const int nextMedium =
-                    volume ? (frontFace ? static_cast<int>(triangle.material) : -1) : medium;
                 const Ray transmitted{offsetOrigin(point, errorScale, geometricNormal, -1.0), direction};
                 result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
-                                                    pathThroughput * transmitWeight, nextMedium, hit.triangle,
+                                                    pathThroughput * transmitWeight, beyond, hit.triangle,
                                                     counters);
             }
         }
@@ -291,7 +292,7 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
         const Ray ray = cameraRay(x + jx, y + jy, vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_U),
                                   vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_V));
         const glm::dvec3 value =
-            radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), -1, kNoTriangle, counters);
+            radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters);
         if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) {
             sum += value;
             ++finite;

@@ -10,6 +10,7 @@
 #include "common/render_settings.h"
 #include "cpu/area_lights.h"
 #include "cpu/closest_hit.h"
+#include "cpu/medium_stack.h"
 #include "cpu/whitted_model.h"
 #include "scene/scene.h"
 
@@ -36,7 +37,7 @@ class ReferenceRenderer {
     glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB) const;
     // Radiance arriving along `ray`; `node` numbers the ray-tree node for the random dimensions.
     glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
-                        const glm::dvec3& throughput, int medium, uint32_t exclude,
+                        const glm::dvec3& throughput, const MediumStack& media, uint32_t exclude,
                         RayCounters& counters) const;
     // The sum of the finite samples [firstSample, endSample) of a pixel (rgb) and how many there were (w).
     glm::dvec4 renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,

@@ -299,6 +299,32 @@ StabilityResult sphereCase(const VulkanContext& context, const StabilityOptions&
     return result;
 }
 
+// Glass inside water: a sphere of index `innerIor` inside a water sphere (1.33). With the right relative
+// index at each interface an inner sphere of index 1.33 disappears, which the invariance columns check
+// against the water sphere alone.
+StabilityResult nestedDielectrics(const VulkanContext& context, const StabilityOptions& options,
+                                  float innerIor, const std::string& name) {
+    const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 1.0, 0.0}, 0.7);
+    auto build = [&](bool inner) {
+        Scene scene = checkerboard();
+        scene.materials.push_back(glass(1.33f));
+        addMesh(scene, makeUvSphere({0.0f, 1.1f, 0.0f}, 1.1f, 64, 128, 2), 2, true, {0.0f, 1.1f, 0.0f});
+        if (inner) {
+            scene.materials.push_back(glass(innerIor));
+            addMesh(scene, makeUvSphere({0.0f, 1.1f, 0.0f}, 0.6f, 48, 96, 3), 3, true, {0.0f, 1.1f, 0.0f});
+        }
+        finalizeScene(scene);
+        return scene;
+    };
+    const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
+    StabilityResult result = measure(options, "thin media", name, r);
+    if (innerIor == 1.33f) {
+        const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
+        setInvariance(result, r.gpu, water.gpu);
+    }
+    return result;
+}
+
 StabilityResult degenerateGeometry(const VulkanContext& context, const StabilityOptions& options) {
     Scene scene = checkerboard();
     scene.materials.push_back(diffuse(glm::vec3(0.7f)));
@@ -468,6 +494,9 @@ std::vector<StabilityResult> runStabilitySuite(const VulkanContext& context,
     results.push_back(sphereCase(context, options, glass(2.4f), "total internal reflection, ior 2.4 sphere"));
     results.push_back(
         sphereCase(context, options, glass(1.0f), "ior 1.0 sphere (must be invisible)", &unused));
+    results.push_back(nestedDielectrics(context, options, 1.5f, "nested dielectrics: glass sphere in water"));
+    results.push_back(
+        nestedDielectrics(context, options, 1.33f, "index-matched sphere in water (must vanish)"));
     results.push_back(degenerateGeometry(context, options));
     results.push_back(watertightness(context, options, false));
     results.push_back(watertightness(context, options, true));
