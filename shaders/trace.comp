@@ -83,6 +83,23 @@ Ray cameraRay(float filmX, float filmY, float lensU, float lensV) {
 #endif
 }
 
+// Filter importance sampling (host/cpu/pixel_filter.h): a sample's offset from its pixel's centre.
+#ifndef VKRT_PIXEL_FILTER
+#define VKRT_PIXEL_FILTER 0  // 0 box, 1 tent (radius 1), 2 Gaussian (standard deviation 0.5)
+#endif
+float tentInverse(float u) { return u < 0.5 ? sqrt(2.0 * u) - 1.0 : 1.0 - sqrt(2.0 - 2.0 * u); }
+
+vec2 filterOffset(float u, float v) {
+#if VKRT_PIXEL_FILTER == 1
+    return vec2(tentInverse(u), tentInverse(v));
+#elif VKRT_PIXEL_FILTER == 2
+    const float radius = 0.5 * sqrt(-2.0 * log(1.0 - u));
+    return radius * vec2(cos(2.0 * PI * v), sin(2.0 * PI * v));
+#else
+    return vec2(u - 0.5, v - 0.5);
+#endif
+}
+
 // Radiance arriving along one camera ray: the ray tree, depth first.
 // `complete` turns false when a BVH walk was cut short (see traverse.glsl); the sample is then discarded.
 vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters counters, inout bool complete) {
@@ -198,9 +215,10 @@ void main() {
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
         const float jx = vkrtPixelJitterX(seed, pixel, s);
         const float jy = vkrtPixelJitterY(seed, pixel, s);
+        const vec2 offset = filterOffset(jx, jy);
         ++counters.primary;
         bool complete = true;
-        const Ray primary = cameraRay(float(xy.x) + jx, float(xy.y) + jy, vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_U),
+        const Ray primary = cameraRay(float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y, vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_U),
                                       vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_V));
         const vec3 value = traceRayTree(primary, pixel, s, counters, complete);
         if (complete && allFinite(value)) {

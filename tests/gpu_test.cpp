@@ -135,13 +135,14 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
-TEST_F(Gpu, SeveralLightSamplesMatchCpuReference) {
+TEST_F(Gpu, SeveralLightSamplesAndAGaussianFilterMatchCpuReference) {
     const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
     const FlatBvh bvh = bvhFor(scene);
     RenderSettings settings;
     settings.width = settings.height = 48;
     settings.samplesPerPixel = 2;
     settings.lightSamples = 6;
+    settings.pixelFilter = PixelFilter::Gaussian;
     const Camera camera = selectCamera(scene, 0, 1.0);
     const RenderResult gpu = renderGpu(scene, bvh, camera, settings);
     const RenderResult cpu = ReferenceRenderer(scene, bvh, camera, settings).render();

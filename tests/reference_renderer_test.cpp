@@ -263,6 +263,48 @@ TEST(ReferenceRenderer, MoreLightSamplesLowerTheVarianceNotTheMean) {
     EXPECT_GT(varianceEight, 0.06 * varianceOne);
 }
 
+TEST(ReferenceRenderer, PixelFiltersBlurAnEdgeByTheirCdf) {
+    // An orthographic view of a plane that emits 1 left of x = 0.3 and nothing right of it: each pixel's
+    // value is the filter's CDF at the distance from its centre to the edge (box: the covered fraction).
+    Scene scene;
+    Material glow = lambert(glm::vec3(0.0f));
+    glow.emission = glm::vec3(1.0f);
+    scene.materials = {glow, lambert(glm::vec3(0.0f))};
+    const float edge = 0.3f;
+    addFlatQuad(scene, {-100, -100, 0}, {edge, -100, 0}, {edge, 100, 0}, {-100, 100, 0}, 0);
+    addFlatQuad(scene, {edge, -100, 0}, {100, -100, 0}, {100, 100, 0}, {edge, 100, 0}, 1);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 10.0};
+    camera.forward = {0.0, 0.0, -1.0};
+    camera.right = {1.0, 0.0, 0.0};
+    camera.xmag = camera.ymag = 8.0;  // 16 pixels over 16 units: film x = world x + 8
+    RenderSettings settings = quietSettings();
+    settings.width = settings.height = 16;
+    settings.samplesPerPixel = 4096;
+    auto tentCdf = [](double d) {
+        if (d <= -1.0) return 0.0;
+        if (d <= 0.0) return 0.5 * (d + 1.0) * (d + 1.0);
+        if (d <= 1.0) return 1.0 - 0.5 * (1.0 - d) * (1.0 - d);
+        return 1.0;
+    };
+    for (PixelFilter filter : {PixelFilter::Box, PixelFilter::Tent, PixelFilter::Gaussian}) {
+        settings.pixelFilter = filter;
+        const Image image = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        for (int x = 5; x <= 11; ++x) {
+            const double d = (edge + 8.0) - (x + 0.5);  // edge minus pixel centre, in pixels
+            const double expected = filter == PixelFilter::Box ? std::clamp(d + 0.5, 0.0, 1.0)
+                                    : filter == PixelFilter::Tent
+                                        ? tentCdf(d)
+                                        : 0.5 * (1.0 + std::erf(d / (0.5 * std::sqrt(2.0))));
+            EXPECT_NEAR(image.at(x, 8).x, expected, 0.02)
+                << "filter " << static_cast<int>(filter) << ", x " << x;
+        }
+    }
+}
+
 TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     // A slab of thickness 0.5 with ior 1 (no refraction, no Fresnel), attenuation colour c at distance 0.25:
     // transmittance c^(0.5 / 0.25) = c^2 per channel; behind it, a white background.

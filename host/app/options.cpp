@@ -56,6 +56,7 @@ Usage: vkrt --scene FILE [options]
   --spp N               samples per pixel (jittered, stratified)                      [16]
   --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
   --light-samples N     area-light samples per shading point (1-16)                   [1]
+  --filter box|tent|gaussian   pixel filter (tent: radius 1 px; Gaussian: sigma 0.5 px) [box]
   --device gpu|cpu      GPU tracer (Vulkan compute) or the CPU reference renderer   [gpu]
   --device-index N      which Vulkan device (see --list-devices)    [discrete GPU first]
   --list-devices        print the Vulkan devices and exit
@@ -110,6 +111,16 @@ Options parseOptions(int argc, const char* const argv[]) {
             options.render.samplesPerPixel = parseInt(flag, value(), 1, 1 << 24);
         } else if (flag == "--max-depth") {
             options.render.maxDepth = parseInt(flag, value(), 0, 24);
+        } else if (flag == "--filter") {
+            const std::string filter = value();
+            if (filter == "box")
+                options.render.pixelFilter = PixelFilter::Box;
+            else if (filter == "tent")
+                options.render.pixelFilter = PixelFilter::Tent;
+            else if (filter == "gaussian")
+                options.render.pixelFilter = PixelFilter::Gaussian;
+            else
+                throw UsageError("--filter must be box, tent or gaussian");
         } else if (flag == "--light-samples") {
             options.render.lightSamples = parseInt(flag, value(), 1, VKRT_MAX_LIGHT_SAMPLES);
         } else if (flag == "--device") {

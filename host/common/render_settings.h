@@ -10,6 +10,10 @@
 
 namespace vkrt {
 
+// How samples are spread around a pixel's centre (filter importance sampling: every sample has weight 1).
+// Box: the pixel's square; tent: radius 1 pixel; Gaussian: standard deviation 0.5 pixel.
+enum class PixelFilter : int { Box = 0, Tent = 1, Gaussian = 2 };
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
@@ -19,8 +23,9 @@ struct RenderSettings {
     glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
     glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
     double minThroughput = 1e-3;  // branches of the ray tree weighted less than this are cut
-    int lightSamples = 1;         // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
-    int threads = 0;              // CPU renderer: 0 means all hardware threads
+    PixelFilter pixelFilter = PixelFilter::Box;
+    int lightSamples = 1;  // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
+    int threads = 0;       // CPU renderer: 0 means all hardware threads
 };
 
 struct RayCounters {

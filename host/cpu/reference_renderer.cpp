@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "cpu/optics.h"
+#include "cpu/pixel_filter.h"
 #include "cpu/punctual_light.h"
 #include "cpu/texture_lookup.h"
 #include "cpu/triangle_intersection.h"
@@ -288,8 +289,10 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
         const double jx = vkrtPixelJitterX(settings_.seed, pixel, sample);
         const double jy = vkrtPixelJitterY(settings_.seed, pixel, sample);
+        const glm::dvec2 offset = filterOffset(settings_.pixelFilter, jx, jy);
         ++counters.primary;
-        const Ray ray = cameraRay(x + jx, y + jy, vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_U),
+        const Ray ray = cameraRay(x + 0.5 + offset.x, y + 0.5 + offset.y,
+                                  vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_U),
                                   vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_V));
         const glm::dvec3 value =
             radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters);

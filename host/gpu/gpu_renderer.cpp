@@ -53,6 +53,9 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     defines_ = data_.features.defines();
     report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
+    if (settings.pixelFilter != PixelFilter::Box) {
+        defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)));
+    }
     const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
     spirv_ = shader.spirv;
     report_.compileMs = shader.compileMs;
