@@ -151,6 +151,44 @@ TEST_F(Gpu, SeveralLightSamplesAndAGaussianFilterMatchCpuReference) {
                 0.002 * cpu.rays.shadow);
 }
 
+TEST_F(Gpu, WhiteFurnaceConservesEnergy) {
+    // Metal spheres with F0 = 1 (white base colour, metallic 1) of roughness 0 to 1 inside a uniform white
+    // environment (background and ambient radiance 1, no lights): the mirror part reflects the background,
+    // the rest reflects the ambient term, so every pixel must be exactly 1 on both renderers.
+    Scene scene;
+    for (float roughness : {0.0f, 0.25f, 0.5f, 1.0f}) {
+        Material metal;
+        metal.baseColor = glm::vec4(1.0f);
+        metal.metallic = 1.0f;
+        metal.roughness = roughness;
+        scene.materials.push_back(metal);
+    }
+    for (uint32_t i = 0; i < 4; ++i) {
+        for (const Triangle& t : makeUvSphere({-3.0f + 2.0f * i, 0.0f, 0.0f}, 0.9f, 24, 48, i)) {
+            if (glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) > 0.0f)
+                addFlatTriangle(scene, t.v0, t.v1, t.v2, i);
+        }
+    }
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 16;
+    settings.samplesPerPixel = 2;
+    settings.ambient = glm::dvec3(1.0);
+    settings.background = glm::dvec3(1.0);
+    const Camera camera = frameBounds(scene.bounds, 4.0);
+    const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+    const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    for (const Image* image : {&gpu, &cpu}) {
+        for (const glm::vec3& p : image->pixels) {
+            ASSERT_NEAR(p.x, 1.0f, 1e-5f);
+            ASSERT_NEAR(p.y, 1.0f, 1e-5f);
+            ASSERT_NEAR(p.z, 1.0f, 1e-5f);
+        }
+    }
+}
+
 TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
     std::ifstream file(test::sourceDir() / "tests/glsl/random_check.comp");
     std::stringstream source;
