@@ -27,6 +27,11 @@ using uint = uint32_t;
 // guarantee it, whatever the input.
 #define VKRT_BVH_MAX_DEPTH 64
 
+// Hits closer than this relative distance apart are ties (coplanar faces, or surfaces closer than single
+// precision resolves); the triangle with the smaller scene index wins, on the GPU and the CPU alike, so
+// coplanar faces do not z-fight by rounding.
+#define VKRT_TIE_EPSILON 9.5367431640625e-7
+
 // The deepest ray tree (--max-depth); the GPU's stack of pending rays holds one more entry than this.
 #define VKRT_MAX_RAY_DEPTH 24
 
@@ -71,7 +76,7 @@ struct GpuTriangle {
     vec3 v0;
     uint material;
     vec3 v1;
-    uint unused1;
+    uint sceneIndex;  // the triangle's index in the scene, which breaks ties between coplanar hits
     vec3 v2;
     uint unused2;
 };

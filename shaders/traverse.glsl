@@ -26,17 +26,34 @@ bool intersectBox(BvhNode node, ShearedRay r, float tMin, float tMax, out float 
     return tEntry <= tExit;
 }
 
+// How far hits still matter: the best hit so far, plus a tie's width for closest-hit walks (ties are won by
+// the smaller scene index, so a tie just beyond the best hit can still win).
+float searchLimit(Hit hit, float tMax, const int mode) {
+    if (mode != VKRT_TRACE_CLOSEST || hit.triangle == VKRT_NO_TRIANGLE) return hit.t;
+    return min(tMax, hit.t * (1.0 + float(VKRT_TIE_EPSILON)));
+}
+
 // Tests one triangle of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
-bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, const int mode,
-                   inout Hit hit, inout vec3 transmittance) {
+bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, float tMax,
+                   const int mode, inout Hit hit, inout vec3 transmittance) {
     float t, u, v;
     if (triangle == excludeA || triangle == excludeB ||
-        !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, hit.t, t, u, v)) {
+        !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, searchLimit(hit, tMax, mode), t, u, v)) {
         return false;
     }
-    if (mode != VKRT_TRACE_SHADOW) {
+    if (mode == VKRT_TRACE_ANY) {
         hit = Hit(t, u, v, triangle);
-        return mode == VKRT_TRACE_ANY;
+        return true;
+    }
+    if (mode == VKRT_TRACE_CLOSEST) {
+        // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
+        const float tolerance = float(VKRT_TIE_EPSILON) * hit.t;
+        const bool first = hit.triangle == VKRT_NO_TRIANGLE;
+        if (first || t < hit.t - tolerance ||
+            VKRT_TRIANGLE(triangle).sceneIndex < VKRT_TRIANGLE(hit.triangle).sceneIndex) {
+            hit = Hit(t, u, v, triangle);
+        }
+        return false;
     }
 #ifdef VKRT_HAS_TRANSMISSION
     const GpuMaterial material = params.materials.materials[materialOf(triangle)];
@@ -74,10 +91,10 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             haveNode = false;
             if (node.primCount > 0u) {
                 const uint first = node.leftOrFirst, count = node.primCount;
-                if (visitTriangle(r, first, excludeA, excludeB, tMin, mode, hit, transmittance) ||
-                    (count > 1u && visitTriangle(r, first + 1u, excludeA, excludeB, tMin, mode, hit, transmittance)) ||
-                    (count > 2u && visitTriangle(r, first + 2u, excludeA, excludeB, tMin, mode, hit, transmittance)) ||
-                    (count > 3u && visitTriangle(r, first + 3u, excludeA, excludeB, tMin, mode, hit, transmittance))) {
+                if (visitTriangle(r, first, excludeA, excludeB, tMin, tMax, mode, hit, transmittance) ||
+                    (count > 1u && visitTriangle(r, first + 1u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
+                    (count > 2u && visitTriangle(r, first + 2u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
+                    (count > 3u && visitTriangle(r, first + 3u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance))) {
                     complete = true;
                     return true;
                 }
@@ -86,8 +103,9 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                 const BvhNode left = VKRT_NODE(node.leftOrFirst);
                 const BvhNode right = VKRT_NODE(node.leftOrFirst + 1u);
                 float tLeft, tRight;
-                const bool hitLeft = intersectBox(left, r, tMin, hit.t, tLeft);
-                const bool hitRight = intersectBox(right, r, tMin, hit.t, tRight);
+                const float limit = searchLimit(hit, tMax, mode);
+                const bool hitLeft = intersectBox(left, r, tMin, limit, tLeft);
+                const bool hitRight = intersectBox(right, r, tMin, limit, tRight);
                 if (hitLeft && hitRight) {
                     const bool leftFirst = tLeft <= tRight;
                     stack[size] = leftFirst ? node.leftOrFirst + 1u : node.leftOrFirst;
@@ -106,7 +124,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                 break;
             }
             --size;
-            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= hit.t) {
+            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= searchLimit(hit, tMax, mode)) {
                 node = VKRT_NODE(stack[size]);
                 haveNode = true;
             }

@@ -8,6 +8,7 @@
 
 #include "bvh/bvh_traversal.h"
 #include "cpu/triangle_intersection.h"
+#include "shared.h"
 
 namespace vkrt {
 
@@ -19,17 +20,26 @@ struct SurfaceHit {
     double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2
 };
 
-// The closest hit in (0, tMax) other than triangle `exclude`; false on a miss.
+// Whether a hit at `t` on triangle `index` wins over the best so far: nearer by more than the tie
+// tolerance, or a tie (VKRT_TIE_EPSILON) with a smaller index.
+inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex) {
+    const double tolerance = VKRT_TIE_EPSILON * bestT;
+    return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
+}
+
+// The closest hit in (0, tMax) other than triangle `exclude`, ties broken by triangle index; false on a miss.
 inline bool closestHit(const std::vector<Triangle>& triangles, const FlatBvh& bvh, const RayT<double>& ray,
                        double tMax, uint32_t exclude, SurfaceHit& hit) {
     bool found = false;
-    traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& closest) {
+    traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
         if (prim != exclude &&
-            intersectTriangle(triangles[prim], ray.origin, ray.direction, 0.0, closest, candidate)) {
-            closest = candidate.t;
+            intersectTriangle(triangles[prim], ray.origin, ray.direction, 0.0, limit, candidate) &&
+            (!found || winsOver(candidate.t, prim, hit.t, hit.triangle))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
+            // Keep looking a tie's width beyond the best hit, where a tie can still win.
+            limit = std::min(tMax, hit.t * (1.0 + VKRT_TIE_EPSILON));
         }
         return false;
     });

@@ -35,7 +35,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         const uint32_t index = bvh.primIndices[i];
         gpuIndexOf[index] = i;
         const Triangle& t = scene.triangles[index];
-        data.triangles.push_back({t.v0, t.material, t.v1, 0u, t.v2, 0u});
+        data.triangles.push_back({t.v0, t.material, t.v1, index, t.v2, 0u});
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
             data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
