@@ -25,15 +25,41 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 #include "media.glsl"
 
 // One pending branch of the ray tree.
+// One pending branch of the ray tree. Every member costs a scatter and a gather per push and pop on
+// lavapipe, so the volume stack exists only in shaders for scenes with volumes.
 struct RayTask {
     vec3 origin;
     uint node;  // ray-tree node number: children of k are 2k + 1 (reflection) and 2k + 2 (transmission)
     vec3 direction;
     int depth;
     vec3 throughput;
-    uvec2 media;  // the volumes the ray is inside (media.glsl)
     uint exclude;  // the triangle the ray leaves
+#ifdef VKRT_HAS_VOLUMES
+    uvec2 media;  // the volumes the ray is inside (media.glsl)
+#endif
 };
+
+RayTask makeTask(vec3 origin, uint node, vec3 direction, int depth, vec3 throughput, uvec2 media, uint exclude) {
+    RayTask task;
+    task.origin = origin;
+    task.node = node;
+    task.direction = direction;
+    task.depth = depth;
+    task.throughput = throughput;
+    task.exclude = exclude;
+#ifdef VKRT_HAS_VOLUMES
+    task.media = media;
+#endif
+    return task;
+}
+
+uvec2 mediaOf(RayTask task) {
+#ifdef VKRT_HAS_VOLUMES
+    return task.media;
+#else
+    return VKRT_EMPTY_MEDIA;
+#endif
+}
 
 struct Counters {
     uint primary;
@@ -107,7 +133,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
     const float minThroughput = params.ambientMinThroughput.w;
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = RayTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE);
+    stack[size++] = makeTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE);
     vec3 radiance = vec3(0.0);
     while (size > 0) {
         const RayTask task = stack[--size];
@@ -116,7 +142,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                                         complete);
         vec3 weight = task.throughput;
 #ifdef VKRT_HAS_VOLUMES
-        const int medium = innermostMedium(task.media);
+        const int medium = innermostMedium(mediaOf(task));
         if (medium >= 0) weight *= beerLambert(params.materials.materials[medium], found ? hit.t : VKRT_INFINITY);
 #endif
         if (!found) {
@@ -163,12 +189,12 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
             // A volume is entered through its front face and left through its back face, from the medium the
             // ray is in into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the
             // same from both sides.
-            uvec2 beyond = task.media;
+            uvec2 beyond = mediaOf(task);
             float eta = surface.ior;
 #ifdef VKRT_HAS_VOLUMES
             if (volume) {
-                beyond = frontFace ? mediaEntered(task.media, materialIndex) : mediaExited(task.media, materialIndex);
-                eta = mediaIor(beyond) / mediaIor(task.media);
+                beyond = frontFace ? mediaEntered(mediaOf(task), materialIndex) : mediaExited(mediaOf(task), materialIndex);
+                eta = mediaIor(beyond) / mediaIor(mediaOf(task));
             }
 #endif
             const float cosI = dot(normal, toViewer);
@@ -185,16 +211,16 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 if (volume) passes = refractThrough(toViewer, normal, eta, direction);
                 if (passes) {
                     ++counters.secondary;
-                    stack[size++] = RayTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
+                    stack[size++] = makeTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
                                             task.depth + 1, weight * transmitWeight, beyond, hit.triangle);
                 }
             }
 #endif
             if (maxComponent(weight * reflectWeight) >= minThroughput) {
                 ++counters.secondary;
-                stack[size++] = RayTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
+                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
                                         reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
-                                        task.media, hit.triangle);
+                                        mediaOf(task), hit.triangle);
             }
         }
     }
