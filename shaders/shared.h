@@ -195,7 +195,7 @@ struct SceneParams {
     vec4 ambientMinThroughput;  // rgb ambient radiance, w the throughput below which branches are cut
     vec4 background;            // rgb radiance of rays that leave the scene, w area-light samples per hit
     uvec4 imageDepthSeed;       // width, height, max depth, seed
-    uvec4 counts;               // punctual lights, area lights, triangles, unused
+    uvec4 counts;               // punctual lights, area lights, triangles, samples per pixel (for reference)
     VKRT_ADDRESS(NodeBuffer, nodes);
     VKRT_ADDRESS(TriangleBuffer, triangles);
     VKRT_ADDRESS(ShadingBuffer, shading);
