@@ -36,5 +36,6 @@ void main() {
         constants.hits.hits[index] = GpuHit(uintBitsToFloat(0x7fc00000u), VKRT_NO_HIT, 0.0, 0.0);
         return;
     }
-    constants.hits.hits[index] = found ? GpuHit(hit.t, hit.triangle, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
+    // Hits name the triangle by its index in the scene, not its place in the BVH's leaf order.
+    constants.hits.hits[index] = found ? GpuHit(hit.t, VKRT_TRIANGLE(hit.triangle).sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
 }

@@ -51,6 +51,19 @@ class Gpu : public ::testing::Test {
 
     static FlatBvh bvhFor(const Scene& scene) { return buildTriangleBvh(scene.triangles).flat; }
 
+    // One of the project's own scenes (scenes/NAME), its BVH and its first camera for an aspect ratio.
+    struct SceneUnderTest {
+        Scene scene;
+        FlatBvh bvh;
+        Camera camera;
+    };
+    static SceneUnderTest ownScene(const char* name, double aspect) {
+        Scene scene = loadGltf((test::sourceDir() / "scenes" / name).string());
+        FlatBvh bvh = bvhFor(scene);
+        const Camera camera = selectCamera(scene, 0, aspect);
+        return {std::move(scene), std::move(bvh), camera};
+    }
+
     static RenderResult renderGpu(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                   const RenderSettings& settings, GpuRenderOptions options = {},
                                   GpuRenderReport* report = nullptr) {
@@ -136,14 +149,12 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST_F(Gpu, SeveralLightSamplesAndAGaussianFilterMatchCpuReference) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
     settings.width = settings.height = 48;
     settings.samplesPerPixel = 2;
     settings.lightSamples = 6;
     settings.pixelFilter = PixelFilter::Gaussian;
-    const Camera camera = selectCamera(scene, 0, 1.0);
     const RenderResult gpu = renderGpu(scene, bvh, camera, settings);
     const RenderResult cpu = ReferenceRenderer(scene, bvh, camera, settings).render();
     expectMatchesReference(gpu.image, cpu.image, "cornell-6-light-samples");
@@ -306,12 +317,10 @@ TEST_F(Gpu, RaysMatchCpuTraversalOnRealModels) {
 }
 
 TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
     settings.width = settings.height = 32;
     settings.samplesPerPixel = 2;
-    const Camera camera = selectCamera(scene, 0, 1.0);
 
     GpuRenderOptions options;
     options.shaderCacheDir = kShaderCache;
@@ -341,13 +350,11 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
 }
 
 TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
     RenderSettings settings;
     settings.width = 40;
     settings.height = 30;
     settings.samplesPerPixel = 2;
-    const Camera camera = selectCamera(scene, 0, 4.0 / 3.0);
     GpuRenderOptions addressed;
     addressed.deviceAddressesOnly = true;
     GpuRenderReport boundReport, addressedReport;
@@ -359,13 +366,11 @@ TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
 }
 
 TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
     RenderSettings settings;
     settings.width = 40;
     settings.height = 30;
     settings.samplesPerPixel = 6;
-    const Camera camera = selectCamera(scene, 0, 4.0 / 3.0);
     GpuRenderOptions tiny, huge;
     tiny.targetDispatchMs = 1e-6;  // one row, one sample per dispatch
     huge.targetDispatchMs = 1e9;
@@ -378,16 +383,14 @@ TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
 }
 
 TEST_F(Gpu, TimeLimitStopsAfterThePassThatCrossesIt) {
-    const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
     settings.width = settings.height = 32;
     settings.samplesPerPixel = 100000;
     GpuRenderOptions options;
     options.timeLimitSeconds = 1e-6;
     GpuRenderReport report;
-    const RenderResult result =
-        renderGpu(scene, bvh, selectCamera(scene, 0, 1.0), settings, options, &report);
+    const RenderResult result = renderGpu(scene, bvh, camera, settings, options, &report);
     EXPECT_GE(report.samplesPerPixel, 1u);
     EXPECT_LT(report.samplesPerPixel, 100000u);
     EXPECT_EQ(result.rays.primary, 32u * 32u * report.samplesPerPixel);

@@ -51,9 +51,6 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
         timing->gpuMs = timer_->elapsedMs();
     }
     hitBuffer.download(hits.data(), hits.size() * sizeof(gpu::GpuHit));
-    for (gpu::GpuHit& hit : hits) {
-        if (hit.triangle != VKRT_NO_HIT) hit.triangle = data_.sceneTriangle[hit.triangle];
-    }
     return hits;
 }
 

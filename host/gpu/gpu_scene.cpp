@@ -27,7 +27,6 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     data.nodes = bvh.nodes;
 
     // Triangles in leaf order, so leaves index them directly.
-    data.sceneTriangle = bvh.primIndices;
     std::vector<uint32_t> gpuIndexOf(scene.triangles.size());
     const bool needShading = data.features.smoothNormals || data.features.textures;
     data.triangles.reserve(bvh.primIndices.size());

@@ -16,9 +16,8 @@ namespace vkrt {
 struct GpuSceneData {
     SceneFeatures features;
     std::vector<gpu::BvhNode> nodes;
-    std::vector<gpu::GpuTriangle> triangles;  // triangles[i] is scene triangle sceneTriangle[i]
-    std::vector<uint32_t> sceneTriangle;
-    std::vector<gpu::GpuShading> shading;  // only with smooth normals or textures
+    std::vector<gpu::GpuTriangle> triangles;  // in BVH leaf order; each keeps its scene index
+    std::vector<gpu::GpuShading> shading;     // only with smooth normals or textures
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;  // only with textures
     std::vector<uint32_t> texels;
