@@ -44,8 +44,84 @@ LightArrival arriveFrom(GpuPunctualLight light, vec3 point) {
 }
 #endif
 
+#ifdef VKRT_HAS_AREA_LIGHTS
+// A point on an emissive primitive, as host/cpu/area_lights.cpp samples it.
+struct LightPoint {
+    vec3 position;
+    vec3 normal;   // the emitting (front, outward) side
+    vec2 uv;       // barycentrics of v1 and v2 (triangles) or texture coordinates (spheres)
+    float pdfArea; // per unit area, light choice included
+};
+
+#ifdef VKRT_HAS_SPHERES
+// Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017.
+void orthonormalBasis(vec3 n, out vec3 b1, out vec3 b2) {
+    const float sign = n.z >= 0.0 ? 1.0 : -1.0;
+    const float a = -1.0 / (sign + n.z);
+    const float b = n.x * n.y * a;
+    b1 = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+// Uniform in the cone the sphere subtends from `from` (by area from inside); 1 - cos(theta_max) written
+// as sin^2 / (1 + cos) keeps its digits for small, distant spheres.
+LightPoint sampleSphereLight(GpuTriangle sphere, GpuAreaLight light, vec3 from, float u, float v) {
+    LightPoint p;
+    const vec3 center = sphere.v0;
+    const float radius = sphere.v1.x;
+    const vec3 toCenter = center - from;
+    const float distance2 = dot(toCenter, toCenter);
+    const float phi = 2.0 * PI * v;
+    float oneMinusCosMax = 0.0;
+    if (distance2 <= radius * radius) {
+        const float z = 1.0 - 2.0 * u, ring = sqrt(max(0.0, 1.0 - z * z));
+        p.normal = vec3(ring * cos(phi), ring * sin(phi), z);
+        p.pdfArea = light.pdfArea;
+    } else {
+        const vec3 axis = toCenter / sqrt(distance2);
+        const float sin2Max = radius * radius / distance2;
+        const float sinMax = sqrt(sin2Max);
+        oneMinusCosMax = sin2Max / (1.0 + sqrt(max(0.0, 1.0 - sin2Max)));
+        const float oneMinusCos = u * oneMinusCosMax;
+        const float cosTheta = 1.0 - oneMinusCos;
+        const float sin2Theta = oneMinusCos * (2.0 - oneMinusCos);
+        const float cosAlpha = sin2Theta / sinMax + cosTheta * sqrt(max(0.0, 1.0 - sin2Theta / sin2Max));
+        const float sinAlpha = sqrt(max(0.0, 1.0 - cosAlpha * cosAlpha));
+        vec3 b1, b2;
+        orthonormalBasis(axis, b1, b2);
+        p.normal = -(sinAlpha * cos(phi) * b1 + sinAlpha * sin(phi) * b2 + cosAlpha * axis);
+    }
+    p.position = center + radius * p.normal;
+    p.uv = sphereUv(p.normal);
+    if (oneMinusCosMax > 0.0) {
+        const vec3 offset = p.position - from;
+        const float d2 = dot(offset, offset);
+        const float cosLight = max(0.0, -dot(p.normal, offset) / sqrt(d2));
+        p.pdfArea = light.pick * cosLight / (2.0 * PI * oneMinusCosMax * d2);
+    }
+    return p;
+}
+#endif
+
+LightPoint sampleAreaLight(GpuAreaLight light, vec3 from, float u, float v) {
+    const GpuTriangle emitter = VKRT_TRIANGLE(light.triangle);
+#ifdef VKRT_HAS_SPHERES
+    if (emitter.kind == VKRT_PRIMITIVE_SPHERE) return sampleSphereLight(emitter, light, from, u, v);
+#endif
+    // Uniform point on the triangle (square-root mapping).
+    LightPoint p;
+    const float root = sqrt(u);
+    p.uv = vec2(root * (1.0 - v), root * v);
+    p.position = (1.0 - root) * emitter.v0 + p.uv.x * emitter.v1 + p.uv.y * emitter.v2;
+    p.normal = normalize(cross(emitter.v1 - emitter.v0, emitter.v2 - emitter.v0));
+    p.pdfArea = light.pdfArea;
+    return p;
+}
+#endif
+
 vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, vec3 toViewer, SurfaceResponse surface,
-                 uint triangle, uint pixel, uint sampleIndex, uint node, inout uint shadowRays, inout bool complete) {
+                 uint self, uint exclude, uint pixel, uint sampleIndex, uint node, inout uint shadowRays,
+                 inout bool complete) {
     vec3 sum = vec3(0.0);
     const vec3 point = surfacePoint.position;
     const vec3 origin = offsetRayOrigin(surfacePoint, geometricNormal);
@@ -57,13 +133,13 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
             continue;
         }
         ++shadowRays;
-        const vec3 visible = shadowTransmittance(Ray(origin, arrival.toLight), arrival.distance, triangle, VKRT_NO_TRIANGLE,
+        const vec3 visible = shadowTransmittance(Ray(origin, arrival.toLight), arrival.distance, exclude, VKRT_NO_TRIANGLE,
                                                  complete);
         sum += whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
-    // lightSamples samples, each of one emissive triangle chosen by power, averaged.
+    // lightSamples samples, each of one emissive primitive chosen by power, averaged.
     const uint lightSamples = uint(params.background.w);
     if (params.counts.y > 0u) {
         const uint seed = params.imageDepthSeed.w;
@@ -80,26 +156,22 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
                 else lo = mid + 1u;
             }
             const GpuAreaLight light = params.areaLights.areaLights[lo];
-            const GpuTriangle emitterTriangle = VKRT_TRIANGLE(light.triangle);
-            // Uniform point on the triangle (square-root mapping).
-            const float root = sqrt(su);
-            const float b1 = root * (1.0 - sv), b2 = root * sv;
-            const vec3 lightPoint = (1.0 - root) * emitterTriangle.v0 + b1 * emitterTriangle.v1 + b2 * emitterTriangle.v2;
-            const vec3 lightNormal = normalize(cross(emitterTriangle.v1 - emitterTriangle.v0, emitterTriangle.v2 - emitterTriangle.v0));
-            const vec3 offset = lightPoint - point;
+            const LightPoint lightPoint = sampleAreaLight(light, point, su, sv);
+            const vec3 offset = lightPoint.position - point;
             const float distance2 = dot(offset, offset);
             const float distance = sqrt(distance2);
-            if (light.triangle == triangle || !(distance > 0.0)) continue;
+            if (light.triangle == self || !(distance > 0.0) || !(lightPoint.pdfArea > 0.0)) continue;
             const vec3 toLight = offset / distance;
             const GpuMaterial emitter = params.materials.materials[materialOf(light.triangle)];
-            float cosLight = -dot(lightNormal, toLight);
+            float cosLight = -dot(lightPoint.normal, toLight);
             if (emitter.transmission.w != 0.0) cosLight = abs(cosLight);  // double-sided emitter
             const float cosine = dot(normal, toLight);
             if (cosLight > 0.0 && cosine > 0.0 && dot(geometricNormal, toLight) > 0.0) {
                 ++shadowRays;
-                const vec3 visible = shadowTransmittance(Ray(origin, toLight), distance * (1.0 - 1e-5), triangle,
+                const vec3 visible = shadowTransmittance(Ray(origin, toLight), distance * (1.0 - 1e-5), exclude,
                                                          light.triangle, complete);
-                const vec3 irradiance = emissionAt(emitter, light.triangle, b1, b2) * cosLight / (distance2 * light.pdfArea);
+                const vec3 irradiance = emissionAt(emitter, light.triangle, lightPoint.uv.x, lightPoint.uv.y) * cosLight /
+                                        (distance2 * lightPoint.pdfArea);
                 areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
         }

@@ -40,6 +40,9 @@ vec4 sampleTexture(int index, vec2 uv) {
 }
 
 vec2 uvAt(uint triangle, float u, float v) {
+#ifdef VKRT_HAS_SPHERES
+    if (VKRT_TRIANGLE(triangle).kind == VKRT_PRIMITIVE_SPHERE) return vec2(u, v);  // spheres carry their own
+#endif
     const GpuShading s = params.shading.shading[triangle];
     return (1.0 - u - v) * vec2(s.normalU0.w, s.v012.x) + u * vec2(s.normalU1.w, s.v012.y) +
            v * vec2(s.normalU2.w, s.v012.z);

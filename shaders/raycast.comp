@@ -15,6 +15,7 @@ layout(push_constant) uniform Constants { RaycastConstants constants; };
 #include "geometry.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
+#include "sphere.glsl"
 #include "materials.glsl"
 #include "traverse.glsl"
 

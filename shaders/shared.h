@@ -70,15 +70,19 @@ struct BvhNode {
     uint primCount;
 };
 
-// A triangle's corners and material, 48 bytes (each vec3 shares its 16 bytes with a uint). The index
-// stays an integer: integer bits kept in float slots do not survive lavapipe's denormal flushing.
+// A primitive, 48 bytes (each vec3 shares its 16 bytes with a uint): a triangle's corners and material,
+// or (kind VKRT_PRIMITIVE_SPHERE, in shaders built with VKRT_HAS_SPHERES) a sphere with its centre in v0
+// and its radius in v1.x. Indices stay integers: integer bits kept in float slots do not survive
+// lavapipe's denormal flushing.
+#define VKRT_PRIMITIVE_TRIANGLE 0u
+#define VKRT_PRIMITIVE_SPHERE 1u
 struct GpuTriangle {
     vec3 v0;
     uint material;
     vec3 v1;
-    uint sceneIndex;  // the triangle's index in the scene, which breaks ties between coplanar hits
+    uint sceneIndex;  // the primitive's index in the scene, which breaks ties between coincident hits
     vec3 v2;
-    uint unused2;
+    uint kind;  // VKRT_PRIMITIVE_*
 };
 
 // Per-vertex normals and texture coordinates, 64 bytes: normal.xyz with u in .w, and the three v's.
@@ -113,12 +117,14 @@ struct GpuPunctualLight {
     vec4 cone;            // cos(outer cone), 1 / max(0.001, cos(inner) - cos(outer))
 };
 
-// One emissive triangle: its index, the cumulative power up to and including it, and its area pdf.
+// One emissive primitive: its index, the cumulative power up to and including it, its area pdf (pick
+// probability / area; triangles are sampled by area) and its pick probability (spheres are sampled by
+// solid angle).
 struct GpuAreaLight {
     uint triangle;
     float cdf;
     float pdfArea;
-    float unused;
+    float pick;
 };
 
 struct GpuCamera {

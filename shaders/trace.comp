@@ -4,7 +4,8 @@
 // reference (host/cpu/reference_renderer.cpp) step for step and draws the same random numbers.
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
-// VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS.
+// VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
+// VKRT_HAS_DEPTH_OF_FIELD.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
@@ -19,12 +20,12 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 #include "geometry.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
+#include "sphere.glsl"
 #include "materials.glsl"
 #include "traverse.glsl"
 #include "lights.glsl"
 #include "media.glsl"
 
-// One pending branch of the ray tree.
 // One pending branch of the ray tree. Every member costs a scatter and a gather per push and pop on
 // lavapipe, so the volume stack exists only in shaders for scenes with volumes.
 struct RayTask {
@@ -153,31 +154,50 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
         const GpuTriangle triangle = VKRT_TRIANGLE(hit.triangle);
         const uint materialIndex = triangle.material;
         const GpuMaterial material = params.materials.materials[materialIndex];
-        const SurfacePoint surfacePoint = hitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1,
-                                                   triangle.v2, hit.u, hit.v);
-        const vec3 point = surfacePoint.position;
         const vec3 toViewer = -task.direction;
+        SurfacePoint surfacePoint;
+        vec3 geometricNormal, normal;  // facing the front (outside) until oriented below
+        bool sphere = false;
+#ifdef VKRT_HAS_SPHERES
+        sphere = triangle.kind == VKRT_PRIMITIVE_SPHERE;
+        if (sphere) {
+            surfacePoint = sphereHitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1.x, geometricNormal);
+            normal = geometricNormal;
+            const vec2 uv = sphereUv(geometricNormal);
+            hit.u = uv.x;
+            hit.v = uv.y;
+        } else
+#endif
+        {
+            surfacePoint = hitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1, triangle.v2, hit.u, hit.v);
+            geometricNormal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+#ifdef VKRT_HAS_SMOOTH_NORMALS
+            const GpuShading shading = params.shading.shading[hit.triangle];
+            normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
+                               hit.v * shading.normalU2.xyz);
+#else
+            normal = geometricNormal;
+#endif
+        }
 
         // Orient both normals towards the viewer; remember which side was hit.
-        vec3 geometricNormal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
         const bool frontFace = dot(geometricNormal, toViewer) > 0.0;
-        if (!frontFace) geometricNormal = -geometricNormal;
-#ifdef VKRT_HAS_SMOOTH_NORMALS
-        const GpuShading shading = params.shading.shading[hit.triangle];
-        vec3 normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
-                                hit.v * shading.normalU2.xyz);
-        if (!frontFace) normal = -normal;
+        if (!frontFace) {
+            geometricNormal = -geometricNormal;
+            normal = -normal;
+        }
         if (!(dot(normal, toViewer) > 0.0)) normal = geometricNormal;
-#else
-        const vec3 normal = geometricNormal;
-#endif
+        // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far
+        // side); a ray leaving a sphere's outside cannot meet the sphere again.
+        const uint excludeOnViewerSide = sphere && !frontFace ? VKRT_NO_TRIANGLE : hit.triangle;
+        const uint excludeBeyond = sphere && frontFace ? VKRT_NO_TRIANGLE : hit.triangle;
 
         vec3 local = vec3(0.0);
         if (frontFace || material.transmission.w != 0.0) local += emissionAt(material, hit.triangle, hit.u, hit.v);
         const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit.triangle, hit.u, hit.v));
         local += params.ambientMinThroughput.rgb * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
-        local += directLight(surfacePoint, normal, geometricNormal, toViewer, surface, hit.triangle, pixel, sampleIndex,
-                             task.node, counters.shadow, complete);
+        local += directLight(surfacePoint, normal, geometricNormal, toViewer, surface, hit.triangle, excludeOnViewerSide,
+                             pixel, sampleIndex, task.node, counters.shadow, complete);
         radiance += weight * local;
 
         if (uint(task.depth) < maxDepth) {
@@ -212,7 +232,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 if (passes) {
                     ++counters.secondary;
                     stack[size++] = makeTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
-                                            task.depth + 1, weight * transmitWeight, beyond, hit.triangle);
+                                            task.depth + 1, weight * transmitWeight, beyond, excludeBeyond);
                 }
             }
 #endif
@@ -220,7 +240,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 ++counters.secondary;
                 stack[size++] = makeTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
                                         reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
-                                        mediaOf(task), hit.triangle);
+                                        mediaOf(task), excludeOnViewerSide);
             }
         }
     }

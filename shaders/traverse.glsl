@@ -33,12 +33,44 @@ float searchLimit(Hit hit, float tMax, const int mode) {
     return min(tMax, hit.t * (1.0 + float(VKRT_TIE_EPSILON)));
 }
 
-// Tests one triangle of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
+// Multiplies `transmittance` by the transmission of a surface crossed at barycentrics / texture
+// coordinates (u, v); true when it is now opaque.
+bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
+#ifdef VKRT_HAS_TRANSMISSION
+    const GpuMaterial material = params.materials.materials[materialOf(primitive)];
+    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
+    transmittance *= transmission * albedoAt(material, primitive, u, v);
+    if (maxComponent(transmittance) > 0.0) return false;
+#endif
+    transmittance = vec3(0.0);  // opaque
+    return true;
+}
+
+// Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
 bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, float tMax,
                    const int mode, inout Hit hit, inout vec3 transmittance) {
-    float t, u, v;
-    if (triangle == excludeA || triangle == excludeB ||
-        !intersectTriangle(r, VKRT_TRIANGLE(triangle), tMin, searchLimit(hit, tMax, mode), t, u, v)) {
+    if (triangle == excludeA || triangle == excludeB) return false;
+    const GpuTriangle primitive = VKRT_TRIANGLE(triangle);
+    float t, u = 0.0, v = 0.0;
+#ifdef VKRT_HAS_SPHERES
+    if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
+        if (mode == VKRT_TRACE_SHADOW) {
+            // A shadow ray crosses a sphere up to twice; each crossing filters the light.
+            float roots[2];
+            if (!sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, roots[0], roots[1])) return false;
+            for (int k = 0; k < 2; ++k) {
+                if (!(roots[k] > tMin && roots[k] < tMax)) continue;
+                const vec2 uv = sphereUv(normalize(r.origin + roots[k] * r.direction - primitive.v0));
+                if (crossSurface(triangle, uv.x, uv.y, transmittance)) return true;
+            }
+            return false;
+        }
+        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(hit, tMax, mode), t)) {
+            return false;
+        }
+    } else
+#endif
+    if (!intersectTriangle(r, primitive, tMin, searchLimit(hit, tMax, mode), t, u, v)) {
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
@@ -49,20 +81,12 @@ bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, fl
         // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
         const float tolerance = float(VKRT_TIE_EPSILON) * hit.t;
         const bool first = hit.triangle == VKRT_NO_TRIANGLE;
-        if (first || t < hit.t - tolerance ||
-            VKRT_TRIANGLE(triangle).sceneIndex < VKRT_TRIANGLE(hit.triangle).sceneIndex) {
+        if (first || t < hit.t - tolerance || primitive.sceneIndex < VKRT_TRIANGLE(hit.triangle).sceneIndex) {
             hit = Hit(t, u, v, triangle);
         }
         return false;
     }
-#ifdef VKRT_HAS_TRANSMISSION
-    const GpuMaterial material = params.materials.materials[materialOf(triangle)];
-    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
-    transmittance *= transmission * albedoAt(material, triangle, u, v);
-    if (maxComponent(transmittance) > 0.0) return false;
-#endif
-    transmittance = vec3(0.0);  // opaque
-    return true;
+    return crossSurface(triangle, u, v, transmittance);
 }
 
 // Walks the BVH for hits in (tMin, tMax), skipping triangles excludeA and excludeB. CLOSEST and ANY fill

@@ -126,6 +126,39 @@ std::vector<BadCase> badCases() {
              writeJson(file, validTriangle(triangleBytes(std::numeric_limits<float>::infinity())));
          },
          "non-finite"},
+        {"sphere without radius",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back({{"extensions", {{"VKRT_sphere", json::object()}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "radius"},
+        {"sphere with a negative radius",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back({{"extensions", {{"VKRT_sphere", {{"radius", -1.0}}}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "radius"},
+        {"sphere with a missing material",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back({{"extensions", {{"VKRT_sphere", {{"radius", 1.0}, {"material", 3}}}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "material"},
+        {"sphere under a non-uniform scale",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back(
+                 {{"scale", {1.0, 2.0, 1.0}}, {"extensions", {{"VKRT_sphere", {{"radius", 1.0}}}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "uniformly"},
         {"node cycle",
          [](auto&, auto& file) {
              json d = validTriangle();

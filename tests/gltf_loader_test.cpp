@@ -37,6 +37,37 @@ TEST(GltfLoader, EveryThirdPartySceneLoads) {
     }
 }
 
+TEST(GltfLoader, VkrtSphereIsPlacedByItsNodeTransform) {
+    // A sphere of radius 0.5 under a parent that scales by 2 and translates, declared required.
+    const std::filesystem::path file = test::temporaryFolder() / "spheres.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "extensionsRequired": ["VKRT_sphere"],
+        "scene": 0, "scenes": [{"nodes": [0]}],
+        "materials": [{"name": "a"}, {"name": "lamp", "emissiveFactor": [1, 1, 1]}],
+        "nodes": [
+            {"translation": [10, 0, 0], "scale": [2, 2, 2], "children": [1, 2]},
+            {"translation": [0, 1, 0], "extensions": {"VKRT_sphere": {"radius": 0.5, "material": 1}}},
+            {"extensions": {"VKRT_sphere": {"radius": 0.25}}}
+        ]})");
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.spheres.size(), 2u);
+    EXPECT_TRUE(scene.triangles.empty());
+    const glm::dvec3 first = glm::dvec3(scene.spheres[0].center) + scene.origin;
+    EXPECT_NEAR(first.x, 10.0, 1e-5);
+    EXPECT_NEAR(first.y, 2.0, 1e-5);
+    EXPECT_NEAR(first.z, 0.0, 1e-5);
+    EXPECT_FLOAT_EQ(scene.spheres[0].radius, 1.0f);
+    EXPECT_EQ(scene.spheres[0].material, 1u);
+    EXPECT_FLOAT_EQ(scene.spheres[1].radius, 0.5f);
+    EXPECT_EQ(scene.materials[scene.spheres[1].material].name, "default");
+    EXPECT_EQ(scene.emissiveSpheres, std::vector<uint32_t>{0});
+    EXPECT_EQ(scene.primitiveCount(), 2u);
+    EXPECT_TRUE(scene.isSphere(0));
+    // The bounds hold both spheres.
+    EXPECT_NEAR(scene.bounds.max.y + scene.origin.y, 3.0, 1e-4);
+    EXPECT_NEAR(scene.bounds.min.y + scene.origin.y, -0.5, 1e-4);
+}
+
 TEST(GltfLoader, BoxCounts) {
     REQUIRE_SCENES_REAL();
     for (const char* file : {"khronos-Box/glTF/Box.gltf", "khronos-Box/glTF-Binary/Box.glb"}) {

@@ -49,7 +49,7 @@ class Gpu : public ::testing::Test {
     }
     static const VulkanContext& context() { return *context_; }
 
-    static FlatBvh bvhFor(const Scene& scene) { return buildTriangleBvh(scene.triangles).flat; }
+    static FlatBvh bvhFor(const Scene& scene) { return buildSceneBvh(scene).flat; }
 
     // One of the project's own scenes (scenes/NAME), its BVH and its first camera for an aspect ratio.
     struct SceneUnderTest {
@@ -200,6 +200,53 @@ TEST_F(Gpu, WhiteFurnaceConservesEnergy) {
     }
 }
 
+// An emitting sphere (radiance 1) against black: the image's mean times the film's area is the sphere's
+// projected area. Orthographic: pi r^2. Perspective, on the axis at distance d: a disk of radius
+// tan(asin(r/d)) on the film at distance 1.
+TEST_F(Gpu, SphereSilhouetteMatchesItsAnalyticArea) {
+    Scene scene;
+    Material lamp;
+    lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    lamp.emission = glm::vec3(1.0f);
+    scene.materials.push_back(lamp);
+    const double radius = 0.6;
+    scene.spheres.push_back({glm::vec3(0.0f), static_cast<float>(radius), 0});
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 96;
+    settings.samplesPerPixel = 64;
+    settings.ambient = glm::dvec3(0.0);
+    settings.maxDepth = 0;
+
+    Camera orthographic;
+    orthographic.projection = Projection::Orthographic;
+    orthographic.position = {0.0, 0.0, 5.0};
+    orthographic.xmag = orthographic.ymag = 1.0;
+    Camera perspective;
+    perspective.position = {0.0, 0.0, 3.0};
+    perspective.yfov = 0.6;
+    const double tanHalf = std::tan(0.3), tanAlpha = std::tan(std::asin(radius / 3.0));
+    struct Case {
+        const char* name;
+        Camera camera;
+        double expectedFraction;
+    };
+    for (const Case& c :
+         {Case{"orthographic", orthographic, M_PI * radius * radius / 4.0},
+          Case{"perspective", perspective, M_PI * tanAlpha * tanAlpha / (4.0 * tanHalf * tanHalf)}}) {
+        const Image gpu = renderGpu(scene, bvh, c.camera, settings).image;
+        const Image cpu = ReferenceRenderer(scene, bvh, c.camera, settings).render().image;
+        for (const Image* image : {&gpu, &cpu}) {
+            double sum = 0.0;
+            for (const glm::vec3& p : image->pixels) sum += p.x;
+            const double fraction = sum / static_cast<double>(image->pixels.size());
+            EXPECT_NEAR(fraction, c.expectedFraction, 0.002 * c.expectedFraction)
+                << c.name << (image == &gpu ? " gpu" : " cpu");
+        }
+    }
+}
+
 TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
     std::ifstream file(test::sourceDir() / "tests/glsl/random_check.comp");
     std::stringstream source;
@@ -254,13 +301,17 @@ std::vector<gpu::GpuRay> testRays(const Aabb& bounds, int count) {
     return rays;
 }
 
-void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle>& triangles,
-                        const char* name) {
+Scene sceneOf(const std::vector<Triangle>& triangles, const std::vector<Sphere>& spheres = {}) {
     Scene scene;
     scene.materials.push_back(Material{});
     for (const Triangle& t : triangles) addFlatTriangle(scene, t.v0, t.v1, t.v2, 0);
+    scene.spheres = spheres;
     finalizeScene(scene);
-    const FlatBvh bvh = buildTriangleBvh(scene.triangles).flat;
+    return scene;
+}
+
+void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const char* name) {
+    const FlatBvh bvh = buildSceneBvh(scene).flat;
     GpuRaycaster raycaster(context, scene, bvh, kShaderCache);
     const std::vector<gpu::GpuRay> rays = testRays(scene.bounds, 30000);
     const std::vector<gpu::GpuHit> closest = raycaster.trace(rays, RaycastMode::Closest);
@@ -270,7 +321,7 @@ void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayT<double> ray{glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)};
         SurfaceHit cpu;
-        closestHit(scene.triangles, bvh, ray, rays[i].tMax, kNoTriangle, cpu);
+        closestHit(scene, bvh, ray, rays[i].tMax, kNoTriangle, cpu);
         const uint32_t cpuTriangle = cpu.triangle;
         const double tMax = cpu.triangle == kNoTriangle ? rays[i].tMax : cpu.t;
         const bool cpuHit = cpuTriangle != VKRT_NO_HIT, gpuHit = closest[i].triangle != VKRT_NO_HIT;
@@ -298,21 +349,36 @@ void expectRaysMatchCpu(const VulkanContext& context, const std::vector<Triangle
 }
 
 TEST_F(Gpu, RaysMatchCpuTraversalOnProceduralMeshes) {
-    expectRaysMatchCpu(context(), makeUvSphere(glm::vec3(0.2f), 1.3f, 60, 120), "sphere");
-    expectRaysMatchCpu(context(), makeTriangleSoup(20000, 4, 0.1f), "soup");
+    expectRaysMatchCpu(context(), sceneOf(makeUvSphere(glm::vec3(0.2f), 1.3f, 60, 120)), "sphere");
+    expectRaysMatchCpu(context(), sceneOf(makeTriangleSoup(20000, 4, 0.1f)), "soup");
     // 20k identical triangles over a large quad, and a huge triangle below: stacks of ties and wide boxes.
     std::vector<Triangle> stack = makeTriangleSoup(2000, 8, 0.3f);
     stack.push_back({{-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, 0});
     stack.insert(stack.end(), 20000, Triangle{{0.1f, 0.2f, 0.5f}, {0.9f, 0.2f, 0.5f}, {0.5f, 0.9f, 0.5f}, 0});
     stack.push_back({{-1e5f, -1.0f, -1e5f}, {1e5f, -1.0f, -1e5f}, {0.0f, -1.0f, 1e5f}, 0});
-    expectRaysMatchCpu(context(), stack, "identical triangles and a huge one");
+    expectRaysMatchCpu(context(), sceneOf(stack), "identical triangles and a huge one");
+}
+
+TEST_F(Gpu, RaysMatchCpuOnAnalyticSpheres) {
+    // Spheres from 1e-3 to 1e3 in radius beside triangles, one far from the rest: the float test of
+    // shaders/sphere.glsl against the double one, through the shared BVH.
+    std::vector<Sphere> spheres;
+    uint32_t state = 12345u;
+    auto next = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) * 0x1p-24f; };
+    for (int i = 0; i < 400; ++i) {
+        const float radius = std::pow(10.0f, -2.0f + 2.5f * next());
+        spheres.push_back({glm::vec3(next(), next(), next()) * 4.0f - 2.0f, radius, 0});
+    }
+    spheres.push_back({{0.0f, -1003.0f, 0.0f}, 1000.0f, 0});  // a huge sphere as the ground
+    spheres.push_back({{0.5f, 0.5f, 0.5f}, 1e-3f, 0});
+    expectRaysMatchCpu(context(), sceneOf(makeTriangleSoup(2000, 4, 0.1f), spheres), "spheres and triangles");
 }
 
 TEST_F(Gpu, RaysMatchCpuTraversalOnRealModels) {
     if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal();
     for (const char* model : {"khronos-Duck/glTF-Binary/Duck.glb", "khronos-Suzanne/glTF/Suzanne.gltf",
                               "cornell-box-nvidia/cornellBox.gltf"}) {
-        expectRaysMatchCpu(context(), loadGltf((test::scenesReal() / model).string()).triangles, model);
+        expectRaysMatchCpu(context(), loadGltf((test::scenesReal() / model).string()), model);
     }
 }
 

@@ -17,7 +17,7 @@ namespace vkrt {
 namespace {
 
 FlatBvh bvhFor(const Scene& scene) {
-    return buildTriangleBvh(scene.triangles).flat;
+    return buildSceneBvh(scene).flat;
 }
 
 Material lambert(glm::vec3 albedo) {
@@ -178,6 +178,40 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
     const double standardError = std::sqrt((sumSquares / samples - mean * mean) / samples);
     EXPECT_NEAR(mean, expected, 4.0 * standardError + 1e-9) << "standard error " << standardError;
     EXPECT_LT(standardError, 0.01 * expected);  // the test is sharp enough to mean something
+}
+
+TEST(ReferenceRenderer, SphereLightIrradianceMatchesClosedForm) {
+    // A sphere of radius R and radiance L_e whose centre is at distance d from a point, in direction theta
+    // from its normal, and wholly above its horizon: E = pi L_e (R / d)^2 cos(theta). Sampled by solid angle.
+    Scene scene = floorScene(0.8f);
+    Material emitter = lambert(glm::vec3(0.0f));
+    emitter.emission = glm::vec3(3.0f);
+    scene.materials.push_back(emitter);
+    const double R = 0.25, h = 1.0;
+    scene.spheres.push_back({{0.0f, 0.0f, static_cast<float>(h)}, static_cast<float>(R), 1});
+    finalizeScene(scene);
+    ASSERT_EQ(scene.emissiveSpheres.size(), 1u);
+    const FlatBvh bvh = bvhFor(scene);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), quietSettings());
+    for (double x : {0.0, 0.7}) {
+        const double d2 = x * x + h * h, cosTheta = h / std::sqrt(d2);
+        const double expected = 0.8 / M_PI * M_PI * 3.0 * R * R / d2 * cosTheta;
+        constexpr int samples = 4000;
+        double sum = 0.0, sumSquares = 0.0;
+        for (int s = 0; s < samples; ++s) {
+            RayCounters counters;
+            const double L = renderer
+                                 .radiance({{x, 0.0, 0.1}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s), 0,
+                                           0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
+                                 .x;
+            sum += L;
+            sumSquares += L * L;
+        }
+        const double mean = sum / samples;
+        const double standardError = std::sqrt(std::max(0.0, sumSquares / samples - mean * mean) / samples);
+        EXPECT_NEAR(mean, expected, 4.0 * standardError + 1e-9 * expected) << "x = " << x;
+        EXPECT_LT(standardError, 0.01 * expected);
+    }
 }
 
 // A small emitter (about a pixel wide) on the axis at distance `z`, seen through a thin lens of radius 0.05

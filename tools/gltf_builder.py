@@ -96,6 +96,12 @@ class GltfBuilder:
             self.gltf["nodes"][parent].setdefault("children", []).append(index)
         return index
 
+    def sphere(self, name, center, radius, material, parent=None):
+        """An analytic sphere: a node carrying vkrt's VKRT_sphere extension (docs/vkrt_sphere.md)."""
+        self.extensions.add("VKRT_sphere")
+        return self.node(name, parent=parent, translation=list(center),
+                         extensions={"VKRT_sphere": {"radius": radius, "material": material}})
+
     def perspective_camera(self, name, yfov, aspect_ratio=None, znear=0.01, aperture=None, focus_distance=None):
         camera = {"type": "perspective", "name": name, "perspective": {"yfov": yfov, "znear": znear}}
         if aspect_ratio:

@@ -10,8 +10,8 @@ and the pbrt-v4 and Mitsuba scene ports): white 0.725 0.71 0.68, red 0.63 0.065 
 0.091, and the light's radiance 17 12 4. The published light sits in the ceiling plane (y = 548.8), so
 the ceiling is built with a hole where the light is, rather than moving the light.
 
-whitted.gltf: in the spirit of Whitted's 1980 picture: a mirror sphere and a glass sphere over a red and
-yellow checkerboard, lit by one point light.
+whitted.gltf: in the spirit of Whitted's 1980 picture: a mirror sphere and a glass sphere (analytic, the
+VKRT_sphere extension of docs/vkrt_sphere.md) over a red and yellow checkerboard, lit by one point light.
 
 lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
 objects.
@@ -131,15 +131,13 @@ def whitted():
     glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
                        thickness=1.0)
     light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
-    mirror_sphere = uv_sphere([0.9, 1.0, -1.2], 1.0, 48, 96)
-    glass_sphere = uv_sphere([-0.6, 1.3, 0.8], 0.8, 48, 96)
-    mesh = g.mesh("whitted", [
+    mesh = g.mesh("checkerboard", [
         (light_cells[0], None, light_cells[1], yellow),
         (dark_cells[0], None, dark_cells[1], red),
-        (mirror_sphere[0], mirror_sphere[1], mirror_sphere[2], mirror),
-        (glass_sphere[0], glass_sphere[1], glass_sphere[2], glass),
     ])
-    g.node("scene", mesh=mesh)
+    g.node("checkerboard", mesh=mesh)
+    g.sphere("mirror sphere", [0.9, 1.0, -1.2], 1.0, mirror)
+    g.sphere("glass sphere", [-0.6, 1.3, 0.8], 0.8, glass)
     eye, target = [0.0, 2.6, 6.5], [0.0, 0.9, 0.0]
     camera = g.perspective_camera("whitted-camera", math.radians(45.0))
     g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))

@@ -71,7 +71,7 @@ int run(Options options) {
     }
 
     // Acceleration structure.
-    const TriangleBvh triangleBvh = buildTriangleBvh(scene.triangles);
+    const TriangleBvh triangleBvh = buildSceneBvh(scene);
     const FlatBvh& flatBvh = triangleBvh.flat;
     report.bvh = triangleBvh.stats;
 

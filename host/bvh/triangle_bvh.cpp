@@ -6,9 +6,9 @@
 
 namespace vkrt {
 
-TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
-    std::vector<Aabb> bounds(triangles.size());
-    for (size_t i = 0; i < triangles.size(); ++i) bounds[i] = triangles[i].bounds();
+namespace {
+
+TriangleBvh buildOver(const std::vector<Aabb>& bounds, const BvhConfig& config) {
     const auto start = std::chrono::steady_clock::now();
     const Bvh bvh = BinnedSahBuilder::build(bounds, config);
     const double buildMs =
@@ -16,6 +16,20 @@ TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhCo
     TriangleBvh result{flatten(bvh), measureBvh(bvh, config)};
     result.stats.buildMs = buildMs;
     return result;
+}
+
+}  // namespace
+
+TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
+    std::vector<Aabb> bounds(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i) bounds[i] = triangles[i].bounds();
+    return buildOver(bounds, config);
+}
+
+TriangleBvh buildSceneBvh(const Scene& scene, const BvhConfig& config) {
+    std::vector<Aabb> bounds(scene.primitiveCount());
+    for (uint32_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.boundsOf(i);
+    return buildOver(bounds, config);
 }
 
 }  // namespace vkrt

@@ -1,4 +1,5 @@
-// The BVH over a list of triangles in one call: bounds, binned SAH build, measurement and the flatten step.
+// The BVH over a list of triangles, or a scene's primitives, in one call: bounds, binned SAH build,
+// measurement and the flatten step.
 #pragma once
 
 #include <vector>
@@ -14,5 +15,8 @@ struct TriangleBvh {
 };
 
 TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config = {});
+
+// The BVH over all of a scene's primitives (triangles, then spheres), as the renderers trace them.
+TriangleBvh buildSceneBvh(const Scene& scene, const BvhConfig& config = {});
 
 }  // namespace vkrt

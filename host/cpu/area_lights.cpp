@@ -3,21 +3,37 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cpu/sphere_intersection.h"
+
 namespace vkrt {
+
+void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    b1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
+}
 
 AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
     std::vector<double> power, area;
-    for (uint32_t index : scene.emissiveTriangles) {
-        const Triangle& t = scene.triangles[index];
-        const double a = 0.5 * glm::length(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0),
-                                                      glm::dvec3(t.v2) - glm::dvec3(t.v0)));
-        const glm::dvec3 e(scene.materials[t.material].emission);
+    auto add = [&](uint32_t primitive, double a) {
+        const glm::dvec3 e(scene.materials[scene.materialOf(primitive)].emission);
         const double luminance = 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
         const double p = a * std::max(luminance, 1e-12);
-        if (!(a > 0.0) || !std::isfinite(p)) continue;
-        triangles_.push_back(index);
+        if (!(a > 0.0) || !std::isfinite(p)) return;
+        primitives_.push_back(primitive);
         power.push_back(p);
         area.push_back(a);
+    };
+    for (uint32_t index : scene.emissiveTriangles) {
+        const Triangle& t = scene.triangles[index];
+        add(index, 0.5 * glm::length(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0),
+                                                glm::dvec3(t.v2) - glm::dvec3(t.v0))));
+    }
+    for (uint32_t index : scene.emissiveSpheres) {
+        const double r = scene.spheres[index].radius;
+        add(static_cast<uint32_t>(scene.triangles.size()) + index, 4.0 * M_PI * r * r);
     }
     double total = 0.0;
     for (double p : power) total += p;
@@ -25,26 +41,73 @@ AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
     for (size_t i = 0; i < power.size(); ++i) {
         running += power[i];
         cdf_.push_back(running / total);
+        pick_.push_back(power[i] / total);
         pdfArea_.push_back(power[i] / total / area[i]);
     }
     if (!cdf_.empty()) cdf_.back() = 1.0;
 }
 
-AreaLightSample AreaLights::sample(double pick, double u, double v) const {
+AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::dvec3& from) const {
     const size_t i =
         std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), pick) - cdf_.begin(), cdf_.size() - 1);
-    const Triangle& t = scene_.triangles[triangles_[i]];
-    // Uniform point on a triangle (Shirley and Chiu's square-root mapping).
-    const double root = std::sqrt(u);
-    const double b0 = 1.0 - root, b1 = root * (1.0 - v), b2 = root * v;
     AreaLightSample s;
-    s.triangle = triangles_[i];
-    s.point = b0 * glm::dvec3(t.v0) + b1 * glm::dvec3(t.v1) + b2 * glm::dvec3(t.v2);
-    s.u = b1;
-    s.v = b2;
-    s.normal =
-        glm::normalize(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
-    s.pdfArea = pdfArea_[i];
+    s.primitive = primitives_[i];
+    if (!scene_.isSphere(s.primitive)) {
+        const Triangle& t = scene_.triangles[s.primitive];
+        // Uniform point on a triangle (Shirley and Chiu's square-root mapping).
+        const double root = std::sqrt(u);
+        const double b0 = 1.0 - root, b1 = root * (1.0 - v), b2 = root * v;
+        s.point = b0 * glm::dvec3(t.v0) + b1 * glm::dvec3(t.v1) + b2 * glm::dvec3(t.v2);
+        s.u = b1;
+        s.v = b2;
+        s.normal = glm::normalize(
+            glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+        s.pdfArea = pdfArea_[i];
+        return s;
+    }
+    const Sphere& sphere = scene_.sphereOf(s.primitive);
+    const glm::dvec3 center(sphere.center);
+    const double radius = sphere.radius;
+    const glm::dvec3 toCenter = center - from;
+    const double distance2 = glm::dot(toCenter, toCenter);
+    const double phi = 2.0 * M_PI * v;
+    double oneMinusCosMax = 0.0;  // of the cone the sphere subtends
+    if (distance2 <= radius * radius) {
+        // Inside: uniform by area.
+        const double z = 1.0 - 2.0 * u, ring = std::sqrt(std::max(0.0, 1.0 - z * z));
+        s.normal = glm::dvec3(ring * std::cos(phi), ring * std::sin(phi), z);
+        s.pdfArea = pdfArea_[i];
+    } else {
+        // Uniform in the cone of directions the sphere subtends (pbrt-v4, Sphere::Sample). 1 - cos(theta_max)
+        // is written as sin^2 / (1 + cos), which keeps its digits for small, distant spheres.
+        const double distance = std::sqrt(distance2);
+        const glm::dvec3 axis = toCenter / distance;
+        const double sin2Max = radius * radius / distance2;
+        const double sinMax = std::sqrt(sin2Max);
+        oneMinusCosMax = sin2Max / (1.0 + std::sqrt(std::max(0.0, 1.0 - sin2Max)));
+        const double oneMinusCos = u * oneMinusCosMax;
+        const double cosTheta = 1.0 - oneMinusCos;
+        const double sin2Theta = oneMinusCos * (2.0 - oneMinusCos);
+        // The angle at the centre between the axis (reversed) and the sampled point.
+        const double cosAlpha =
+            sin2Theta / sinMax + cosTheta * std::sqrt(std::max(0.0, 1.0 - sin2Theta / sin2Max));
+        const double sinAlpha = std::sqrt(std::max(0.0, 1.0 - cosAlpha * cosAlpha));
+        glm::dvec3 b1, b2;
+        orthonormalBasis(axis, b1, b2);
+        s.normal = -(sinAlpha * std::cos(phi) * b1 + sinAlpha * std::sin(phi) * b2 + cosAlpha * axis);
+        s.pdfArea = 0.0;
+    }
+    s.point = center + radius * s.normal;
+    const glm::dvec2 uv = sphereUv(s.normal);
+    s.u = uv.x;
+    s.v = uv.y;
+    if (oneMinusCosMax > 0.0) {
+        // The cone's solid-angle density 1 / (2 pi (1 - cos theta_max)), per unit area at the point.
+        const glm::dvec3 offset = s.point - from;
+        const double d2 = glm::dot(offset, offset);
+        const double cosLight = std::max(0.0, -glm::dot(s.normal, offset) / std::sqrt(d2));
+        s.pdfArea = pick_[i] * cosLight / (2.0 * M_PI * oneMinusCosMax * d2);
+    }
     return s;
 }
 

@@ -1,4 +1,6 @@
-// Emissive triangles as area lights, picked in proportion to their power and sampled uniformly by area.
+// Emissive triangles and spheres as area lights, picked in proportion to their power. A triangle is sampled
+// uniformly by area; a sphere by solid angle, uniformly inside the cone it subtends from the shading point
+// (uniformly by area when the point is inside it).
 #pragma once
 
 #include <cstdint>
@@ -11,32 +13,38 @@
 namespace vkrt {
 
 struct AreaLightSample {
-    uint32_t triangle = 0;
+    uint32_t primitive = 0;
     glm::dvec3 point{0.0};
-    double u = 0.0, v = 0.0;  // barycentric weights of the triangle's v1 and v2 at `point`
-    glm::dvec3 normal{0.0};   // the emitting (front) side
+    double u = 0.0, v = 0.0;  // triangles: barycentric weights of v1 and v2; spheres: texture coordinates
+    glm::dvec3 normal{0.0};   // the emitting (front, outward) side
     double pdfArea = 0.0;     // probability density of this point per unit area, light choice included
 };
 
 class AreaLights {
   public:
     explicit AreaLights(const Scene& scene);
-    bool empty() const { return triangles_.empty(); }
+    bool empty() const { return primitives_.empty(); }
 
-    // `pick` chooses the triangle, (u, v) the point on it; all three in [0, 1).
-    AreaLightSample sample(double pick, double u, double v) const;
+    // `pick` chooses the light, (u, v) the point on it; all three in [0, 1). `from` is the shading point.
+    AreaLightSample sample(double pick, double u, double v, const glm::dvec3& from) const;
 
-    // The tables behind sample(), for the GPU: emissive triangles, cumulative power (ending at 1) and the
-    // area density of each triangle's points.
-    const std::vector<uint32_t>& triangles() const { return triangles_; }
+    // The tables behind sample(), for the GPU: emissive primitives, cumulative power (ending at 1), each
+    // one's pick probability and the area density of its points (pick probability / area).
+    const std::vector<uint32_t>& primitives() const { return primitives_; }
     const std::vector<double>& cdf() const { return cdf_; }
+    const std::vector<double>& pick() const { return pick_; }
     const std::vector<double>& pdfArea() const { return pdfArea_; }
 
   private:
     const Scene& scene_;
-    std::vector<uint32_t> triangles_;
-    std::vector<double> cdf_;      // cumulative power, normalised to end at 1
-    std::vector<double> pdfArea_;  // per triangle: pick probability / area
+    std::vector<uint32_t> primitives_;
+    std::vector<double> cdf_;
+    std::vector<double> pick_;
+    std::vector<double> pdfArea_;
 };
+
+// An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis,
+// Revisited", JCGT 6(1), 2017).
+void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2);
 
 }  // namespace vkrt

@@ -1,5 +1,5 @@
-// The nearest triangle along a ray in double precision: the reference renderer's visibility query, also
-// the oracle that GPU traversal is tested against.
+// The nearest primitive (triangle or sphere) along a ray in double precision: the reference renderer's
+// visibility query, also the oracle that GPU traversal is tested against.
 #pragma once
 
 #include <cstdint>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bvh/bvh_traversal.h"
+#include "cpu/sphere_intersection.h"
 #include "cpu/triangle_intersection.h"
 #include "shared.h"
 
@@ -15,10 +16,20 @@ namespace vkrt {
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;
 
 struct SurfaceHit {
-    uint32_t triangle = kNoTriangle;
+    uint32_t triangle = kNoTriangle;  // the primitive: a triangle, or a sphere (Scene::isSphere)
     double t = 0.0;
-    double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2
+    double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2; unused on spheres
 };
+
+// The nearest hit on one primitive in (tMin, tMax).
+inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const RayT<double>& ray, double tMin,
+                               double tMax, TriangleHit& hit) {
+    if (!scene.isSphere(primitive)) {
+        return intersectTriangle(scene.triangles[primitive], ray.origin, ray.direction, tMin, tMax, hit);
+    }
+    hit.u = hit.v = 0.0;
+    return intersectSphere(scene.sphereOf(primitive), ray.origin, ray.direction, tMin, tMax, hit.t);
+}
 
 // Whether a hit at `t` on triangle `index` wins over the best so far: nearer by more than the tie
 // tolerance, or a tie (VKRT_TIE_EPSILON) with a smaller index.
@@ -27,14 +38,14 @@ inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex)
     return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
 }
 
-// The closest hit in (0, tMax) other than triangle `exclude`, ties broken by triangle index; false on a miss.
-inline bool closestHit(const std::vector<Triangle>& triangles, const FlatBvh& bvh, const RayT<double>& ray,
-                       double tMax, uint32_t exclude, SurfaceHit& hit) {
+// The closest hit in (0, tMax) other than primitive `exclude`, ties broken by primitive index; false on a
+// miss.
+inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMax,
+                       uint32_t exclude, SurfaceHit& hit) {
     bool found = false;
     traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
-        if (prim != exclude &&
-            intersectTriangle(triangles[prim], ray.origin, ray.direction, 0.0, limit, candidate) &&
+        if (prim != exclude && intersectPrimitive(scene, prim, ray, 0.0, limit, candidate) &&
             (!found || winsOver(candidate.t, prim, hit.t, hit.triangle))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;

@@ -100,10 +100,11 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, doubl
 }
 
 bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const {
-    return vkrt::closestHit(scene_.triangles, bvh_, ray, tMax, exclude, hit);
+    return vkrt::closestHit(scene_, bvh_, ray, tMax, exclude, hit);
 }
 
 glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {
+    if (scene_.isSphere(hit.triangle)) return {hit.u, hit.v};  // spheres carry their texture coordinates
     const TriangleShading& s = scene_.shading[hit.triangle];
     return (1.0 - hit.u - hit.v) * glm::dvec2(s.uv[0]) + hit.u * glm::dvec2(s.uv[1]) +
            hit.v * glm::dvec2(s.uv[2]);
@@ -129,15 +130,34 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
                                             uint32_t excludeB) const {
     glm::dvec3 result(1.0);
     double limit = tMax;
-    traverseBvh(bvh_, ray, 0.0, limit, [&](uint32_t prim, double& rayMax) {
-        TriangleHit hit;
-        if (prim == excludeA || prim == excludeB ||
-            !intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, rayMax, hit)) {
-            return false;
-        }
-        const Material& material = scene_.materials[scene_.triangles[prim].material];
+    // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
+    auto cross = [&](uint32_t prim, const SurfaceHit& at) {
+        const Material& material = scene_.materials[scene_.materialOf(prim)];
         const double transmission = (1.0 - material.metallic) * material.transmission;
-        result *= transmission * albedoAt(material, {prim, hit.t, hit.u, hit.v});
+        result *= transmission * albedoAt(material, at);
+    };
+    traverseBvh(bvh_, ray, 0.0, limit, [&](uint32_t prim, double& rayMax) {
+        if (prim == excludeA || prim == excludeB) return false;
+        if (scene_.isSphere(prim)) {
+            const Sphere& sphere = scene_.sphereOf(prim);
+            double roots[2];
+            if (!sphereRoots(glm::dvec3(sphere.center), sphere.radius, ray.origin, ray.direction, roots[0],
+                             roots[1])) {
+                return false;
+            }
+            for (double t : roots) {
+                if (!(t > 0.0 && t < rayMax)) continue;
+                const glm::dvec2 uv =
+                    sphereUv(glm::normalize(ray.origin + t * ray.direction - glm::dvec3(sphere.center)));
+                cross(prim, {prim, t, uv.x, uv.y});
+            }
+        } else {
+            TriangleHit hit;
+            if (!intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, rayMax, hit)) {
+                return false;
+            }
+            cross(prim, {prim, hit.t, hit.u, hit.v});
+        }
         return maxComponent(result) <= 0.0;  // fully blocked: stop looking
     });
     return result;
@@ -146,8 +166,8 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
 glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorScale,
                                           const glm::dvec3& normal, const glm::dvec3& geometricNormal,
                                           const glm::dvec3& toViewer, const SurfaceResponse& surface,
-                                          uint32_t triangle, uint32_t pixel, uint32_t sample, uint32_t node,
-                                          RayCounters& counters) const {
+                                          uint32_t self, uint32_t exclude, uint32_t pixel, uint32_t sample,
+                                          uint32_t node, RayCounters& counters) const {
     glm::dvec3 sum(0.0);
     const glm::dvec3 origin = offsetOrigin(point, errorScale, geometricNormal, 1.0);
     // Punctual lights: hard shadows.
@@ -160,12 +180,11 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
         }
         ++counters.shadow;
         const glm::dvec3 visible =
-            transmittance({origin, arrival.toLight}, arrival.distance, triangle, kNoTriangle);
+            transmittance({origin, arrival.toLight}, arrival.distance, exclude, kNoTriangle);
         sum +=
             whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
     }
-    // Area lights: one sample of one emissive triangle per shading point, chosen by power.
-    // Area lights: lightSamples samples, each of one emissive triangle chosen by power, averaged.
+    // Area lights: lightSamples samples, each of one emissive primitive chosen by power, averaged.
     if (!areaLights_.empty()) {
         const uint32_t seed = settings_.seed;
         const uint32_t count = static_cast<uint32_t>(settings_.lightSamples);
@@ -175,23 +194,23 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
                 vkrtRandom(seed, pixel, sample,
                            vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK))),
                 vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U))),
-                vkrtRandom(seed, pixel, sample,
-                           vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V))));
+                vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V))),
+                point);
             const glm::dvec3 offset = light.point - point;
             const double distance2 = glm::dot(offset, offset);
             const double distance = std::sqrt(distance2);
-            if (light.triangle == triangle || !(distance > 0.0)) continue;
+            if (light.primitive == self || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
             const glm::dvec3 toLight = offset / distance;
-            const Material& emitter = scene_.materials[scene_.triangles[light.triangle].material];
+            const Material& emitter = scene_.materials[scene_.materialOf(light.primitive)];
             double cosLight = -glm::dot(light.normal, toLight);
             if (emitter.doubleSided) cosLight = std::abs(cosLight);
             const double cosine = glm::dot(normal, toLight);
             if (cosLight > 0.0 && cosine > 0.0 && glm::dot(geometricNormal, toLight) > 0.0) {
                 ++counters.shadow;
                 const glm::dvec3 visible =
-                    transmittance({origin, toLight}, distance * (1.0 - 1e-9), triangle, light.triangle);
+                    transmittance({origin, toLight}, distance * (1.0 - 1e-9), exclude, light.primitive);
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
-                const glm::dvec3 irradiance = emissionAt(emitter, {light.triangle, 0.0, light.u, light.v}) *
+                const glm::dvec3 irradiance = emissionAt(emitter, {light.primitive, 0.0, light.u, light.v}) *
                                               cosLight / (distance2 * light.pdfArea);
                 areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
             }
@@ -211,25 +230,46 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
                                     : glm::dvec3(1.0);
     if (!found) return absorbed * settings_.background;
 
-    const Triangle& triangle = scene_.triangles[hit.triangle];
-    const Material& material = scene_.materials[triangle.material];
-    const TriangleShading& shading = scene_.shading[hit.triangle];
-    const glm::dvec3 point = ray.origin + hit.t * ray.direction;
-    // The magnitude of the numbers `point` came from; rounding errors are relative to it.
-    const double errorScale =
-        std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)}) + hit.t;
+    const uint32_t primitive = hit.triangle;
+    const uint32_t materialIndex = scene_.materialOf(primitive);
+    const Material& material = scene_.materials[materialIndex];
     const glm::dvec3 toViewer = -ray.direction;
+    glm::dvec3 point = ray.origin + hit.t * ray.direction;
+    // The magnitude of the numbers `point` came from; rounding errors are relative to it.
+    double errorScale =
+        std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)}) + hit.t;
+    glm::dvec3 geometricNormal, normal;  // facing the front (outside) until oriented below
+    if (scene_.isSphere(primitive)) {
+        // Project the point onto the sphere, which removes the error of the distance (RTG ch. 7).
+        const Sphere& sphere = scene_.sphereOf(primitive);
+        const glm::dvec3 center(sphere.center);
+        geometricNormal = normal = glm::normalize(point - center);
+        point = center + static_cast<double>(sphere.radius) * normal;
+        errorScale = std::max({std::abs(center.x), std::abs(center.y), std::abs(center.z)}) + sphere.radius;
+        const glm::dvec2 uv = sphereUv(normal);
+        hit.u = uv.x;
+        hit.v = uv.y;
+    } else {
+        const TriangleShading& shading = scene_.shading[primitive];
+        geometricNormal = geometricNormalOf(scene_.triangles[primitive]);
+        normal =
+            glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
+                           hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
+    }
 
     // Orient both normals towards the viewer; remember which side was hit.
-    glm::dvec3 geometricNormal = geometricNormalOf(triangle);
     const bool frontFace = glm::dot(geometricNormal, toViewer) > 0.0;
-    if (!frontFace) geometricNormal = -geometricNormal;
-    glm::dvec3 normal =
-        glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
-                       hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
-    if (!frontFace) normal = -normal;
+    if (!frontFace) {
+        geometricNormal = -geometricNormal;
+        normal = -normal;
+    }
     if (!(glm::dot(normal, toViewer) > 0.0))
         normal = geometricNormal;  // shading normal faces away: use the true one
+    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far
+    // side); a ray leaving a sphere's outside cannot meet the sphere again.
+    const bool sphere = scene_.isSphere(primitive);
+    const uint32_t excludeOnViewerSide = sphere && !frontFace ? kNoTriangle : primitive;
+    const uint32_t excludeBeyond = sphere && frontFace ? kNoTriangle : primitive;
 
     glm::dvec3 result(0.0);
     if (frontFace || material.doubleSided) result += emissionAt(material, hit);
@@ -237,8 +277,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
     // Ambient light reaches the diffuse part and the part of the specular reflection not traced as a mirror.
     result += settings_.ambient * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
-    result += directLight(point, errorScale, normal, geometricNormal, toViewer, surface, hit.triangle, pixel,
-                          sample, node, counters);
+    result += directLight(point, errorScale, normal, geometricNormal, toViewer, surface, primitive,
+                          excludeOnViewerSide, pixel, sample, node, counters);
 
     if (depth < settings_.maxDepth) {
         // The weight of this branch of the ray tree so far, absorption on the way here included.
@@ -247,7 +287,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
         // its back face, from the medium the ray is in into the one beyond (nested dielectrics); thin-walled
         // and opaque materials look the same from both sides.
         const bool volume = material.hasVolume() && surface.transmission > 0.0;
-        const int self = static_cast<int>(triangle.material);
+        const int self = static_cast<int>(materialIndex);
         const MediumStack beyond = volume ? (frontFace ? media.entered(self) : media.exited(self)) : media;
         const double eta = volume ? mediumIor(scene_, beyond) / mediumIor(scene_, media) : surface.ior;
         const double cosI = glm::dot(normal, toViewer);
@@ -262,7 +302,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             const Ray reflected{offsetOrigin(point, errorScale, geometricNormal, 1.0),
                                 reflect(toViewer, normal)};
             result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
-                                               pathThroughput * reflectWeight, media, hit.triangle, counters);
+                                               pathThroughput * reflectWeight, media, excludeOnViewerSide,
+                                               counters);
         }
         if (maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
             glm::dvec3 direction = ray.direction;  // thin-walled: straight through
@@ -272,7 +313,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
                 ++counters.secondary;
                 const Ray transmitted{offsetOrigin(point, errorScale, geometricNormal, -1.0), direction};
                 result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
-                                                    pathThroughput * transmitWeight, beyond, hit.triangle,
+                                                    pathThroughput * transmitWeight, beyond, excludeBeyond,
                                                     counters);
             }
         }

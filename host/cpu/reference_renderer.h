@@ -1,4 +1,5 @@
-// The CPU reference renderer: plain, recursive Whitted ray tracing in double precision. It is the oracle
+// The CPU reference renderer: plain, recursive Whitted ray tracing in double precision, of triangles and
+// analytic spheres. It is the oracle
 // the GPU tracer is tested against, so it favours obvious correctness over speed (rows are still shared
 // among all cores).
 #pragma once
@@ -46,8 +47,8 @@ class ReferenceRenderer {
   private:
     glm::dvec3 directLight(const glm::dvec3& point, double errorScale, const glm::dvec3& normal,
                            const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
-                           const SurfaceResponse& surface, uint32_t triangle, uint32_t pixel, uint32_t sample,
-                           uint32_t node, RayCounters& counters) const;
+                           const SurfaceResponse& surface, uint32_t self, uint32_t exclude, uint32_t pixel,
+                           uint32_t sample, uint32_t node, RayCounters& counters) const;
     glm::dvec2 uvAt(const SurfaceHit& hit) const;
     glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
     glm::dvec3 emissionAt(const Material& material, const SurfaceHit& hit) const;

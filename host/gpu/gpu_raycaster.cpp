@@ -16,8 +16,10 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
-    const std::vector<std::string> defines =
-        bound ? std::vector<std::string>{"VKRT_BOUND_GEOMETRY"} : std::vector<std::string>{};
+    std::vector<std::string> defines;
+    if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
+    if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");
+    if (data_.features.spheres && context.hasShaderFloat64()) defines.push_back("VKRT_SPHERE_FLOAT64");
     const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
     const auto bindings = sceneBuffers_->bindings(params_, bound);
     pipeline_ =

@@ -26,15 +26,23 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     data.features = features ? *features : detectFeatures(scene);
     data.nodes = bvh.nodes;
 
-    // Triangles in leaf order, so leaves index them directly.
-    std::vector<uint32_t> gpuIndexOf(scene.triangles.size());
+    // Primitives in leaf order, so leaves index them directly. A sphere shares the triangle layout
+    // (shared.h).
+    std::vector<uint32_t> gpuIndexOf(scene.primitiveCount());
     const bool needShading = data.features.smoothNormals || data.features.textures;
     data.triangles.reserve(bvh.primIndices.size());
     for (uint32_t i = 0; i < bvh.primIndices.size(); ++i) {
         const uint32_t index = bvh.primIndices[i];
         gpuIndexOf[index] = i;
+        if (scene.isSphere(index)) {
+            const Sphere& sphere = scene.sphereOf(index);
+            data.triangles.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
+                                      index, glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
+            if (needShading) data.shading.push_back({});  // spheres compute theirs
+            continue;
+        }
         const Triangle& t = scene.triangles[index];
-        data.triangles.push_back({t.v0, t.material, t.v1, index, t.v2, 0u});
+        data.triangles.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
             data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
@@ -84,10 +92,10 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     const AreaLights areaLights(scene);
-    for (size_t i = 0; i < areaLights.triangles().size(); ++i) {
-        data.areaLights.push_back({gpuIndexOf[areaLights.triangles()[i]],
-                                   static_cast<float>(areaLights.cdf()[i]),
-                                   static_cast<float>(areaLights.pdfArea()[i]), 0.0f});
+    for (size_t i = 0; i < areaLights.primitives().size(); ++i) {
+        data.areaLights.push_back(
+            {gpuIndexOf[areaLights.primitives()[i]], static_cast<float>(areaLights.cdf()[i]),
+             static_cast<float>(areaLights.pdfArea()[i]), static_cast<float>(areaLights.pick()[i])});
     }
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;

@@ -18,6 +18,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::volumes, "volumes", "VKRT_HAS_VOLUMES"},
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
+    {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
 };
 
@@ -55,6 +56,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
         if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i]))
             features.smoothNormals = true;
     }
+    for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
+    features.spheres = !scene.spheres.empty();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;
         const Material& material = scene.materials[m];
@@ -66,7 +69,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.volumes |= transmits && material.hasVolume();
     }
     features.punctualLights = !scene.lights.empty();
-    features.areaLights = !scene.emissiveTriangles.empty();
+    features.areaLights = !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
     return features;
 }
 

@@ -15,7 +15,8 @@ struct SceneFeatures {
     bool transmission = false;   // a material transmits light
     bool volumes = false;        // a transmissive material bounds a volume (refraction, Beer's law)
     bool punctualLights = false;
-    bool areaLights = false;    // emissive triangles
+    bool areaLights = false;    // emissive triangles or spheres
+    bool spheres = false;       // analytic spheres (VKRT_sphere)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
 
     // Shader defines (VKRT_HAS_...), one per feature present.

@@ -209,10 +209,17 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         queueInfo.queueFamilyIndex = queueFamily_;
         queueInfo.queueCount = 1;
         queueInfo.pQueuePriorities = &priority;
+        VkPhysicalDeviceFeatures supported{};
+        vkGetPhysicalDeviceFeatures(physicalDevice_, &supported);
+        shaderFloat64_ = supported.shaderFloat64 == VK_TRUE;
+        VkPhysicalDeviceFeatures enabled{};
+        enabled.shaderFloat64 =
+            supported.shaderFloat64;  // for spheres far larger than the view (sphere.glsl)
         VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         features12.bufferDeviceAddress = VK_TRUE;
         VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         deviceInfo.pNext = &features12;
+        deviceInfo.pEnabledFeatures = &enabled;
         deviceInfo.queueCreateInfoCount = 1;
         deviceInfo.pQueueCreateInfos = &queueInfo;
         VK_CHECK(vkCreateDevice(physicalDevice_, &deviceInfo, nullptr, &device_));

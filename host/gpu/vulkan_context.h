@@ -44,6 +44,8 @@ class VulkanContext {
     const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memoryProperties_; }
     const DeviceDescription& description() const { return description_; }
     bool hasTimestamps() const { return timestampValidBits_ > 0; }
+    // Whether shaders may use double precision (enabled when the device has it).
+    bool hasShaderFloat64() const { return shaderFloat64_; }
     double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
 
     // Validation-layer warnings and errors seen so far (0 when validation is off).
@@ -74,6 +76,7 @@ class VulkanContext {
     VkQueue queue_ = VK_NULL_HANDLE;
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
+    bool shaderFloat64_ = false;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};

@@ -19,12 +19,13 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 6> kSupportedExtensions = {"KHR_materials_emissive_strength",
+constexpr std::array<const char*, 7> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                              "KHR_materials_transmission",
                                                              "KHR_materials_ior",
                                                              "KHR_materials_volume",
                                                              "KHR_lights_punctual",
-                                                             "EXT_mesh_gpu_instancing"};
+                                                             "EXT_mesh_gpu_instancing",
+                                                             "VKRT_sphere"};
 
 // Everything the node walk needs, so that helpers stay small.
 class GltfConverter {
@@ -59,6 +60,7 @@ class GltfConverter {
                       const glm::dmat4& world);
     void addCamera(int cameraIndex, const glm::dmat4& world, const std::string& nodeName);
     void addLight(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
+    void addSphere(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
     uint32_t defaultMaterial();
 
     const tinygltf::Model& model_;
@@ -100,7 +102,7 @@ Scene GltfConverter::convert() {
         warn("primitives with mode " + std::to_string(mode) +
              " (points or lines) skipped: vkrt renders triangles");
     }
-    if (scene_.triangles.empty()) warn("the scene has no triangles");
+    if (scene_.triangles.empty() && scene_.spheres.empty()) warn("the scene has no triangles or spheres");
 
     finalizeScene(scene_);
     return std::move(scene_);
@@ -327,6 +329,14 @@ glm::dvec3 GltfConverter::approximateCenter(const std::vector<int>& roots) const
                 }
             }
         }
+        auto sphere = node.extensions.find("VKRT_sphere");
+        if (sphere != node.extensions.end()) {
+            const glm::dvec3 q(world[3]);
+            if (std::isfinite(q.x + q.y + q.z)) {
+                lo = glm::min(lo, q);
+                hi = glm::max(hi, q);
+            }
+        }
         for (int child : node.children) visit(child, world);
     };
     for (int root : roots) visit(root, glm::dmat4(1.0));
@@ -428,6 +438,8 @@ void GltfConverter::walk(int nodeIndex, const glm::dmat4& parent) {
     if (node.camera >= 0) addCamera(node.camera, world, node.name);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) addLight(light->second, world, where);
+    auto sphere = node.extensions.find("VKRT_sphere");
+    if (sphere != node.extensions.end()) addSphere(sphere->second, world, where);
     for (int child : node.children) walk(child, world);
 }
 
@@ -678,6 +690,40 @@ void GltfConverter::addLight(const tinygltf::Value& extension, const glm::dmat4&
     light.position = glm::dvec3(world[3]);
     light.direction = glm::normalize(glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0));
     scene_.lights.push_back(light);
+}
+
+// VKRT_sphere (docs/vkrt_sphere.md): a sphere of `radius` around the node's origin, placed by the node's
+// transform, which must scale uniformly.
+void GltfConverter::addSphere(const tinygltf::Value& extension, const glm::dmat4& world,
+                              const std::string& where) {
+    const std::string sphereWhere = where + " VKRT_sphere";
+    if (!extension.IsObject()) fail(sphereWhere + " must be an object");
+    const double radius = number(extension, "radius", -1.0, sphereWhere);
+    if (!(radius > 0.0) || !std::isfinite(radius)) fail(sphereWhere + ": radius must be a finite number > 0");
+    uint32_t material = 0;
+    if (!extension.Has("material")) {
+        material = defaultMaterial();
+    } else {
+        const tinygltf::Value& value = extension.Get("material");
+        if (!value.IsInt() || value.GetNumberAsInt() < 0 ||
+            value.GetNumberAsInt() >= static_cast<int>(model_.materials.size())) {
+            fail(sphereWhere + ": material must be the index of a material");
+        }
+        material = static_cast<uint32_t>(value.GetNumberAsInt());
+    }
+    const glm::dmat3 linear(world);
+    const double sx = glm::length(linear[0]), sy = glm::length(linear[1]), sz = glm::length(linear[2]);
+    const double scale = (sx + sy + sz) / 3.0;
+    if (!(scale > 0.0) || std::abs(sx - scale) > 1e-4 * scale || std::abs(sy - scale) > 1e-4 * scale ||
+        std::abs(sz - scale) > 1e-4 * scale) {
+        fail(sphereWhere + ": the node transform must scale uniformly (a sphere stays a sphere)");
+    }
+    const glm::dvec3 center(world[3]);
+    const double worldRadius = radius * scale;
+    if (!std::isfinite(center.x + center.y + center.z) || !(worldRadius < 1e30)) {
+        fail(sphereWhere + ": the placed sphere is not finite");
+    }
+    scene_.spheres.push_back({glm::vec3(center), static_cast<float>(worldRadius), material});
 }
 
 bool hasGlbMagic(const std::string& path) {

@@ -54,6 +54,21 @@ struct Triangle {
     }
 };
 
+// An analytic sphere (the VKRT_sphere node extension, docs/vkrt_sphere.md). Spheres share the BVH with
+// the triangles: primitive index triangles.size() + i is sphere i.
+struct Sphere {
+    glm::vec3 center;
+    float radius;
+    uint32_t material;
+
+    // Padded by a few ulps of the centre's magnitude, so a hit point rounded outwards stays inside.
+    Aabb bounds() const {
+        const glm::vec3 magnitude = glm::abs(center) + glm::vec3(radius);
+        const glm::vec3 extent = glm::vec3(radius) + 4e-7f * magnitude;
+        return {center - extent, center + extent};
+    }
+};
+
 // Per-vertex attributes of a triangle, kept apart from positions so traversal touches less memory.
 struct TriangleShading {
     glm::vec3 normal[3];  // unit length; the geometric normal when the file has none (glTF: flat shading)
@@ -137,13 +152,26 @@ struct Scene {
     glm::dvec3 origin{0.0};
     std::vector<Triangle> triangles;
     std::vector<TriangleShading> shading;  // parallel to triangles
+    std::vector<Sphere> spheres;           // primitives triangles.size() + i
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<PunctualLight> lights;
     std::vector<Camera> cameras;              // camera instances in node order
     std::vector<uint32_t> emissiveTriangles;  // indices of triangles whose material emits
+    std::vector<uint32_t> emissiveSpheres;    // indices into `spheres` whose material emits
     std::vector<std::string> warnings;
     Aabb bounds;
+
+    // Primitives are the triangles, then the spheres.
+    uint32_t primitiveCount() const { return static_cast<uint32_t>(triangles.size() + spheres.size()); }
+    bool isSphere(uint32_t primitive) const { return primitive >= triangles.size(); }
+    const Sphere& sphereOf(uint32_t primitive) const { return spheres[primitive - triangles.size()]; }
+    uint32_t materialOf(uint32_t primitive) const {
+        return isSphere(primitive) ? sphereOf(primitive).material : triangles[primitive].material;
+    }
+    Aabb boundsOf(uint32_t primitive) const {
+        return isSphere(primitive) ? sphereOf(primitive).bounds() : triangles[primitive].bounds();
+    }
 };
 
 }  // namespace vkrt

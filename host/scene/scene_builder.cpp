@@ -84,6 +84,11 @@ void finalizeScene(Scene& scene) {
         scene.bounds.grow(t.bounds());
         if (scene.materials[t.material].emissive()) scene.emissiveTriangles.push_back(i);
     }
+    scene.emissiveSpheres.clear();
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
+        scene.bounds.grow(scene.spheres[i].bounds());
+        if (scene.materials[scene.spheres[i].material].emissive()) scene.emissiveSpheres.push_back(i);
+    }
 }
 
 }  // namespace vkrt

@@ -25,7 +25,7 @@ namespace vkrt {
 namespace {
 
 FlatBvh bvhFor(const Scene& scene) {
-    return buildTriangleBvh(scene.triangles).flat;
+    return buildSceneBvh(scene).flat;
 }
 
 struct Rendered {
@@ -325,6 +325,77 @@ StabilityResult nestedDielectrics(const VulkanContext& context, const StabilityO
     return result;
 }
 
+// Analytic spheres (VKRT_sphere): glass that must vanish at ior 1 and reflect totally at 2.4, a glass
+// sphere in an index-matched water sphere, and the cases Ray Tracing Gems ch. 7 is about: a sphere a
+// hundred thousand times smaller than its distance from the camera and a huge sphere used as the ground,
+// where the textbook quadratic loses every digit.
+StabilityResult analyticSpheres(const VulkanContext& context, const StabilityOptions& options,
+                                const Material& material, const std::string& name, bool invariance) {
+    const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 0.8, 0.0}, 0.7);
+    auto build = [&](bool withSphere) {
+        Scene scene = checkerboard();
+        scene.materials.push_back(material);
+        if (withSphere) scene.spheres.push_back({{0.0f, 1.0f, 0.0f}, 1.0f, 2});
+        finalizeScene(scene);
+        return scene;
+    };
+    const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
+    StabilityResult result = measure(options, "analytic spheres", name, r);
+    if (invariance) {
+        const Rendered plain = renderBoth(context, build(false), camera, settingsFor(options), options);
+        setInvariance(result, r.gpu, plain.gpu);
+    }
+    return result;
+}
+
+StabilityResult analyticNested(const VulkanContext& context, const StabilityOptions& options) {
+    const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 1.0, 0.0}, 0.7);
+    auto build = [&](bool inner) {
+        Scene scene = checkerboard();
+        scene.materials.push_back(glass(1.33f));
+        scene.spheres.push_back({{0.0f, 1.1f, 0.0f}, 1.1f, 2});
+        if (inner) scene.spheres.push_back({{0.2f, 1.1f, 0.1f}, 0.6f, 2});
+        finalizeScene(scene);
+        return scene;
+    };
+    const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
+    StabilityResult result =
+        measure(options, "analytic spheres", "index-matched sphere in a water sphere (must vanish)", r);
+    const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
+    setInvariance(result, r.gpu, water.gpu);
+    return result;
+}
+
+StabilityResult distantSphere(const VulkanContext& context, const StabilityOptions& options) {
+    Scene scene;
+    scene.materials.push_back(diffuse(glm::vec3(0.8f)));
+    scene.spheres.push_back({{0.0f, 0.0f, 0.0f}, 1e-2f, 0});
+    PunctualLight light;
+    light.position = {-1e3, 1e3, 1e3};
+    light.intensity = 3e6f;
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    // 1000 units away, the sphere (radius 0.01) spans 2e-5 rad; the view is 3e-5 rad high.
+    const Camera camera = lookAt({0.0, 0.0, 1e3}, {0.0, 0.0, 0.0}, 3e-5);
+    const Rendered r = renderBoth(context, scene, camera, settingsFor(options), options);
+    return measure(options, "analytic spheres", "radius 0.01 seen from 1000", r);
+}
+
+StabilityResult hugeGroundSphere(const VulkanContext& context, const StabilityOptions& options) {
+    Scene scene;
+    scene.materials = {diffuse({0.8f, 0.75f, 0.1f}), diffuse({0.2f, 0.4f, 0.8f})};
+    scene.spheres.push_back({{0.0f, -1e5f, 0.0f}, 1e5f, 0});
+    for (int i = 0; i < 5; ++i) scene.spheres.push_back({{-2.0f + i, 0.3f, 0.0f}, 0.3f, 1});
+    PunctualLight light;
+    light.position = {2.0, 6.0, 3.0};
+    light.intensity = 40.0f;
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    const Rendered r = renderBoth(context, scene, lookAt({0.0, 1.5, 5.0}, {0.0, 0.3, 0.0}, 0.7),
+                                  settingsFor(options), options);
+    return measure(options, "analytic spheres", "ground sphere of radius 1e5", r);
+}
+
 StabilityResult degenerateGeometry(const VulkanContext& context, const StabilityOptions& options) {
     Scene scene = checkerboard();
     scene.materials.push_back(diffuse(glm::vec3(0.7f)));
@@ -398,7 +469,7 @@ StabilityResult watertightness(const VulkanContext& context, const StabilityOpti
         // The CPU reference must not leak either.
         const RayT<double> ray{glm::dvec3(rays[k].origin), glm::dvec3(rays[k].direction)};
         SurfaceHit hit;
-        if (!closestHit(scene.triangles, bvh, ray, 1e30, kNoTriangle, hit)) ++leaks;
+        if (!closestHit(scene, bvh, ray, 1e30, kNoTriangle, hit)) ++leaks;
     }
     result.leaks = leaks;
     return result;
@@ -497,6 +568,12 @@ std::vector<StabilityResult> runStabilitySuite(const VulkanContext& context,
     results.push_back(nestedDielectrics(context, options, 1.5f, "nested dielectrics: glass sphere in water"));
     results.push_back(
         nestedDielectrics(context, options, 1.33f, "index-matched sphere in water (must vanish)"));
+    results.push_back(
+        analyticSpheres(context, options, glass(2.4f), "total internal reflection, ior 2.4", false));
+    results.push_back(analyticSpheres(context, options, glass(1.0f), "ior 1.0 (must be invisible)", true));
+    results.push_back(analyticNested(context, options));
+    results.push_back(distantSphere(context, options));
+    results.push_back(hugeGroundSphere(context, options));
     results.push_back(degenerateGeometry(context, options));
     results.push_back(watertightness(context, options, false));
     results.push_back(watertightness(context, options, true));
