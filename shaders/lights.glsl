@@ -54,15 +54,6 @@ struct LightPoint {
 };
 
 #ifdef VKRT_HAS_SPHERES
-// Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017.
-void orthonormalBasis(vec3 n, out vec3 b1, out vec3 b2) {
-    const float sign = n.z >= 0.0 ? 1.0 : -1.0;
-    const float a = -1.0 / (sign + n.z);
-    const float b = n.x * n.y * a;
-    b1 = vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    b2 = vec3(b, sign + n.y * n.y * a, -n.y);
-}
-
 // Uniform in the cone the sphere subtends from `from` (by area from inside); 1 - cos(theta_max) written
 // as sin^2 / (1 + cos) keeps its digits for small, distant spheres.
 LightPoint sampleSphereLight(GpuTriangle sphere, GpuAreaLight light, vec3 from, float u, float v) {
@@ -119,8 +110,35 @@ LightPoint sampleAreaLight(GpuAreaLight light, vec3 from, float u, float v) {
 }
 #endif
 
+#ifdef VKRT_HAS_AREA_LIGHTS
+float luminance(vec3 e) { return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z; }
+
+// As AreaLights::solidAnglePdf: the density per solid angle, seen from `from`, with which light sampling
+// picks `point` on emissive primitive `primitive`.
+float lightSolidAnglePdf(uint primitive, vec3 from, vec3 point, float cosLight) {
+    if (!(cosLight > 0.0)) return 0.0;
+    const GpuMaterial material = params.materials.materials[materialOf(primitive)];
+    const float pdfArea = max(luminance(material.emissionRoughness.rgb), 1e-12) / params.lighting.x;
+    const vec3 offset = point - from;
+#ifdef VKRT_HAS_SPHERES
+    const GpuTriangle sphere = VKRT_TRIANGLE(primitive);
+    if (sphere.kind == VKRT_PRIMITIVE_SPHERE) {
+        const float radius = sphere.v1.x;
+        const vec3 toCenter = sphere.v0 - from;
+        const float centerDistance2 = dot(toCenter, toCenter);
+        if (centerDistance2 > radius * radius) {
+            const float sin2Max = radius * radius / centerDistance2;
+            const float oneMinusCosMax = sin2Max / (1.0 + sqrt(max(0.0, 1.0 - sin2Max)));
+            return pdfArea * 4.0 * PI * radius * radius / (2.0 * PI * oneMinusCosMax);
+        }
+    }
+#endif
+    return pdfArea * dot(offset, offset) / cosLight;
+}
+#endif
+
 vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, vec3 toViewer, SurfaceResponse surface,
-                 uint self, uint exclude, uint pixel, uint sampleIndex, uint node, inout uint shadowRays,
+                 uint self, uint exclude, bool lobeSampled, uint pixel, uint sampleIndex, uint node, inout uint shadowRays,
                  inout bool complete) {
     vec3 sum = vec3(0.0);
     const vec3 point = surfacePoint.position;
@@ -135,7 +153,8 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
         ++shadowRays;
         const vec3 visible = shadowTransmittance(Ray(origin, arrival.toLight), arrival.distance, exclude, VKRT_NO_TRIANGLE,
                                                  complete);
-        sum += whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
+        const vec3 brdf = surface.diffuse / PI + specularBrdf(surface, normal, toViewer, arrival.toLight);
+        sum += brdf * arrival.irradiance * cosine * visible;
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
@@ -172,7 +191,14 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
                                                          light.triangle, complete);
                 const vec3 irradiance = emissionAt(emitter, light.triangle, lightPoint.uv.x, lightPoint.uv.y) * cosLight /
                                         (distance2 * lightPoint.pdfArea);
-                areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
+                // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
+                float weight = 1.0;
+                if (lobeSampled && params.lighting.y != 0.0) {
+                    weight = powerHeuristic(float(lightSamples), lightPoint.pdfArea * distance2 / cosLight,
+                                            lobePdf(surface, normal, toViewer, toLight));
+                }
+                const vec3 brdf = surface.diffuse / PI + weight * specularBrdf(surface, normal, toViewer, toLight);
+                areaSum += brdf * irradiance * cosine * visible;
             }
         }
         sum += areaSum / float(lightSamples);

@@ -4,6 +4,9 @@
 #define VKRT_MATERIALS_GLSL
 
 const float PI = 3.14159265358979323846;
+#define VKRT_MIRROR_ROUGHNESS 1e-3  // as kMirrorRoughness in host/cpu/microfacet.h
+
+#include "microfacet.glsl"
 
 #ifdef VKRT_HAS_TEXTURES
 uint wrapTexel(int i, int size, uint mode) {
@@ -70,14 +73,16 @@ vec3 emissionAt(GpuMaterial material, uint triangle, float u, float v) {
 struct SurfaceResponse {
     vec3 albedo;
     vec3 diffuse;
-    vec3 specular;
-    float shininess;
-    float mirror;
+    vec3 specular;  // F0
+    float alpha;    // GGX width
+    bool mirror;    // a delta lobe (roughness 0)
+    bool traced;    // the specular lobe is traced
     float transmission;
     float metallic;
     float ior;
 };
 
+// As host/cpu/whitted_model.h.
 SurfaceResponse surfaceResponse(GpuMaterial material, vec3 albedo) {
     SurfaceResponse s;
     const float roughness = material.emissionRoughness.w;
@@ -88,18 +93,10 @@ SurfaceResponse surfaceResponse(GpuMaterial material, vec3 albedo) {
     s.diffuse = albedo * (1.0 - s.metallic) * (1.0 - material.transmission.x);
     const float r = (s.ior - 1.0) / (s.ior + 1.0);
     s.specular = mix(vec3(r * r), albedo, s.metallic);
-    const float alpha = max(roughness * roughness, 1e-3);
-    s.shininess = 2.0 / (alpha * alpha) - 2.0;
-    s.mirror = (1.0 - roughness) * (1.0 - roughness);
+    s.alpha = max(roughness * roughness, VKRT_MIRROR_ROUGHNESS * VKRT_MIRROR_ROUGHNESS);
+    s.mirror = roughness < VKRT_MIRROR_ROUGHNESS;
+    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || roughness < 1.0;
     return s;
-}
-
-// Lambert plus the energy-normalised Blinn-Phong lobe (n + 8) / (8 pi) cos^n(theta_h).
-vec3 whittedBrdf(SurfaceResponse s, vec3 normal, vec3 toViewer, vec3 toLight) {
-    const vec3 halfway = normalize(toViewer + toLight);
-    const float cosH = max(0.0, dot(normal, halfway));
-    const float lobe = (s.shininess + 8.0) / (8.0 * PI) * pow(cosH, s.shininess);
-    return s.diffuse / PI + s.specular * lobe;
 }
 
 // Unpolarised Fresnel reflectance of a dielectric interface; eta = n_transmitted / n_incident.
@@ -116,6 +113,24 @@ float fresnelDielectric(float cosI, float eta) {
 vec3 fresnelSchlick(vec3 f0, float cosI) {
     const float m = pow(1.0 - clamp(cosI, 0.0, 1.0), 5.0);
     return f0 + (vec3(1.0) - f0) * m;
+}
+
+vec3 fresnelAt(SurfaceResponse s, float cosH, float eta) {
+    return (1.0 - s.metallic) * vec3(fresnelDielectric(cosH, eta)) + s.metallic * fresnelSchlick(s.albedo, cosH);
+}
+
+vec3 specularBrdf(SurfaceResponse s, vec3 normal, vec3 toViewer, vec3 toLight) {
+    const float cosOut = dot(normal, toViewer), cosIn = dot(normal, toLight);
+    if (s.mirror || cosOut <= 0.0 || cosIn <= 0.0) return vec3(0.0);
+    const vec3 halfway = normalize(toViewer + toLight);
+    return fresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(dot(normal, halfway), s.alpha) *
+           ggxG2(cosOut, cosIn, s.alpha) / (4.0 * cosOut * cosIn);
+}
+
+float lobePdf(SurfaceResponse s, vec3 normal, vec3 toViewer, vec3 toLight) {
+    if (!s.traced || s.mirror) return 0.0;
+    const vec3 halfway = normalize(toViewer + toLight);
+    return ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
 }
 
 vec3 reflectAbout(vec3 toViewer, vec3 normal) { return 2.0 * dot(toViewer, normal) * normal - toViewer; }

@@ -35,6 +35,9 @@ using uint = uint32_t;
 #define VKRT_DIM_LIGHT_U 1u
 #define VKRT_DIM_LIGHT_V 2u
 #define VKRT_DIM_LIGHT(k, which) (3u * (k) + (which))
+// The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
+#define VKRT_DIM_LOBE_U 48u
+#define VKRT_DIM_LOBE_V 49u
 
 VKRT_FUNC uint vkrtHash(uint x) {
     x ^= x >> 16u;

@@ -202,6 +202,7 @@ struct SceneParams {
     vec4 background;            // rgb radiance of rays that leave the scene, w area-light samples per hit
     uvec4 imageDepthSeed;       // width, height, max depth, seed
     uvec4 counts;               // punctual lights, area lights, triangles, samples per pixel (for reference)
+    vec4 lighting;  // area lights' total power (luminance x area), MIS on (1) or off (0), unused x 2
     VKRT_ADDRESS(NodeBuffer, nodes);
     VKRT_ADDRESS(TriangleBuffer, triangles);
     VKRT_ADDRESS(ShadingBuffer, shading);
@@ -249,9 +250,10 @@ static_assert(sizeof(GpuAreaLight) == 16);
 static_assert(sizeof(GpuCamera) == 80);
 static_assert(offsetof(SceneParams, ambientMinThroughput) == 80);
 static_assert(offsetof(SceneParams, imageDepthSeed) == 112);
-static_assert(offsetof(SceneParams, nodes) == 144, "addresses start on an 8-byte boundary");
-static_assert(offsetof(SceneParams, counters) == 144 + 9 * 8);
-static_assert(sizeof(SceneParams) == 224);
+static_assert(offsetof(SceneParams, lighting) == 144);
+static_assert(offsetof(SceneParams, nodes) == 160, "addresses start on an 8-byte boundary");
+static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
+static_assert(sizeof(SceneParams) == 240);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif

@@ -34,13 +34,15 @@ struct RayTask {
     vec3 direction;
     int depth;
     vec3 throughput;
-    uint exclude;  // the triangle the ray leaves
+    uint exclude;      // the primitive the ray leaves
+    float arrivalPdf;  // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
 #ifdef VKRT_HAS_VOLUMES
     uvec2 media;  // the volumes the ray is inside (media.glsl)
 #endif
 };
 
-RayTask makeTask(vec3 origin, uint node, vec3 direction, int depth, vec3 throughput, uvec2 media, uint exclude) {
+RayTask makeTask(vec3 origin, uint node, vec3 direction, int depth, vec3 throughput, uvec2 media, uint exclude,
+                 float arrivalPdf) {
     RayTask task;
     task.origin = origin;
     task.node = node;
@@ -48,6 +50,7 @@ RayTask makeTask(vec3 origin, uint node, vec3 direction, int depth, vec3 through
     task.depth = depth;
     task.throughput = throughput;
     task.exclude = exclude;
+    task.arrivalPdf = arrivalPdf;
 #ifdef VKRT_HAS_VOLUMES
     task.media = media;
 #endif
@@ -134,7 +137,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
     const float minThroughput = params.ambientMinThroughput.w;
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = makeTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE);
+    stack[size++] = makeTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE, 0.0);
     vec3 radiance = vec3(0.0);
     while (size > 0) {
         const RayTask task = stack[--size];
@@ -193,14 +196,28 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
         const uint excludeBeyond = sphere && frontFace ? VKRT_NO_TRIANGLE : hit.triangle;
 
         vec3 local = vec3(0.0);
-        if (frontFace || material.transmission.w != 0.0) local += emissionAt(material, hit.triangle, hit.u, hit.v);
+        if (frontFace || material.transmission.w != 0.0) {
+            float emissionWeight = 1.0;
+#ifdef VKRT_HAS_AREA_LIGHTS
+            if (task.arrivalPdf > 0.0 && params.counts.y > 0u) {
+                // A traced lobe ray found a light that light sampling also reaches (multiple importance sampling).
+                const float lightPdf = lightSolidAnglePdf(hit.triangle, task.origin, surfacePoint.position,
+                                                          abs(dot(geometricNormal, task.direction)));
+                emissionWeight = params.lighting.y != 0.0 ? powerHeuristic(1.0, task.arrivalPdf, params.background.w * lightPdf)
+                                                          : 0.0;  // without MIS, light samples alone light the lobe
+            }
+#endif
+            local += emissionWeight * emissionAt(material, hit.triangle, hit.u, hit.v);
+        }
         const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit.triangle, hit.u, hit.v));
-        local += params.ambientMinThroughput.rgb * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
+        // Ambient light reaches the diffuse part, and the specular part where it is not traced.
+        local += params.ambientMinThroughput.rgb * (surface.diffuse + (surface.traced ? vec3(0.0) : surface.specular));
+        const bool lobeSampled = surface.traced && !surface.mirror && uint(task.depth) < maxDepth;
         local += directLight(surfacePoint, normal, geometricNormal, toViewer, surface, hit.triangle, excludeOnViewerSide,
-                             pixel, sampleIndex, task.node, counters.shadow, complete);
+                             lobeSampled, pixel, sampleIndex, task.node, counters.shadow, complete);
         radiance += weight * local;
 
-        if (uint(task.depth) < maxDepth) {
+        if (uint(task.depth) < maxDepth && surface.traced) {
 #ifdef VKRT_HAS_VOLUMES
             const bool volume = material.transmission.z > 0.0 && surface.transmission > 0.0;
 #else
@@ -217,30 +234,53 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 eta = mediaIor(beyond) / mediaIor(mediaOf(task));
             }
 #endif
-            const float cosI = dot(normal, toViewer);
-            const float dielectric = fresnelDielectric(cosI, eta);
-            const vec3 fresnel = (1.0 - surface.metallic) * vec3(dielectric) +
-                                 surface.metallic * fresnelSchlick(surface.albedo, cosI);
-            const vec3 reflectWeight = fresnel * surface.mirror;
+            // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
+            const float cosOut = dot(normal, toViewer);
+            vec3 microNormal = normal;
+            if (!surface.mirror) {
+                vec3 tangent, bitangent;
+                orthonormalBasis(normal, tangent, bitangent);
+                const vec3 m = sampleGgxVisibleNormal(vec3(dot(toViewer, tangent), dot(toViewer, bitangent), cosOut),
+                                                      surface.alpha,
+                                                      vkrtRandom(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U)),
+                                                      vkrtRandom(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_V)));
+                microNormal = normalize(m.x * tangent + m.y * bitangent + m.z * normal);
+            }
+            const float cosMicro = max(0.0, dot(microNormal, toViewer));
+            const float dielectric = fresnelDielectric(cosMicro, eta);
+            // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
+            const vec3 reflected = reflectAbout(toViewer, microNormal);
+            vec3 reflectWeight = fresnelAt(surface, cosMicro, eta);
+            float reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
+            if (!surface.mirror) {
+                const float cosIn = dot(normal, reflected);
+                const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
+                reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
+                reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
+            }
 #ifdef VKRT_HAS_TRANSMISSION
-            // Pushed first so that the reflection, pushed last, is traced first, as on the CPU.
-            const vec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
-            if (maxComponent(weight * transmitWeight) >= minThroughput) {
-                vec3 direction = task.direction;  // thin-walled: straight through
-                bool passes = true;
-                if (volume) passes = refractThrough(toViewer, normal, eta, direction);
-                if (passes) {
-                    ++counters.secondary;
-                    stack[size++] = makeTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
-                                            task.depth + 1, weight * transmitWeight, beyond, excludeBeyond);
-                }
+            // Transmission through the same microfacet; thin-walled surfaces pass rays straight through. Pushed
+            // first so that the reflection, pushed last, is traced first, as on the CPU.
+            vec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
+            vec3 direction = task.direction;
+            bool passes = maxComponent(transmitWeight) > 0.0;
+            if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);
+            if (passes && volume && !surface.mirror) {
+                const float cosIn = dot(normal, direction);
+                passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
+                if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
+            }
+            if (passes && maxComponent(weight * transmitWeight) >= minThroughput) {
+                ++counters.secondary;
+                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
+                                        task.depth + 1, weight * transmitWeight, beyond, excludeBeyond, 0.0);
             }
 #endif
             if (maxComponent(weight * reflectWeight) >= minThroughput) {
                 ++counters.secondary;
-                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u,
-                                        reflectAbout(toViewer, normal), task.depth + 1, weight * reflectWeight,
-                                        mediaOf(task), excludeOnViewerSide);
+                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u, reflected,
+                                        task.depth + 1, weight * reflectWeight, mediaOf(task), excludeOnViewerSide,
+                                        reflectPdf);
             }
         }
     }

@@ -214,6 +214,62 @@ TEST(ReferenceRenderer, SphereLightIrradianceMatchesClosedForm) {
     }
 }
 
+// A shiny metal floor reflecting a small, bright sphere light: the radiance seen in the mirror direction,
+// per sample, with and without multiple importance sampling.
+struct Estimate {
+    double mean, variance;
+};
+Estimate glossyHighlight(float roughness, bool mis) {
+    Scene scene;
+    Material metal = lambert(glm::vec3(1.0f));
+    metal.metallic = 1.0f;
+    metal.roughness = roughness;
+    scene.materials.push_back(metal);
+    addFlatQuad(scene, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
+    Material lamp = lambert(glm::vec3(0.0f));
+    lamp.emission = glm::vec3(100.0f);
+    scene.materials.push_back(lamp);
+    scene.spheres.push_back({{1.0f, 0.0f, 1.0f}, 0.05f, 1});
+    finalizeScene(scene);
+    const FlatBvh bvh = buildSceneBvh(scene).flat;
+    RenderSettings settings = quietSettings();
+    settings.maxDepth = 1;
+    settings.multipleImportanceSampling = mis;
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(1.0, 0.0, -1.0));
+    constexpr int samples = 20000;
+    double sum = 0.0, sumSquares = 0.0;
+    for (int s = 0; s < samples; ++s) {
+        RayCounters counters;
+        const double L = renderer
+                             .radiance({{-1.0, 0.0, 1.0}, direction}, 5, static_cast<uint32_t>(s), 0, 0,
+                                       glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
+                             .x;
+        sum += L;
+        sumSquares += L * L;
+    }
+    const double mean = sum / samples;
+    return {mean, std::max(0.0, sumSquares / samples - mean * mean)};
+}
+
+TEST(ReferenceRenderer, MultipleImportanceSamplingKeepsTheMeanAndCutsTheNoise) {
+    for (float roughness : {0.05f, 0.3f}) {
+        const Estimate with = glossyHighlight(roughness, true), without = glossyHighlight(roughness, false);
+        const double standardError = std::sqrt((with.variance + without.variance) / 20000.0);
+        EXPECT_NEAR(with.mean, without.mean, 4.0 * standardError) << "roughness " << roughness;
+        EXPECT_GT(with.mean, 0.0);
+        std::printf("roughness %.2f: mean %.4g vs %.4g, variance %.4g with MIS, %.4g without\n", roughness,
+                    with.mean, without.mean, with.variance, without.variance);
+        // A small light on a shiny surface: light samples alone are noisy, MIS is not. Where light samples
+        // are already good, MIS stays close to them (the power heuristic is near-optimal, Veach 1997).
+        if (roughness < 0.1f) {
+            EXPECT_LT(with.variance, 0.01 * without.variance) << "roughness " << roughness;
+        } else {
+            EXPECT_LE(with.variance, 1.25 * without.variance) << "roughness " << roughness;
+        }
+    }
+}
+
 // A small emitter (about a pixel wide) on the axis at distance `z`, seen through a thin lens of radius 0.05
 // focused at 4. Returns the diameter of the uniform disk with the same radial second moment as the spot,
 // E[r^2] = D^2 / 8, measured about the image centre: moments average the lens-sampling noise out.

@@ -16,6 +16,10 @@ VKRT_sphere extension of docs/vkrt_sphere.md) over a red and yellow checkerboard
 lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
 objects.
 
+glossy.gltf: glossy reflection and transmission: a row of metal spheres and a row of glass spheres with
+roughness 0, 0.1, 0.25, 0.5 and 0.8 (GGX), lit by two small emissive spheres (area lights), so the
+highlights show multiple importance sampling at work.
+
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
@@ -191,6 +195,31 @@ def dof():
     g.write(os.path.join(OUTPUT, "dof.gltf"))
 
 
+def glossy():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.35, 0.35, 0.38))
+    wall_material = g.material("wall", base_color=(0.6, 0.6, 0.6))
+    lamp = g.material("lamp", base_color=(0.0, 0.0, 0.0), emission=(1.0, 0.9, 0.75), emission_strength=150.0)
+    floor = quad([[-8.0, 0.0, -4.0], [8.0, 0.0, -4.0], [8.0, 0.0, 6.0], [-8.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    wall = quad([[-8.0, 0.0, -4.0], [8.0, 0.0, -4.0], [8.0, 6.0, -4.0], [-8.0, 6.0, -4.0]], [0.0, 0.0, 1.0])
+    g.node("room", mesh=g.mesh("room", [(floor[0], None, floor[1], floor_material),
+                                        (wall[0], None, wall[1], wall_material)]))
+    for k, roughness in enumerate((0.0, 0.1, 0.25, 0.5, 0.8)):
+        x = -2.8 + 1.4 * k
+        metal = g.material("metal %.2f" % roughness, base_color=(0.95, 0.8, 0.55), metallic=1.0,
+                           roughness=roughness)
+        glass = g.material("glass %.2f" % roughness, base_color=(1.0, 1.0, 1.0), roughness=roughness,
+                           transmission=1.0, ior=1.5, thickness=1.0)
+        g.sphere("metal sphere %d" % k, [x, 0.55, -0.9], 0.55, metal)
+        g.sphere("glass sphere %d" % k, [x, 0.55, 0.9], 0.55, glass)
+    g.sphere("lamp left", [-2.5, 3.2, -1.5], 0.15, lamp)
+    g.sphere("lamp right", [2.0, 2.6, 2.5], 0.1, lamp)
+    eye, target = [0.0, 3.0, 8.5], [0.0, 0.45, 0.0]
+    camera = g.perspective_camera("glossy-camera", math.radians(34.0), aspect_ratio=1.6)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "glossy.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -200,3 +229,4 @@ if __name__ == "__main__":
     whitted()
     lights()
     dof()
+    glossy()

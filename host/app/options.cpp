@@ -56,6 +56,7 @@ Usage: vkrt --scene FILE [options]
   --spp N               samples per pixel (jittered, stratified)                      [16]
   --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
   --light-samples N     area-light samples per shading point (1-16)                   [1]
+  --no-mis              light glossy surfaces by light samples alone (no multiple importance sampling)
   --filter box|tent|gaussian   pixel filter (tent: radius 1 px; Gaussian: sigma 0.5 px) [box]
   --device gpu|cpu      GPU tracer (Vulkan compute) or the CPU reference renderer   [gpu]
   --device-index N      which Vulkan device (see --list-devices)    [discrete GPU first]
@@ -123,6 +124,8 @@ Options parseOptions(int argc, const char* const argv[]) {
                 throw UsageError("--filter must be box, tent or gaussian");
         } else if (flag == "--light-samples") {
             options.render.lightSamples = parseInt(flag, value(), 1, VKRT_MAX_LIGHT_SAMPLES);
+        } else if (flag == "--no-mis") {
+            options.render.multipleImportanceSampling = false;
         } else if (flag == "--device") {
             const std::string device = value();
             if (device == "gpu")

@@ -25,7 +25,10 @@ struct RenderSettings {
     double minThroughput = 1e-3;  // branches of the ray tree weighted less than this are cut
     PixelFilter pixelFilter = PixelFilter::Box;
     int lightSamples = 1;  // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
-    int threads = 0;       // CPU renderer: 0 means all hardware threads
+    // Glossy lobes that are both traced and lit by light samples combine the two by the power heuristic;
+    // without it, light samples alone light them (traced lobe rays that find a light add nothing).
+    bool multipleImportanceSampling = true;
+    int threads = 0;  // CPU renderer: 0 means all hardware threads
 };
 
 struct RayCounters {

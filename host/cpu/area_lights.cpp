@@ -3,24 +3,31 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cpu/optics.h"
 #include "cpu/sphere_intersection.h"
 
 namespace vkrt {
 
-void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double b = n.x * n.y * a;
-    b1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    b2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
+namespace {
+
+double luminance(const glm::vec3& e) {
+    return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
 }
+
+// 1 - cos(theta_max) of the cone a sphere subtends from a point at distance^2 `distance2` from its centre,
+// written as sin^2 / (1 + cos) to keep its digits for small, distant spheres.
+double coneOneMinusCos(double radius, double distance2) {
+    const double sin2Max = radius * radius / distance2;
+    return sin2Max / (1.0 + std::sqrt(std::max(0.0, 1.0 - sin2Max)));
+}
+
+}  // namespace
 
 AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
     std::vector<double> power, area;
     auto add = [&](uint32_t primitive, double a) {
-        const glm::dvec3 e(scene.materials[scene.materialOf(primitive)].emission);
-        const double luminance = 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
-        const double p = a * std::max(luminance, 1e-12);
+        const double p =
+            a * std::max(luminance(scene.materials[scene.materialOf(primitive)].emission), 1e-12);
         if (!(a > 0.0) || !std::isfinite(p)) return;
         primitives_.push_back(primitive);
         power.push_back(p);
@@ -37,6 +44,7 @@ AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
     }
     double total = 0.0;
     for (double p : power) total += p;
+    totalPower_ = total;
     double running = 0.0;
     for (size_t i = 0; i < power.size(); ++i) {
         running += power[i];
@@ -84,7 +92,7 @@ AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::d
         const glm::dvec3 axis = toCenter / distance;
         const double sin2Max = radius * radius / distance2;
         const double sinMax = std::sqrt(sin2Max);
-        oneMinusCosMax = sin2Max / (1.0 + std::sqrt(std::max(0.0, 1.0 - sin2Max)));
+        oneMinusCosMax = coneOneMinusCos(radius, distance2);
         const double oneMinusCos = u * oneMinusCosMax;
         const double cosTheta = 1.0 - oneMinusCos;
         const double sin2Theta = oneMinusCos * (2.0 - oneMinusCos);
@@ -109,6 +117,28 @@ AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::d
         s.pdfArea = pick_[i] * cosLight / (2.0 * M_PI * oneMinusCosMax * d2);
     }
     return s;
+}
+
+double AreaLights::solidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
+                                 double cosLight) const {
+    if (empty() || !(cosLight > 0.0)) return 0.0;
+    const Material& material = scene_.materials[scene_.materialOf(primitive)];
+    // Power is luminance times area, so a point's area density (pick probability / area) is luminance /
+    // total.
+    const double pdfArea = std::max(luminance(material.emission), 1e-12) / totalPower_;
+    const glm::dvec3 offset = point - from;
+    const double distance2 = glm::dot(offset, offset);
+    if (scene_.isSphere(primitive)) {
+        const Sphere& sphere = scene_.sphereOf(primitive);
+        const double radius = sphere.radius;
+        const glm::dvec3 toCenter = glm::dvec3(sphere.center) - from;
+        const double centerDistance2 = glm::dot(toCenter, toCenter);
+        if (centerDistance2 > radius * radius) {
+            const double pick = pdfArea * 4.0 * M_PI * radius * radius;
+            return pick / (2.0 * M_PI * coneOneMinusCos(radius, centerDistance2));
+        }
+    }
+    return pdfArea * distance2 / cosLight;
 }
 
 }  // namespace vkrt

@@ -28,6 +28,13 @@ class AreaLights {
     // `pick` chooses the light, (u, v) the point on it; all three in [0, 1). `from` is the shading point.
     AreaLightSample sample(double pick, double u, double v, const glm::dvec3& from) const;
 
+    // The density per unit solid angle, seen from `from`, with which sample() picks `point` on emissive
+    // `primitive` (cosLight: the cosine between the light's normal and the direction to `from`). Multiple
+    // importance sampling weighs traced rays that hit a light with it.
+    double solidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
+                         double cosLight) const;
+    double totalPower() const { return totalPower_; }
+
     // The tables behind sample(), for the GPU: emissive primitives, cumulative power (ending at 1), each
     // one's pick probability and the area density of its points (pick probability / area).
     const std::vector<uint32_t>& primitives() const { return primitives_; }
@@ -41,10 +48,7 @@ class AreaLights {
     std::vector<double> cdf_;
     std::vector<double> pick_;
     std::vector<double> pdfArea_;
+    double totalPower_ = 0.0;
 };
-
-// An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis,
-// Revisited", JCGT 6(1), 2017).
-void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2);
 
 }  // namespace vkrt

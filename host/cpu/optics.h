@@ -47,4 +47,14 @@ inline glm::dvec3 fresnelSchlick(const glm::dvec3& f0, double cosI) {
     return f0 + (glm::dvec3(1.0) - f0) * m;
 }
 
+// An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis,
+// Revisited", JCGT 6(1), 2017).
+inline void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    b1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
+}
+
 }  // namespace vkrt

@@ -166,8 +166,8 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
 glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorScale,
                                           const glm::dvec3& normal, const glm::dvec3& geometricNormal,
                                           const glm::dvec3& toViewer, const SurfaceResponse& surface,
-                                          uint32_t self, uint32_t exclude, uint32_t pixel, uint32_t sample,
-                                          uint32_t node, RayCounters& counters) const {
+                                          uint32_t self, uint32_t exclude, bool lobeSampled, uint32_t pixel,
+                                          uint32_t sample, uint32_t node, RayCounters& counters) const {
     glm::dvec3 sum(0.0);
     const glm::dvec3 origin = offsetOrigin(point, errorScale, geometricNormal, 1.0);
     // Punctual lights: hard shadows.
@@ -181,8 +181,9 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
         ++counters.shadow;
         const glm::dvec3 visible =
             transmittance({origin, arrival.toLight}, arrival.distance, exclude, kNoTriangle);
-        sum +=
-            whittedBrdf(surface, normal, toViewer, arrival.toLight) * arrival.irradiance * cosine * visible;
+        const glm::dvec3 brdf =
+            surface.diffuse / M_PI + specularBrdf(surface, normal, toViewer, arrival.toLight);
+        sum += brdf * arrival.irradiance * cosine * visible;
     }
     // Area lights: lightSamples samples, each of one emissive primitive chosen by power, averaged.
     if (!areaLights_.empty()) {
@@ -212,7 +213,16 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
                 const glm::dvec3 irradiance = emissionAt(emitter, {light.primitive, 0.0, light.u, light.v}) *
                                               cosLight / (distance2 * light.pdfArea);
-                areaSum += whittedBrdf(surface, normal, toViewer, toLight) * irradiance * cosine * visible;
+                // The specular part is also reached by traced lobe rays: weigh the two by the power
+                // heuristic.
+                double weight = 1.0;
+                if (lobeSampled && settings_.multipleImportanceSampling) {
+                    weight = powerHeuristic(count, light.pdfArea * distance2 / cosLight,
+                                            lobePdf(surface, normal, toViewer, toLight));
+                }
+                const glm::dvec3 brdf =
+                    surface.diffuse / M_PI + weight * specularBrdf(surface, normal, toViewer, toLight);
+                areaSum += brdf * irradiance * cosine * visible;
             }
         }
         sum += areaSum / static_cast<double>(count);
@@ -222,7 +232,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
 
 glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node,
                                        int depth, const glm::dvec3& throughput, const MediumStack& media,
-                                       uint32_t exclude, RayCounters& counters) const {
+                                       uint32_t exclude, RayCounters& counters, double arrivalPdf) const {
     SurfaceHit hit;
     const bool found = closestHit(ray, std::numeric_limits<double>::infinity(), exclude, hit);
     const glm::dvec3 absorbed = media.top() >= 0
@@ -272,15 +282,28 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const uint32_t excludeBeyond = sphere && frontFace ? kNoTriangle : primitive;
 
     glm::dvec3 result(0.0);
-    if (frontFace || material.doubleSided) result += emissionAt(material, hit);
+    if (frontFace || material.doubleSided) {
+        double weight = 1.0;
+        if (arrivalPdf > 0.0 && !areaLights_.empty() && !settings_.multipleImportanceSampling) {
+            weight = 0.0;  // light samples alone light the lobe
+        } else if (arrivalPdf > 0.0 && !areaLights_.empty()) {
+            // A traced lobe ray found a light that light sampling also reaches (multiple importance
+            // sampling).
+            const double lightPdf = areaLights_.solidAnglePdf(
+                primitive, ray.origin, point, std::abs(glm::dot(geometricNormal, ray.direction)));
+            weight = powerHeuristic(1.0, arrivalPdf, settings_.lightSamples * lightPdf);
+        }
+        result += weight * emissionAt(material, hit);
+    }
 
     const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit));
-    // Ambient light reaches the diffuse part and the part of the specular reflection not traced as a mirror.
-    result += settings_.ambient * (surface.diffuse + surface.specular * (1.0 - surface.mirror));
+    // Ambient light reaches the diffuse part, and the specular part where it is not traced.
+    result += settings_.ambient * (surface.diffuse + (surface.traced ? glm::dvec3(0.0) : surface.specular));
+    const bool lobeSampled = surface.traced && !surface.mirror && depth < settings_.maxDepth;
     result += directLight(point, errorScale, normal, geometricNormal, toViewer, surface, primitive,
-                          excludeOnViewerSide, pixel, sample, node, counters);
+                          excludeOnViewerSide, lobeSampled, pixel, sample, node, counters);
 
-    if (depth < settings_.maxDepth) {
+    if (depth < settings_.maxDepth && surface.traced) {
         // The weight of this branch of the ray tree so far, absorption on the way here included.
         const glm::dvec3 pathThroughput = throughput * absorbed;
         // Relative index across this interface. A volume is entered through its front face and left through
@@ -290,32 +313,55 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
         const int self = static_cast<int>(materialIndex);
         const MediumStack beyond = volume ? (frontFace ? media.entered(self) : media.exited(self)) : media;
         const double eta = volume ? mediumIor(scene_, beyond) / mediumIor(scene_, media) : surface.ior;
-        const double cosI = glm::dot(normal, toViewer);
-        const double dielectric = fresnelDielectric(cosI, eta);
-        const glm::dvec3 fresnel = (1.0 - surface.metallic) * glm::dvec3(dielectric) +
-                                   surface.metallic * fresnelSchlick(surface.albedo, cosI);
-        const glm::dvec3 reflectWeight = fresnel * surface.mirror;
-        const glm::dvec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
+        // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
+        const double cosOut = glm::dot(normal, toViewer);
+        glm::dvec3 microNormal = normal;
+        if (!surface.mirror) {
+            glm::dvec3 tangent, bitangent;
+            orthonormalBasis(normal, tangent, bitangent);
+            const glm::dvec3 local(glm::dot(toViewer, tangent), glm::dot(toViewer, bitangent), cosOut);
+            const glm::dvec3 m = sampleGgxVisibleNormal(
+                local, surface.alpha,
+                vkrtRandom(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_U)),
+                vkrtRandom(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_V)));
+            microNormal = glm::normalize(m.x * tangent + m.y * bitangent + m.z * normal);
+        }
+        const double cosMicro = std::max(0.0, glm::dot(microNormal, toViewer));
+        const double dielectric = fresnelDielectric(cosMicro, eta);
+        // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
+        const glm::dvec3 reflected = reflect(toViewer, microNormal);
+        glm::dvec3 reflectWeight = fresnelAt(surface, cosMicro, eta);
+        double reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
+        if (!surface.mirror) {
+            const double cosIn = glm::dot(normal, reflected);
+            const bool above = cosIn > 0.0 && glm::dot(geometricNormal, reflected) > 0.0;
+            reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
+            reflectPdf = ggxReflectionPdf(cosOut, glm::dot(normal, microNormal), surface.alpha);
+        }
+        // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
+        glm::dvec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
+        glm::dvec3 direction = ray.direction;
+        bool passes = maxComponent(transmitWeight) > 0.0;
+        if (passes && volume) passes = refract(toViewer, microNormal, eta, direction);
+        if (passes && volume && !surface.mirror) {
+            const double cosIn = glm::dot(normal, direction);
+            passes = cosIn < 0.0 && glm::dot(geometricNormal, direction) < 0.0;
+            if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
+        }
 
         if (maxComponent(pathThroughput * reflectWeight) >= settings_.minThroughput) {
             ++counters.secondary;
-            const Ray reflected{offsetOrigin(point, errorScale, geometricNormal, 1.0),
-                                reflect(toViewer, normal)};
-            result += reflectWeight * radiance(reflected, pixel, sample, 2 * node + 1, depth + 1,
+            const Ray next{offsetOrigin(point, errorScale, geometricNormal, 1.0), reflected};
+            result += reflectWeight * radiance(next, pixel, sample, 2 * node + 1, depth + 1,
                                                pathThroughput * reflectWeight, media, excludeOnViewerSide,
-                                               counters);
+                                               counters, reflectPdf);
         }
-        if (maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
-            glm::dvec3 direction = ray.direction;  // thin-walled: straight through
-            bool passes = true;
-            if (volume) passes = refract(toViewer, normal, eta, direction);
-            if (passes) {
-                ++counters.secondary;
-                const Ray transmitted{offsetOrigin(point, errorScale, geometricNormal, -1.0), direction};
-                result += transmitWeight * radiance(transmitted, pixel, sample, 2 * node + 2, depth + 1,
-                                                    pathThroughput * transmitWeight, beyond, excludeBeyond,
-                                                    counters);
-            }
+        if (passes && maxComponent(pathThroughput * transmitWeight) >= settings_.minThroughput) {
+            ++counters.secondary;
+            const Ray next{offsetOrigin(point, errorScale, geometricNormal, -1.0), direction};
+            result +=
+                transmitWeight * radiance(next, pixel, sample, 2 * node + 2, depth + 1,
+                                          pathThroughput * transmitWeight, beyond, excludeBeyond, counters);
         }
     }
     return absorbed * result;

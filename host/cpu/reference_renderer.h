@@ -37,9 +37,10 @@ class ReferenceRenderer {
     // the product of the transmission tints of transmissive ones.
     glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB) const;
     // Radiance arriving along `ray`; `node` numbers the ray-tree node for the random dimensions.
+    // `arrivalPdf` is the density with which a glossy lobe chose the ray (0: camera, mirror or refraction).
     glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,
                         const glm::dvec3& throughput, const MediumStack& media, uint32_t exclude,
-                        RayCounters& counters) const;
+                        RayCounters& counters, double arrivalPdf = 0.0) const;
     // The sum of the finite samples [firstSample, endSample) of a pixel (rgb) and how many there were (w).
     glm::dvec4 renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,
                            RayCounters& counters) const;
@@ -47,8 +48,8 @@ class ReferenceRenderer {
   private:
     glm::dvec3 directLight(const glm::dvec3& point, double errorScale, const glm::dvec3& normal,
                            const glm::dvec3& geometricNormal, const glm::dvec3& toViewer,
-                           const SurfaceResponse& surface, uint32_t self, uint32_t exclude, uint32_t pixel,
-                           uint32_t sample, uint32_t node, RayCounters& counters) const;
+                           const SurfaceResponse& surface, uint32_t self, uint32_t exclude, bool lobeSampled,
+                           uint32_t pixel, uint32_t sample, uint32_t node, RayCounters& counters) const;
     glm::dvec2 uvAt(const SurfaceHit& hit) const;
     glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
     glm::dvec3 emissionAt(const Material& material, const SurfaceHit& hit) const;

@@ -97,6 +97,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             {gpuIndexOf[areaLights.primitives()[i]], static_cast<float>(areaLights.cdf()[i]),
              static_cast<float>(areaLights.pdfArea()[i]), static_cast<float>(areaLights.pick()[i])});
     }
+    data.areaLightPower = areaLights.totalPower();
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }
@@ -160,6 +161,8 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.imageDepthSeed = glm::uvec4(settings.width, settings.height, settings.maxDepth, settings.seed);
     p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(),
                           settings.samplesPerPixel);
+    p.lighting = glm::vec4(static_cast<float>(data.areaLightPower),
+                           settings.multipleImportanceSampling ? 1.0f : 0.0f, 0.0f, 0.0f);
     return p;
 }
 

@@ -23,6 +23,7 @@ struct GpuSceneData {
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
+    double areaLightPower = 0.0;  // AreaLights::totalPower(), for multiple importance sampling
 };
 
 // Packs what the scene's features need; `features`, when given, replaces the detected set (a superset
