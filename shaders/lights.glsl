@@ -67,7 +67,7 @@ LightPoint sampleSphereLight(GpuTriangle sphere, GpuAreaLight light, vec3 from, 
     if (distance2 <= radius * radius) {
         const float z = 1.0 - 2.0 * u, ring = sqrt(max(0.0, 1.0 - z * z));
         p.normal = vec3(ring * cos(phi), ring * sin(phi), z);
-        p.pdfArea = light.pdfArea;
+        p.pdfArea = light.pick / (4.0 * PI * radius * radius);
     } else {
         const vec3 axis = toCenter / sqrt(distance2);
         const float sin2Max = radius * radius / distance2;
@@ -95,7 +95,7 @@ LightPoint sampleSphereLight(GpuTriangle sphere, GpuAreaLight light, vec3 from, 
 #endif
 
 LightPoint sampleAreaLight(GpuAreaLight light, vec3 from, float u, float v) {
-    const GpuTriangle emitter = VKRT_TRIANGLE(light.triangle);
+    const GpuTriangle emitter = primitiveAt(light.triangle);
 #ifdef VKRT_HAS_SPHERES
     if (emitter.kind == VKRT_PRIMITIVE_SPHERE) return sampleSphereLight(emitter, light, from, u, v);
 #endif
@@ -105,7 +105,11 @@ LightPoint sampleAreaLight(GpuAreaLight light, vec3 from, float u, float v) {
     p.uv = vec2(root * (1.0 - v), root * v);
     p.position = (1.0 - root) * emitter.v0 + p.uv.x * emitter.v1 + p.uv.y * emitter.v2;
     p.normal = normalize(cross(emitter.v1 - emitter.v0, emitter.v2 - emitter.v0));
+#ifdef VKRT_HAS_MOTION
+    p.pdfArea = light.pick / (0.5 * length(cross(emitter.v1 - emitter.v0, emitter.v2 - emitter.v0)));
+#else
     p.pdfArea = light.pdfArea;
+#endif
     return p;
 }
 #endif
@@ -115,25 +119,38 @@ float luminance(vec3 e) { return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z; }
 
 // As AreaLights::solidAnglePdf: the density per solid angle, seen from `from`, with which light sampling
 // picks `point` on emissive primitive `primitive`.
+float triangleArea(GpuTriangle t) { return 0.5 * length(cross(t.v1 - t.v0, t.v2 - t.v0)); }
+
 float lightSolidAnglePdf(uint primitive, vec3 from, vec3 point, float cosLight) {
     if (!(cosLight > 0.0)) return 0.0;
     const GpuMaterial material = params.materials.materials[materialOf(primitive)];
-    const float pdfArea = max(luminance(material.emissionRoughness.rgb), 1e-12) / params.lighting.x;
+    // Power is luminance times area (at the shutter's opening): the pick probability is that share of the
+    // total; the point is then uniform over the primitive as it is now.
+    const float luminanceShare = max(luminance(material.emissionRoughness.rgb), 1e-12) / params.lighting.x;
     const vec3 offset = point - from;
+    const float distance2 = dot(offset, offset);
 #ifdef VKRT_HAS_SPHERES
-    const GpuTriangle sphere = VKRT_TRIANGLE(primitive);
-    if (sphere.kind == VKRT_PRIMITIVE_SPHERE) {
+    const GpuTriangle opened = VKRT_TRIANGLE(primitive);
+    if (opened.kind == VKRT_PRIMITIVE_SPHERE) {
+        const float pick = luminanceShare * 4.0 * PI * opened.v1.x * opened.v1.x;
+        const GpuTriangle sphere = primitiveAt(primitive);
         const float radius = sphere.v1.x;
         const vec3 toCenter = sphere.v0 - from;
         const float centerDistance2 = dot(toCenter, toCenter);
         if (centerDistance2 > radius * radius) {
             const float sin2Max = radius * radius / centerDistance2;
             const float oneMinusCosMax = sin2Max / (1.0 + sqrt(max(0.0, 1.0 - sin2Max)));
-            return pdfArea * 4.0 * PI * radius * radius / (2.0 * PI * oneMinusCosMax);
+            return pick / (2.0 * PI * oneMinusCosMax);
         }
+        return pick / (4.0 * PI * radius * radius) * distance2 / cosLight;
     }
 #endif
-    return pdfArea * dot(offset, offset) / cosLight;
+#ifdef VKRT_HAS_MOTION
+    return luminanceShare * triangleArea(VKRT_TRIANGLE(primitive)) / triangleArea(primitiveAt(primitive)) * distance2 /
+           cosLight;
+#else
+    return luminanceShare * distance2 / cosLight;
+#endif
 }
 #endif
 

@@ -19,14 +19,15 @@ using uint = uint32_t;
 #define VKRT_FUNC
 #endif
 
-// Dimensions: the pixel jitter uses the first two, the lens the next two; each node of the ray tree (the
-// camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission child 2k + 2)
-// owns VKRT_DIMS_PER_NODE consecutive dimensions after those.
+// Dimensions: the pixel jitter uses the first two, the lens the next two, the shutter time one; each node of
+// the ray tree (the camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission
+// child 2k + 2) owns VKRT_DIMS_PER_NODE consecutive dimensions after those.
 #define VKRT_DIM_PIXEL_X 0u
 #define VKRT_DIM_PIXEL_Y 1u
 #define VKRT_DIM_LENS_U 2u
 #define VKRT_DIM_LENS_V 3u
-#define VKRT_DIM_NODE_BASE 4u
+#define VKRT_DIM_TIME 4u  // shutter time (motion blur), shared by the whole ray tree of a sample
+#define VKRT_DIM_NODE_BASE 5u
 #define VKRT_DIMS_PER_NODE 64u
 // Area-light sample k of a node (up to VKRT_MAX_LIGHT_SAMPLES) uses dimensions 3k (which light), 3k + 1
 // and 3k + 2 (where on it).

@@ -38,6 +38,16 @@ vec3 offsetRayOrigin(SurfacePoint p, vec3 n) {
     return p.position + (max(p.errorScale, maxAbs(p.position)) * 3.814697265625e-6) * n;
 }
 
+// `v` turned by the smallest rotation that takes unit vector `from` to unit vector `to` (Rodrigues), as
+// rotateLike in host/cpu/optics.h.
+vec3 rotateLike(vec3 v, vec3 from, vec3 to) {
+    const vec3 axis = cross(from, to);
+    const float sine = length(axis), cosine = dot(from, to);
+    if (!(sine > 1e-6) || cosine <= -1.0 + 1e-6) return cosine < 0.0 ? to : v;
+    const vec3 k = axis / sine;
+    return v * cosine + cross(k, v) * sine + k * dot(k, v) * (1.0 - cosine);
+}
+
 float maxComponent(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
 bool allFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }

@@ -13,6 +13,7 @@ namespace vkrt::gpu {
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
+using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
 using ivec4 = glm::ivec4;
 using uint = uint32_t;
@@ -213,6 +214,9 @@ struct SceneParams {
     VKRT_ADDRESS(AreaLightBuffer, areaLights);
     VKRT_ADDRESS(AccumulationBuffer, accumulation);
     VKRT_ADDRESS(CounterBuffer, counters);
+    VKRT_ADDRESS(TriangleBuffer,
+                 motion);  // motion blur: every primitive where the shutter closes, leaf order
+    uvec2 unused;          // keeps the size a multiple of 16, as std430 rounds it
 };
 
 // Per dispatch: which samples of which rows.
@@ -253,7 +257,8 @@ static_assert(offsetof(SceneParams, imageDepthSeed) == 112);
 static_assert(offsetof(SceneParams, lighting) == 144);
 static_assert(offsetof(SceneParams, nodes) == 160, "addresses start on an 8-byte boundary");
 static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
-static_assert(sizeof(SceneParams) == 240);
+static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
+static_assert(sizeof(SceneParams) == 256);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif

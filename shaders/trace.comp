@@ -154,7 +154,7 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
             continue;
         }
 
-        const GpuTriangle triangle = VKRT_TRIANGLE(hit.triangle);
+        const GpuTriangle triangle = primitiveAt(hit.triangle);
         const uint materialIndex = triangle.material;
         const GpuMaterial material = params.materials.materials[materialIndex];
         const vec3 toViewer = -task.direction;
@@ -178,6 +178,11 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
             const GpuShading shading = params.shading.shading[hit.triangle];
             normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
                                hit.v * shading.normalU2.xyz);
+#ifdef VKRT_HAS_MOTION
+            // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
+            const GpuTriangle opened = VKRT_TRIANGLE(hit.triangle);
+            normal = rotateLike(normal, normalize(cross(opened.v1 - opened.v0, opened.v2 - opened.v0)), geometricNormal);
+#endif
 #else
             normal = geometricNormal;
 #endif
@@ -298,6 +303,9 @@ void main() {
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
+#ifdef VKRT_HAS_MOTION
+        vkrtShutterTime = vkrtRandom(seed, pixel, s, VKRT_DIM_TIME);
+#endif
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
         const float jx = vkrtPixelJitterX(seed, pixel, s);
         const float jy = vkrtPixelJitterY(seed, pixel, s);

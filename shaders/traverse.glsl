@@ -50,7 +50,7 @@ bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, float tMax,
                    const int mode, inout Hit hit, inout vec3 transmittance) {
     if (triangle == excludeA || triangle == excludeB) return false;
-    const GpuTriangle primitive = VKRT_TRIANGLE(triangle);
+    const GpuTriangle primitive = primitiveAt(triangle);
     float t, u = 0.0, v = 0.0;
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {

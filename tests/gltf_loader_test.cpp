@@ -68,6 +68,56 @@ TEST(GltfLoader, VkrtSphereIsPlacedByItsNodeTransform) {
     EXPECT_NEAR(scene.bounds.min.y + scene.origin.y, -0.5, 1e-4);
 }
 
+TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {
+    // scenes/motion-blur.gltf: shutter [0, 0.5] from the scene's extras; a cube sliding +1.5 units/s in x
+    // (LINEAR), a cube turning 90 degrees/s about y (LINEAR), a ball jumping up 0.8 at t = 0.25 (STEP).
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/motion-blur.gltf").string());
+    EXPECT_EQ(scene.shutterOpen, 0.0);
+    EXPECT_EQ(scene.shutterClose, 0.5);
+    ASSERT_TRUE(scene.moving());
+    // Rotation and a step inside the shutter: the full set of segments.
+    const int segments = scene.motionSegments;
+    ASSERT_EQ(segments, kMotionSegments);
+    ASSERT_EQ(scene.trianglePoses.size(), scene.triangles.size() * segments);
+    ASSERT_EQ(scene.spherePoses.size(), static_cast<size_t>(segments));
+    size_t sliding = 0, turning = 0, still = 0;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const glm::vec3 a = scene.triangles[i].v0,
+                        b = scene.trianglePose(static_cast<uint32_t>(i), segments).v0;
+        const glm::vec3 shift = b - a;
+        if (glm::length(shift) == 0.0f) {
+            ++still;
+        } else if (std::abs(shift.x - 0.75f) < 1e-5f && std::abs(shift.y) < 1e-5f &&
+                   std::abs(shift.z) < 1e-5f) {
+            ++sliding;
+        } else {
+            // Turning about the cube's vertical axis through (1.6, *, 1.0) (scene coordinates are
+            // re-centred): the height and the distance from the axis stay, the angle grows by 45 degrees.
+            const glm::dvec3 axis = glm::dvec3(1.6, 0.0, 1.0) - scene.origin;
+            const glm::dvec2 p(a.x - axis.x, a.z - axis.z), q(b.x - axis.x, b.z - axis.z);
+            EXPECT_NEAR(a.y, b.y, 1e-5);
+            EXPECT_NEAR(glm::length(p), glm::length(q), 1e-5);
+            const double turned = std::atan2(p.x * q.y - p.y * q.x, glm::dot(p, q));
+            EXPECT_NEAR(std::abs(turned), M_PI / 4.0, 1e-5);
+            ++turning;
+        }
+    }
+    EXPECT_EQ(sliding, 12u);
+    EXPECT_EQ(turning, 12u);
+    EXPECT_EQ(still, scene.triangles.size() - 24u);
+    // STEP: the ball stays until t = 0.25 (pose 8 of 16 over [0, 0.5]), then is 0.8 higher.
+    const uint32_t ball = static_cast<uint32_t>(scene.triangles.size());
+    EXPECT_EQ(scene.spherePose(ball, 7).center.y, scene.spheres[0].center.y);
+    EXPECT_NEAR(scene.spherePose(ball, 8).center.y - scene.spheres[0].center.y, 0.8f, 1e-5f);
+    EXPECT_NEAR(scene.spherePose(ball, segments).center.y - scene.spheres[0].center.y, 0.8f, 1e-5f);
+    // Shutter closed: nothing moves.
+    LoadOptions closed;
+    closed.shutter = std::array<double, 2>{0.25, 0.25};
+    const Scene frozen = loadGltf((test::sourceDir() / "scenes/motion-blur.gltf").string(), closed);
+    EXPECT_FALSE(frozen.moving());
+    EXPECT_NEAR(frozen.spheres[0].center.y + frozen.origin.y, 1.3, 1e-5);  // STEP: the second key from 0.25
+}
+
 TEST(GltfLoader, BoxCounts) {
     REQUIRE_SCENES_REAL();
     for (const char* file : {"khronos-Box/glTF/Box.gltf", "khronos-Box/glTF-Binary/Box.glb"}) {

@@ -137,7 +137,7 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, GpuImage,
     ::testing::Values(SceneCase{own("cornell.gltf"), 64, 64, 4}, SceneCase{own("whitted.gltf"), 80, 60, 4},
                       SceneCase{own("lights.gltf"), 80, 60, 4}, SceneCase{own("dof.gltf"), 64, 48, 4},
-                      SceneCase{own("glossy.gltf"), 80, 50, 4},
+                      SceneCase{own("glossy.gltf"), 80, 50, 4}, SceneCase{own("motion-blur.gltf"), 80, 60, 4},
                       SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
                       SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
                       SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},
@@ -218,6 +218,71 @@ TEST_F(Gpu, WhiteFurnaceNeverGainsEnergy) {
             EXPECT_GT(mean, lowest) << which;
             if (roughness == 1.0f) EXPECT_LT(mean, 0.7) << which;
         }
+    }
+}
+
+// An emitting square of side 0.2 moving 0.6 along x during the shutter, seen from straight ahead: its streak
+// is side + velocity x shutter = 0.8 long, and where the square covers a point for a third of the shutter
+// the streak's plateau is a third of its radiance.
+TEST_F(Gpu, MotionBlurStreakIsVelocityTimesShutter) {
+    Scene scene;
+    Material lamp;
+    lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    lamp.emission = glm::vec3(1.0f);
+    scene.materials.push_back(lamp);
+    addFlatQuad(scene, {-0.5f, -0.1f, 0.0f}, {-0.3f, -0.1f, 0.0f}, {-0.3f, 0.1f, 0.0f}, {-0.5f, 0.1f, 0.0f},
+                0);
+    for (const Triangle& t : scene.triangles) {
+        const glm::vec3 shift(0.6f, 0.0f, 0.0f);
+        scene.trianglePoses.push_back(
+            {t.v0 + 0.5f * shift, t.v1 + 0.5f * shift, t.v2 + 0.5f * shift, t.material});
+        scene.trianglePoses.push_back({t.v0 + shift, t.v1 + shift, t.v2 + shift, t.material});
+    }
+    scene.motionSegments = 2;
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings;
+    settings.width = 160;
+    settings.height = 16;
+    settings.samplesPerPixel = 256;
+    settings.ambient = glm::dvec3(0.0);
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 2.0};
+    camera.xmag = 1.0;
+    camera.ymag = 0.1;
+    const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+    const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    const double pixel = 2.0 / settings.width;
+    for (const Image* image : {&gpu, &cpu}) {
+        const char* which = image == &gpu ? "gpu" : "cpu";
+        // Column means over the image's height (the square covers it all).
+        std::vector<double> column(settings.width, 0.0);
+        for (int x = 0; x < settings.width; ++x) {
+            for (int y = 0; y < settings.height; ++y) column[x] += image->at(x, y).x / settings.height;
+        }
+        // Streak length: the integral of the profile over its peak is (side x velocity x shutter) / plateau
+        // height... measured directly as the span of columns that saw any light.
+        int first = -1, last = -1;
+        double plateau = 0.0;
+        int plateauCount = 0;
+        for (int x = 0; x < settings.width; ++x) {
+            const double centre = -1.0 + (x + 0.5) * pixel;
+            if (column[x] > 1e-3) {
+                if (first < 0) first = x;
+                last = x;
+            }
+            if (centre > -0.25 && centre < 0.05) {  // fully inside the plateau [-0.3, 0.1]
+                plateau += column[x];
+                ++plateauCount;
+            }
+        }
+        const double length = (last - first + 1) * pixel;
+        EXPECT_NEAR(length, 0.8, 1.5 * pixel) << which;
+        EXPECT_NEAR(plateau / plateauCount, 1.0 / 3.0, 0.01) << which;
+        double total = 0.0;
+        for (double c : column) total += c * pixel;
+        EXPECT_NEAR(total, 0.2, 0.002) << which;  // the square's width, whatever the motion
     }
 }
 

@@ -27,8 +27,10 @@ class GltfBuilder:
     def _view(self, payload, target):
         while len(self.data) % 4:
             self.data.append(0)
-        self.gltf["bufferViews"].append(
-            {"buffer": 0, "byteOffset": len(self.data), "byteLength": len(payload), "target": target})
+        view = {"buffer": 0, "byteOffset": len(self.data), "byteLength": len(payload)}
+        if target is not None:
+            view["target"] = target
+        self.gltf["bufferViews"].append(view)
         self.data.extend(payload)
         return len(self.gltf["bufferViews"]) - 1
 
@@ -101,6 +103,23 @@ class GltfBuilder:
         self.extensions.add("VKRT_sphere")
         return self.node(name, parent=parent, translation=list(center),
                          extensions={"VKRT_sphere": {"radius": radius, "material": material}})
+
+    def animate(self, node, path, times, values, interpolation="LINEAR"):
+        """One animation channel (translation, rotation or scale of `node`) with its own sampler."""
+        times_view = self._view(struct.pack("<%df" % len(times), *times), None)
+        times_accessor = self._accessor(times_view, 5126, len(times), "SCALAR", min=[min(times)], max=[max(times)])
+        kind = "VEC4" if path == "rotation" else "VEC3"
+        flat = [c for v in values for c in v]
+        values_view = self._view(struct.pack("<%df" % len(flat), *flat), None)
+        values_accessor = self._accessor(values_view, 5126, len(values), kind)
+        animations = self.gltf.setdefault("animations", [])
+        if not animations:
+            animations.append({"name": "motion", "channels": [], "samplers": []})
+        animation = animations[0]
+        animation["samplers"].append({"input": times_accessor, "output": values_accessor,
+                                      "interpolation": interpolation})
+        animation["channels"].append({"sampler": len(animation["samplers"]) - 1,
+                                      "target": {"node": node, "path": path}})
 
     def perspective_camera(self, name, yfov, aspect_ratio=None, znear=0.01, aperture=None, focus_distance=None):
         camera = {"type": "perspective", "name": name, "perspective": {"yfov": yfov, "znear": znear}}

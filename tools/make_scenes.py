@@ -20,6 +20,10 @@ glossy.gltf: glossy reflection and transmission: a row of metal spheres and a ro
 roughness 0, 0.1, 0.25, 0.5 and 0.8 (GGX), lit by two small emissive spheres (area lights), so the
 highlights show multiple importance sampling at work.
 
+motion-blur.gltf: motion blur: over a checkerboard, a cube sliding at 1.5 units/s, a cube spinning at 90
+degrees/s (glTF LINEAR animations) and a ball that jumps (STEP) during the half-second shutter given in the
+scene's extras.
+
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
@@ -220,6 +224,53 @@ def glossy():
     g.write(os.path.join(OUTPUT, "glossy.gltf"))
 
 
+def cube(center, half):
+    """Positions and indices of an axis-aligned cube, faces outward."""
+    parts = []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            corners = []
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis] = sign * half
+                p[(axis + 1) % 3] = a * half
+                p[(axis + 2) % 3] = b * half
+                corners.append([center[i] + p[i] for i in range(3)])
+            facing = [0.0, 0.0, 0.0]
+            facing[axis] = sign
+            parts.append(quad(corners, facing))
+    return merge(parts)
+
+
+def motion_blur():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    yellow = g.material("yellow", base_color=(0.9, 0.75, 0.1))
+    red = g.material("red", base_color=(0.8, 0.1, 0.05))
+    blue = g.material("blue", base_color=(0.1, 0.3, 0.8), roughness=0.5)
+    white = g.material("white", base_color=(0.85, 0.85, 0.85), roughness=0.3)
+    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
+    g.node("checkerboard", mesh=g.mesh("checkerboard", [(light_cells[0], None, light_cells[1], yellow),
+                                                        (dark_cells[0], None, dark_cells[1], red)]))
+    # A cube sliding along x at 1.5 units per second (LINEAR), a cube spinning about y at 90 degrees per
+    # second, and a ball that jumps (STEP) a quarter second into the shutter's half second.
+    box = cube([0.0, 0.0, 0.0], 0.4)
+    box_mesh = g.mesh("cube", [(box[0], None, box[1], blue)])
+    slider = g.node("sliding cube", mesh=box_mesh, translation=[-1.5, 0.4, -1.0])
+    g.animate(slider, "translation", [0.0, 1.0], [[-1.5, 0.4, -1.0], [0.0, 0.4, -1.0]])
+    spinner = g.node("spinning cube", mesh=box_mesh, translation=[1.6, 0.4, 1.0])
+    half = math.radians(45.0)
+    g.animate(spinner, "rotation", [0.0, 1.0], [[0.0, 0.0, 0.0, 1.0], [0.0, math.sin(half), 0.0, math.cos(half)]])
+    ball = g.sphere("jumping ball", [-1.6, 0.5, 1.0], 0.5, white)
+    g.animate(ball, "translation", [0.0, 0.25], [[-1.6, 0.5, 1.0], [-1.6, 1.3, 1.0]], interpolation="STEP")
+    g.gltf["scenes"][0]["extras"] = {"shutter": [0.0, 0.5]}
+    eye, target = [0.0, 2.8, 6.5], [0.0, 0.5, 0.0]
+    camera = g.perspective_camera("motion-camera", math.radians(45.0))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    light = g.light({"type": "point", "name": "lamp", "color": [1.0, 0.97, 0.9], "intensity": 60.0})
+    g.node("lamp", translation=[3.0, 6.0, 4.0], extensions={"KHR_lights_punctual": {"light": light}})
+    g.write(os.path.join(OUTPUT, "motion-blur.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -230,3 +281,4 @@ if __name__ == "__main__":
     lights()
     dof()
     glossy()
+    motion_blur()

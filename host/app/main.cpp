@@ -37,7 +37,9 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 int run(Options options) {
     const auto loadStart = std::chrono::steady_clock::now();
-    Scene scene = loadGltf(options.scenePath);
+    LoadOptions loadOptions;
+    loadOptions.shutter = options.shutter;
+    Scene scene = loadGltf(options.scenePath, loadOptions);
     RunReport report;
     report.loadMs = millisecondsSince(loadStart);
     if (!options.quiet) {

@@ -63,6 +63,8 @@ Usage: vkrt --scene FILE [options]
   --list-devices        print the Vulkan devices and exit
   --validate            enable the Khronos validation layer
   --time-limit SECONDS  GPU: stop after the pass that crosses this time
+  --shutter OPEN CLOSE  motion blur: shutter interval in the file's animation time (seconds)
+                        [the scene's extras.shutter, else 0 0]
   --aperture R          thin-lens radius in scene units (depth of field)   [the camera's, else 0]
   --focus-distance D    distance of the plane in focus  [the camera's, else the scene's centre]
   --reference FILE      linear image (.exr/.pfm) to measure the error against
@@ -143,6 +145,11 @@ Options parseOptions(int argc, const char* const argv[]) {
         } else if (flag == "--time-limit") {
             options.timeLimitSeconds = parseNumber<double>(flag, value());
             if (options.timeLimitSeconds <= 0.0) throw UsageError("--time-limit must be positive");
+        } else if (flag == "--shutter") {
+            const double open = parseNumber<double>(flag, value());
+            const double close = parseNumber<double>(flag, value());
+            if (!(close >= open)) throw UsageError("--shutter: CLOSE must not come before OPEN");
+            options.shutter = std::array<double, 2>{open, close};
         } else if (flag == "--aperture") {
             options.aperture = parseNumber<double>(flag, value());
             if (*options.aperture < 0.0) throw UsageError("--aperture must not be negative");

@@ -1,6 +1,7 @@
 // The vkrt command line: parsing and help text.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -26,11 +27,12 @@ struct Options {
     bool listDevices = false;
     bool validate = false;  // Khronos validation layer
     double timeLimitSeconds = 0.0;
-    std::optional<double> aperture;       // thin-lens radius; overrides the camera's
-    std::optional<double> focusDistance;  // overrides the camera's
-    std::string referencePath;            // --reference: image to measure the error against
-    std::string reportPath;               // --report: convergence report (.json or .csv)
-    double reportEveryMs = 0.0;           // --report-every-ms: checkpoints by time too
+    std::optional<double> aperture;                // thin-lens radius; overrides the camera's
+    std::optional<double> focusDistance;           // overrides the camera's
+    std::optional<std::array<double, 2>> shutter;  // motion blur: open and close times; overrides the scene's
+    std::string referencePath;                     // --reference: image to measure the error against
+    std::string reportPath;                        // --report: convergence report (.json or .csv)
+    double reportEveryMs = 0.0;                    // --report-every-ms: checkpoints by time too
     int camera = 0;
     bool widthGiven = false, heightGiven = false;
     std::optional<glm::dvec3> ambient;  // unset: 0.05, or 1 for a scene without lights

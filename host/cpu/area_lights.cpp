@@ -10,6 +10,11 @@ namespace vkrt {
 
 namespace {
 
+double triangleArea(const Triangle& t) {
+    return 0.5 *
+           glm::length(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+}
+
 double luminance(const glm::vec3& e) {
     return 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
 }
@@ -34,9 +39,7 @@ AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
         area.push_back(a);
     };
     for (uint32_t index : scene.emissiveTriangles) {
-        const Triangle& t = scene.triangles[index];
-        add(index, 0.5 * glm::length(glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0),
-                                                glm::dvec3(t.v2) - glm::dvec3(t.v0))));
+        add(index, triangleArea(scene.triangles[index]));
     }
     for (uint32_t index : scene.emissiveSpheres) {
         const double r = scene.spheres[index].radius;
@@ -55,13 +58,14 @@ AreaLights::AreaLights(const Scene& scene) : scene_(scene) {
     if (!cdf_.empty()) cdf_.back() = 1.0;
 }
 
-AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::dvec3& from) const {
+AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::dvec3& from,
+                                   double time) const {
     const size_t i =
         std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), pick) - cdf_.begin(), cdf_.size() - 1);
     AreaLightSample s;
     s.primitive = primitives_[i];
     if (!scene_.isSphere(s.primitive)) {
-        const Triangle& t = scene_.triangles[s.primitive];
+        const Triangle t = scene_.triangleAt(s.primitive, time);
         // Uniform point on a triangle (Shirley and Chiu's square-root mapping).
         const double root = std::sqrt(u);
         const double b0 = 1.0 - root, b1 = root * (1.0 - v), b2 = root * v;
@@ -70,10 +74,10 @@ AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::d
         s.v = b2;
         s.normal = glm::normalize(
             glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
-        s.pdfArea = pdfArea_[i];
+        s.pdfArea = pick_[i] / triangleArea(t);  // the area now (animations may scale it)
         return s;
     }
-    const Sphere& sphere = scene_.sphereOf(s.primitive);
+    const Sphere sphere = scene_.sphereAt(s.primitive, time);
     const glm::dvec3 center(sphere.center);
     const double radius = sphere.radius;
     const glm::dvec3 toCenter = center - from;
@@ -84,7 +88,7 @@ AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::d
         // Inside: uniform by area.
         const double z = 1.0 - 2.0 * u, ring = std::sqrt(std::max(0.0, 1.0 - z * z));
         s.normal = glm::dvec3(ring * std::cos(phi), ring * std::sin(phi), z);
-        s.pdfArea = pdfArea_[i];
+        s.pdfArea = pick_[i] / (4.0 * M_PI * radius * radius);
     } else {
         // Uniform in the cone of directions the sphere subtends (pbrt-v4, Sphere::Sample). 1 - cos(theta_max)
         // is written as sin^2 / (1 + cos), which keeps its digits for small, distant spheres.
@@ -120,25 +124,27 @@ AreaLightSample AreaLights::sample(double pick, double u, double v, const glm::d
 }
 
 double AreaLights::solidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
-                                 double cosLight) const {
+                                 double cosLight, double time) const {
     if (empty() || !(cosLight > 0.0)) return 0.0;
     const Material& material = scene_.materials[scene_.materialOf(primitive)];
-    // Power is luminance times area, so a point's area density (pick probability / area) is luminance /
-    // total.
-    const double pdfArea = std::max(luminance(material.emission), 1e-12) / totalPower_;
+    // Power is luminance times area (at the shutter's opening): the pick probability is that share of the
+    // total; the point is then uniform over the primitive as it is at `time`.
+    const double luminanceShare = std::max(luminance(material.emission), 1e-12) / totalPower_;
     const glm::dvec3 offset = point - from;
     const double distance2 = glm::dot(offset, offset);
     if (scene_.isSphere(primitive)) {
-        const Sphere& sphere = scene_.sphereOf(primitive);
+        const double openRadius = scene_.sphereOf(primitive).radius;
+        const double pick = luminanceShare * 4.0 * M_PI * openRadius * openRadius;
+        const Sphere sphere = scene_.sphereAt(primitive, time);
         const double radius = sphere.radius;
         const glm::dvec3 toCenter = glm::dvec3(sphere.center) - from;
         const double centerDistance2 = glm::dot(toCenter, toCenter);
-        if (centerDistance2 > radius * radius) {
-            const double pick = pdfArea * 4.0 * M_PI * radius * radius;
+        if (centerDistance2 > radius * radius)
             return pick / (2.0 * M_PI * coneOneMinusCos(radius, centerDistance2));
-        }
+        return pick / (4.0 * M_PI * radius * radius) * distance2 / cosLight;
     }
-    return pdfArea * distance2 / cosLight;
+    const double pick = luminanceShare * triangleArea(scene_.triangles[primitive]);
+    return pick / triangleArea(scene_.triangleAt(primitive, time)) * distance2 / cosLight;
 }
 
 }  // namespace vkrt

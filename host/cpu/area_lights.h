@@ -26,13 +26,14 @@ class AreaLights {
     bool empty() const { return primitives_.empty(); }
 
     // `pick` chooses the light, (u, v) the point on it; all three in [0, 1). `from` is the shading point.
-    AreaLightSample sample(double pick, double u, double v, const glm::dvec3& from) const;
+    // `time` is the shutter time in [0, 1] (motion blur).
+    AreaLightSample sample(double pick, double u, double v, const glm::dvec3& from, double time = 0.0) const;
 
     // The density per unit solid angle, seen from `from`, with which sample() picks `point` on emissive
     // `primitive` (cosLight: the cosine between the light's normal and the direction to `from`). Multiple
     // importance sampling weighs traced rays that hit a light with it.
-    double solidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
-                         double cosLight) const;
+    double solidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point, double cosLight,
+                         double time = 0.0) const;
     double totalPower() const { return totalPower_; }
 
     // The tables behind sample(), for the GPU: emissive primitives, cumulative power (ending at 1), each

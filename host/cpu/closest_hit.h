@@ -21,14 +21,15 @@ struct SurfaceHit {
     double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2; unused on spheres
 };
 
-// The nearest hit on one primitive in (tMin, tMax).
+// The nearest hit on one primitive, where it is at shutter time `time`, in (tMin, tMax).
 inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const RayT<double>& ray, double tMin,
-                               double tMax, TriangleHit& hit) {
+                               double tMax, TriangleHit& hit, double time = 0.0) {
     if (!scene.isSphere(primitive)) {
-        return intersectTriangle(scene.triangles[primitive], ray.origin, ray.direction, tMin, tMax, hit);
+        return intersectTriangle(scene.triangleAt(primitive, time), ray.origin, ray.direction, tMin, tMax,
+                                 hit);
     }
     hit.u = hit.v = 0.0;
-    return intersectSphere(scene.sphereOf(primitive), ray.origin, ray.direction, tMin, tMax, hit.t);
+    return intersectSphere(scene.sphereAt(primitive, time), ray.origin, ray.direction, tMin, tMax, hit.t);
 }
 
 // Whether a hit at `t` on triangle `index` wins over the best so far: nearer by more than the tie
@@ -38,14 +39,14 @@ inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex)
     return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
 }
 
-// The closest hit in (0, tMax) other than primitive `exclude`, ties broken by primitive index; false on a
-// miss.
+// The closest hit in (0, tMax) other than primitive `exclude`, ties broken by primitive index, with the
+// scene at shutter time `time`; false on a miss.
 inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMax,
-                       uint32_t exclude, SurfaceHit& hit) {
+                       uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
     bool found = false;
     traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
-        if (prim != exclude && intersectPrimitive(scene, prim, ray, 0.0, limit, candidate) &&
+        if (prim != exclude && intersectPrimitive(scene, prim, ray, 0.0, limit, candidate, time) &&
             (!found || winsOver(candidate.t, prim, hit.t, hit.triangle))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;

@@ -47,6 +47,15 @@ inline glm::dvec3 fresnelSchlick(const glm::dvec3& f0, double cosI) {
     return f0 + (glm::dvec3(1.0) - f0) * m;
 }
 
+// `v` turned by the smallest rotation that takes unit vector `from` to unit vector `to` (Rodrigues).
+inline glm::dvec3 rotateLike(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
+    const glm::dvec3 axis = glm::cross(from, to);
+    const double sine = glm::length(axis), cosine = glm::dot(from, to);
+    if (!(sine > 1e-12) || cosine <= -1.0 + 1e-12) return cosine < 0.0 ? to : v;
+    const glm::dvec3 k = axis / sine;
+    return v * cosine + glm::cross(k, v) * sine + k * glm::dot(k, v) * (1.0 - cosine);
+}
+
 // An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis,
 // Revisited", JCGT 6(1), 2017).
 inline void orthonormalBasis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {

@@ -78,6 +78,10 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       areaLights_(scene),
       aspect_(static_cast<double>(settings.width) / settings.height) {}
 
+double ReferenceRenderer::shutterTime(uint32_t pixel, uint32_t sample) const {
+    return scene_.moving() ? vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_TIME) : 0.0;
+}
+
 Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, double lensV) const {
     // Film position in [-1, 1]^2, +y up.
     const double sx = 2.0 * filmX / settings_.width - 1.0;
@@ -126,8 +130,8 @@ glm::dvec3 ReferenceRenderer::emissionAt(const Material& material, const Surface
     return emission;
 }
 
-glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_t excludeA,
-                                            uint32_t excludeB) const {
+glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB,
+                                            double time) const {
     glm::dvec3 result(1.0);
     double limit = tMax;
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
@@ -139,7 +143,7 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
     traverseBvh(bvh_, ray, 0.0, limit, [&](uint32_t prim, double& rayMax) {
         if (prim == excludeA || prim == excludeB) return false;
         if (scene_.isSphere(prim)) {
-            const Sphere& sphere = scene_.sphereOf(prim);
+            const Sphere sphere = scene_.sphereAt(prim, time);
             double roots[2];
             if (!sphereRoots(glm::dvec3(sphere.center), sphere.radius, ray.origin, ray.direction, roots[0],
                              roots[1])) {
@@ -153,7 +157,8 @@ glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_
             }
         } else {
             TriangleHit hit;
-            if (!intersectTriangle(scene_.triangles[prim], ray.origin, ray.direction, 0.0, rayMax, hit)) {
+            if (!intersectTriangle(scene_.triangleAt(prim, time), ray.origin, ray.direction, 0.0, rayMax,
+                                   hit)) {
                 return false;
             }
             cross(prim, {prim, hit.t, hit.u, hit.v});
@@ -168,6 +173,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
                                           const glm::dvec3& toViewer, const SurfaceResponse& surface,
                                           uint32_t self, uint32_t exclude, bool lobeSampled, uint32_t pixel,
                                           uint32_t sample, uint32_t node, RayCounters& counters) const {
+    const double time = shutterTime(pixel, sample);
     glm::dvec3 sum(0.0);
     const glm::dvec3 origin = offsetOrigin(point, errorScale, geometricNormal, 1.0);
     // Punctual lights: hard shadows.
@@ -180,7 +186,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
         }
         ++counters.shadow;
         const glm::dvec3 visible =
-            transmittance({origin, arrival.toLight}, arrival.distance, exclude, kNoTriangle);
+            transmittance({origin, arrival.toLight}, arrival.distance, exclude, kNoTriangle, time);
         const glm::dvec3 brdf =
             surface.diffuse / M_PI + specularBrdf(surface, normal, toViewer, arrival.toLight);
         sum += brdf * arrival.irradiance * cosine * visible;
@@ -196,7 +202,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
                            vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK))),
                 vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U))),
                 vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V))),
-                point);
+                point, time);
             const glm::dvec3 offset = light.point - point;
             const double distance2 = glm::dot(offset, offset);
             const double distance = std::sqrt(distance2);
@@ -209,7 +215,7 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
             if (cosLight > 0.0 && cosine > 0.0 && glm::dot(geometricNormal, toLight) > 0.0) {
                 ++counters.shadow;
                 const glm::dvec3 visible =
-                    transmittance({origin, toLight}, distance * (1.0 - 1e-9), exclude, light.primitive);
+                    transmittance({origin, toLight}, distance * (1.0 - 1e-9), exclude, light.primitive, time);
                 // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
                 const glm::dvec3 irradiance = emissionAt(emitter, {light.primitive, 0.0, light.u, light.v}) *
                                               cosLight / (distance2 * light.pdfArea);
@@ -233,8 +239,10 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
 glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node,
                                        int depth, const glm::dvec3& throughput, const MediumStack& media,
                                        uint32_t exclude, RayCounters& counters, double arrivalPdf) const {
+    const double time = shutterTime(pixel, sample);
     SurfaceHit hit;
-    const bool found = closestHit(ray, std::numeric_limits<double>::infinity(), exclude, hit);
+    const bool found =
+        vkrt::closestHit(scene_, bvh_, ray, std::numeric_limits<double>::infinity(), exclude, hit, time);
     const glm::dvec3 absorbed = media.top() >= 0
                                     ? beerLambert(scene_.materials[media.top()], found ? hit.t : INFINITY)
                                     : glm::dvec3(1.0);
@@ -251,7 +259,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     glm::dvec3 geometricNormal, normal;  // facing the front (outside) until oriented below
     if (scene_.isSphere(primitive)) {
         // Project the point onto the sphere, which removes the error of the distance (RTG ch. 7).
-        const Sphere& sphere = scene_.sphereOf(primitive);
+        const Sphere sphere = scene_.sphereAt(primitive, time);
         const glm::dvec3 center(sphere.center);
         geometricNormal = normal = glm::normalize(point - center);
         point = center + static_cast<double>(sphere.radius) * normal;
@@ -261,10 +269,14 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
         hit.v = uv.y;
     } else {
         const TriangleShading& shading = scene_.shading[primitive];
-        geometricNormal = geometricNormalOf(scene_.triangles[primitive]);
+        geometricNormal = geometricNormalOf(scene_.triangleAt(primitive, time));
         normal =
             glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
                            hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
+        // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
+        if (time > 0.0) {
+            normal = rotateLike(normal, geometricNormalOf(scene_.triangles[primitive]), geometricNormal);
+        }
     }
 
     // Orient both normals towards the viewer; remember which side was hit.
@@ -290,7 +302,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             // A traced lobe ray found a light that light sampling also reaches (multiple importance
             // sampling).
             const double lightPdf = areaLights_.solidAnglePdf(
-                primitive, ray.origin, point, std::abs(glm::dot(geometricNormal, ray.direction)));
+                primitive, ray.origin, point, std::abs(glm::dot(geometricNormal, ray.direction)), time);
             weight = powerHeuristic(1.0, arrivalPdf, settings_.lightSamples * lightPdf);
         }
         result += weight * emissionAt(material, hit);

@@ -35,7 +35,11 @@ class ReferenceRenderer {
     bool closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const;
     // Fraction of light that passes from the ray's origin to distance tMax: 0 behind an opaque surface,
     // the product of the transmission tints of transmissive ones.
-    glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB) const;
+    glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB,
+                             double time = 0.0) const;
+    // Where in the shutter interval (0: open, 1: close) a sample sees the scene; every ray of the sample's
+    // tree shares it.
+    double shutterTime(uint32_t pixel, uint32_t sample) const;
     // Radiance arriving along `ray`; `node` numbers the ray-tree node for the random dimensions.
     // `arrivalPdf` is the density with which a glossy lobe chose the ray (0: camera, mirror or refraction).
     glm::dvec3 radiance(const Ray& ray, uint32_t pixel, uint32_t sample, uint32_t node, int depth,

@@ -34,6 +34,16 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     for (uint32_t i = 0; i < bvh.primIndices.size(); ++i) {
         const uint32_t index = bvh.primIndices[i];
         gpuIndexOf[index] = i;
+        for (int pose = 1; data.features.motion && pose <= scene.motionSegments; ++pose) {
+            if (scene.isSphere(index)) {
+                const Sphere s = scene.spherePose(index, pose);
+                data.motion.push_back({s.center, s.material, glm::vec3(s.radius, 0.0f, 0.0f), index,
+                                       glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
+            } else {
+                const Triangle t = scene.trianglePose(index, pose);
+                data.motion.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
+            }
+        }
         if (scene.isSphere(index)) {
             const Sphere& sphere = scene.sphereOf(index);
             data.triangles.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
@@ -98,6 +108,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
              static_cast<float>(areaLights.pdfArea()[i]), static_cast<float>(areaLights.pick()[i])});
     }
     data.areaLightPower = areaLights.totalPower();
+    data.motionSegments = data.features.motion ? scene.motionSegments : 0;
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }
@@ -119,6 +130,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.texels = upload(data.texels);
     addresses_.lights = upload(data.lights);
     addresses_.areaLights = upload(data.areaLights);
+    addresses_.motion = upload(data.motion);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -130,6 +142,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.texels = addresses_.texels;
     params.lights = addresses_.lights;
     params.areaLights = addresses_.areaLights;
+    params.motion = addresses_.motion;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {
@@ -161,8 +174,9 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.imageDepthSeed = glm::uvec4(settings.width, settings.height, settings.maxDepth, settings.seed);
     p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(),
                           settings.samplesPerPixel);
-    p.lighting = glm::vec4(static_cast<float>(data.areaLightPower),
-                           settings.multipleImportanceSampling ? 1.0f : 0.0f, 0.0f, 0.0f);
+    p.lighting =
+        glm::vec4(static_cast<float>(data.areaLightPower), settings.multipleImportanceSampling ? 1.0f : 0.0f,
+                  static_cast<float>(data.motionSegments), 0.0f);
     return p;
 }
 

@@ -23,6 +23,8 @@ struct GpuSceneData {
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
+    std::vector<gpu::GpuTriangle> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
+    int motionSegments = 0;
     double areaLightPower = 0.0;  // AreaLights::totalPower(), for multiple importance sampling
 };
 

@@ -19,6 +19,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
     {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
+    {&SceneFeatures::motion, "motion_blur", "VKRT_HAS_MOTION"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
 };
 
@@ -58,6 +59,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     }
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
+    features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;
         const Material& material = scene.materials[m];

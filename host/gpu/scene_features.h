@@ -17,6 +17,7 @@ struct SceneFeatures {
     bool punctualLights = false;
     bool areaLights = false;    // emissive triangles or spheres
     bool spheres = false;       // analytic spheres (VKRT_sphere)
+    bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
 
     // Shader defines (VKRT_HAS_...), one per feature present.

@@ -13,6 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "scene/gltf_accessors.h"
+#include "scene/gltf_animation.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 
@@ -30,12 +31,19 @@ constexpr std::array<const char*, 7> kSupportedExtensions = {"KHR_materials_emis
 // Everything the node walk needs, so that helpers stay small.
 class GltfConverter {
   public:
-    GltfConverter(const tinygltf::Model& model, std::string path)
-        : model_(model), path_(std::move(path)), accessors_(model_, path_) {}
+    GltfConverter(const tinygltf::Model& model, std::string path, const LoadOptions& options)
+        : model_(model),
+          path_(std::move(path)),
+          options_(options),
+          accessors_(model_, path_),
+          animations_(model_, accessors_, path_) {}
 
     Scene convert();
 
   private:
+    // A node's world transform at the shutter's opening and at the end of each motion segment.
+    using Poses = std::vector<glm::dmat4>;
+
     [[noreturn]] void fail(const std::string& message) const { throw SceneError(path_ + ": " + message); }
     void warn(const std::string& message) { scene_.warnings.push_back(message); }
 
@@ -52,20 +60,24 @@ class GltfConverter {
     glm::dvec3 approximateCenter(const std::vector<int>& roots) const;
     void checkNodeGraph(const std::vector<int>& roots) const;
     glm::dmat4 localTransform(int nodeIndex) const;
-    void walk(int nodeIndex, const glm::dmat4& parent);
-    void addMesh(int meshIndex, const glm::dmat4& world);
+    glm::dmat4 localTransformAt(int nodeIndex, double time) const;
+    void chooseShutter();
+    void walk(int nodeIndex, const Poses& parents);
+    void addMesh(int meshIndex, const Poses& poses);
     std::vector<glm::dmat4> instanceTransforms(const tinygltf::Value& extension,
                                                const std::string& where) const;
-    void addPrimitive(const tinygltf::Primitive& primitive, const std::string& where,
-                      const glm::dmat4& world);
+    void addPrimitive(const tinygltf::Primitive& primitive, const std::string& where, const Poses& poses);
     void addCamera(int cameraIndex, const glm::dmat4& world, const std::string& nodeName);
     void addLight(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
-    void addSphere(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
+    Sphere placeSphere(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
     uint32_t defaultMaterial();
 
     const tinygltf::Model& model_;
     std::string path_;
+    LoadOptions options_;
     AccessorReader accessors_;
+    NodeAnimations animations_;
+    std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     Scene scene_;
     int defaultMaterial_ = -1;
     size_t degenerateTriangles_ = 0;
@@ -93,7 +105,8 @@ Scene GltfConverter::convert() {
     // Walk with the scene's approximate centre moved to the origin (re-centring keeps float precision).
     scene_.origin = approximateCenter(roots);
     const glm::dmat4 recentre = glm::translate(glm::dmat4(1.0), -scene_.origin);
-    for (int root : roots) walk(root, recentre);
+    chooseShutter();
+    for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre));
 
     if (degenerateTriangles_ > 0) {
         warn(std::to_string(degenerateTriangles_) + " degenerate (zero-area) triangle(s) skipped");
@@ -418,9 +431,62 @@ glm::dmat4 GltfConverter::localTransform(int nodeIndex) const {
     return m;
 }
 
-void GltfConverter::walk(int nodeIndex, const glm::dmat4& parent) {
+// The shutter interval: the caller's, else the scene's extras {"shutter": [open, close]} (seconds of the
+// file's animation timeline), else closed at 0.
+void GltfConverter::chooseShutter() {
+    if (options_.shutter) {
+        scene_.shutterOpen = (*options_.shutter)[0];
+        scene_.shutterClose = (*options_.shutter)[1];
+    } else if (!model_.scenes.empty()) {
+        const tinygltf::Value& extras = model_.scenes[std::max(0, model_.defaultScene)].extras;
+        if (extras.IsObject() && extras.Has("shutter")) {
+            const tinygltf::Value& shutter = extras.Get("shutter");
+            if (!shutter.IsArray() || shutter.ArrayLen() != 2 || !shutter.Get(0).IsNumber() ||
+                !shutter.Get(1).IsNumber()) {
+                fail("the scene's extras.shutter must be [open, close]");
+            }
+            scene_.shutterOpen = shutter.Get(0).GetNumberAsDouble();
+            scene_.shutterClose = shutter.Get(1).GetNumberAsDouble();
+        }
+    }
+    if (!std::isfinite(scene_.shutterOpen) || !std::isfinite(scene_.shutterClose) ||
+        scene_.shutterClose < scene_.shutterOpen) {
+        fail("the shutter must close at or after it opens");
+    }
+    // Motion segments: one when everything moves by linear translation alone (exact), else
+    // kMotionSegments, whose poses follow rotations, curves and steps within the shutter.
+    poseTimes_ = {scene_.shutterOpen};
+    if (scene_.shutterClose > scene_.shutterOpen && !animations_.empty()) {
+        scene_.motionSegments =
+            animations_.linearTranslationOnly(scene_.shutterOpen, scene_.shutterClose) ? 1 : kMotionSegments;
+        for (int k = 1; k <= scene_.motionSegments; ++k) {
+            poseTimes_.push_back(scene_.shutterOpen +
+                                 (scene_.shutterClose - scene_.shutterOpen) * k / scene_.motionSegments);
+        }
+    }
+}
+
+glm::dmat4 GltfConverter::localTransformAt(int nodeIndex, double time) const {
+    if (!animations_.animates(nodeIndex)) return localTransform(nodeIndex);
     const tinygltf::Node& node = model_.nodes[nodeIndex];
-    const glm::dmat4 world = parent * localTransform(nodeIndex);
+    localTransform(nodeIndex);  // validates the static values
+    NodeTrs rest;
+    if (!node.translation.empty())
+        rest.translation = {node.translation[0], node.translation[1], node.translation[2]};
+    if (!node.rotation.empty()) {
+        rest.rotation = glm::normalize(
+            glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+    }
+    if (!node.scale.empty()) rest.scale = {node.scale[0], node.scale[1], node.scale[2]};
+    return animations_.evaluate(nodeIndex, rest, time).matrix();
+}
+
+void GltfConverter::walk(int nodeIndex, const Poses& parents) {
+    const tinygltf::Node& node = model_.nodes[nodeIndex];
+    Poses poses(parents.size());
+    for (size_t k = 0; k < poses.size(); ++k)
+        poses[k] = parents[k] * localTransformAt(nodeIndex, poseTimes_[k]);
+    const glm::dmat4& world = poses[0];
     const std::string where = describe("node", nodeIndex, node.name);
     if (node.mesh >= 0) {
         if (node.mesh >= static_cast<int>(model_.meshes.size())) {
@@ -428,10 +494,12 @@ void GltfConverter::walk(int nodeIndex, const glm::dmat4& parent) {
         }
         auto instancing = node.extensions.find("EXT_mesh_gpu_instancing");
         if (instancing == node.extensions.end()) {
-            addMesh(node.mesh, world);
+            addMesh(node.mesh, poses);
         } else {
             for (const glm::dmat4& instance : instanceTransforms(instancing->second, where)) {
-                addMesh(node.mesh, world * instance);
+                Poses instancePoses = poses;
+                for (glm::dmat4& pose : instancePoses) pose = pose * instance;
+                addMesh(node.mesh, instancePoses);
             }
         }
     }
@@ -439,8 +507,12 @@ void GltfConverter::walk(int nodeIndex, const glm::dmat4& parent) {
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) addLight(light->second, world, where);
     auto sphere = node.extensions.find("VKRT_sphere");
-    if (sphere != node.extensions.end()) addSphere(sphere->second, world, where);
-    for (int child : node.children) walk(child, world);
+    if (sphere != node.extensions.end()) {
+        scene_.spheres.push_back(placeSphere(sphere->second, world, where));
+        for (size_t k = 1; k < poses.size(); ++k)
+            scene_.spherePoses.push_back(placeSphere(sphere->second, poses[k], where));
+    }
+    for (int child : node.children) walk(child, poses);
 }
 
 // EXT_mesh_gpu_instancing: one translation / rotation / scale per instance, applied before the node's own
@@ -490,16 +562,17 @@ std::vector<glm::dmat4> GltfConverter::instanceTransforms(const tinygltf::Value&
     return transforms;
 }
 
-void GltfConverter::addMesh(int meshIndex, const glm::dmat4& world) {
+void GltfConverter::addMesh(int meshIndex, const Poses& poses) {
     const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
         addPrimitive(mesh.primitives[p],
-                     describe("mesh", meshIndex, mesh.name) + " primitive " + std::to_string(p), world);
+                     describe("mesh", meshIndex, mesh.name) + " primitive " + std::to_string(p), poses);
     }
 }
 
 void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std::string& where,
-                                 const glm::dmat4& world) {
+                                 const Poses& poses) {
+    const glm::dmat4& world = poses[0];
     const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
     if (mode >= TINYGLTF_MODE_POINTS && mode <= 3) {
         skippedModes_.insert(mode);
@@ -571,10 +644,11 @@ void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std
     const glm::dmat3 linear(world);
     const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
     const bool mirrored = glm::determinant(linear) < 0.0;  // mirroring reverses the winding
-    auto worldPosition = [&](uint32_t v) {
-        glm::dvec4 p = world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0);
-        return glm::vec3(p);
+    auto placed = [&](const glm::dmat4& transform, uint32_t v) {
+        return glm::vec3(transform *
+                         glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
     };
+    auto worldPosition = [&](uint32_t v) { return placed(world, v); };
     for (auto face : faces) {
         if (mirrored) std::swap(face[1], face[2]);
         Triangle triangle{worldPosition(face[0]), worldPosition(face[1]), worldPosition(face[2]), material};
@@ -604,6 +678,15 @@ void GltfConverter::addPrimitive(const tinygltf::Primitive& primitive, const std
         }
         scene_.triangles.push_back(triangle);
         scene_.shading.push_back(shading);
+        for (size_t k = 1; k < poses.size(); ++k) {
+            const Triangle pose{placed(poses[k], face[0]), placed(poses[k], face[1]),
+                                placed(poses[k], face[2]), material};
+            if (!std::isfinite(pose.v0.x + pose.v0.y + pose.v0.z + pose.v1.x + pose.v1.y + pose.v1.z +
+                               pose.v2.x + pose.v2.y + pose.v2.z)) {
+                fail(where + " has a vertex that its animation moves out of floating-point range");
+            }
+            scene_.trianglePoses.push_back(pose);
+        }
     }
 }
 
@@ -694,8 +777,8 @@ void GltfConverter::addLight(const tinygltf::Value& extension, const glm::dmat4&
 
 // VKRT_sphere (docs/vkrt_sphere.md): a sphere of `radius` around the node's origin, placed by the node's
 // transform, which must scale uniformly.
-void GltfConverter::addSphere(const tinygltf::Value& extension, const glm::dmat4& world,
-                              const std::string& where) {
+Sphere GltfConverter::placeSphere(const tinygltf::Value& extension, const glm::dmat4& world,
+                                  const std::string& where) {
     const std::string sphereWhere = where + " VKRT_sphere";
     if (!extension.IsObject()) fail(sphereWhere + " must be an object");
     const double radius = number(extension, "radius", -1.0, sphereWhere);
@@ -723,7 +806,7 @@ void GltfConverter::addSphere(const tinygltf::Value& extension, const glm::dmat4
     if (!std::isfinite(center.x + center.y + center.z) || !(worldRadius < 1e30)) {
         fail(sphereWhere + ": the placed sphere is not finite");
     }
-    scene_.spheres.push_back({glm::vec3(center), static_cast<float>(worldRadius), material});
+    return {glm::vec3(center), static_cast<float>(worldRadius), material};
 }
 
 bool hasGlbMagic(const std::string& path) {
@@ -740,7 +823,7 @@ bool isSupportedExtension(const std::string& name) {
            kSupportedExtensions.end();
 }
 
-Scene loadGltf(const std::string& path) {
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw SceneError(path + ": cannot open file");
     probe.close();
@@ -758,7 +841,7 @@ Scene loadGltf(const std::string& path) {
         while (!message.empty() && message.back() == ' ') message.pop_back();
         throw SceneError(path + ": " + message);
     }
-    GltfConverter converter(model, path);
+    GltfConverter converter(model, path, options);
     return converter.convert();
 }
 

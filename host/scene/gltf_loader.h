@@ -2,6 +2,8 @@
 // triangles, and bad input stops with a SceneError naming the file and the problem.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 
 #include "scene/scene.h"
@@ -12,6 +14,12 @@ namespace vkrt {
 // warning.
 bool isSupportedExtension(const std::string& name);
 
-Scene loadGltf(const std::string& path);
+struct LoadOptions {
+    // Motion blur: the shutter interval in the file's animation time (seconds); when absent, the scene's
+    // extras {"shutter": [open, close]}, else closed at 0 (no motion).
+    std::optional<std::array<double, 2>> shutter;
+};
+
+Scene loadGltf(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace vkrt

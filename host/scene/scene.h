@@ -5,6 +5,7 @@
 // double, so both renderers trace exactly the same geometry.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -144,6 +145,10 @@ struct Camera {
     bool generated = false;      // true for the default camera made when the file has none
 };
 
+// Motion segments for animations that are not a pure linear translation over the shutter: a step inside the
+// shutter ramps over 1/16 of it, and a rotation follows 16 chords of its arc.
+inline constexpr int kMotionSegments = 16;
+
 struct Scene {
     std::string sourcePath;
     // Positions, cameras and lights are stored relative to this point (world = stored + origin), chosen
@@ -153,6 +158,14 @@ struct Scene {
     std::vector<Triangle> triangles;
     std::vector<TriangleShading> shading;  // parallel to triangles
     std::vector<Sphere> spheres;           // primitives triangles.size() + i
+    // Motion blur: the shutter interval is cut into motionSegments equal segments (0: nothing moves), and
+    // each primitive moves linearly from its pose at one segment's start to the next. Pose 0 is the
+    // primitive itself; pose k >= 1 of triangle i is trianglePoses[i * motionSegments + k - 1] (and
+    // likewise for sphere i in spherePoses).
+    int motionSegments = 0;
+    std::vector<Triangle> trianglePoses;
+    std::vector<Sphere> spherePoses;
+    double shutterOpen = 0.0, shutterClose = 0.0;  // seconds of the file's animation timeline
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<PunctualLight> lights;
@@ -169,8 +182,44 @@ struct Scene {
     uint32_t materialOf(uint32_t primitive) const {
         return isSphere(primitive) ? sphereOf(primitive).material : triangles[primitive].material;
     }
+    bool moving() const { return motionSegments > 0; }
+    Triangle trianglePose(uint32_t index, int pose) const {
+        return pose == 0 ? triangles[index] : trianglePoses[index * motionSegments + pose - 1];
+    }
+    Sphere spherePose(uint32_t primitive, int pose) const {
+        const size_t index = primitive - triangles.size();
+        return pose == 0 ? spheres[index] : spherePoses[index * motionSegments + pose - 1];
+    }
+    // The segment holding shutter time `time` in [0, 1] (0: open, 1: close) and the fraction through it.
+    int segmentAt(double time, float& fraction) const {
+        const float x = static_cast<float>(time) * static_cast<float>(motionSegments);
+        const int segment = std::min(static_cast<int>(x), motionSegments - 1);
+        fraction = x - static_cast<float>(segment);
+        return segment;
+    }
+    // The primitive at shutter time `time`.
+    Triangle triangleAt(uint32_t index, double time) const {
+        if (!moving() || time == 0.0) return triangles[index];
+        float s;
+        const int segment = segmentAt(time, s);
+        const Triangle a = trianglePose(index, segment), b = trianglePose(index, segment + 1);
+        return {a.v0 + s * (b.v0 - a.v0), a.v1 + s * (b.v1 - a.v1), a.v2 + s * (b.v2 - a.v2), a.material};
+    }
+    Sphere sphereAt(uint32_t primitive, double time) const {
+        if (!moving() || time == 0.0) return sphereOf(primitive);
+        float s;
+        const int segment = segmentAt(time, s);
+        const Sphere a = spherePose(primitive, segment), b = spherePose(primitive, segment + 1);
+        return {a.center + s * (b.center - a.center), a.radius + s * (b.radius - a.radius), a.material};
+    }
+    // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
-        return isSphere(primitive) ? sphereOf(primitive).bounds() : triangles[primitive].bounds();
+        Aabb b;
+        for (int pose = 0; pose <= motionSegments; ++pose) {
+            b.grow(isSphere(primitive) ? spherePose(primitive, pose).bounds()
+                                       : trianglePose(primitive, pose).bounds());
+        }
+        return b;
     }
 };
 

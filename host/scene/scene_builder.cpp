@@ -48,15 +48,23 @@ size_t removeDuplicateTriangles(Scene& scene) {
     std::unordered_set<TriangleKey, TriangleKeyHash> seen;
     seen.reserve(scene.triangles.size());
     size_t kept = 0;
+    const size_t segments = static_cast<size_t>(scene.motionSegments);
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
-        if (!seen.insert(keyOf(scene.triangles[i])).second) continue;
+        // Moving triangles are kept: two that coincide at the shutter's opening may part later.
+        bool still = true;
+        for (size_t k = 0; k < segments; ++k)
+            still = still && keyOf(scene.trianglePoses[i * segments + k]) == keyOf(scene.triangles[i]);
+        if (still && !seen.insert(keyOf(scene.triangles[i])).second) continue;
         scene.triangles[kept] = scene.triangles[i];
         scene.shading[kept] = scene.shading[i];
+        for (size_t k = 0; k < segments; ++k)
+            scene.trianglePoses[kept * segments + k] = scene.trianglePoses[i * segments + k];
         ++kept;
     }
     const size_t removed = scene.triangles.size() - kept;
     scene.triangles.resize(kept);
     scene.shading.resize(kept);
+    scene.trianglePoses.resize(kept * segments);
     return removed;
 }
 
@@ -81,12 +89,12 @@ void finalizeScene(Scene& scene) {
     scene.emissiveTriangles.clear();
     for (uint32_t i = 0; i < scene.triangles.size(); ++i) {
         const Triangle& t = scene.triangles[i];
-        scene.bounds.grow(t.bounds());
+        scene.bounds.grow(scene.boundsOf(i));
         if (scene.materials[t.material].emissive()) scene.emissiveTriangles.push_back(i);
     }
     scene.emissiveSpheres.clear();
     for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
-        scene.bounds.grow(scene.spheres[i].bounds());
+        scene.bounds.grow(scene.boundsOf(static_cast<uint32_t>(scene.triangles.size()) + i));
         if (scene.materials[scene.spheres[i].material].emissive()) scene.emissiveSpheres.push_back(i);
     }
 }
