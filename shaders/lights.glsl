@@ -181,9 +181,9 @@ vec3 directLight(SurfacePoint surfacePoint, vec3 normal, vec3 geometricNormal, v
         const uint seed = params.imageDepthSeed.w;
         vec3 areaSum = vec3(0.0);
         for (uint k = 0u; k < lightSamples; ++k) {
-            const float pick = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)));
-            const float su = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)));
-            const float sv = vkrtRandom(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V)));
+            const float pick = vkrtStratified(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u);
+            const float su = vkrtStratified(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u);
+            const float sv = vkrtStratified(seed, pixel, sampleIndex, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1u);
             // The first light whose cumulative power exceeds `pick` (binary search).
             uint lo = 0u, hi = params.counts.y - 1u;
             while (lo < hi) {

@@ -75,9 +75,12 @@ VKRT_FUNC uint vkrtReverseBits(uint x) {
 // every run of 2^k consecutive points from the start is a (0,k,2)-net: stratified in every elementary
 // interval (Sobol' 1967; Kollig and Keller, "Efficient multidimensional sampling", 2002).
 VKRT_FUNC uint vkrtSobol2(uint index) {
+    // A loop of constant length, which shader compilers unroll (llvmpipe counts every dynamic loop
+    // iteration against a per-invocation budget; see traverse.glsl).
     uint result = 0u;
-    for (uint v = 0x80000000u; index != 0u; index >>= 1u) {
-        if ((index & 1u) != 0u) result ^= v;
+    uint v = 0x80000000u;
+    for (uint bit = 0u; bit < 32u; ++bit) {
+        if (((index >> bit) & 1u) != 0u) result ^= v;
         v ^= v >> 1u;
     }
     return result;
@@ -94,6 +97,31 @@ VKRT_FUNC float vkrtPixelJitterX(uint seed, uint pixel, uint sampleIndex) {
 VKRT_FUNC float vkrtPixelJitterY(uint seed, uint pixel, uint sampleIndex) {
     const uint scramble = vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_Y);
     return float((vkrtSobol2(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
+}
+
+// Laine and Karras's hash-based Owen scramble of the bits of x from the lowest up: each output bit depends
+// only on the input bits below it (carries and even multipliers only move information upwards).
+VKRT_FUNC uint vkrtLaineKarras(uint x, uint seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// A stratified sample for the dimension pair that starts at `dimension` (lens, time, light, lobe), `axis`
+// 0 or 1 of it. Padding (Kollig and Keller 2002) with Burley's shuffle ("Practical Hash-based Owen
+// Scrambling", JCGT 9(4), 2020): the pair takes the pixel's (0,2)-sequence at a sample index permuted by a
+// nested uniform (Owen) scramble, which maps the first 2^k indices onto one aligned block of 2^k (whose
+// points are again a (0,k,2)-net) and, being nonlinear, decorrelates the pairs; the point is then
+// XOR-scrambled per pixel. So every dimension is stratified at every power-of-two sample count.
+VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dimension, uint axis) {
+    const uint key = vkrtRandomBits(seed, pixel, 0xffffffffu, dimension);  // the pair's, in this pixel
+    const uint index = vkrtReverseBits(vkrtLaineKarras(vkrtReverseBits(sampleIndex), key));
+    const uint bits = axis == 0u ? vkrtReverseBits(index) : vkrtSobol2(index);
+    const uint scramble = vkrtHash(key ^ (0x68e31da4u + axis));
+    return float((bits ^ scramble) >> 8u) * 5.9604644775390625e-8;
 }
 
 VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) {

@@ -247,8 +247,8 @@ vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters coun
                 orthonormalBasis(normal, tangent, bitangent);
                 const vec3 m = sampleGgxVisibleNormal(vec3(dot(toViewer, tangent), dot(toViewer, bitangent), cosOut),
                                                       surface.alpha,
-                                                      vkrtRandom(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U)),
-                                                      vkrtRandom(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_V)));
+                                                      vkrtStratified(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U), 0u),
+                                                      vkrtStratified(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U), 1u));
                 microNormal = normalize(m.x * tangent + m.y * bitangent + m.z * normal);
             }
             const float cosMicro = max(0.0, dot(microNormal, toViewer));
@@ -304,7 +304,7 @@ void main() {
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
 #ifdef VKRT_HAS_MOTION
-        vkrtShutterTime = vkrtRandom(seed, pixel, s, VKRT_DIM_TIME);
+        vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
 #endif
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
         const float jx = vkrtPixelJitterX(seed, pixel, s);
@@ -312,8 +312,8 @@ void main() {
         const vec2 offset = filterOffset(jx, jy);
         ++counters.primary;
         bool complete = true;
-        const Ray primary = cameraRay(float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y, vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_U),
-                                      vkrtRandom(seed, pixel, s, VKRT_DIM_LENS_V));
+        const Ray primary = cameraRay(float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y, vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
+                                      vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
         const vec3 value = traceRayTree(primary, pixel, s, counters, complete);
         if (complete && allFinite(value)) {
             precise const vec4 corrected = vec4(value, 1.0) - sumLost;

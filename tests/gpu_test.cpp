@@ -340,22 +340,26 @@ TEST_F(Gpu, RandomNumbersMatchTheCppDefinitionBitForBit) {
     const CompiledShader shader = compileShaderSource("random_check.comp", source.str(), {}, kShaderCache);
     ComputePipeline pipeline(context(), shader.spirv, 1, 16);
     constexpr uint32_t count = 100000, seed = 12345;
-    GpuBuffer out(context(), count * 2 * sizeof(uint32_t));
+    GpuBuffer out(context(), count * 4 * sizeof(uint32_t));
     pipeline.bind({&out});
     const uint32_t constants[4] = {seed, count, 0, 0};
     context().submitAndWait([&](VkCommandBuffer commands) {
         pipeline.dispatch(commands, constants, sizeof(constants), (count + 63) / 64, 1);
         makeShaderWritesVisibleToHost(commands);
     });
-    std::vector<uint32_t> words(count * 2);
+    std::vector<uint32_t> words(count * 4);
     out.download(words.data(), words.size() * sizeof(uint32_t));
+    auto bitsOf = [](float value) {
+        uint32_t bits;
+        std::memcpy(&bits, &value, 4);
+        return bits;
+    };
     for (uint32_t i = 0; i < count; ++i) {
         const uint32_t pixel = i * 7919u, sample = i % 1024u, dimension = i % 37u;
-        ASSERT_EQ(words[2 * i], vkrtRandomBits(seed, pixel, sample, dimension)) << i;
-        const float expected = vkrtRandom(seed, pixel, sample, dimension);
-        uint32_t expectedBits;
-        std::memcpy(&expectedBits, &expected, 4);
-        ASSERT_EQ(words[2 * i + 1], expectedBits) << i;
+        ASSERT_EQ(words[4 * i], vkrtRandomBits(seed, pixel, sample, dimension)) << i;
+        ASSERT_EQ(words[4 * i + 1], bitsOf(vkrtRandom(seed, pixel, sample, dimension))) << i;
+        ASSERT_EQ(words[4 * i + 2], bitsOf(vkrtStratified(seed, pixel, sample, dimension, 0))) << i;
+        ASSERT_EQ(words[4 * i + 3], bitsOf(vkrtStratified(seed, pixel, sample, dimension, 1))) << i;
     }
 }
 

@@ -72,6 +72,47 @@ TEST(Random, DimensionsPixelsAndSamplesAreUncorrelated) {
               0.01);
 }
 
+TEST(Random, StratifiedDimensionsAreNetsAtEveryPowerOfTwoAndDecorrelated) {
+    // Every power-of-two prefix of a pixel's samples puts exactly one point in each of the 2^k elementary
+    // intervals of every shape (a (0,k,2)-net), for several dimension pairs and pixels.
+    for (uint32_t pixel : {0u, 77u, 123456u}) {
+        for (uint32_t dimension : {VKRT_DIM_LENS_U, vkrtNodeDimension(3, VKRT_DIM_LOBE_U)}) {
+            for (int k = 0; k <= 8; ++k) {
+                const uint32_t n = 1u << k;
+                for (int xBits = 0; xBits <= k; ++xBits) {
+                    const uint32_t columns = 1u << xBits, rows = n / columns;
+                    std::vector<int> cells(n, 0);
+                    for (uint32_t s = 0; s < n; ++s) {
+                        const float x = vkrtStratified(9, pixel, s, dimension, 0);
+                        const float y = vkrtStratified(9, pixel, s, dimension, 1);
+                        ++cells[static_cast<uint32_t>(y * rows) * columns +
+                                static_cast<uint32_t>(x * columns)];
+                    }
+                    for (int c : cells)
+                        ASSERT_EQ(c, 1) << "pixel " << pixel << " n " << n << " columns " << columns;
+                }
+            }
+        }
+    }
+    // Different pairs are decorrelated: not the same points in a related order (an index XOR or an output
+    // XOR would give |correlation| near 1 for some pixels; independent uniforms about 1 / sqrt(n)).
+    double meanAbsCorrelation = 0.0;
+    for (uint32_t pixel = 0; pixel < 64; ++pixel) {
+        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+        const int n = 256;
+        for (uint32_t s = 0; s < n; ++s) {
+            const double a = vkrtStratified(9, pixel, s, VKRT_DIM_LENS_U, 0);
+            const double b =
+                vkrtStratified(9, pixel, s, vkrtNodeDimension(0, VKRT_DIM_LIGHT(0, VKRT_DIM_LIGHT_U)), 0);
+            sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+        }
+        const double cov = sab / n - sa / n * sb / n;
+        meanAbsCorrelation +=
+            std::abs(cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n))) / 64;
+    }
+    EXPECT_LT(meanAbsCorrelation, 0.1);
+}
+
 TEST(Random, RayTreeNodesOwnDisjointDimensions) {
     // Node k's dimensions end before node k + 1's begin, and the pixel jitter comes first.
     EXPECT_GT(vkrtNodeDimension(0, 0), VKRT_DIM_PIXEL_Y);

@@ -79,7 +79,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       aspect_(static_cast<double>(settings.width) / settings.height) {}
 
 double ReferenceRenderer::shutterTime(uint32_t pixel, uint32_t sample) const {
-    return scene_.moving() ? vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_TIME) : 0.0;
+    return scene_.moving() ? vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_TIME, 0) : 0.0;
 }
 
 Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, double lensV) const {
@@ -198,10 +198,12 @@ glm::dvec3 ReferenceRenderer::directLight(const glm::dvec3& point, double errorS
         glm::dvec3 areaSum(0.0);
         for (uint32_t k = 0; k < count; ++k) {
             const AreaLightSample light = areaLights_.sample(
-                vkrtRandom(seed, pixel, sample,
-                           vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK))),
-                vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U))),
-                vkrtRandom(seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_V))),
+                vkrtStratified(seed, pixel, sample,
+                               vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0),
+                vkrtStratified(seed, pixel, sample,
+                               vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0),
+                vkrtStratified(seed, pixel, sample,
+                               vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1),
                 point, time);
             const glm::dvec3 offset = light.point - point;
             const double distance2 = glm::dot(offset, offset);
@@ -334,8 +336,8 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
             const glm::dvec3 local(glm::dot(toViewer, tangent), glm::dot(toViewer, bitangent), cosOut);
             const glm::dvec3 m = sampleGgxVisibleNormal(
                 local, surface.alpha,
-                vkrtRandom(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_U)),
-                vkrtRandom(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_V)));
+                vkrtStratified(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_U), 0),
+                vkrtStratified(settings_.seed, pixel, sample, vkrtNodeDimension(node, VKRT_DIM_LOBE_U), 1));
             microNormal = glm::normalize(m.x * tangent + m.y * bitangent + m.z * normal);
         }
         const double cosMicro = std::max(0.0, glm::dot(microNormal, toViewer));
@@ -391,8 +393,8 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
         const glm::dvec2 offset = filterOffset(settings_.pixelFilter, jx, jy);
         ++counters.primary;
         const Ray ray = cameraRay(x + 0.5 + offset.x, y + 0.5 + offset.y,
-                                  vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_U),
-                                  vkrtRandom(settings_.seed, pixel, sample, VKRT_DIM_LENS_V));
+                                  vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_LENS_U, 0),
+                                  vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_LENS_U, 1));
         const glm::dvec3 value =
             radiance(ray, pixel, sample, 0, 0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters);
         if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) {

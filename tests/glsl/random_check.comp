@@ -1,5 +1,5 @@
 #version 460
-// Writes vkrtRandomBits and vkrtRandom for a spread of (pixel, sample, dimension) keys, so the test can
+// Writes vkrtRandomBits, vkrtRandom and vkrtStratified for a spread of (pixel, sample, dimension) keys, so the test can
 // compare them with the C++ definition bit for bit.
 #extension GL_GOOGLE_include_directive : require
 
@@ -13,6 +13,8 @@ void main() {
     const uint i = gl_GlobalInvocationID.x;
     if (i >= seedCount.y) return;
     const uint pixel = i * 7919u, sampleIndex = i % 1024u, dimension = i % 37u;
-    words[2u * i] = vkrtRandomBits(seedCount.x, pixel, sampleIndex, dimension);
-    words[2u * i + 1u] = floatBitsToUint(vkrtRandom(seedCount.x, pixel, sampleIndex, dimension));
+    words[4u * i] = vkrtRandomBits(seedCount.x, pixel, sampleIndex, dimension);
+    words[4u * i + 1u] = floatBitsToUint(vkrtRandom(seedCount.x, pixel, sampleIndex, dimension));
+    words[4u * i + 2u] = floatBitsToUint(vkrtStratified(seedCount.x, pixel, sampleIndex, dimension, 0u));
+    words[4u * i + 3u] = floatBitsToUint(vkrtStratified(seedCount.x, pixel, sampleIndex, dimension, 1u));
 }
