@@ -64,6 +64,26 @@ json validTriangle(const std::vector<uint8_t>& bytes = triangleBytes()) {
     };
 }
 
+// The one triangle, plus an animation of node 0's translation with keys at `times` (2 keys, 2 values).
+json animatedTriangle(float firstTime, float secondTime, int valueCount = 2) {
+    std::vector<uint8_t> bytes = triangleBytes();
+    const float keys[2] = {firstTime, secondTime};
+    const float values[6] = {0, 0, 0, 1, 0, 0};
+    bytes.resize(44 + 8 + 24);
+    std::memcpy(bytes.data() + 44, keys, 8);
+    std::memcpy(bytes.data() + 52, values, 24);
+    json d = validTriangle(bytes);
+    d["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}});
+    d["accessors"].push_back(
+        {{"bufferView", 3}, {"componentType", 5126}, {"count", valueCount}, {"type", "VEC3"}});
+    d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 8}});
+    d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 52}, {"byteLength", 24}});
+    d["animations"] = {{{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
+                        {"samplers", {{{"input", 2}, {"output", 3}}}}}};
+    d["scenes"][0]["extras"] = {{"shutter", {0.0, 1.0}}};
+    return d;
+}
+
 struct BadCase {
     const char* name;
     std::function<void(const std::filesystem::path& folder, std::filesystem::path& file)> make;
@@ -159,6 +179,24 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "uniformly"},
+        {"animation keys out of order",
+         [](auto&, auto& file) { writeJson(file, animatedTriangle(1.0f, 0.0f)); }, "increasing"},
+        {"animation with fewer values than keys",
+         [](auto&, auto& file) { writeJson(file, animatedTriangle(0.0f, 1.0f, 1)); }, "do not match"},
+        {"animation of a node that does not exist",
+         [](auto&, auto& file) {
+             json d = animatedTriangle(0.0f, 1.0f);
+             d["animations"][0]["channels"][0]["target"]["node"] = 9;
+             writeJson(file, d);
+         },
+         "node 9"},
+        {"shutter that closes before it opens",
+         [](auto&, auto& file) {
+             json d = animatedTriangle(0.0f, 1.0f);
+             d["scenes"][0]["extras"]["shutter"] = {1.0, 0.0};
+             writeJson(file, d);
+         },
+         "shutter"},
         {"node cycle",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -256,6 +294,15 @@ TEST(BadInput, CommandExitsWithCodeTwoAndWritesNothing) {
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {
         EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
     }
+}
+
+TEST(BadInput, ValidAnimationLoadsAndMoves) {
+    const auto file = test::temporaryFolder() / "animated.gltf";
+    writeJson(file, animatedTriangle(0.0f, 1.0f));
+    const Scene scene = loadGltf(file.string());
+    ASSERT_TRUE(scene.moving());
+    EXPECT_EQ(scene.motionSegments, 1);  // linear translation: one exact segment
+    EXPECT_NEAR(scene.trianglePose(0, 1).v0.x - scene.triangles[0].v0.x, 1.0f, 1e-6f);
 }
 
 TEST(BadInput, ValidTriangleLoads) {
