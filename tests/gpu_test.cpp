@@ -208,7 +208,9 @@ TEST_F(Gpu, WhiteFurnaceNeverGainsEnergy) {
             double sum = 0.0;
             for (const glm::vec3& p : image->pixels) {
                 ASSERT_LE(std::max({p.x, p.y, p.z}), 1.0f + 1e-5f) << which;
-                if (roughness == 0.0f) ASSERT_NEAR(p.x, 1.0f, 1e-5f) << which;
+                if (roughness == 0.0f) {
+                    ASSERT_NEAR(p.x, 1.0f, 1e-5f) << which;
+                }
                 sum += p.x;
             }
             const double mean = sum / static_cast<double>(image->pixels.size());
@@ -216,7 +218,9 @@ TEST_F(Gpu, WhiteFurnaceNeverGainsEnergy) {
             // multiple-scattering compensation would return); the image must show that, not a constant.
             const double lowest = roughness <= 0.25f ? 0.95 : roughness <= 0.5f ? 0.85 : 0.45;
             EXPECT_GT(mean, lowest) << which;
-            if (roughness == 1.0f) EXPECT_LT(mean, 0.7) << which;
+            if (roughness == 1.0f) {
+                EXPECT_LT(mean, 0.7) << which;
+            }
         }
     }
 }

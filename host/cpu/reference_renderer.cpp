@@ -103,10 +103,6 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, doubl
     return {origin, glm::normalize(focus - origin)};
 }
 
-bool ReferenceRenderer::closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const {
-    return vkrt::closestHit(scene_, bvh_, ray, tMax, exclude, hit);
-}
-
 glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {
     if (scene_.isSphere(hit.triangle)) return {hit.u, hit.v};  // spheres carry their texture coordinates
     const TriangleShading& s = scene_.shading[hit.triangle];
@@ -244,7 +240,7 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
     const double time = shutterTime(pixel, sample);
     SurfaceHit hit;
     const bool found =
-        vkrt::closestHit(scene_, bvh_, ray, std::numeric_limits<double>::infinity(), exclude, hit, time);
+        closestHit(scene_, bvh_, ray, std::numeric_limits<double>::infinity(), exclude, hit, time);
     const glm::dvec3 absorbed = media.top() >= 0
                                     ? beerLambert(scene_.materials[media.top()], found ? hit.t : INFINITY)
                                     : glm::dvec3(1.0);

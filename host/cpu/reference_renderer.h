@@ -1,7 +1,6 @@
-// The CPU reference renderer: plain, recursive Whitted ray tracing in double precision, of triangles and
-// analytic spheres. It is the oracle
-// the GPU tracer is tested against, so it favours obvious correctness over speed (rows are still shared
-// among all cores).
+// The CPU reference renderer: plain, recursive, distributed Whitted ray tracing in double precision, of
+// triangles and analytic spheres. It is the oracle the GPU tracer is tested against, so it favours obvious
+// correctness over speed (rows are still shared among all cores).
 #pragma once
 
 #include <cstdint>
@@ -32,7 +31,6 @@ class ReferenceRenderer {
     // The pieces, public for tests.
     // Film coordinates in pixels, (0, 0) top-left; (lensU, lensV) in [0, 1)^2 picks the lens point.
     Ray cameraRay(double filmX, double filmY, double lensU = 0.5, double lensV = 0.5) const;
-    bool closestHit(const Ray& ray, double tMax, uint32_t exclude, SurfaceHit& hit) const;
     // Fraction of light that passes from the ray's origin to distance tMax: 0 behind an opaque surface,
     // the product of the transmission tints of transmissive ones.
     glm::dvec3 transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB,
