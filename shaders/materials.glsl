@@ -54,20 +54,20 @@ vec2 uvAt(uint triangle, float u, float v) {
 
 uint materialOf(uint triangle) { return VKRT_TRIANGLE(triangle).material; }
 
-vec3 albedoAt(GpuMaterial material, uint triangle, float u, float v) {
-    vec3 albedo = material.baseColorMetallic.rgb;
+// A colour factor times its texture (index -1: none) at the hit's texture coordinates.
+vec3 textured(vec3 factor, int texture, uint triangle, float u, float v) {
 #ifdef VKRT_HAS_TEXTURES
-    if (material.textures.x >= 0) albedo *= sampleTexture(material.textures.x, uvAt(triangle, u, v)).rgb;
+    if (texture >= 0) return factor * sampleTexture(texture, uvAt(triangle, u, v)).rgb;
 #endif
-    return albedo;
+    return factor;
+}
+
+vec3 albedoAt(GpuMaterial material, uint triangle, float u, float v) {
+    return textured(material.baseColorMetallic.rgb, material.textures.x, triangle, u, v);
 }
 
 vec3 emissionAt(GpuMaterial material, uint triangle, float u, float v) {
-    vec3 emission = material.emissionRoughness.rgb;
-#ifdef VKRT_HAS_TEXTURES
-    if (material.textures.y >= 0) emission *= sampleTexture(material.textures.y, uvAt(triangle, u, v)).rgb;
-#endif
-    return emission;
+    return textured(material.emissionRoughness.rgb, material.textures.y, triangle, u, v);
 }
 
 struct SurfaceResponse {

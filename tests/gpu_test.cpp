@@ -489,7 +489,8 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     GpuRenderer full(context(), scene, bvh, camera, settings, options);
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
-    EXPECT_EQ(full.features().defines().size(), 7u);
+    EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
+    EXPECT_EQ(full.features().defines().size(), 9u);
     for (const std::string& define : lean.defines()) {
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY") << define;
     }
@@ -499,7 +500,8 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
         const std::string bytes(reinterpret_cast<const char*>(spirv.data()), spirv.size() * 4);
         return bytes.find(name) != std::string::npos;
     };
-    for (const char* function : {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom"}) {
+    for (const char* function :
+         {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom", "sphereRoots", "concentricDisk"}) {
         EXPECT_TRUE(names(full.spirv(), function)) << function;
         EXPECT_FALSE(names(lean.spirv(), function))
             << function << " is compiled in but the scene does not need it";

@@ -110,20 +110,18 @@ glm::dvec2 ReferenceRenderer::uvAt(const SurfaceHit& hit) const {
            hit.v * glm::dvec2(s.uv[2]);
 }
 
+glm::dvec3 ReferenceRenderer::textured(const glm::vec3& factor, int texture, const SurfaceHit& hit) const {
+    glm::dvec3 color(factor);
+    if (texture >= 0) color *= glm::dvec3(sampleBaseColor(scene_.textures[texture], uvAt(hit)));
+    return color;
+}
+
 glm::dvec3 ReferenceRenderer::albedoAt(const Material& material, const SurfaceHit& hit) const {
-    glm::dvec3 albedo(material.baseColor);
-    if (material.baseColorTexture >= 0) {
-        albedo *= glm::dvec3(sampleBaseColor(scene_.textures[material.baseColorTexture], uvAt(hit)));
-    }
-    return albedo;
+    return textured(glm::vec3(material.baseColor), material.baseColorTexture, hit);
 }
 
 glm::dvec3 ReferenceRenderer::emissionAt(const Material& material, const SurfaceHit& hit) const {
-    glm::dvec3 emission(material.emission);
-    if (material.emissiveTexture >= 0) {
-        emission *= glm::dvec3(sampleBaseColor(scene_.textures[material.emissiveTexture], uvAt(hit)));
-    }
-    return emission;
+    return textured(material.emission, material.emissiveTexture, hit);
 }
 
 glm::dvec3 ReferenceRenderer::transmittance(const Ray& ray, double tMax, uint32_t excludeA, uint32_t excludeB,

@@ -53,6 +53,8 @@ class ReferenceRenderer {
                            const SurfaceResponse& surface, uint32_t self, uint32_t exclude, bool lobeSampled,
                            uint32_t pixel, uint32_t sample, uint32_t node, RayCounters& counters) const;
     glm::dvec2 uvAt(const SurfaceHit& hit) const;
+    // A colour factor times its texture (index -1: none) at the hit's texture coordinates.
+    glm::dvec3 textured(const glm::vec3& factor, int texture, const SurfaceHit& hit) const;
     glm::dvec3 albedoAt(const Material& material, const SurfaceHit& hit) const;
     glm::dvec3 emissionAt(const Material& material, const SurfaceHit& hit) const;
 

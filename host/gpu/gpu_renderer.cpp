@@ -19,7 +19,7 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
 
 constexpr uint32_t kMaxSamplesPerDispatch = 16;
 
-const SceneFeatures kAllFeatures{true, true, true, true, true, true, true};
+const SceneFeatures kAllFeatures = SceneFeatures::all();
 
 }  // namespace
 

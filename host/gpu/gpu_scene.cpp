@@ -1,5 +1,6 @@
 #include "gpu/gpu_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -34,13 +35,15 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     for (uint32_t i = 0; i < bvh.primIndices.size(); ++i) {
         const uint32_t index = bvh.primIndices[i];
         gpuIndexOf[index] = i;
-        for (int pose = 1; data.features.motion && pose <= scene.motionSegments; ++pose) {
+        // A static scene given the motion path (SceneFeatures::all) gets one segment that stays put.
+        for (int pose = 1; data.features.motion && pose <= std::max(1, scene.motionSegments); ++pose) {
+            const int at = scene.moving() ? pose : 0;
             if (scene.isSphere(index)) {
-                const Sphere s = scene.spherePose(index, pose);
+                const Sphere s = scene.spherePose(index, at);
                 data.motion.push_back({s.center, s.material, glm::vec3(s.radius, 0.0f, 0.0f), index,
                                        glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
             } else {
-                const Triangle t = scene.trianglePose(index, pose);
+                const Triangle t = scene.trianglePose(index, at);
                 data.motion.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
             }
         }
@@ -108,7 +111,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
              static_cast<float>(areaLights.pdfArea()[i]), static_cast<float>(areaLights.pick()[i])});
     }
     data.areaLightPower = areaLights.totalPower();
-    data.motionSegments = data.features.motion ? scene.motionSegments : 0;
+    data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }

@@ -33,6 +33,12 @@ bool isFlat(const Triangle& t, const TriangleShading& s) {
 
 }  // namespace
 
+SceneFeatures SceneFeatures::all() {
+    SceneFeatures features;
+    for (const FeatureName& f : kFeatures) features.*f.flag = true;
+    return features;
+}
+
 std::vector<std::string> SceneFeatures::defines() const {
     std::vector<std::string> result;
     for (const FeatureName& f : kFeatures) {

@@ -20,6 +20,9 @@ struct SceneFeatures {
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
 
+    // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
+    static SceneFeatures all();
+
     // Shader defines (VKRT_HAS_...), one per feature present.
     std::vector<std::string> defines() const;
     // Short names of the features present, for the stats JSON.

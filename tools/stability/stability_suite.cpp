@@ -280,67 +280,36 @@ StabilityResult coincidentFaces(const VulkanContext& context, const StabilityOpt
     return measure(options, "thin media", "coincident faces", r);
 }
 
+// Spheres are tessellated (64 x 128 smooth-shaded triangles) or analytic (VKRT_sphere).
+enum class SphereKind { Mesh, Analytic };
+
+void addSphere(Scene& scene, glm::vec3 center, float radius, uint32_t material, SphereKind kind) {
+    if (kind == SphereKind::Analytic) {
+        scene.spheres.push_back({center, radius, material});
+    } else {
+        addMesh(scene, makeUvSphere(center, radius, 64, 128, material), material, true, center);
+    }
+}
+
+const char* groupOf(SphereKind kind) {
+    return kind == SphereKind::Analytic ? "analytic spheres" : "thin media";
+}
+
+// A sphere of `material` over the checkerboard; with `invariance`, compared with the board alone (for
+// materials that must be invisible).
 StabilityResult sphereCase(const VulkanContext& context, const StabilityOptions& options,
-                           const Material& material, const std::string& name,
-                           const Image** withoutSphere = nullptr) {
-    Scene scene = checkerboard();
-    scene.materials.push_back(material);
-    addMesh(scene, makeUvSphere({0.0f, 1.0f, 0.0f}, 1.0f, 64, 128, 2), 2, true, {0.0f, 1.0f, 0.0f});
-    finalizeScene(scene);
-    const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 0.8, 0.0}, 0.7);
-    const Rendered r = renderBoth(context, scene, camera, settingsFor(options), options);
-    StabilityResult result = measure(options, "thin media", name, r);
-    if (withoutSphere) {
-        Scene empty = checkerboard();
-        finalizeScene(empty);
-        const Rendered plain = renderBoth(context, empty, camera, settingsFor(options), options);
-        setInvariance(result, r.gpu, plain.gpu);
-    }
-    return result;
-}
-
-// Glass inside water: a sphere of index `innerIor` inside a water sphere (1.33). With the right relative
-// index at each interface an inner sphere of index 1.33 disappears, which the invariance columns check
-// against the water sphere alone.
-StabilityResult nestedDielectrics(const VulkanContext& context, const StabilityOptions& options,
-                                  float innerIor, const std::string& name) {
-    const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 1.0, 0.0}, 0.7);
-    auto build = [&](bool inner) {
-        Scene scene = checkerboard();
-        scene.materials.push_back(glass(1.33f));
-        addMesh(scene, makeUvSphere({0.0f, 1.1f, 0.0f}, 1.1f, 64, 128, 2), 2, true, {0.0f, 1.1f, 0.0f});
-        if (inner) {
-            scene.materials.push_back(glass(innerIor));
-            addMesh(scene, makeUvSphere({0.0f, 1.1f, 0.0f}, 0.6f, 48, 96, 3), 3, true, {0.0f, 1.1f, 0.0f});
-        }
-        finalizeScene(scene);
-        return scene;
-    };
-    const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
-    StabilityResult result = measure(options, "thin media", name, r);
-    if (innerIor == 1.33f) {
-        const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
-        setInvariance(result, r.gpu, water.gpu);
-    }
-    return result;
-}
-
-// Analytic spheres (VKRT_sphere): glass that must vanish at ior 1 and reflect totally at 2.4, a glass
-// sphere in an index-matched water sphere, and the cases Ray Tracing Gems ch. 7 is about: a sphere a
-// hundred thousand times smaller than its distance from the camera and a huge sphere used as the ground,
-// where the textbook quadratic loses every digit.
-StabilityResult analyticSpheres(const VulkanContext& context, const StabilityOptions& options,
-                                const Material& material, const std::string& name, bool invariance) {
+                           const Material& material, const std::string& name, SphereKind kind,
+                           bool invariance = false) {
     const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 0.8, 0.0}, 0.7);
     auto build = [&](bool withSphere) {
         Scene scene = checkerboard();
         scene.materials.push_back(material);
-        if (withSphere) scene.spheres.push_back({{0.0f, 1.0f, 0.0f}, 1.0f, 2});
+        if (withSphere) addSphere(scene, {0.0f, 1.0f, 0.0f}, 1.0f, 2, kind);
         finalizeScene(scene);
         return scene;
     };
     const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
-    StabilityResult result = measure(options, "analytic spheres", name, r);
+    StabilityResult result = measure(options, groupOf(kind), name, r);
     if (invariance) {
         const Rendered plain = renderBoth(context, build(false), camera, settingsFor(options), options);
         setInvariance(result, r.gpu, plain.gpu);
@@ -348,24 +317,34 @@ StabilityResult analyticSpheres(const VulkanContext& context, const StabilityOpt
     return result;
 }
 
-StabilityResult analyticNested(const VulkanContext& context, const StabilityOptions& options) {
+// Glass inside water: a sphere of index `innerIor`, off-centre inside a water sphere (1.33). With the right
+// relative index at each interface an inner sphere of index 1.33 disappears, which the invariance columns
+// check against the water sphere alone.
+StabilityResult nestedDielectrics(const VulkanContext& context, const StabilityOptions& options,
+                                  float innerIor, const std::string& name, SphereKind kind) {
     const Camera camera = lookAt({0.0, 2.0, 5.0}, {0.0, 1.0, 0.0}, 0.7);
     auto build = [&](bool inner) {
         Scene scene = checkerboard();
         scene.materials.push_back(glass(1.33f));
-        scene.spheres.push_back({{0.0f, 1.1f, 0.0f}, 1.1f, 2});
-        if (inner) scene.spheres.push_back({{0.2f, 1.1f, 0.1f}, 0.6f, 2});
+        addSphere(scene, {0.0f, 1.1f, 0.0f}, 1.1f, 2, kind);
+        if (inner) {
+            scene.materials.push_back(glass(innerIor));
+            addSphere(scene, {0.2f, 1.1f, 0.1f}, 0.6f, 3, kind);
+        }
         finalizeScene(scene);
         return scene;
     };
     const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
-    StabilityResult result =
-        measure(options, "analytic spheres", "index-matched sphere in a water sphere (must vanish)", r);
-    const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
-    setInvariance(result, r.gpu, water.gpu);
+    StabilityResult result = measure(options, groupOf(kind), name, r);
+    if (innerIor == 1.33f) {
+        const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
+        setInvariance(result, r.gpu, water.gpu);
+    }
     return result;
 }
 
+// The cases Ray Tracing Gems ch. 7 is about: a sphere a hundred thousand times smaller than its distance
+// from the camera, and a huge sphere used as the ground, where the textbook quadratic loses every digit.
 StabilityResult distantSphere(const VulkanContext& context, const StabilityOptions& options) {
     Scene scene;
     scene.materials.push_back(diffuse(glm::vec3(0.8f)));
@@ -506,7 +485,7 @@ StabilityResult roughnessExtremes(const VulkanContext& context, const StabilityO
     metal.roughness = roughness;
     std::ostringstream name;
     name << "metal sphere, roughness " << roughness;
-    StabilityResult result = sphereCase(context, options, metal, name.str());
+    StabilityResult result = sphereCase(context, options, metal, name.str(), SphereKind::Mesh);
     result.group = "extreme values";
     return result;
 }
@@ -561,17 +540,16 @@ std::vector<StabilityResult> runStabilitySuite(const VulkanContext& context,
     results.push_back(terminator(context, options));
     results.push_back(thinSlab(context, options));
     results.push_back(coincidentFaces(context, options));
-    const Image* unused = nullptr;
-    results.push_back(sphereCase(context, options, glass(2.4f), "total internal reflection, ior 2.4 sphere"));
-    results.push_back(
-        sphereCase(context, options, glass(1.0f), "ior 1.0 sphere (must be invisible)", &unused));
-    results.push_back(nestedDielectrics(context, options, 1.5f, "nested dielectrics: glass sphere in water"));
-    results.push_back(
-        nestedDielectrics(context, options, 1.33f, "index-matched sphere in water (must vanish)"));
-    results.push_back(
-        analyticSpheres(context, options, glass(2.4f), "total internal reflection, ior 2.4", false));
-    results.push_back(analyticSpheres(context, options, glass(1.0f), "ior 1.0 (must be invisible)", true));
-    results.push_back(analyticNested(context, options));
+    for (SphereKind kind : {SphereKind::Mesh, SphereKind::Analytic}) {
+        results.push_back(
+            sphereCase(context, options, glass(2.4f), "total internal reflection, ior 2.4 sphere", kind));
+        results.push_back(
+            sphereCase(context, options, glass(1.0f), "ior 1.0 sphere (must be invisible)", kind, true));
+        results.push_back(
+            nestedDielectrics(context, options, 1.5f, "nested dielectrics: glass sphere in water", kind));
+        results.push_back(
+            nestedDielectrics(context, options, 1.33f, "index-matched sphere in water (must vanish)", kind));
+    }
     results.push_back(distantSphere(context, options));
     results.push_back(hugeGroundSphere(context, options));
     results.push_back(degenerateGeometry(context, options));
