@@ -36,7 +36,7 @@ ShearedRay shearRay(Ray ray) {
 }
 
 // On a hit in (tMin, tMax): the distance and the barycentric weights of v1 and v2.
-bool intersectTriangle(ShearedRay r, GpuTriangle triangle, float tMin, float tMax, out float t, out float u,
+bool intersectTriangle(ShearedRay r, GpuPrimitive triangle, float tMin, float tMax, out float t, out float u,
                        out float v) {
     const vec3 a = triangle.v0 - r.origin;
     const vec3 b = triangle.v1 - r.origin;

@@ -1,11 +1,12 @@
 #version 460
-// Traces a batch of rays through the scene's BVH and writes, per ray, the closest hit (distance, triangle,
+// Traces a batch of rays through the scene's BVH and writes, per ray, the closest hit (distance, primitive,
 // barycentrics) or, in any-hit mode, whether anything lies between tMin and tMax. Used by the ray-level
 // conformance tests and the ray benchmarks; the traversal is the renderer's own (traverse.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
 #include "shared.h"
+#include "shading_language.h"
 
 layout(local_size_x = VKRT_RAYCAST_WORKGROUP) in;
 
@@ -15,8 +16,7 @@ layout(push_constant) uniform Constants { RaycastConstants constants; };
 #include "geometry.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
-#include "sphere.glsl"
-#include "materials.glsl"
+#include "device_materials.glsl"
 #include "traverse.glsl"
 
 void main() {
@@ -29,7 +29,7 @@ void main() {
     if (constants.mode == VKRT_RAYCAST_ANY) {
         found = traceAny(shearRay(Ray(ray.origin, ray.direction)), ray.tMin, ray.tMax, hit, complete);
     } else {
-        found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), VKRT_NO_TRIANGLE, ray.tMin, ray.tMax, hit,
+        found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), VKRT_NO_PRIMITIVE, ray.tMin, ray.tMax, hit,
                              complete);
     }
     // A walk the driver cut short is reported as a miss at NaN distance (see traverse.glsl).
@@ -37,6 +37,6 @@ void main() {
         constants.hits.hits[index] = GpuHit(uintBitsToFloat(0x7fc00000u), VKRT_NO_HIT, 0.0, 0.0);
         return;
     }
-    // Hits name the triangle by its index in the scene, not its place in the BVH's leaf order.
-    constants.hits.hits[index] = found ? GpuHit(hit.t, VKRT_TRIANGLE(hit.triangle).sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
+    // Hits name the primitive by its index in the scene, not its place in the BVH's leaf order.
+    constants.hits.hits[index] = found ? GpuHit(hit.t, VKRT_PRIMITIVE(hit.primitive).sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
 }

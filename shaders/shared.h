@@ -1,6 +1,7 @@
 // Every struct, binding index and size that the host and the shaders share. Included by C++ (which maps
 // the GLSL types onto GLM) and by GLSL, so each layout has exactly one definition. All structs follow
-// std430 and are built from 16-byte vec4/uvec4 rows, so C++ and GLSL agree without padding rules.
+// std430 and are built from 16-byte rows (a vec3 and a scalar, or four scalars), so C++ and GLSL agree
+// without padding rules.
 #ifndef VKRT_SHARED_H
 #define VKRT_SHARED_H
 
@@ -29,7 +30,7 @@ using uint = uint32_t;
 #define VKRT_BVH_MAX_DEPTH 64
 
 // Hits closer than this relative distance apart are ties (coplanar faces, or surfaces closer than single
-// precision resolves); the triangle with the smaller scene index wins, on the GPU and the CPU alike, so
+// precision resolves); the primitive with the smaller scene index wins, on the GPU and the CPU alike, so
 // coplanar faces do not z-fight by rounding.
 #define VKRT_TIE_EPSILON 9.5367431640625e-7
 
@@ -43,9 +44,9 @@ using uint = uint32_t;
 // The descriptors: a storage buffer holding SceneParams. Everything else is reached through the buffer
 // device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
 #define VKRT_BINDING_PARAMS 0
-// With VKRT_BOUND_GEOMETRY (see geometry.glsl), nodes and triangles are bound here as well.
+// With VKRT_BOUND_GEOMETRY (see geometry.glsl), nodes and primitives are bound here as well.
 #define VKRT_BINDING_NODES 1
-#define VKRT_BINDING_TRIANGLES 2
+#define VKRT_BINDING_PRIMITIVES 2
 
 // Ray counters, indices into the counter buffer.
 #define VKRT_COUNTER_PRIMARY 0
@@ -54,16 +55,9 @@ using uint = uint32_t;
 #define VKRT_COUNTER_NONFINITE 3
 #define VKRT_COUNTER_COUNT 4
 
-#define VKRT_LIGHT_POINT 0
-#define VKRT_LIGHT_SPOT 1
-#define VKRT_LIGHT_DIRECTIONAL 2
-
-#define VKRT_PROJECTION_PERSPECTIVE 0
-#define VKRT_PROJECTION_ORTHOGRAPHIC 1
-
 // A flattened BVH node, 32 bytes (std430 packs a vec3 and a uint into 16 bytes).
 // Interior node: primCount == 0, the children are nodes leftOrFirst and leftOrFirst + 1.
-// Leaf: primCount > 0 triangles starting at leftOrFirst (triangles are stored in leaf order).
+// Leaf: primCount > 0 primitives starting at leftOrFirst (primitives are stored in leaf order).
 struct BvhNode {
     vec3 boundsMin;
     uint leftOrFirst;
@@ -77,7 +71,7 @@ struct BvhNode {
 // lavapipe's denormal flushing.
 #define VKRT_PRIMITIVE_TRIANGLE 0u
 #define VKRT_PRIMITIVE_SPHERE 1u
-struct GpuTriangle {
+struct GpuPrimitive {
     vec3 v0;
     uint material;
     vec3 v1;
@@ -96,11 +90,20 @@ struct GpuShading {
 
 // A material, 80 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
-    vec4 baseColorMetallic;  // rgb base colour, metallic
-    vec4 emissionRoughness;  // rgb emission (factor * strength), roughness
-    vec4 attenuation;        // rgb attenuation colour, attenuation distance (infinity: none)
-    vec4 transmission;       // transmission, ior, thickness (0: thin-walled), double-sided (0 or 1)
-    ivec4 textures;          // base colour texture, emissive texture (-1: none), unused, unused
+    vec3 baseColor;
+    float metallic;
+    vec3 emission;  // emissiveFactor * strength
+    float roughness;
+    vec3 attenuationColor;
+    float attenuationDistance;  // infinity: no absorption
+    float transmission;
+    float ior;
+    float thickness;  // 0: thin-walled
+    uint doubleSided;
+    int baseColorTexture;  // -1: none
+    int emissiveTexture;   // -1: none
+    uint unused0;
+    uint unused1;
 };
 
 // A texture's place in the texel buffer (RGBA8, one uint per texel, rows top to bottom).
@@ -108,32 +111,46 @@ struct GpuTexture {
     uint firstTexel;
     uint width;
     uint height;
-    uint flags;  // wrap S in bits 0-1, wrap T in bits 2-3 (0 repeat, 1 clamp, 2 mirror), bit 4 nearest
+    uint flags;  // wrap modes and filtering (VKRT_WRAP_*, VKRT_TEXTURE_NEAREST in texture_sampling.h)
 };
 
+// A KHR_lights_punctual light, 64 bytes.
 struct GpuPunctualLight {
-    vec4 positionType;    // xyz position, w type (VKRT_LIGHT_*)
-    vec4 directionRange;  // xyz the direction the light shines, w range (0: unlimited)
-    vec4 radiantColor;    // rgb colour * intensity
-    vec4 cone;            // cos(outer cone), 1 / max(0.001, cos(inner) - cos(outer))
+    vec3 position;
+    uint type;  // VKRT_LIGHT_* (punctual_light.h)
+    vec3 direction;  // the direction the light shines
+    float range;     // 0: unlimited
+    vec3 intensity;  // colour * intensity
+    float cosOuter;  // cos(outer cone angle)
+    float coneScale;  // 1 / max(0.001, cos(inner) - cos(outer))
+    uint unused0;
+    uint unused1;
+    uint unused2;
 };
 
 // One emissive primitive: its index, the cumulative power up to and including it, its area pdf (pick
 // probability / area; triangles are sampled by area) and its pick probability (spheres are sampled by
 // solid angle).
 struct GpuAreaLight {
-    uint triangle;
+    uint primitive;
     float cdf;
     float pdfArea;
     float pick;
 };
 
 struct GpuCamera {
-    vec4 positionProjection;  // xyz position, w projection (VKRT_PROJECTION_*)
-    vec4 forwardTanHalfFov;   // xyz forward, w tan(yfov / 2)
-    vec4 rightXmag;           // xyz right, w xmag
-    vec4 upYmag;              // xyz up, w ymag
-    vec4 lens;                // thin lens: radius, focus distance (along forward), unused, unused
+    vec3 position;
+    uint projection;  // VKRT_PROJECTION_* (camera.h)
+    vec3 forward;
+    float tanHalfFov;  // perspective: tan(yfov / 2)
+    vec3 right;
+    float xmag;  // orthographic: half the view's width
+    vec3 up;
+    float ymag;           // orthographic: half the view's height
+    float lensRadius;     // thin lens; 0: a pinhole
+    float focusDistance;  // along forward
+    uint unused0;
+    uint unused1;
 };
 
 // A ray for the ray-casting kernel (shaders/raycast.comp), 32 bytes.
@@ -144,10 +161,10 @@ struct GpuRay {
     float tMax;
 };
 
-// Its result, 16 bytes: distance (tMax on a miss), triangle (VKRT_NO_HIT on a miss) and barycentrics.
+// Its result, 16 bytes: distance (tMax on a miss), primitive (VKRT_NO_HIT on a miss) and barycentrics.
 struct GpuHit {
     float t;
-    uint triangle;
+    uint primitive;
     float u;
     float v;
 };
@@ -161,8 +178,8 @@ struct GpuHit {
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodeBuffer {
     BvhNode nodes[];
 };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleBuffer {
-    GpuTriangle triangles[];
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveBuffer {
+    GpuPrimitive primitives[];
 };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShadingBuffer {
     GpuShading shading[];
@@ -199,13 +216,24 @@ layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer H
 // Everything a render needs that stays fixed for the whole render.
 struct SceneParams {
     GpuCamera camera;
-    vec4 ambientMinThroughput;  // rgb ambient radiance, w the throughput below which branches are cut
-    vec4 background;            // rgb radiance of rays that leave the scene, w area-light samples per hit
-    uvec4 imageDepthSeed;       // width, height, max depth, seed
-    uvec4 counts;               // punctual lights, area lights, triangles, samples per pixel (for reference)
-    vec4 lighting;  // area lights' total power (luminance x area), MIS on (1) or off (0), unused x 2
+    vec3 ambient;         // Whitted's ambient radiance
+    float minThroughput;  // branches of the ray tree weighted less than this are cut
+    vec3 background;      // radiance of rays that leave the scene
+    uint lightSamples;    // area-light samples per shading point
+    uint width;
+    uint height;
+    uint maxDepth;
+    uint seed;
+    uint punctualLightCount;
+    uint areaLightCount;
+    uint primitiveCount;
+    uint samplesPerPixel;   // of the whole render (for reference)
+    float areaLightPower;   // the area lights' total power (luminance x area)
+    uint multipleImportanceSampling;  // 1: on, 0: off
+    uint motionSegments;  // motion blur: equal segments of the shutter (0: nothing moves)
+    uint unused0;
     VKRT_ADDRESS(NodeBuffer, nodes);
-    VKRT_ADDRESS(TriangleBuffer, triangles);
+    VKRT_ADDRESS(PrimitiveBuffer, primitives);
     VKRT_ADDRESS(ShadingBuffer, shading);
     VKRT_ADDRESS(MaterialBuffer, materials);
     VKRT_ADDRESS(TextureBuffer, textures);
@@ -214,9 +242,8 @@ struct SceneParams {
     VKRT_ADDRESS(AreaLightBuffer, areaLights);
     VKRT_ADDRESS(AccumulationBuffer, accumulation);
     VKRT_ADDRESS(CounterBuffer, counters);
-    VKRT_ADDRESS(TriangleBuffer,
-                 motion);  // motion blur: every primitive where the shutter closes, leaf order
-    uvec2 unused;          // keeps the size a multiple of 16, as std430 rounds it
+    VKRT_ADDRESS(PrimitiveBuffer, motion);  // motion blur: poses 1..motionSegments of every primitive, leaf order
+    uvec2 unused1;  // keeps the size a multiple of 16, as std430 rounds it
 };
 
 // Per dispatch: which samples of which rows.
@@ -243,18 +270,18 @@ static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(offsetof(BvhNode, leftOrFirst) == 12, "std430: uint packs after vec3");
 static_assert(offsetof(BvhNode, boundsMax) == 16, "std430: vec3 aligns to 16 bytes");
 static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3");
-static_assert(sizeof(GpuTriangle) == 48);
-static_assert(offsetof(GpuTriangle, material) == 12 && offsetof(GpuTriangle, v1) == 16);
+static_assert(sizeof(GpuPrimitive) == 48);
+static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
 static_assert(sizeof(GpuMaterial) == 80);
-static_assert(offsetof(GpuMaterial, textures) == 64);
+static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial, baseColorTexture) == 64);
 static_assert(sizeof(GpuTexture) == 16);
-static_assert(sizeof(GpuPunctualLight) == 64);
+static_assert(sizeof(GpuPunctualLight) == 64 && offsetof(GpuPunctualLight, coneScale) == 48);
 static_assert(sizeof(GpuAreaLight) == 16);
-static_assert(sizeof(GpuCamera) == 80);
-static_assert(offsetof(SceneParams, ambientMinThroughput) == 80);
-static_assert(offsetof(SceneParams, imageDepthSeed) == 112);
-static_assert(offsetof(SceneParams, lighting) == 144);
+static_assert(sizeof(GpuCamera) == 80 && offsetof(GpuCamera, lensRadius) == 64);
+static_assert(offsetof(SceneParams, ambient) == 80 && offsetof(SceneParams, lightSamples) == 108);
+static_assert(offsetof(SceneParams, width) == 112 && offsetof(SceneParams, punctualLightCount) == 128);
+static_assert(offsetof(SceneParams, areaLightPower) == 144);
 static_assert(offsetof(SceneParams, nodes) == 160, "addresses start on an 8-byte boundary");
 static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
 static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);

@@ -1,16 +1,18 @@
 #version 460
-// vkrt's tracing kernel: per pixel, jittered stratified samples, each a Whitted ray tree walked with an
-// explicit stack of pending rays; the BVH walk uses its own fixed stack. Shading follows the CPU
-// reference (host/cpu/reference_renderer.cpp) step for step and draws the same random numbers.
+// vkrt's tracing kernel: per pixel, stratified samples, each a Whitted ray tree walked with an explicit stack
+// of pending rays; the BVH walk uses its own fixed stack. The shading step at every hit is the one the CPU
+// reference runs (shade_hit.h), drawing the same random numbers; this file holds the GPU's own loop and its
+// single-precision hit points.
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
-// VKRT_HAS_DEPTH_OF_FIELD.
+// VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
 #include "shared.h"
 #include "random.h"
+#include "shading_language.h"
 
 layout(local_size_x = VKRT_WORKGROUP_WIDTH, local_size_y = VKRT_WORKGROUP_HEIGHT) in;
 
@@ -20,302 +22,182 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 #include "geometry.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
-#include "sphere.glsl"
-#include "materials.glsl"
+#include "device_materials.glsl"
 #include "traverse.glsl"
-#include "lights.glsl"
-#include "media.glsl"
+#include "device_lights.glsl"
+#include "camera.h"
+#include "shade_hit.h"
 
-// One pending branch of the ray tree. Every member costs a scatter and a gather per push and pop on
-// lavapipe, so the volume stack exists only in shaders for scenes with volumes.
+#ifndef VKRT_PIXEL_FILTER
+#define VKRT_PIXEL_FILTER VKRT_FILTER_BOX
+#endif
+
+// One pending branch of the ray tree (a RayState). Every member costs a scatter and a gather per push and pop
+// on lavapipe, so the volume stack exists only in shaders for scenes with volumes.
 struct RayTask {
     vec3 origin;
-    uint node;  // ray-tree node number: children of k are 2k + 1 (reflection) and 2k + 2 (transmission)
+    uint node;
     vec3 direction;
     int depth;
     vec3 throughput;
-    uint exclude;      // the primitive the ray leaves
-    float arrivalPdf;  // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
+    uint exclude;
+    float arrivalPdf;
 #ifdef VKRT_HAS_VOLUMES
-    uvec2 media;  // the volumes the ray is inside (media.glsl)
+    uvec2 media;
 #endif
 };
 
-RayTask makeTask(vec3 origin, uint node, vec3 direction, int depth, vec3 throughput, uvec2 media, uint exclude,
-                 float arrivalPdf) {
+RayTask taskOf(RayState ray) {
     RayTask task;
-    task.origin = origin;
-    task.node = node;
-    task.direction = direction;
-    task.depth = depth;
-    task.throughput = throughput;
-    task.exclude = exclude;
-    task.arrivalPdf = arrivalPdf;
+    task.origin = ray.origin;
+    task.node = ray.node;
+    task.direction = ray.direction;
+    task.depth = ray.depth;
+    task.throughput = ray.throughput;
+    task.exclude = ray.exclude;
+    task.arrivalPdf = ray.arrivalPdf;
 #ifdef VKRT_HAS_VOLUMES
-    task.media = media;
+    task.media = ray.media;
 #endif
     return task;
 }
 
-uvec2 mediaOf(RayTask task) {
+RayState stateOf(RayTask task) {
 #ifdef VKRT_HAS_VOLUMES
-    return task.media;
+    const uvec2 media = task.media;
 #else
-    return VKRT_EMPTY_MEDIA;
+    const uvec2 media = emptyMedia();
 #endif
+    return rayState(task.origin, task.direction, task.throughput, task.node, task.depth, task.exclude,
+                    task.arrivalPdf, media);
 }
 
-struct Counters {
-    uint primary;
-    uint shadow;
-    uint secondary;
-};
+CameraFrame cameraFrame() {
+    const GpuCamera c = params.camera;
+    CameraFrame camera;
+    camera.projection = c.projection;
+    camera.position = c.position;
+    camera.forward = c.forward;
+    camera.right = c.right;
+    camera.up = c.up;
+    camera.tanHalfFov = c.tanHalfFov;
+    camera.xmag = c.xmag;
+    camera.ymag = c.ymag;
+    camera.lensRadius = c.lensRadius;
+    camera.focusDistance = c.focusDistance;
+    camera.width = float(params.width);
+    camera.height = float(params.height);
+    return camera;
+}
 
-#ifdef VKRT_HAS_DEPTH_OF_FIELD
-// Shirley and Chiu's concentric map from the unit square to the unit disk.
-vec2 concentricDisk(float u, float v) {
-    const float a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
-    if (a == 0.0 && b == 0.0) return vec2(0.0);
-    if (abs(a) > abs(b)) {
-        const float phi = 0.25 * PI * (b / a);
-        return a * vec2(cos(phi), sin(phi));
+// Where `ray` met primitive `hit`, in single precision: the point whichever way rounds less (ray.glsl), the
+// front side's normals at the sample's shutter time.
+HitPoint hitPointOf(RayState ray, Hit hit) {
+    const GpuPrimitive primitive = primitiveAt(hit.primitive);
+    HitPoint p;
+    p.primitive = hit.primitive;
+    p.material = primitive.material;
+    p.sphere = false;
+    p.uv = vec2(hit.u, hit.v);
+    SurfacePoint surface;
+#ifdef VKRT_HAS_SPHERES
+    p.sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
+    if (p.sphere) {
+        surface = sphereHitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1.x, p.geometricNormal);
+        p.normal = p.geometricNormal;
+        p.uv = sphereUv(p.geometricNormal);
+    } else
+#endif
+    {
+        surface = hitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1, primitive.v2, hit.u, hit.v);
+        p.geometricNormal = normalize(cross(primitive.v1 - primitive.v0, primitive.v2 - primitive.v0));
+#ifdef VKRT_HAS_SMOOTH_NORMALS
+        const GpuShading shading = params.shading.shading[hit.primitive];
+        p.normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
+                             hit.v * shading.normalU2.xyz);
+#ifdef VKRT_HAS_MOTION
+        // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
+        const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);
+        p.normal = rotateLike(p.normal, normalize(cross(opened.v1 - opened.v0, opened.v2 - opened.v0)),
+                              p.geometricNormal, 1e-6);
+#endif
+#else
+        p.normal = p.geometricNormal;
+#endif
     }
-    const float phi = 0.5 * PI - 0.25 * PI * (a / b);
-    return b * vec2(cos(phi), sin(phi));
-}
-#endif
-
-// The camera ray through film position (filmX, filmY) in pixels; with a lens, through lens point (u, v).
-Ray cameraRay(float filmX, float filmY, float lensU, float lensV) {
-    const GpuCamera camera = params.camera;
-    const float width = float(params.imageDepthSeed.x), height = float(params.imageDepthSeed.y);
-    const float sx = 2.0 * filmX / width - 1.0;
-    const float sy = 1.0 - 2.0 * filmY / height;
-    if (uint(camera.positionProjection.w) == VKRT_PROJECTION_ORTHOGRAPHIC) {
-        const vec3 origin = camera.positionProjection.xyz + sx * camera.rightXmag.w * camera.rightXmag.xyz +
-                            sy * camera.upYmag.w * camera.upYmag.xyz;
-        return Ray(origin, camera.forwardTanHalfFov.xyz);
-    }
-    const float tanHalf = camera.forwardTanHalfFov.w;
-    const vec3 direction = normalize(camera.forwardTanHalfFov.xyz +
-                                     sx * tanHalf * (width / height) * camera.rightXmag.xyz +
-                                     sy * tanHalf * camera.upYmag.xyz);
-#ifdef VKRT_HAS_DEPTH_OF_FIELD
-    // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane.
-    if (!(camera.lens.x > 0.0)) return Ray(camera.positionProjection.xyz, direction);
-    const vec3 focus = camera.positionProjection.xyz +
-                       direction * (camera.lens.y / dot(direction, camera.forwardTanHalfFov.xyz));
-    const vec2 disk = camera.lens.x * concentricDisk(lensU, lensV);
-    const vec3 origin = camera.positionProjection.xyz + disk.x * camera.rightXmag.xyz + disk.y * camera.upYmag.xyz;
-    return Ray(origin, normalize(focus - origin));
-#else
-    return Ray(camera.positionProjection.xyz, direction);
-#endif
+    p.position = surface.position;
+    p.errorScale = surface.errorScale;
+    return p;
 }
 
-// Filter importance sampling (host/cpu/pixel_filter.h): a sample's offset from its pixel's centre.
-#ifndef VKRT_PIXEL_FILTER
-#define VKRT_PIXEL_FILTER 0  // 0 box, 1 tent (radius 1), 2 Gaussian (standard deviation 0.5)
-#endif
-float tentInverse(float u) { return u < 0.5 ? sqrt(2.0 * u) - 1.0 : 1.0 - sqrt(2.0 - 2.0 * u); }
-
-vec2 filterOffset(float u, float v) {
-#if VKRT_PIXEL_FILTER == 1
-    return vec2(tentInverse(u), tentInverse(v));
-#elif VKRT_PIXEL_FILTER == 2
-    const float radius = 0.5 * sqrt(-2.0 * log(1.0 - u));
-    return radius * vec2(cos(2.0 * PI * v), sin(2.0 * PI * v));
-#else
-    return vec2(u - 0.5, v - 0.5);
-#endif
-}
-
-// Radiance arriving along one camera ray: the ray tree, depth first.
-// `complete` turns false when a BVH walk was cut short (see traverse.glsl); the sample is then discarded.
-vec3 traceRayTree(Ray primary, uint pixel, uint sampleIndex, inout Counters counters, inout bool complete) {
-    const uint maxDepth = params.imageDepthSeed.z;
-    const float minThroughput = params.ambientMinThroughput.w;
+// Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
+// rays it traces in `secondaryRays`.
+vec3 traceRayTree(CameraRay primary, ShadingContext context, inout uint secondaryRays) {
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = makeTask(primary.origin, 0u, primary.direction, 0, vec3(1.0), VKRT_EMPTY_MEDIA, VKRT_NO_TRIANGLE, 0.0);
+    stack[size++] = taskOf(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0,
+                                    emptyMedia()));
     vec3 radiance = vec3(0.0);
     while (size > 0) {
-        const RayTask task = stack[--size];
+        const RayState ray = stateOf(stack[--size]);
         Hit hit;
-        const bool found = traceClosest(shearRay(Ray(task.origin, task.direction)), task.exclude, 0.0, VKRT_INFINITY, hit,
-                                        complete);
-        vec3 weight = task.throughput;
-#ifdef VKRT_HAS_VOLUMES
-        const int medium = innermostMedium(mediaOf(task));
-        if (medium >= 0) weight *= beerLambert(params.materials.materials[medium], found ? hit.t : VKRT_INFINITY);
-#endif
+        const bool found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY,
+                                        hit, vkrtWalksComplete);
+        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
         if (!found) {
-            radiance += weight * params.background.rgb;
+            radiance += weight * params.background;
             continue;
         }
-
-        const GpuTriangle triangle = primitiveAt(hit.triangle);
-        const uint materialIndex = triangle.material;
-        const GpuMaterial material = params.materials.materials[materialIndex];
-        const vec3 toViewer = -task.direction;
-        SurfacePoint surfacePoint;
-        vec3 geometricNormal, normal;  // facing the front (outside) until oriented below
-        bool sphere = false;
-#ifdef VKRT_HAS_SPHERES
-        sphere = triangle.kind == VKRT_PRIMITIVE_SPHERE;
-        if (sphere) {
-            surfacePoint = sphereHitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1.x, geometricNormal);
-            normal = geometricNormal;
-            const vec2 uv = sphereUv(geometricNormal);
-            hit.u = uv.x;
-            hit.v = uv.y;
-        } else
-#endif
-        {
-            surfacePoint = hitPoint(task.origin, task.direction, hit.t, triangle.v0, triangle.v1, triangle.v2, hit.u, hit.v);
-            geometricNormal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
-#ifdef VKRT_HAS_SMOOTH_NORMALS
-            const GpuShading shading = params.shading.shading[hit.triangle];
-            normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
-                               hit.v * shading.normalU2.xyz);
-#ifdef VKRT_HAS_MOTION
-            // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
-            const GpuTriangle opened = VKRT_TRIANGLE(hit.triangle);
-            normal = rotateLike(normal, normalize(cross(opened.v1 - opened.v0, opened.v2 - opened.v0)), geometricNormal);
-#endif
-#else
-            normal = geometricNormal;
-#endif
+        const ShadedHit shaded = shadeHit(context, ray, hitPointOf(ray, hit), weight);
+        radiance += weight * shaded.radiance;
+        // The transmission is pushed first, so that the reflection, pushed last, is traced first, as on the CPU.
+        if (shaded.transmits) {
+            ++secondaryRays;
+            stack[size++] = taskOf(shaded.transmission);
         }
-
-        // Orient both normals towards the viewer; remember which side was hit.
-        const bool frontFace = dot(geometricNormal, toViewer) > 0.0;
-        if (!frontFace) {
-            geometricNormal = -geometricNormal;
-            normal = -normal;
-        }
-        if (!(dot(normal, toViewer) > 0.0)) normal = geometricNormal;
-        // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far
-        // side); a ray leaving a sphere's outside cannot meet the sphere again.
-        const uint excludeOnViewerSide = sphere && !frontFace ? VKRT_NO_TRIANGLE : hit.triangle;
-        const uint excludeBeyond = sphere && frontFace ? VKRT_NO_TRIANGLE : hit.triangle;
-
-        vec3 local = vec3(0.0);
-        if (frontFace || material.transmission.w != 0.0) {
-            float emissionWeight = 1.0;
-#ifdef VKRT_HAS_AREA_LIGHTS
-            if (task.arrivalPdf > 0.0 && params.counts.y > 0u) {
-                // A traced lobe ray found a light that light sampling also reaches (multiple importance sampling).
-                const float lightPdf = lightSolidAnglePdf(hit.triangle, task.origin, surfacePoint.position,
-                                                          abs(dot(geometricNormal, task.direction)));
-                emissionWeight = params.lighting.y != 0.0 ? powerHeuristic(1.0, task.arrivalPdf, params.background.w * lightPdf)
-                                                          : 0.0;  // without MIS, light samples alone light the lobe
-            }
-#endif
-            local += emissionWeight * emissionAt(material, hit.triangle, hit.u, hit.v);
-        }
-        const SurfaceResponse surface = surfaceResponse(material, albedoAt(material, hit.triangle, hit.u, hit.v));
-        // Ambient light reaches the diffuse part, and the specular part where it is not traced.
-        local += params.ambientMinThroughput.rgb * (surface.diffuse + (surface.traced ? vec3(0.0) : surface.specular));
-        const bool lobeSampled = surface.traced && !surface.mirror && uint(task.depth) < maxDepth;
-        local += directLight(surfacePoint, normal, geometricNormal, toViewer, surface, hit.triangle, excludeOnViewerSide,
-                             lobeSampled, pixel, sampleIndex, task.node, counters.shadow, complete);
-        radiance += weight * local;
-
-        if (uint(task.depth) < maxDepth && surface.traced) {
-#ifdef VKRT_HAS_VOLUMES
-            const bool volume = material.transmission.z > 0.0 && surface.transmission > 0.0;
-#else
-            const bool volume = false;
-#endif
-            // A volume is entered through its front face and left through its back face, from the medium the
-            // ray is in into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the
-            // same from both sides.
-            uvec2 beyond = mediaOf(task);
-            float eta = surface.ior;
-#ifdef VKRT_HAS_VOLUMES
-            if (volume) {
-                beyond = frontFace ? mediaEntered(mediaOf(task), materialIndex) : mediaExited(mediaOf(task), materialIndex);
-                eta = mediaIor(beyond) / mediaIor(mediaOf(task));
-            }
-#endif
-            // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
-            const float cosOut = dot(normal, toViewer);
-            vec3 microNormal = normal;
-            if (!surface.mirror) {
-                vec3 tangent, bitangent;
-                orthonormalBasis(normal, tangent, bitangent);
-                const vec3 m = sampleGgxVisibleNormal(vec3(dot(toViewer, tangent), dot(toViewer, bitangent), cosOut),
-                                                      surface.alpha,
-                                                      vkrtStratified(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U), 0u),
-                                                      vkrtStratified(params.imageDepthSeed.w, pixel, sampleIndex, vkrtNodeDimension(task.node, VKRT_DIM_LOBE_U), 1u));
-                microNormal = normalize(m.x * tangent + m.y * bitangent + m.z * normal);
-            }
-            const float cosMicro = max(0.0, dot(microNormal, toViewer));
-            const float dielectric = fresnelDielectric(cosMicro, eta);
-            // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
-            const vec3 reflected = reflectAbout(toViewer, microNormal);
-            vec3 reflectWeight = fresnelAt(surface, cosMicro, eta);
-            float reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
-            if (!surface.mirror) {
-                const float cosIn = dot(normal, reflected);
-                const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
-                reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
-                reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
-            }
-#ifdef VKRT_HAS_TRANSMISSION
-            // Transmission through the same microfacet; thin-walled surfaces pass rays straight through. Pushed
-            // first so that the reflection, pushed last, is traced first, as on the CPU.
-            vec3 transmitWeight = surface.transmission * (1.0 - dielectric) * surface.albedo;
-            vec3 direction = task.direction;
-            bool passes = maxComponent(transmitWeight) > 0.0;
-            if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);
-            if (passes && volume && !surface.mirror) {
-                const float cosIn = dot(normal, direction);
-                passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
-                if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
-            }
-            if (passes && maxComponent(weight * transmitWeight) >= minThroughput) {
-                ++counters.secondary;
-                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, -geometricNormal), 2u * task.node + 2u, direction,
-                                        task.depth + 1, weight * transmitWeight, beyond, excludeBeyond, 0.0);
-            }
-#endif
-            if (maxComponent(weight * reflectWeight) >= minThroughput) {
-                ++counters.secondary;
-                stack[size++] = makeTask(offsetRayOrigin(surfacePoint, geometricNormal), 2u * task.node + 1u, reflected,
-                                        task.depth + 1, weight * reflectWeight, mediaOf(task), excludeOnViewerSide,
-                                        reflectPdf);
-            }
+        if (shaded.reflects) {
+            ++secondaryRays;
+            stack[size++] = taskOf(shaded.reflection);
         }
     }
     return radiance;
 }
 
 void main() {
-    const uint width = params.imageDepthSeed.x;
+    const uint width = params.width;
     const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + gl_GlobalInvocationID.y);
     if (xy.x >= width || gl_GlobalInvocationID.y >= pass.rowCount) return;
     const uint pixel = xy.y * width + xy.x;
-    const uint seed = params.imageDepthSeed.w;
-    Counters counters = Counters(0u, 0u, 0u);
-    uint nonFinite = 0u;
+    const uint seed = params.seed;
+    const CameraFrame camera = cameraFrame();
+    ShadingContext context;
+    context.ambient = params.ambient;
+    context.minThroughput = params.minThroughput;
+    context.maxDepth = int(params.maxDepth);
+    context.lightSamples = params.lightSamples;
+    context.multipleImportanceSampling = params.multipleImportanceSampling != 0u;
+    context.shadowRayShortening = 1e-5;
+    context.seed = seed;
+    context.pixel = pixel;
+    uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
 #ifdef VKRT_HAS_MOTION
         vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
 #endif
+        context.sampleIndex = s;
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
-        const float jx = vkrtPixelJitterX(seed, pixel, s);
-        const float jy = vkrtPixelJitterY(seed, pixel, s);
-        const vec2 offset = filterOffset(jx, jy);
-        ++counters.primary;
-        bool complete = true;
-        const Ray primary = cameraRay(float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y, vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
-                                      vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
-        const vec3 value = traceRayTree(primary, pixel, s, counters, complete);
-        if (complete && allFinite(value)) {
+        const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
+                                         vkrtPixelJitterY(seed, pixel, s));
+        const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
+                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
+                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
+        ++primaryRays;
+        vkrtWalksComplete = true;
+        const vec3 value = traceRayTree(primary, context, secondaryRays);
+        // A sample whose BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
+        if (vkrtWalksComplete && allFinite(value)) {
             precise const vec4 corrected = vec4(value, 1.0) - sumLost;
             precise const vec4 next = sum + corrected;
             sumLost = (next - sum) - corrected;
@@ -333,8 +215,8 @@ void main() {
     lost = (next - total) - corrected;
     params.accumulation.pixels[2u * pixel] = next;
     params.accumulation.pixels[2u * pixel + 1u] = lost;
-    atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], counters.primary);
-    atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], counters.shadow);
-    atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], counters.secondary);
+    atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], primaryRays);
+    atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], vkrtShadowRays);
+    atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], secondaryRays);
     if (nonFinite > 0u) atomicAdd(params.counters.counters[VKRT_COUNTER_NONFINITE], nonFinite);
 }

@@ -1,7 +1,7 @@
 // BVH traversal: near child first, far child on a fixed stack whose size the builder's depth bound
 // guarantees (VKRT_BVH_MAX_DEPTH). One walk serves closest-hit, any-hit and shadow-transmittance queries;
 // callers pass the mode as a constant, so each inlined copy keeps only its own branch.
-// Requires `params` (SceneParams) and materials.glsl in scope.
+// Requires `params` (SceneParams), geometry.glsl, intersect.glsl and device_materials.glsl in scope.
 #ifndef VKRT_TRAVERSE_GLSL
 #define VKRT_TRAVERSE_GLSL
 
@@ -9,10 +9,12 @@
 #define VKRT_TRACE_ANY 1      // stop at the first hit
 #define VKRT_TRACE_SHADOW 2   // multiply the transmission of every surface crossed; stop when opaque
 
+#include "sphere_geometry.h"
+
 struct Hit {
     float t;
     float u, v;  // barycentric weights of v1 and v2
-    uint triangle;
+    uint primitive;
 };
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
@@ -29,7 +31,7 @@ bool intersectBox(BvhNode node, ShearedRay r, float tMin, float tMax, out float 
 // How far hits still matter: the best hit so far, plus a tie's width for closest-hit walks (ties are won by
 // the smaller scene index, so a tie just beyond the best hit can still win).
 float searchLimit(Hit hit, float tMax, const int mode) {
-    if (mode != VKRT_TRACE_CLOSEST || hit.triangle == VKRT_NO_TRIANGLE) return hit.t;
+    if (mode != VKRT_TRACE_CLOSEST || hit.primitive == VKRT_NO_PRIMITIVE) return hit.t;
     return min(tMax, hit.t * (1.0 + float(VKRT_TIE_EPSILON)));
 }
 
@@ -37,9 +39,8 @@ float searchLimit(Hit hit, float tMax, const int mode) {
 // coordinates (u, v); true when it is now opaque.
 bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 #ifdef VKRT_HAS_TRANSMISSION
-    const GpuMaterial material = params.materials.materials[materialOf(primitive)];
-    const float transmission = (1.0 - material.baseColorMetallic.w) * material.transmission.x;
-    transmittance *= transmission * albedoAt(material, primitive, u, v);
+    const SurfaceMaterial material = device_material(device_materialOf(primitive));
+    transmittance *= shadowTint(material, textured(material.baseColor, material.baseColorTexture, primitive, vec2(u, v)));
     if (maxComponent(transmittance) > 0.0) return false;
 #endif
     transmittance = vec3(0.0);  // opaque
@@ -47,10 +48,10 @@ bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 }
 
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
-bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, float tMin, float tMax,
+bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
                    const int mode, inout Hit hit, inout vec3 transmittance) {
-    if (triangle == excludeA || triangle == excludeB) return false;
-    const GpuTriangle primitive = primitiveAt(triangle);
+    if (index == excludeA || index == excludeB) return false;
+    const GpuPrimitive primitive = primitiveAt(index);
     float t, u = 0.0, v = 0.0;
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
@@ -61,7 +62,7 @@ bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, fl
             for (int k = 0; k < 2; ++k) {
                 if (!(roots[k] > tMin && roots[k] < tMax)) continue;
                 const vec2 uv = sphereUv(normalize(r.origin + roots[k] * r.direction - primitive.v0));
-                if (crossSurface(triangle, uv.x, uv.y, transmittance)) return true;
+                if (crossSurface(index, uv.x, uv.y, transmittance)) return true;
             }
             return false;
         }
@@ -74,22 +75,22 @@ bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, fl
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
-        hit = Hit(t, u, v, triangle);
+        hit = Hit(t, u, v, index);
         return true;
     }
     if (mode == VKRT_TRACE_CLOSEST) {
         // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
         const float tolerance = float(VKRT_TIE_EPSILON) * hit.t;
-        const bool first = hit.triangle == VKRT_NO_TRIANGLE;
-        if (first || t < hit.t - tolerance || primitive.sceneIndex < VKRT_TRIANGLE(hit.triangle).sceneIndex) {
-            hit = Hit(t, u, v, triangle);
+        const bool first = hit.primitive == VKRT_NO_PRIMITIVE;
+        if (first || t < hit.t - tolerance || primitive.sceneIndex < VKRT_PRIMITIVE(hit.primitive).sceneIndex) {
+            hit = Hit(t, u, v, index);
         }
         return false;
     }
-    return crossSurface(triangle, u, v, transmittance);
+    return crossSurface(index, u, v, transmittance);
 }
 
-// Walks the BVH for hits in (tMin, tMax), skipping triangles excludeA and excludeB. CLOSEST and ANY fill
+// Walks the BVH for hits in (tMin, tMax), skipping primitives excludeA and excludeB. CLOSEST and ANY fill
 // `hit` and return whether there was one; SHADOW multiplies `transmittance` and returns true once it is 0.
 //
 // Each step of the walk is one loop iteration (leaves are unrolled, one stack entry is popped per step):
@@ -98,9 +99,9 @@ bool visitTriangle(ShearedRay r, uint triangle, uint excludeA, uint excludeB, fl
 // `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
                  inout vec3 transmittance, out bool complete) {
-    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_TRIANGLE);
+    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE);
     complete = true;
-    if (params.counts.z == 0u) return false;
+    if (params.primitiveCount == 0u) return false;
     BvhNode node = VKRT_NODE(0u);
     float entry;
     if (!intersectBox(node, r, tMin, hit.t, entry)) return false;
@@ -115,10 +116,10 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             haveNode = false;
             if (node.primCount > 0u) {
                 const uint first = node.leftOrFirst, count = node.primCount;
-                if (visitTriangle(r, first, excludeA, excludeB, tMin, tMax, mode, hit, transmittance) ||
-                    (count > 1u && visitTriangle(r, first + 1u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
-                    (count > 2u && visitTriangle(r, first + 2u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
-                    (count > 3u && visitTriangle(r, first + 3u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance))) {
+                if (visitPrimitive(r, first, excludeA, excludeB, tMin, tMax, mode, hit, transmittance) ||
+                    (count > 1u && visitPrimitive(r, first + 1u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
+                    (count > 2u && visitPrimitive(r, first + 2u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) ||
+                    (count > 3u && visitPrimitive(r, first + 3u, excludeA, excludeB, tMin, tMax, mode, hit, transmittance))) {
                     complete = true;
                     return true;
                 }
@@ -154,13 +155,13 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             }
         }
     }
-    return mode == VKRT_TRACE_CLOSEST && hit.triangle != VKRT_NO_TRIANGLE;
+    return mode == VKRT_TRACE_CLOSEST && hit.primitive != VKRT_NO_PRIMITIVE;
 }
 
 bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
     vec3 unused = vec3(1.0);
     bool walked;
-    const bool found = traverseBvh(r, exclude, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
+    const bool found = traverseBvh(r, exclude, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
     complete = complete && walked;
     return found;
 }
@@ -168,7 +169,7 @@ bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hi
 bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool complete) {
     vec3 unused = vec3(1.0);
     bool walked;
-    const bool found = traverseBvh(r, VKRT_NO_TRIANGLE, VKRT_NO_TRIANGLE, tMin, tMax, VKRT_TRACE_ANY, hit, unused, walked);
+    const bool found = traverseBvh(r, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_ANY, hit, unused, walked);
     complete = complete && walked;
     return found;
 }

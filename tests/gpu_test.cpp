@@ -415,10 +415,10 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayT<double> ray{glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)};
         SurfaceHit cpu;
-        closestHit(scene, bvh, ray, rays[i].tMax, kNoTriangle, cpu);
-        const uint32_t cpuTriangle = cpu.triangle;
-        const double tMax = cpu.triangle == kNoTriangle ? rays[i].tMax : cpu.t;
-        const bool cpuHit = cpuTriangle != VKRT_NO_HIT, gpuHit = closest[i].triangle != VKRT_NO_HIT;
+        closestHit(scene, bvh, ray, rays[i].tMax, kNoPrimitive, cpu);
+        const uint32_t cpuTriangle = cpu.primitive;
+        const double tMax = cpu.primitive == kNoPrimitive ? rays[i].tMax : cpu.t;
+        const bool cpuHit = cpuTriangle != VKRT_NO_HIT, gpuHit = closest[i].primitive != VKRT_NO_HIT;
         hits += cpuHit;
         if (cpuHit != gpuHit) {
             ++hitMissDisagreements;
@@ -426,12 +426,12 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
             // Distances agree to 1e-5 relative, plus a floor of a few float ulps of the scene's size for hits
             // very close to the origin; a different triangle is allowed only at the same distance.
             ASSERT_NEAR(closest[i].t, tMax, 1e-5 * tMax + 1e-6 * sceneSize) << name << " ray " << i;
-            if (closest[i].triangle == cpuTriangle)
+            if (closest[i].primitive == cpuTriangle)
                 ++samePrimitive;
             else
                 ++ties;
         }
-        if ((any[i].triangle != VKRT_NO_HIT) != cpuHit) ++occlusionDisagreements;
+        if ((any[i].primitive != VKRT_NO_HIT) != cpuHit) ++occlusionDisagreements;
     }
     ASSERT_GT(hits, rays.size() / 4) << name;
     const double agreeing = static_cast<double>(samePrimitive) / static_cast<double>(hits);

@@ -3,13 +3,23 @@
 
 #include <gtest/gtest.h>
 
-#include "cpu/optics.h"
 #include "cpu/triangle_intersection.h"
-#include "cpu/whitted_model.h"
+#include "optics.h"
 #include "random.h"
+#include "scene/shading_inputs.h"
+#include "surface_response.h"
 
 namespace vkrt {
 namespace {
+
+using namespace shading;
+
+bool refract(const glm::dvec3& toViewer, const glm::dvec3& normal, double eta, glm::dvec3& transmitted) {
+    return refractThrough(toViewer, normal, eta, transmitted);
+}
+glm::dvec3 reflect(const glm::dvec3& toViewer, const glm::dvec3& normal) {
+    return reflectAbout(toViewer, normal);
+}
 
 glm::dvec3 fromAngle(double theta) {
     return {std::sin(theta), 0.0, std::cos(theta)};
@@ -172,14 +182,14 @@ TEST(WhittedModel, LambertPartAndMirrorLobe) {
     Material white;
     white.metallic = 0.0f;
     white.ior = 1.0f;  // no specular reflectance
-    const SurfaceResponse s = surfaceResponse(white, glm::dvec3(1.0));
+    const SurfaceResponse s = surfaceResponse(surfaceMaterial(white), glm::dvec3(1.0));
     EXPECT_NEAR(s.diffuse.x / M_PI, 1.0 / M_PI, 1e-15);
     EXPECT_FALSE(s.traced);  // matte: the lobe is lit by lights only
     EXPECT_NEAR(specularBrdf(s, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.9)).x, 0.0, 1e-15);
     // A mirror has a delta lobe: no response to lights, no density for multiple importance sampling.
     Material mirror;
     mirror.roughness = 0.0f;
-    const SurfaceResponse m = surfaceResponse(mirror, glm::dvec3(1.0));
+    const SurfaceResponse m = surfaceResponse(surfaceMaterial(mirror), glm::dvec3(1.0));
     EXPECT_TRUE(m.mirror && m.traced);
     EXPECT_EQ(specularBrdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), glm::dvec3(0.0));
     EXPECT_EQ(lobePdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), 0.0);

@@ -5,12 +5,13 @@
 #include <gtest/gtest.h>
 
 #include "bvh/triangle_bvh.h"
-#include "cpu/punctual_light.h"
 #include "cpu/reference_renderer.h"
 #include "image/image_metrics.h"
+#include "punctual_light.h"
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
+#include "scene/shading_inputs.h"
 #include "test_support.h"
 
 namespace vkrt {
@@ -47,8 +48,7 @@ Scene floorScene(float albedo) {
 
 glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
     RayCounters counters;
-    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), MediumStack{},
-                             kNoTriangle, counters);
+    return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, counters);
 }
 
 TEST(ReferenceRenderer, LambertianPlaneUnderPointLightMatchesClosedForm) {
@@ -115,8 +115,9 @@ TEST(ReferenceRenderer, PointLightRangeWindow) {
     PunctualLight light;
     light.position = {0.0, 0.0, 0.0};
     light.range = 2.0f;
-    EXPECT_NEAR(arriveFrom(light, {1.0, 0.0, 0.0}).irradiance.x, 1.0 - std::pow(0.5, 4), 1e-12);
-    EXPECT_EQ(arriveFrom(light, {2.5, 0.0, 0.0}).irradiance.x, 0.0);
+    EXPECT_NEAR(shading::arriveFrom(punctualLightParams(light), {1.0, 0.0, 0.0}).irradiance.x,
+                1.0 - std::pow(0.5, 4), 1e-12);
+    EXPECT_EQ(shading::arriveFrom(punctualLightParams(light), {2.5, 0.0, 0.0}).irradiance.x, 0.0);
 }
 
 TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
@@ -131,10 +132,7 @@ TEST(ReferenceRenderer, OccluderCastsAHardShadow) {
     // The shadow of the unit square at height 1 under a light at height 3 spans |x| < 0.75 on the floor.
     RayCounters counters;
     auto floorRadiance = [&](double x) {
-        return renderer
-            .radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, 0, 0, glm::dvec3(1.0), MediumStack{},
-                      kNoTriangle, counters)
-            .x;
+        return renderer.radiance({{x, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 0, 0, counters).x;
     };
     EXPECT_EQ(floorRadiance(0.7), 0.0);
     EXPECT_GT(floorRadiance(0.8), 0.0);
@@ -167,10 +165,8 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
     double sum = 0.0, sumSquares = 0.0;
     for (int s = 0; s < samples; ++s) {
         RayCounters counters;
-        const double L = renderer
-                             .radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), 0,
-                                       0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
-                             .x;
+        const double L =
+            renderer.radiance({{0.0, 0.0, 0.5}, {0.0, 0.0, -1.0}}, 17, static_cast<uint32_t>(s), counters).x;
         sum += L;
         sumSquares += L * L;
     }
@@ -200,10 +196,8 @@ TEST(ReferenceRenderer, SphereLightIrradianceMatchesClosedForm) {
         double sum = 0.0, sumSquares = 0.0;
         for (int s = 0; s < samples; ++s) {
             RayCounters counters;
-            const double L = renderer
-                                 .radiance({{x, 0.0, 0.1}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s), 0,
-                                           0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
-                                 .x;
+            const double L =
+                renderer.radiance({{x, 0.0, 0.1}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s), counters).x;
             sum += L;
             sumSquares += L * L;
         }
@@ -241,10 +235,8 @@ Estimate glossyHighlight(float roughness, bool mis) {
     double sum = 0.0, sumSquares = 0.0;
     for (int s = 0; s < samples; ++s) {
         RayCounters counters;
-        const double L = renderer
-                             .radiance({{-1.0, 0.0, 1.0}, direction}, 5, static_cast<uint32_t>(s), 0, 0,
-                                       glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
-                             .x;
+        const double L =
+            renderer.radiance({{-1.0, 0.0, 1.0}, direction}, 5, static_cast<uint32_t>(s), counters).x;
         sum += L;
         sumSquares += L * L;
     }
@@ -335,10 +327,9 @@ TEST(ReferenceRenderer, MoreLightSamplesLowerTheVarianceNotTheMean) {
         const int n = 4000;
         for (int s = 0; s < n; ++s) {
             RayCounters counters;
-            const double L = renderer
-                                 .radiance({{0.3, 0.1, 0.5}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s),
-                                           0, 0, glm::dvec3(1.0), MediumStack{}, kNoTriangle, counters)
-                                 .x;
+            const double L =
+                renderer.radiance({{0.3, 0.1, 0.5}, {0.0, 0.0, -1.0}}, 3, static_cast<uint32_t>(s), counters)
+                    .x;
             sum += L;
             sumSquares += L * L;
         }

@@ -126,8 +126,8 @@ int main(int argc, char** argv) {
                                      0.3f * scene.bounds.extent();
         std::vector<gpu::GpuRay> shadowRays, diffuseRays;
         for (size_t i = 0; i < primary.size(); ++i) {
-            if (primary[i].triangle == VKRT_NO_HIT) continue;
-            const Triangle& t = scene.triangles[primary[i].triangle];
+            if (primary[i].primitive == VKRT_NO_HIT) continue;
+            const Triangle& t = scene.triangles[primary[i].primitive];
             glm::vec3 n = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
             if (glm::dot(n, cameraRays[i].direction) > 0.0f) n = -n;
             const glm::vec3 p = cameraRays[i].origin + primary[i].t * cameraRays[i].direction;
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
             const std::vector<gpu::GpuHit> vkrtHits = raycaster.trace(rays, mode);
             size_t agree = 0;
             for (size_t i = 0; i < rays.size(); ++i) {
-                agree += (vkrtHits[i].triangle != VKRT_NO_HIT) == (embreeHits[i] != VKRT_NO_HIT);
+                agree += (vkrtHits[i].primitive != VKRT_NO_HIT) == (embreeHits[i] != VKRT_NO_HIT);
             }
             entry["hit_agreement"] = static_cast<double>(agree) / static_cast<double>(rays.size());
 #endif

@@ -7,16 +7,17 @@
 #include <vector>
 
 #include "bvh/bvh_traversal.h"
-#include "cpu/sphere_intersection.h"
 #include "cpu/triangle_intersection.h"
+#include "scene/scene.h"
 #include "shared.h"
+#include "sphere_geometry.h"
 
 namespace vkrt {
 
-inline constexpr uint32_t kNoTriangle = 0xffffffffu;
+inline constexpr uint32_t kNoPrimitive = VKRT_NO_PRIMITIVE;
 
 struct SurfaceHit {
-    uint32_t triangle = kNoTriangle;  // the primitive: a triangle, or a sphere (Scene::isSphere)
+    uint32_t primitive = kNoPrimitive;  // a triangle, or a sphere (Scene::isSphere)
     double t = 0.0;
     double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2; unused on spheres
 };
@@ -29,10 +30,12 @@ inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const Ray
                                  hit);
     }
     hit.u = hit.v = 0.0;
-    return intersectSphere(scene.sphereAt(primitive, time), ray.origin, ray.direction, tMin, tMax, hit.t);
+    const Sphere sphere = scene.sphereAt(primitive, time);
+    return shading::intersectSphere(glm::dvec3(sphere.center), sphere.radius, ray.origin, ray.direction, tMin,
+                                    tMax, hit.t);
 }
 
-// Whether a hit at `t` on triangle `index` wins over the best so far: nearer by more than the tie
+// Whether a hit at `t` on primitive `index` wins over the best so far: nearer by more than the tie
 // tolerance, or a tie (VKRT_TIE_EPSILON) with a smaller index.
 inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex) {
     const double tolerance = VKRT_TIE_EPSILON * bestT;
@@ -47,7 +50,7 @@ inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double
     traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
         if (prim != exclude && intersectPrimitive(scene, prim, ray, 0.0, limit, candidate, time) &&
-            (!found || winsOver(candidate.t, prim, hit.t, hit.triangle))) {
+            (!found || winsOver(candidate.t, prim, hit.t, hit.primitive))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
             // Keep looking a tie's width beyond the best hit, where a tie can still win.

@@ -12,7 +12,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     : context_(context), data_(packScene(scene, bvh)) {
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     gpu::SceneParams params{};
-    params.counts = glm::uvec4(0, 0, data_.triangles.size(), 0);
+    params.primitiveCount = static_cast<uint32_t>(data_.primitives.size());
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);

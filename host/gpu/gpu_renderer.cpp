@@ -55,7 +55,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (settings.pixelFilter != PixelFilter::Box) {
-        defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)));
+        defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");
     }
     const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
     spirv_ = shader.spirv;

@@ -36,7 +36,7 @@ struct GpuRenderReport {
         0;  // samples actually rendered (fewer than asked when a time limit stopped it)
     double longestDispatchMs = 0.0;
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
-    bool boundGeometry = false;      // nodes and triangles bound as storage buffers (else device addresses)
+    bool boundGeometry = false;      // nodes and primitives bound as storage buffers (else device addresses)
 };
 
 class GpuRenderer {

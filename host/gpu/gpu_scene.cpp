@@ -4,23 +4,11 @@
 #include <cmath>
 #include <cstring>
 
-#include "cpu/area_lights.h"
+#include "camera.h"
+#include "scene/light_table.h"
+#include "scene/shading_inputs.h"
 
 namespace vkrt {
-namespace {
-
-uint32_t wrapBits(WrapMode mode) {
-    switch (mode) {
-        case WrapMode::ClampToEdge:
-            return 1;
-        case WrapMode::MirroredRepeat:
-            return 2;
-        default:
-            return 0;
-    }
-}
-
-}  // namespace
 
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
     GpuSceneData data;
@@ -31,7 +19,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     // (shared.h).
     std::vector<uint32_t> gpuIndexOf(scene.primitiveCount());
     const bool needShading = data.features.smoothNormals || data.features.textures;
-    data.triangles.reserve(bvh.primIndices.size());
+    data.primitives.reserve(bvh.primIndices.size());
     for (uint32_t i = 0; i < bvh.primIndices.size(); ++i) {
         const uint32_t index = bvh.primIndices[i];
         gpuIndexOf[index] = i;
@@ -49,13 +37,13 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         }
         if (scene.isSphere(index)) {
             const Sphere& sphere = scene.sphereOf(index);
-            data.triangles.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
-                                      index, glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
+            data.primitives.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
+                                       index, glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
             if (needShading) data.shading.push_back({});  // spheres compute theirs
             continue;
         }
         const Triangle& t = scene.triangles[index];
-        data.triangles.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
+        data.primitives.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
             data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
@@ -65,52 +53,49 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     for (const Material& m : scene.materials) {
-        gpu::GpuMaterial g;
-        g.baseColorMetallic = glm::vec4(glm::vec3(m.baseColor), m.metallic);
-        g.emissionRoughness = glm::vec4(m.emission, m.roughness);
-        g.attenuation = glm::vec4(m.attenuationColor, m.attenuationDistance);
-        g.transmission = glm::vec4(m.transmission, m.ior, m.thickness, m.doubleSided ? 1.0f : 0.0f);
-        g.textures = glm::ivec4(data.features.textures ? m.baseColorTexture : -1,
-                                data.features.textures ? m.emissiveTexture : -1, -1, -1);
+        const shading::SurfaceMaterial s = surfaceMaterial(m);
+        gpu::GpuMaterial g{};
+        g.baseColor = glm::vec3(s.baseColor);
+        g.metallic = static_cast<float>(s.metallic);
+        g.emission = glm::vec3(s.emission);
+        g.roughness = static_cast<float>(s.roughness);
+        g.attenuationColor = glm::vec3(s.attenuationColor);
+        g.attenuationDistance = static_cast<float>(s.attenuationDistance);
+        g.transmission = static_cast<float>(s.transmission);
+        g.ior = static_cast<float>(s.ior);
+        g.thickness = m.thickness;
+        g.doubleSided = s.doubleSided ? 1u : 0u;
+        g.baseColorTexture = data.features.textures ? s.baseColorTexture : -1;
+        g.emissiveTexture = data.features.textures ? s.emissiveTexture : -1;
         data.materials.push_back(g);
     }
 
     if (data.features.textures) {
-        for (const Texture& t : scene.textures) {
-            gpu::GpuTexture g{static_cast<uint32_t>(data.texels.size()), static_cast<uint32_t>(t.width),
-                              static_cast<uint32_t>(t.height),
-                              wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? 16u : 0u)};
-            data.textures.push_back(g);
-            for (size_t p = 0; p * 4 < t.rgba.size(); ++p) {
-                // unpackUnorm4x8 reads red from the lowest byte.
-                data.texels.push_back(t.rgba[4 * p] | (t.rgba[4 * p + 1] << 8) | (t.rgba[4 * p + 2] << 16) |
-                                      (static_cast<uint32_t>(t.rgba[4 * p + 3]) << 24));
-            }
-        }
+        PackedTextures packed = packTextures(scene);
+        data.textures = std::move(packed.textures);
+        data.texels = std::move(packed.texels);
     }
 
     for (const PunctualLight& light : scene.lights) {
-        gpu::GpuPunctualLight g;
-        const float type = light.type == LightType::Point  ? VKRT_LIGHT_POINT
-                           : light.type == LightType::Spot ? VKRT_LIGHT_SPOT
-                                                           : VKRT_LIGHT_DIRECTIONAL;
-        g.positionType = glm::vec4(glm::vec3(light.position), type);
-        g.directionRange = glm::vec4(glm::vec3(light.direction), light.range);
-        g.radiantColor = glm::vec4(light.color * light.intensity, 0.0f);
-        const double cosOuter = std::cos(static_cast<double>(light.outerConeAngle));
-        const double cosInner = std::cos(static_cast<double>(light.innerConeAngle));
-        g.cone = glm::vec4(static_cast<float>(cosOuter),
-                           static_cast<float>(1.0 / std::max(0.001, cosInner - cosOuter)), 0.0f, 0.0f);
+        const shading::PunctualLightParams p = punctualLightParams(light);
+        gpu::GpuPunctualLight g{};
+        g.position = glm::vec3(p.position);
+        g.type = p.type;
+        g.direction = glm::vec3(p.direction);
+        g.range = static_cast<float>(p.range);
+        g.intensity = glm::vec3(p.intensity);
+        g.cosOuter = static_cast<float>(p.cosOuter);
+        g.coneScale = static_cast<float>(p.coneScale);
         data.lights.push_back(g);
     }
 
-    const AreaLights areaLights(scene);
-    for (size_t i = 0; i < areaLights.primitives().size(); ++i) {
-        data.areaLights.push_back(
-            {gpuIndexOf[areaLights.primitives()[i]], static_cast<float>(areaLights.cdf()[i]),
-             static_cast<float>(areaLights.pdfArea()[i]), static_cast<float>(areaLights.pick()[i])});
+    const LightTable lights = buildLightTable(scene);
+    for (size_t i = 0; i < lights.primitives.size(); ++i) {
+        data.areaLights.push_back({gpuIndexOf[lights.primitives[i]], static_cast<float>(lights.cdf[i]),
+                                   static_cast<float>(lights.pdfArea[i]),
+                                   static_cast<float>(lights.pick[i])});
     }
-    data.areaLightPower = areaLights.totalPower();
+    data.areaLightPower = lights.totalPower;
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
@@ -125,8 +110,8 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     };
     addresses_.nodes = upload(data.nodes);
     nodeBuffer_ = data.nodes.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
-    addresses_.triangles = upload(data.triangles);
-    triangleBuffer_ = data.triangles.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
+    addresses_.primitives = upload(data.primitives);
+    primitiveBuffer_ = data.primitives.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
     addresses_.shading = upload(data.shading);
     addresses_.materials = upload(data.materials);
     addresses_.textures = upload(data.textures);
@@ -138,7 +123,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.nodes = addresses_.nodes;
-    params.triangles = addresses_.triangles;
+    params.primitives = addresses_.primitives;
     params.shading = addresses_.shading;
     params.materials = addresses_.materials;
     params.textures = addresses_.textures;
@@ -149,37 +134,45 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {
-    if (nodeBuffer_ < 0 || triangleBuffer_ < 0) return false;
+    if (nodeBuffer_ < 0 || primitiveBuffer_ < 0) return false;
     const VkDeviceSize range = context.properties().limits.maxStorageBufferRange;
-    return buffers_[nodeBuffer_].size() <= range && buffers_[triangleBuffer_].size() <= range;
+    return buffers_[nodeBuffer_].size() <= range && buffers_[primitiveBuffer_].size() <= range;
 }
 
 std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params, bool boundGeometry) const {
     if (!boundGeometry) return {&params};
-    return {&params, &buffers_[nodeBuffer_], &buffers_[triangleBuffer_]};
+    return {&params, &buffers_[nodeBuffer_], &buffers_[primitiveBuffer_]};
 }
 
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
                                  const RenderSettings& settings) {
     gpu::SceneParams p{};
-    const float projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
-                                                                           : VKRT_PROJECTION_PERSPECTIVE;
-    p.camera.positionProjection = glm::vec4(glm::vec3(camera.position), projection);
-    p.camera.forwardTanHalfFov =
-        glm::vec4(glm::vec3(camera.forward), static_cast<float>(std::tan(0.5 * camera.yfov)));
-    p.camera.rightXmag = glm::vec4(glm::vec3(camera.right), static_cast<float>(camera.xmag));
-    p.camera.upYmag = glm::vec4(glm::vec3(camera.up), static_cast<float>(camera.ymag));
-    p.camera.lens =
-        glm::vec4(static_cast<float>(camera.aperture), static_cast<float>(camera.focusDistance), 0.0f, 0.0f);
-    p.ambientMinThroughput =
-        glm::vec4(glm::vec3(settings.ambient), static_cast<float>(settings.minThroughput));
-    p.background = glm::vec4(glm::vec3(settings.background), static_cast<float>(settings.lightSamples));
-    p.imageDepthSeed = glm::uvec4(settings.width, settings.height, settings.maxDepth, settings.seed);
-    p.counts = glm::uvec4(data.lights.size(), data.areaLights.size(), data.triangles.size(),
-                          settings.samplesPerPixel);
-    p.lighting =
-        glm::vec4(static_cast<float>(data.areaLightPower), settings.multipleImportanceSampling ? 1.0f : 0.0f,
-                  static_cast<float>(data.motionSegments), 0.0f);
+    p.camera.position = glm::vec3(camera.position);
+    p.camera.projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
+                                                                        : VKRT_PROJECTION_PERSPECTIVE;
+    p.camera.forward = glm::vec3(camera.forward);
+    p.camera.tanHalfFov = static_cast<float>(std::tan(0.5 * camera.yfov));
+    p.camera.right = glm::vec3(camera.right);
+    p.camera.xmag = static_cast<float>(camera.xmag);
+    p.camera.up = glm::vec3(camera.up);
+    p.camera.ymag = static_cast<float>(camera.ymag);
+    p.camera.lensRadius = static_cast<float>(camera.aperture);
+    p.camera.focusDistance = static_cast<float>(camera.focusDistance);
+    p.ambient = glm::vec3(settings.ambient);
+    p.minThroughput = static_cast<float>(settings.minThroughput);
+    p.background = glm::vec3(settings.background);
+    p.lightSamples = static_cast<uint32_t>(settings.lightSamples);
+    p.width = static_cast<uint32_t>(settings.width);
+    p.height = static_cast<uint32_t>(settings.height);
+    p.maxDepth = static_cast<uint32_t>(settings.maxDepth);
+    p.seed = settings.seed;
+    p.punctualLightCount = static_cast<uint32_t>(data.lights.size());
+    p.areaLightCount = static_cast<uint32_t>(data.areaLights.size());
+    p.primitiveCount = static_cast<uint32_t>(data.primitives.size());
+    p.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
+    p.areaLightPower = static_cast<float>(data.areaLightPower);
+    p.multipleImportanceSampling = settings.multipleImportanceSampling ? 1u : 0u;
+    p.motionSegments = static_cast<uint32_t>(data.motionSegments);
     return p;
 }
 

@@ -1,4 +1,4 @@
-// A scene in the GPU's layout (shaders/shared.h), before upload: triangles in BVH leaf order, materials,
+// A scene in the GPU's layout (shaders/shared.h), before upload: primitives in BVH leaf order, materials,
 // textures, lights and the area-light table. Arrays for features the scene lacks stay empty.
 #pragma once
 
@@ -16,16 +16,16 @@ namespace vkrt {
 struct GpuSceneData {
     SceneFeatures features;
     std::vector<gpu::BvhNode> nodes;
-    std::vector<gpu::GpuTriangle> triangles;  // in BVH leaf order; each keeps its scene index
-    std::vector<gpu::GpuShading> shading;     // only with smooth normals or textures
+    std::vector<gpu::GpuPrimitive> primitives;  // in BVH leaf order; each keeps its scene index
+    std::vector<gpu::GpuShading> shading;       // only with smooth normals or textures
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;  // only with textures
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
-    std::vector<gpu::GpuTriangle> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
+    std::vector<gpu::GpuPrimitive> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
     int motionSegments = 0;
-    double areaLightPower = 0.0;  // AreaLights::totalPower(), for multiple importance sampling
+    double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling
 };
 
 // Packs what the scene's features need; `features`, when given, replaces the detected set (a superset
@@ -44,15 +44,15 @@ class GpuSceneBuffers {
     // Writes the buffer addresses into `params` (all but accumulation and counters).
     void fillAddresses(gpu::SceneParams& params) const;
 
-    // Whether nodes and triangles fit the device's storage-buffer range, so kernels can bind them
+    // Whether nodes and primitives fit the device's storage-buffer range, so kernels can bind them
     // (VKRT_BOUND_GEOMETRY in shaders/geometry.glsl) instead of reading through device addresses.
     bool geometryFitsDescriptors(const VulkanContext& context) const;
-    // The storage buffers a kernel binds: SceneParams, then nodes and triangles when `boundGeometry`.
+    // The storage buffers a kernel binds: SceneParams, then nodes and primitives when `boundGeometry`.
     std::vector<const GpuBuffer*> bindings(const GpuBuffer& params, bool boundGeometry) const;
 
   private:
     std::vector<GpuBuffer> buffers_;
-    int nodeBuffer_ = -1, triangleBuffer_ = -1;  // indices into buffers_
+    int nodeBuffer_ = -1, primitiveBuffer_ = -1;  // indices into buffers_
     gpu::SceneParams addresses_{};
 };
 

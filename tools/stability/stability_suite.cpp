@@ -444,11 +444,11 @@ StabilityResult watertightness(const VulkanContext& context, const StabilityOpti
     result.name = cube ? "cube of 19,200 triangles" : "sphere of 39,600 triangles";
     uint64_t leaks = 0;
     for (size_t k = 0; k < rays.size(); ++k) {
-        if (hits[k].triangle == VKRT_NO_HIT) ++leaks;
+        if (hits[k].primitive == VKRT_NO_HIT) ++leaks;
         // The CPU reference must not leak either.
         const RayT<double> ray{glm::dvec3(rays[k].origin), glm::dvec3(rays[k].direction)};
         SurfaceHit hit;
-        if (!closestHit(scene, bvh, ray, 1e30, kNoTriangle, hit)) ++leaks;
+        if (!closestHit(scene, bvh, ray, 1e30, kNoPrimitive, hit)) ++leaks;
     }
     result.leaks = leaks;
     return result;

@@ -1,0 +1,101 @@
+#include "cpu/cpu_shading_device.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bvh/bvh_traversal.h"
+#include "cpu/closest_hit.h"
+
+namespace vkrt {
+
+CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
+    : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
+    for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m));
+    for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
+}
+
+glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const {
+    if (data_.scene.isSphere(primitive)) return hitUv;  // spheres carry their texture coordinates
+    const TriangleShading& s = data_.scene.shading[primitive];
+    return (1.0 - hitUv.x - hitUv.y) * glm::dvec2(s.uv[0]) + hitUv.x * glm::dvec2(s.uv[1]) +
+           hitUv.y * glm::dvec2(s.uv[2]);
+}
+
+shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, double v,
+                                                      const glm::dvec3& from) const {
+    const LightTable& lights = data_.lights;
+    const size_t i = lights.find(pick);
+    const uint32_t primitive = lights.primitives[i];
+    if (data_.scene.isSphere(primitive)) {
+        const Sphere sphere = data_.scene.sphereAt(primitive, time_);
+        return shading::sampleSphereLight(primitive, glm::dvec3(sphere.center), sphere.radius, lights.pick[i],
+                                          from, u, v);
+    }
+    const Triangle t = data_.scene.triangleAt(primitive, time_);
+    const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
+    // The point is uniform over the triangle as it is now (animations may scale it).
+    const double pdfArea = lights.pick[i] / shading::triangleArea(v0, v1, v2);
+    return shading::sampleTriangleLight(primitive, v0, v1, v2, pdfArea, u, v);
+}
+
+double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, const glm::dvec3& from,
+                                            const glm::dvec3& point, double cosLight) const {
+    const Scene& scene = data_.scene;
+    const double pick = shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission),
+                                            primitiveArea(scene, primitive)) /
+                        data_.lights.totalPower;
+    const glm::dvec3 offset = point - from;
+    const double distance2 = glm::dot(offset, offset);
+    if (scene.isSphere(primitive)) {
+        const Sphere sphere = scene.sphereAt(primitive, time_);
+        return shading::sphereLightSolidAnglePdf(glm::dvec3(sphere.center), sphere.radius, pick, from,
+                                                 distance2, cosLight);
+    }
+    const Triangle t = scene.triangleAt(primitive, time_);
+    const double area = shading::triangleArea(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
+    return shading::solidAnglePdfFromArea(pick / area, distance2, cosLight);
+}
+
+glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction,
+                                                 double tMax, uint32_t excludeA, uint32_t excludeB) const {
+    ++counters_.shadow;
+    const Scene& scene = data_.scene;
+    const RayT<double> ray{origin, direction};
+    glm::dvec3 result(1.0);
+    // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
+    auto cross = [&](uint32_t primitive, glm::dvec2 hitUv) {
+        const shading::SurfaceMaterial& material = data_.materials[scene.materialOf(primitive)];
+        result *= shading::shadowTint(
+            material,
+            shading::textured(*this, material.baseColor, material.baseColorTexture, primitive, hitUv));
+    };
+    traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
+        if (primitive == excludeA || primitive == excludeB) return false;
+        if (scene.isSphere(primitive)) {
+            const Sphere sphere = scene.sphereAt(primitive, time_);
+            const glm::dvec3 center(sphere.center);
+            double roots[2];
+            if (!shading::sphereRoots(center, sphere.radius, origin, direction, roots[0], roots[1]))
+                return false;
+            for (double t : roots) {
+                if (t > 0.0 && t < rayMax)
+                    cross(primitive, shading::sphereUv(glm::normalize(origin + t * direction - center)));
+            }
+        } else {
+            TriangleHit hit;
+            if (!intersectTriangle(scene.triangleAt(primitive, time_), origin, direction, 0.0, rayMax, hit)) {
+                return false;
+            }
+            cross(primitive, {hit.u, hit.v});
+        }
+        return shading::maxComponent(result) <= 0.0;  // fully blocked: stop looking
+    });
+    return result;
+}
+
+glm::dvec3 CpuShadingDevice::offsetOrigin(const glm::dvec3& position, double errorScale,
+                                          const glm::dvec3& normal) const {
+    return position + 1e-9 * std::max(shading::maxAbs(position), errorScale) * normal;
+}
+
+}  // namespace vkrt

@@ -1,0 +1,70 @@
+// The CPU reference's side of the shared shading code (shaders/shade_hit.h): what VKRT_DEVICE reaches on
+// the CPU. Materials, lights and textures come from the scene in double precision; shadow rays walk the BVH
+// with the reference's double-precision tests; ray offsets suit double precision.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/flat_bvh.h"
+#include "common/render_settings.h"
+#include "scene/light_table.h"
+#include "scene/scene.h"
+#include "scene/shading_inputs.h"
+#include "shade_hit.h"
+
+namespace vkrt {
+
+// What the device reads, made once per render.
+struct CpuShadingScene {
+    CpuShadingScene(const Scene& scene, const FlatBvh& bvh);
+
+    const Scene& scene;
+    const FlatBvh& bvh;
+    std::vector<shading::SurfaceMaterial> materials;
+    std::vector<shading::PunctualLightParams> punctualLights;
+    PackedTextures textures;
+    LightTable lights;
+};
+
+// The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.
+class CpuShadingDevice {
+  public:
+    CpuShadingDevice(const CpuShadingScene& data, double time, RayCounters& counters)
+        : data_(data), time_(time), counters_(counters) {}
+
+    shading::SurfaceMaterial material(uint32_t index) const { return data_.materials[index]; }
+    uint32_t materialOf(uint32_t primitive) const { return data_.scene.materialOf(primitive); }
+
+    gpu::GpuTexture textureInfo(int index) const { return data_.textures.textures[index]; }
+    uint32_t texel(uint32_t index) const { return data_.textures.texels[index]; }
+    glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const;
+
+    uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
+    shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }
+
+    bool hasAreaLights() const { return !data_.lights.empty(); }
+    shading::LightPoint sampleAreaLight(double pick, double u, double v, const glm::dvec3& from) const;
+    double lightSolidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
+                              double cosLight) const;
+
+    // The fraction of light passing from `origin` to distance tMax along `direction`: 0 behind an opaque
+    // surface, the product of the tints of transmissive ones (shadow rays do not refract).
+    glm::dvec3 shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
+                                   uint32_t excludeA, uint32_t excludeB) const;
+
+    // New rays start a hair off the surface, on the side they leave from. The offset is relative to the
+    // magnitude of the numbers the position came from, so it is scale-invariant; in double precision 1e-9 is
+    // far above the rounding of the hit point (about 1e-16 relative) and far below any feature float geometry
+    // can resolve (6e-8). Excluding the primitive just hit removes the remaining risk of hitting it again.
+    glm::dvec3 offsetOrigin(const glm::dvec3& position, double errorScale, const glm::dvec3& normal) const;
+
+    double time() const { return time_; }
+
+  private:
+    const CpuShadingScene& data_;
+    double time_;
+    RayCounters& counters_;
+};
+
+}  // namespace vkrt

@@ -1,0 +1,70 @@
+#include "scene/shading_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "texture_sampling.h"
+
+namespace vkrt {
+namespace {
+
+uint32_t wrapBits(WrapMode mode) {
+    switch (mode) {
+        case WrapMode::ClampToEdge:
+            return VKRT_WRAP_CLAMP;
+        case WrapMode::MirroredRepeat:
+            return VKRT_WRAP_MIRROR;
+        default:
+            return VKRT_WRAP_REPEAT;
+    }
+}
+
+}  // namespace
+
+shading::SurfaceMaterial surfaceMaterial(const Material& m) {
+    shading::SurfaceMaterial s;
+    s.baseColor = glm::dvec3(glm::vec3(m.baseColor));
+    s.metallic = m.metallic;
+    s.emission = glm::dvec3(m.emission);
+    s.roughness = m.roughness;
+    s.attenuationColor = glm::dvec3(m.attenuationColor);
+    s.attenuationDistance = m.attenuationDistance;
+    s.transmission = m.transmission;
+    s.ior = m.ior;
+    s.volume = m.hasVolume();
+    s.doubleSided = m.doubleSided;
+    s.baseColorTexture = m.baseColorTexture;
+    s.emissiveTexture = m.emissiveTexture;
+    return s;
+}
+
+shading::PunctualLightParams punctualLightParams(const PunctualLight& light) {
+    shading::PunctualLightParams p;
+    p.type = light.type == LightType::Point  ? VKRT_LIGHT_POINT
+             : light.type == LightType::Spot ? VKRT_LIGHT_SPOT
+                                             : VKRT_LIGHT_DIRECTIONAL;
+    p.position = light.position;
+    p.direction = light.direction;
+    p.intensity = glm::dvec3(light.color) * static_cast<double>(light.intensity);
+    p.range = light.range;
+    p.cosOuter = std::cos(static_cast<double>(light.outerConeAngle));
+    p.coneScale = 1.0 / std::max(0.001, std::cos(static_cast<double>(light.innerConeAngle)) - p.cosOuter);
+    return p;
+}
+
+PackedTextures packTextures(const Scene& scene) {
+    PackedTextures packed;
+    for (const Texture& t : scene.textures) {
+        packed.textures.push_back(
+            {static_cast<uint32_t>(packed.texels.size()), static_cast<uint32_t>(t.width),
+             static_cast<uint32_t>(t.height),
+             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u)});
+        for (size_t p = 0; p * 4 < t.rgba.size(); ++p) {
+            packed.texels.push_back(t.rgba[4 * p] | (t.rgba[4 * p + 1] << 8) | (t.rgba[4 * p + 2] << 16) |
+                                    (static_cast<uint32_t>(t.rgba[4 * p + 3]) << 24));
+        }
+    }
+    return packed;
+}
+
+}  // namespace vkrt

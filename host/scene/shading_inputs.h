@@ -1,0 +1,29 @@
+// The scene's materials, lights and textures in the form the shared shading code reads (shaders/*.h), made
+// once here for both renderers: the CPU reference reads these structs directly, the GPU packs them into its
+// buffers (host/gpu/gpu_scene.cpp).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "punctual_light.h"
+#include "scene/scene.h"
+#include "shared.h"
+#include "surface_response.h"
+
+namespace vkrt {
+
+shading::SurfaceMaterial surfaceMaterial(const Material& material);
+
+shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
+
+// Every texture's RGBA8 texels in one array (red in the lowest byte, rows top to bottom), each texture
+// described by where its texels start, its size and its sampler (shaders/texture_sampling.h).
+struct PackedTextures {
+    std::vector<gpu::GpuTexture> textures;
+    std::vector<uint32_t> texels;
+};
+
+PackedTextures packTextures(const Scene& scene);
+
+}  // namespace vkrt

@@ -1,0 +1,90 @@
+// The GPU's side of the shared shading code for lights, shadow rays and ray offsets (VKRT_DEVICE in
+// shading_language.h). Requires `params`, geometry.glsl, ray.glsl and traverse.glsl in scope.
+#ifndef VKRT_DEVICE_LIGHTS_GLSL
+#define VKRT_DEVICE_LIGHTS_GLSL
+
+#include "area_light.h"
+#include "punctual_light.h"
+
+// Per invocation: shadow rays traced, and whether every BVH walk ran to its end (see traverse.glsl).
+uint vkrtShadowRays = 0u;
+bool vkrtWalksComplete = true;
+
+vec3 device_offsetOrigin(vec3 position, float errorScale, vec3 normal) {
+    return offsetRayOrigin(position, errorScale, normal);
+}
+
+vec3 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint excludeA, uint excludeB) {
+    ++vkrtShadowRays;
+    return shadowTransmittance(Ray(origin, direction), tMax, excludeA, excludeB, vkrtWalksComplete);
+}
+
+#ifdef VKRT_HAS_PUNCTUAL_LIGHTS
+uint device_punctualLightCount() { return params.punctualLightCount; }
+
+PunctualLightParams device_punctualLight(uint i) {
+    const GpuPunctualLight light = params.lights.lights[i];
+    PunctualLightParams p;
+    p.type = light.type;
+    p.position = light.position;
+    p.direction = light.direction;
+    p.intensity = light.intensity;
+    p.range = light.range;
+    p.cosOuter = light.cosOuter;
+    p.coneScale = light.coneScale;
+    return p;
+}
+#endif
+
+#ifdef VKRT_HAS_AREA_LIGHTS
+bool device_hasAreaLights() { return params.areaLightCount > 0u; }
+
+// Light `pick` in [0, 1) by power (the first whose cumulative power exceeds it, by binary search), and a
+// point on it.
+LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
+    uint lo = 0u, hi = params.areaLightCount - 1u;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        if (params.areaLights.areaLights[mid].cdf > pick) hi = mid;
+        else lo = mid + 1u;
+    }
+    const GpuAreaLight light = params.areaLights.areaLights[lo];
+    const GpuPrimitive emitter = primitiveAt(light.primitive);
+#ifdef VKRT_HAS_SPHERES
+    if (emitter.kind == VKRT_PRIMITIVE_SPHERE) {
+        return sampleSphereLight(light.primitive, emitter.v0, emitter.v1.x, light.pick, from, u, v);
+    }
+#endif
+#ifdef VKRT_HAS_MOTION
+    const float pdfArea = light.pick / triangleArea(emitter.v0, emitter.v1, emitter.v2);  // the area now
+#else
+    const float pdfArea = light.pdfArea;
+#endif
+    return sampleTriangleLight(light.primitive, emitter.v0, emitter.v1, emitter.v2, pdfArea, u, v);
+}
+
+// The density per solid angle with which device_sampleAreaLight, seen from `from`, picks `point` on emissive
+// `primitive`. The pick probability is the primitive's share of the power at the shutter's opening.
+float device_lightSolidAnglePdf(uint primitive, vec3 from, vec3 point, float cosLight) {
+    const GpuPrimitive opened = VKRT_PRIMITIVE(primitive);
+    const GpuPrimitive now = primitiveAt(primitive);
+    const vec3 emission = params.materials.materials[opened.material].emission;
+    const vec3 offset = point - from;
+#ifdef VKRT_HAS_SPHERES
+    if (opened.kind == VKRT_PRIMITIVE_SPHERE) {
+        const float pick = lightPower(emission, 4.0 * VKRT_PI * opened.v1.x * opened.v1.x) / params.areaLightPower;
+        return sphereLightSolidAnglePdf(now.v0, now.v1.x, pick, from, dot(offset, offset), cosLight);
+    }
+#endif
+    const float openArea = triangleArea(opened.v0, opened.v1, opened.v2);
+    const float pick = lightPower(emission, openArea) / params.areaLightPower;
+#ifdef VKRT_HAS_MOTION
+    const float area = triangleArea(now.v0, now.v1, now.v2);
+#else
+    const float area = openArea;
+#endif
+    return solidAnglePdfFromArea(pick / area, dot(offset, offset), cosLight);
+}
+#endif
+
+#endif

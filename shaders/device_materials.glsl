@@ -1,0 +1,46 @@
+// The GPU's side of the shared shading code for materials and textures (VKRT_DEVICE in
+// shading_language.h): reads the scene's buffers. Requires `params` and geometry.glsl in scope.
+#ifndef VKRT_DEVICE_MATERIALS_GLSL
+#define VKRT_DEVICE_MATERIALS_GLSL
+
+#include "surface_response.h"
+
+SurfaceMaterial device_material(uint index) {
+    const GpuMaterial m = params.materials.materials[index];
+    SurfaceMaterial s;
+    s.baseColor = m.baseColor;
+    s.metallic = m.metallic;
+    s.emission = m.emission;
+    s.roughness = m.roughness;
+    s.attenuationColor = m.attenuationColor;
+    s.attenuationDistance = m.attenuationDistance;
+    s.transmission = m.transmission;
+    s.ior = m.ior;
+    s.volume = m.thickness > 0.0;
+    s.doubleSided = m.doubleSided != 0u;
+    s.baseColorTexture = m.baseColorTexture;
+    s.emissiveTexture = m.emissiveTexture;
+    return s;
+}
+
+uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
+
+#ifdef VKRT_HAS_TEXTURES
+GpuTexture device_textureInfo(int index) { return params.textures.textures[index]; }
+
+uint device_texel(uint index) { return params.texels.texels[index]; }
+
+// A triangle's texture coordinates at barycentrics hitUv; spheres carry their own.
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv) {
+#ifdef VKRT_HAS_SPHERES
+    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return hitUv;
+#endif
+    const GpuShading s = params.shading.shading[primitive];
+    return (1.0 - hitUv.x - hitUv.y) * vec2(s.normalU0.w, s.v012.x) + hitUv.x * vec2(s.normalU1.w, s.v012.y) +
+           hitUv.y * vec2(s.normalU2.w, s.v012.z);
+}
+#endif
+
+#include "texture_sampling.h"
+
+#endif

@@ -1,0 +1,91 @@
+// The optics of smooth surfaces: reflection, refraction by Snell's law, the Fresnel equations, and the small
+// vector helpers they need. Directions point away from the surface (pbrt's convention): `toViewer` points
+// back along the arriving ray, and `normal` lies on the same side as `toViewer`.
+#ifndef VKRT_OPTICS_H
+#define VKRT_OPTICS_H
+
+#include "shading_language.h"
+
+VKRT_SHADING_BEGIN
+
+VKRT_FN real maxComponent(real3 v) { return max(v.x, max(v.y, v.z)); }
+
+VKRT_FN real maxAbs(real3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
+VKRT_FN bool allFinite(real3 v) {
+    return !isnan(v.x) && !isnan(v.y) && !isnan(v.z) && !isinf(v.x) && !isinf(v.y) && !isinf(v.z);
+}
+
+// Mirror direction of `toViewer` about `normal`.
+VKRT_FN real3 reflectAbout(real3 toViewer, real3 normal) { return 2.0 * dot(toViewer, normal) * normal - toViewer; }
+
+// Refracts `toViewer` through a surface with relative index eta = n_transmitted / n_incident; false on total
+// internal reflection.
+VKRT_FN bool refractThrough(real3 toViewer, real3 normal, real eta, VKRT_OUT(real3) transmitted) {
+    const real cosI = dot(toViewer, normal);
+    const real sin2I = max(0.0, 1.0 - cosI * cosI);
+    const real sin2T = sin2I / (eta * eta);
+    transmitted = real3(0.0);
+    if (sin2T >= 1.0) return false;
+    const real cosT = sqrt(1.0 - sin2T);
+    transmitted = -toViewer / eta + (cosI / eta - cosT) * normal;
+    return true;
+}
+
+// Unpolarised Fresnel reflectance of a dielectric interface (Born and Wolf): the mean of the s and p
+// reflectances. cosI is the cosine on the incident side, eta = n_transmitted / n_incident; 1 for total
+// internal reflection.
+VKRT_FN real fresnelDielectric(real cosI, real eta) {
+    cosI = clamp(cosI, 0.0, 1.0);
+    const real sin2T = (1.0 - cosI * cosI) / (eta * eta);
+    if (sin2T >= 1.0) return 1.0;
+    const real cosT = sqrt(1.0 - sin2T);
+    const real rs = (cosI - eta * cosT) / (cosI + eta * cosT);
+    const real rp = (eta * cosI - cosT) / (eta * cosI + cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// Schlick's approximation, used for metals whose F0 is their base colour.
+VKRT_FN real3 fresnelSchlick(real3 f0, real cosI) {
+    const real m = pow(1.0 - clamp(cosI, 0.0, 1.0), 5.0);
+    return f0 + (real3(1.0) - f0) * m;
+}
+
+// Reflectance at normal incidence of a dielectric with index `ior` in air.
+VKRT_FN real dielectricF0(real ior) {
+    const real r = (ior - 1.0) / (ior + 1.0);
+    return r * r;
+}
+
+// `v` turned by the smallest rotation that takes unit vector `from` to unit vector `to` (Rodrigues). Nearly
+// equal or opposite vectors (within the precision's tolerance) leave `v`, or give `to`.
+VKRT_FN real3 rotateLike(real3 v, real3 from, real3 to, real tolerance) {
+    const real3 axis = cross(from, to);
+    const real sine = length(axis), cosine = dot(from, to);
+    if (!(sine > tolerance) || cosine <= -1.0 + tolerance) return cosine < 0.0 ? to : v;
+    const real3 k = axis / sine;
+    return v * cosine + cross(k, v) * sine + k * dot(k, v) * (1.0 - cosine);
+}
+
+// An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis, Revisited",
+// JCGT 6(1), 2017).
+VKRT_FN void orthonormalBasis(real3 n, VKRT_OUT(real3) b1, VKRT_OUT(real3) b2) {
+    const real sign = n.z >= 0.0 ? 1.0 : -1.0;
+    const real a = -1.0 / (sign + n.z);
+    const real b = n.x * n.y * a;
+    b1 = real3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = real3(b, sign + n.y * n.y * a, -n.y);
+}
+
+// The power heuristic (Veach 1997) for `count` samples of density `pdf` against one of density `other`.
+VKRT_FN real powerHeuristic(real count, real pdf, real other) {
+    const real a = count * pdf;
+    const real sum = a * a + other * other;
+    return sum > 0.0 ? a * a / sum : 0.0;
+}
+
+VKRT_FN real luminance(real3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+VKRT_SHADING_END
+
+#endif  // VKRT_OPTICS_H

@@ -1,0 +1,293 @@
+// One shading step of vkrt's distributed Whitted ray tracer, shared by both integrator loops (the GPU's
+// explicit stack of pending rays in trace.comp, the CPU reference's recursion in
+// host/cpu/reference_renderer.cpp): at a hit, the light leaving towards the viewer from the hit itself
+// (emission, the ambient term, direct light from punctual and area lights with shadow rays) and up to two
+// continuation rays (reflection and transmission through one sampled microfacet normal) with their weights.
+// What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials, textures, light
+// tables, shadow rays, and the precision-dependent ray offset.
+#ifndef VKRT_SHADE_HIT_H
+#define VKRT_SHADE_HIT_H
+
+#include "area_light.h"
+#include "media.h"
+#include "microfacet.h"
+#include "optics.h"
+#include "punctual_light.h"
+#include "random.h"
+#include "shading_language.h"
+#include "surface_response.h"
+#include "texture_sampling.h"
+
+VKRT_SHADING_BEGIN
+
+#ifdef __cplusplus
+using ::vkrt::vkrtNodeDimension;
+using ::vkrt::vkrtStratified;
+#endif
+
+// What stays fixed for every ray of one camera sample.
+struct ShadingContext {
+    real3 ambient;       // Whitted's ambient radiance, lighting the diffuse albedo
+    real minThroughput;  // branches weighted less than this are cut
+    int maxDepth;        // reflection and refraction bounces after the camera ray's hit
+    uint lightSamples;   // area-light samples per shading point
+    bool multipleImportanceSampling;
+    real shadowRayShortening;  // relative: shadow rays to area lights stop this short of the light point
+    uint seed;
+    uint pixel;
+    uint sampleIndex;
+};
+
+// One ray of the ray tree: where it starts and goes, and what it carries.
+struct RayState {
+    real3 origin;
+    real3 direction;
+    real3 throughput;  // the weight of this branch of the tree so far
+    uint node;         // ray-tree node: the children of k are 2k + 1 (reflection) and 2k + 2 (transmission)
+    int depth;
+    uint exclude;      // the primitive the ray leaves (VKRT_NO_PRIMITIVE: none)
+    real arrivalPdf;   // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
+    uvec2 media;       // the volumes the ray is inside (media.h)
+};
+
+// Where a ray met a surface, as the device computed it in its own precision.
+struct HitPoint {
+    real3 position;
+    real errorScale;        // the magnitude of the numbers `position` came from (for the ray offset)
+    real3 geometricNormal;  // unit normals of the front (outside) side, at the hit's shutter time
+    real3 normal;
+    real2 uv;  // barycentric weights of v1 and v2 (triangles), texture coordinates (spheres)
+    uint primitive;
+    uint material;
+    bool sphere;
+};
+
+// The shading step's result. A continuation's throughput already includes its weight.
+struct ShadedHit {
+    real3 radiance;  // towards the viewer from the hit itself
+    bool reflects;
+    real3 reflectionWeight;
+    RayState reflection;
+    bool transmits;
+    real3 transmissionWeight;
+    RayState transmission;
+};
+
+VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint node, int depth, uint exclude,
+                          real arrivalPdf, uvec2 media) {
+    RayState ray;
+    ray.origin = origin;
+    ray.direction = direction;
+    ray.throughput = throughput;
+    ray.node = node;
+    ray.depth = depth;
+    ray.exclude = exclude;
+    ray.arrivalPdf = arrivalPdf;
+    ray.media = media;
+    return ray;
+}
+
+VKRT_FN real stratified(ShadingContext context, uint dimension, uint axis) {
+    return real(vkrtStratified(context.seed, context.pixel, context.sampleIndex, dimension, axis));
+}
+
+// The index of refraction of the innermost volume, 1 (air) outside every volume.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real mediumIor(VKRT_DEVICE_PARAM uvec2 media) {
+    const int top = innermostMedium(media);
+    return top >= 0 ? VKRT_DEVICE(material)(uint(top)).ior : 1.0;
+}
+
+// Beer-Lambert absorption of the innermost volume over `distance` (infinity: the ray left the scene).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
+#ifdef VKRT_HAS_VOLUMES
+    const int top = innermostMedium(media);
+    if (top >= 0) {
+        const SurfaceMaterial medium = VKRT_DEVICE(material)(uint(top));
+        return beerLambert(medium.attenuationColor, medium.attenuationDistance, distance);
+    }
+#endif
+    return real3(1.0);
+}
+
+// Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
+// emissive primitive chosen by power, reflected towards the viewer. `origin` is where shadow rays start.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 directLight(VKRT_DEVICE_PARAM ShadingContext context, uint node, real3 point, real3 origin,
+                          real3 normal, real3 geometricNormal, real3 toViewer, SurfaceResponse surface, uint self,
+                          uint exclude, bool lobeSampled) {
+    real3 sum = real3(0.0);
+#ifdef VKRT_HAS_PUNCTUAL_LIGHTS
+    const uint punctualLights = VKRT_DEVICE(punctualLightCount)();
+    for (uint i = 0u; i < punctualLights; ++i) {
+        const LightArrival arrival = arriveFrom(VKRT_DEVICE(punctualLight)(i), point);
+        if (dot(normal, arrival.toLight) <= 0.0 || dot(geometricNormal, arrival.toLight) <= 0.0 ||
+            maxComponent(arrival.irradiance) <= 0.0) {
+            continue;
+        }
+        const real3 visible =
+            VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE);
+        sum += reflectedLight(surface, normal, toViewer, arrival.toLight, arrival.irradiance * visible, 1.0);
+    }
+#endif
+#ifdef VKRT_HAS_AREA_LIGHTS
+    if (VKRT_DEVICE(hasAreaLights)()) {
+        real3 areaSum = real3(0.0);
+        for (uint k = 0u; k < context.lightSamples; ++k) {
+            const LightPoint light = VKRT_DEVICE(sampleAreaLight)(
+                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u),
+                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u),
+                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1u), point);
+            const real3 offset = light.position - point;
+            const real distance2 = dot(offset, offset);
+            const real distance = sqrt(distance2);
+            if (light.primitive == self || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
+            const real3 toLight = offset / distance;
+            const SurfaceMaterial emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
+            real cosLight = -dot(light.normal, toLight);
+            if (emitter.doubleSided) cosLight = abs(cosLight);
+            if (!(cosLight > 0.0) || dot(normal, toLight) <= 0.0 || dot(geometricNormal, toLight) <= 0.0) continue;
+            const real3 visible = VKRT_DEVICE(shadowTransmittance)(
+                origin, toLight, distance * (1.0 - context.shadowRayShortening), exclude, light.primitive);
+            // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
+            const real3 irradiance =
+                textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv) *
+                cosLight / (distance2 * light.pdfArea);
+            // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
+            real weight = 1.0;
+            if (lobeSampled && context.multipleImportanceSampling) {
+                weight = powerHeuristic(real(context.lightSamples), light.pdfArea * distance2 / cosLight,
+                                        lobePdf(surface, normal, toViewer, toLight));
+            }
+            areaSum += reflectedLight(surface, normal, toViewer, toLight, irradiance * visible, weight);
+        }
+        sum += areaSum / real(context.lightSamples);
+    }
+#endif
+    return sum;
+}
+
+// The shading step at `hit` of `ray`, whose weight including absorption on the way is `pathThroughput`.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM ShadingContext context, RayState ray, HitPoint hit,
+                           real3 pathThroughput) {
+    ShadedHit result;
+    result.reflects = false;
+    result.transmits = false;
+    const SurfaceMaterial material = VKRT_DEVICE(material)(hit.material);
+    const real3 toViewer = -ray.direction;
+
+    // Orient both normals towards the viewer; remember which side was hit.
+    real3 geometricNormal = hit.geometricNormal, normal = hit.normal;
+    const bool frontFace = dot(geometricNormal, toViewer) > 0.0;
+    if (!frontFace) {
+        geometricNormal = -geometricNormal;
+        normal = -normal;
+    }
+    if (!(dot(normal, toViewer) > 0.0)) normal = geometricNormal;  // shading normal faces away: use the true one
+    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far side);
+    // a ray leaving a sphere's outside cannot meet the sphere again.
+    const uint excludeOnViewerSide = hit.sphere && !frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+    const uint excludeBeyond = hit.sphere && frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+
+    // Emission, weighed against light sampling when a glossy lobe chose the ray (multiple importance
+    // sampling; without it, light samples alone light the lobe).
+    real3 local = real3(0.0);
+    if ((frontFace || material.doubleSided) && maxComponent(material.emission) > 0.0) {
+        real emissionWeight = 1.0;
+#ifdef VKRT_HAS_AREA_LIGHTS
+        if (ray.arrivalPdf > 0.0 && VKRT_DEVICE(hasAreaLights)()) {
+            emissionWeight = 0.0;
+            if (context.multipleImportanceSampling) {
+                const real lightPdf = VKRT_DEVICE(lightSolidAnglePdf)(hit.primitive, ray.origin, hit.position,
+                                                                      abs(dot(geometricNormal, ray.direction)));
+                emissionWeight = powerHeuristic(1.0, ray.arrivalPdf, real(context.lightSamples) * lightPdf);
+            }
+        }
+#endif
+        local += emissionWeight *
+                 textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv);
+    }
+
+    const real3 albedo = textured(VKRT_DEVICE_ARG material.baseColor, material.baseColorTexture, hit.primitive, hit.uv);
+    const SurfaceResponse surface = surfaceResponse(material, albedo);
+    // Ambient light reaches the diffuse part, and the specular part where it is not traced.
+    local += context.ambient * (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
+    const bool continues = ray.depth < context.maxDepth;
+    const bool lobeSampled = surface.traced && !surface.mirror && continues;
+    local += directLight(VKRT_DEVICE_ARG context, ray.node, hit.position,
+                         VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal), normal,
+                         geometricNormal, toViewer, surface, hit.primitive, excludeOnViewerSide, lobeSampled);
+    result.radiance = local;
+    if (!continues || !surface.traced) return result;
+
+    // A volume is entered through its front face and left through its back face, from the medium the ray is in
+    // into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the same from both sides.
+    bool volume = false;
+    uvec2 beyond = ray.media;
+    real eta = surface.ior;
+#ifdef VKRT_HAS_VOLUMES
+    volume = material.volume && surface.transmission > 0.0;
+    if (volume) {
+        beyond = frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
+        eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
+    }
+#endif
+    // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
+    const real cosOut = dot(normal, toViewer);
+    real3 microNormal = normal;
+    if (!surface.mirror) {
+        real3 tangent, bitangent;
+        orthonormalBasis(normal, tangent, bitangent);
+        const uint lobe = vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U);
+        const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), cosOut),
+                                               surface.alpha, stratified(context, lobe, 0u),
+                                               stratified(context, lobe, 1u));
+        microNormal = normalize(m.x * tangent + m.y * bitangent + m.z * normal);
+    }
+    const real cosMicro = max(0.0, dot(microNormal, toViewer));
+
+    // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
+    const real3 reflected = reflectAbout(toViewer, microNormal);
+    real3 reflectWeight = fresnelAt(surface, cosMicro, eta);
+    real reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
+    if (!surface.mirror) {
+        const real cosIn = dot(normal, reflected);
+        const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
+        reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
+        reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
+    }
+    if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
+        result.reflects = true;
+        result.reflectionWeight = reflectWeight;
+        result.reflection = rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal),
+                                     reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u, ray.depth + 1,
+                                     excludeOnViewerSide, reflectPdf, ray.media);
+    }
+
+#ifdef VKRT_HAS_TRANSMISSION
+    // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
+    real3 transmitWeight = surface.transmission * (1.0 - fresnelDielectric(cosMicro, eta)) * surface.albedo;
+    real3 direction = ray.direction;
+    bool passes = maxComponent(transmitWeight) > 0.0;
+    if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);
+    if (passes && volume && !surface.mirror) {
+        const real cosIn = dot(normal, direction);
+        passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
+        if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
+    }
+    if (passes && maxComponent(pathThroughput * transmitWeight) >= context.minThroughput) {
+        result.transmits = true;
+        result.transmissionWeight = transmitWeight;
+        result.transmission = rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),
+                                       direction, pathThroughput * transmitWeight, 2u * ray.node + 2u,
+                                       ray.depth + 1, excludeBeyond, 0.0, beyond);
+    }
+#endif
+    return result;
+}
+
+VKRT_SHADING_END
+
+#endif  // VKRT_SHADE_HIT_H

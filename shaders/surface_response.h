@@ -1,0 +1,95 @@
+// How a glTF metallic-roughness material shades in vkrt's distributed Whitted model (docs/materials.md
+// explains the choices): Lambert diffuse lit by the lights; a GGX specular lobe lit by the lights and, where
+// it can show the scene, traced (a mirror ray at roughness 0, a ray sampled from the visible normals above);
+// refraction through the same microfacet normal, weighted by Fresnel.
+#ifndef VKRT_SURFACE_RESPONSE_H
+#define VKRT_SURFACE_RESPONSE_H
+
+#include "microfacet.h"
+#include "optics.h"
+#include "shading_language.h"
+
+VKRT_SHADING_BEGIN
+
+// A material's factors as both renderers read them (textures are looked up separately).
+struct SurfaceMaterial {
+    real3 baseColor;  // linear factor; a base colour texture multiplies it
+    real metallic;
+    real3 emission;  // emissiveFactor * KHR_materials_emissive_strength; an emissive texture multiplies it
+    real roughness;
+    real3 attenuationColor;  // KHR_materials_volume
+    real attenuationDistance;  // infinity: no absorption
+    real transmission;
+    real ior;
+    bool volume;       // thickness > 0: the surface bounds a volume (else thin-walled)
+    bool doubleSided;  // emits from both sides
+    int baseColorTexture;  // -1: none
+    int emissiveTexture;   // -1: none
+};
+
+struct SurfaceResponse {
+    real3 albedo;    // base colour (factor times texture), linear
+    real3 diffuse;   // Lambert reflectance: albedo * (1 - metallic) * (1 - transmission)
+    real3 specular;  // F0: of the dielectric, or the base colour for metals
+    real alpha;      // GGX width, roughness^2
+    bool mirror;     // roughness 0: the lobe is a delta (exact mirror and refraction)
+    bool traced;     // the specular lobe is traced (metals, transmission, roughness < 1)
+    real transmission;  // (1 - metallic) * transmission
+    real metallic;
+    real ior;
+};
+
+VKRT_FN SurfaceResponse surfaceResponse(SurfaceMaterial material, real3 albedo) {
+    SurfaceResponse s;
+    s.albedo = albedo;
+    s.metallic = material.metallic;
+    s.ior = material.ior;
+    s.transmission = (1.0 - s.metallic) * material.transmission;
+    s.diffuse = albedo * (1.0 - s.metallic) * (1.0 - material.transmission);
+    s.specular = mix(real3(dielectricF0(material.ior)), albedo, s.metallic);
+    s.alpha = ggxAlpha(material.roughness);
+    s.mirror = material.roughness < VKRT_MIRROR_ROUGHNESS;
+    // A matte opaque dielectric (roughness 1, glTF's default) keeps its faint sheen to the lights and the
+    // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene.
+    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || material.roughness < 1.0;
+    return s;
+}
+
+// The fraction of light a transmissive surface lets through a shadow ray (shadow rays do not refract).
+VKRT_FN real3 shadowTint(SurfaceMaterial material, real3 albedo) {
+    return (1.0 - material.metallic) * material.transmission * albedo;
+}
+
+// Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.
+VKRT_FN real3 fresnelAt(SurfaceResponse s, real cosH, real eta) {
+    return (1.0 - s.metallic) * real3(fresnelDielectric(cosH, eta)) + s.metallic * fresnelSchlick(s.albedo, cosH);
+}
+
+// The specular lobe for light from `toLight`: F D G2 / (4 cos_o cos_i); zero for a mirror (a delta lobe meets
+// a light of zero size with probability zero, and area lights reach mirrors through traced rays).
+VKRT_FN real3 specularBrdf(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight) {
+    const real cosOut = dot(normal, toViewer), cosIn = dot(normal, toLight);
+    if (s.mirror || cosOut <= 0.0 || cosIn <= 0.0) return real3(0.0);
+    const real3 halfway = normalize(toViewer + toLight);
+    return fresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(dot(normal, halfway), s.alpha) *
+           ggxG2(cosOut, cosIn, s.alpha) / (4.0 * cosOut * cosIn);
+}
+
+// Density with which the traced lobe would have chosen `toLight` (0 when it is not traced).
+VKRT_FN real lobePdf(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight) {
+    if (!s.traced || s.mirror) return 0.0;
+    const real3 halfway = normalize(toViewer + toLight);
+    return ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
+}
+
+// Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
+// viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling).
+VKRT_FN real3 reflectedLight(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight, real3 irradiance,
+                             real specularWeight) {
+    const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
+    return brdf * irradiance * dot(normal, toLight);
+}
+
+VKRT_SHADING_END
+
+#endif  // VKRT_SURFACE_RESPONSE_H

@@ -1,0 +1,88 @@
+// Texture lookups: wrap modes, sRGB decoding and bilinear or nearest filtering of RGBA8 texels. A texture is
+// described by its GpuTexture (shared.h); the device returns the packed texel at an index
+// (VKRT_DEVICE(texel)), red in the lowest byte.
+#ifndef VKRT_TEXTURE_SAMPLING_H
+#define VKRT_TEXTURE_SAMPLING_H
+
+#include "shading_language.h"
+#include "shared.h"
+
+#define VKRT_WRAP_REPEAT 0u
+#define VKRT_WRAP_CLAMP 1u
+#define VKRT_WRAP_MIRROR 2u
+// GpuTexture::flags: wrap S in bits 0-1, wrap T in bits 2-3 (VKRT_WRAP_*), bit 4 nearest filtering.
+#define VKRT_TEXTURE_NEAREST 16u
+
+VKRT_SHADING_BEGIN
+
+#ifdef __cplusplus
+using gpu::GpuTexture;
+#endif
+
+// Texel coordinate i of a row or column of `size` texels, wrapped.
+VKRT_FN uint wrapTexel(int i, int size, uint mode) {
+    if (mode == VKRT_WRAP_CLAMP) return uint(clamp(i, 0, size - 1));
+    if (mode == VKRT_WRAP_MIRROR) {
+        const int period = 2 * size;
+        const int m = ((i % period) + period) % period;
+        return uint(m < size ? m : period - 1 - m);
+    }
+    return uint(((i % size) + size) % size);
+}
+
+VKRT_FN real srgbToLinear(real encoded) {
+    return encoded <= 0.04045 ? encoded / 12.92 : pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+// An sRGB-encoded RGBA8 texel (red in the lowest byte) as linear RGB and alpha.
+VKRT_FN real4 decodeSrgbTexel(uint bits) {
+    const real r = real(bits & 0xffu) / 255.0;
+    const real g = real((bits >> 8u) & 0xffu) / 255.0;
+    const real b = real((bits >> 16u) & 0xffu) / 255.0;
+    const real a = real(bits >> 24u) / 255.0;
+    return real4(srgbToLinear(r), srgbToLinear(g), srgbToLinear(b), a);
+}
+
+#ifdef VKRT_HAS_TEXTURES
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 textureTexel(VKRT_DEVICE_PARAM GpuTexture texture, int x, int y) {
+    const uint column = wrapTexel(x, int(texture.width), texture.flags & 3u);
+    const uint row = wrapTexel(y, int(texture.height), (texture.flags >> 2u) & 3u);
+    return decodeSrgbTexel(VKRT_DEVICE(texel)(texture.firstTexel + row * texture.width + column));
+}
+
+// Linear RGBA at texture coordinate `uv` (glTF: origin at the top-left of the image). Texel centres sit at
+// half-integer positions; bilinear unless the sampler asks for nearest.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv) {
+    const real x = uv.x * real(texture.width) - 0.5, y = uv.y * real(texture.height) - 0.5;
+    if ((texture.flags & VKRT_TEXTURE_NEAREST) != 0u) {
+        return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)));
+    }
+    const real x0 = floor(x), y0 = floor(y);
+    const real fx = x - x0, fy = y - y0;
+    const int ix = int(x0), iy = int(y0);
+    return (1.0 - fx) * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix, iy) +
+           fx * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy) +
+           (1.0 - fx) * fy * textureTexel(VKRT_DEVICE_ARG texture, ix, iy + 1) +
+           fx * fy * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy + 1);
+}
+#endif
+
+// A colour factor times its texture (index -1: none) at a hit: the device maps the hit's coordinates
+// (barycentrics on triangles, texture coordinates on spheres) to the primitive's texture coordinates.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 textured(VKRT_DEVICE_PARAM real3 factor, int texture, uint primitive, real2 hitUv) {
+#ifdef VKRT_HAS_TEXTURES
+    if (texture >= 0) {
+        const real4 color = sampleTexture(VKRT_DEVICE_ARG VKRT_DEVICE(textureInfo)(texture),
+                                          VKRT_DEVICE(textureCoordinates)(primitive, hitUv));
+        return factor * real3(color.x, color.y, color.z);
+    }
+#endif
+    return factor;
+}
+
+VKRT_SHADING_END
+
+#endif  // VKRT_TEXTURE_SAMPLING_H
