@@ -1,7 +1,10 @@
 // Loading real glTF files: every third-party scene loads (or names what it lacks), with counts checked.
 #include <cmath>
+#include <cstring>
+#include <functional>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
@@ -176,6 +179,150 @@ TEST(GltfLoader, GpuInstancingExpandsInstances) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("khronos-SimpleInstancing/SimpleInstancing.glb");
     EXPECT_EQ(scene.triangles.size(), 12u * 125u);
+}
+
+// Two meshes, each used by several nodes, interleaved (A, B, A, B, A, then B under the last A), so that
+// the loader's decode-once cache is hit for every later instance. With `sharedMeshes` false, every node
+// gets its own copy of its mesh: nothing is shared, so each instance is decoded on its own.
+// Mesh A: one triangle with normals (material 0). Mesh B: a 2 x 2 quad of two indexed triangles, no
+// normals (material 1). Every transform is exact in binary, so hand-placed positions compare with ==.
+std::filesystem::path writeInstancedMeshes(const std::filesystem::path& folder, bool sharedMeshes) {
+    const float triangle[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const float normals[9] = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const float quad[12] = {0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0};
+    const uint16_t quadIndices[6] = {0, 1, 2, 0, 2, 3};
+    std::string bytes(132, '\0');
+    std::memcpy(bytes.data(), triangle, 36);
+    std::memcpy(bytes.data() + 36, normals, 36);
+    std::memcpy(bytes.data() + 72, quad, 48);
+    std::memcpy(bytes.data() + 120, quadIndices, 12);
+    const std::string name = sharedMeshes ? "shared" : "copies";
+    test::writeText(folder / (name + ".bin"), bytes);
+
+    using nlohmann::json;
+    const json meshA = {
+        {"name", "A"}, {"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"material", 0}}}}};
+    const json meshB = {
+        {"name", "B"},
+        {"primitives", {{{"attributes", {{"POSITION", 2}}}, {"indices", 3}, {"material", 1}}}}};
+    json nodes = {
+        {{"translation", {4, 0, 0}}},
+        // 90 degrees about z, then up by 8 (column-major).
+        {{"matrix", {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 8, 0, 1}}},
+        {{"translation", {0, 0, -4}}, {"scale", {2, 2, 2}}},
+        // Mirrored: the loader swaps two corners to keep the winding.
+        {{"translation", {-8, 0, 0}}, {"scale", {-1, 1, 1}}},
+        // 180 degrees about x, with a child that inherits it.
+        {{"rotation", {1, 0, 0, 0}}, {"children", {5}}},
+        {{"translation", {1, 1, 1}}},
+    };
+    const int nodeMesh[6] = {0, 1, 0, 1, 0, 1};  // A, B, A, B, A, B
+    json meshes = sharedMeshes ? json{meshA, meshB} : json::array();
+    for (int i = 0; i < 6; ++i) {
+        if (sharedMeshes) {
+            nodes[i]["mesh"] = nodeMesh[i];
+        } else {
+            meshes.push_back(nodeMesh[i] == 0 ? meshA : meshB);
+            nodes[i]["mesh"] = i;
+        }
+    }
+    const json document = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0, 1, 2, 3, 4}}}}},
+        {"nodes", nodes},
+        {"meshes", meshes},
+        {"materials", {{{"name", "a"}}, {{"name", "b"}}}},
+        {"accessors",
+         {{{"bufferView", 0},
+           {"componentType", 5126},
+           {"count", 3},
+           {"type", "VEC3"},
+           {"min", {0, 0, 0}},
+           {"max", {1, 1, 0}}},
+          {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+          {{"bufferView", 2},
+           {"componentType", 5126},
+           {"count", 4},
+           {"type", "VEC3"},
+           {"min", {0, 0, 0}},
+           {"max", {2, 2, 0}}},
+          {{"bufferView", 3}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+          {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 36}},
+          {{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 48}},
+          {{"buffer", 0}, {"byteOffset", 120}, {"byteLength", 12}}}},
+        {"buffers", {{{"uri", name + ".bin"}, {"byteLength", 132}}}},
+    };
+    const std::filesystem::path file = folder / (name + ".gltf");
+    test::writeText(file, document.dump());
+    return file;
+}
+
+TEST(GltfLoader, SharedMeshInstancesArePlacedPerNode) {
+    const Scene scene = loadGltf(writeInstancedMeshes(test::temporaryFolder(), true).string());
+    // Each node's mesh corners, placed by hand, in walk order (nodes 0 to 4, then 5 under 4).
+    using Place = std::function<glm::dvec3(glm::dvec3)>;
+    const std::vector<glm::dvec3> a = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const std::vector<glm::dvec3> b = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+    const std::vector<std::array<int, 3>> aFaces = {{0, 1, 2}}, bFaces = {{0, 1, 2}, {0, 2, 3}};
+    struct Instance {
+        const std::vector<glm::dvec3>* corners;
+        const std::vector<std::array<int, 3>>* faces;
+        uint32_t material;
+        bool mirrored;
+        Place place;
+    };
+    const std::vector<Instance> instances = {
+        {&a, &aFaces, 0, false, [](glm::dvec3 p) { return p + glm::dvec3(4, 0, 0); }},
+        {&b, &bFaces, 1, false, [](glm::dvec3 p) { return glm::dvec3(-p.y, p.x + 8, p.z); }},
+        {&a, &aFaces, 0, false, [](glm::dvec3 p) { return 2.0 * p + glm::dvec3(0, 0, -4); }},
+        {&b, &bFaces, 1, true, [](glm::dvec3 p) { return glm::dvec3(-p.x - 8, p.y, p.z); }},
+        {&a, &aFaces, 0, false, [](glm::dvec3 p) { return glm::dvec3(p.x, -p.y, -p.z); }},
+        {&b, &bFaces, 1, false, [](glm::dvec3 p) { return glm::dvec3(p.x + 1, -(p.y + 1), -(p.z + 1)); }},
+    };
+    std::vector<Triangle> expected;
+    for (const Instance& instance : instances) {
+        for (std::array<int, 3> face : *instance.faces) {
+            if (instance.mirrored) std::swap(face[1], face[2]);
+            auto corner = [&](int k) {
+                return glm::vec3(instance.place((*instance.corners)[face[k]]) - scene.origin);
+            };
+            expected.push_back({corner(0), corner(1), corner(2), instance.material});
+        }
+    }
+    ASSERT_EQ(scene.triangles.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i) {
+        SCOPED_TRACE("triangle " + std::to_string(i));
+        EXPECT_EQ(scene.triangles[i].v0, expected[i].v0);
+        EXPECT_EQ(scene.triangles[i].v1, expected[i].v1);
+        EXPECT_EQ(scene.triangles[i].v2, expected[i].v2);
+        EXPECT_EQ(scene.triangles[i].material, expected[i].material);
+    }
+    // Mesh A's normals (0, 0, 1) follow each instance: turned over by the 180-degree rotation only.
+    EXPECT_EQ(scene.shading[0].normal[0], glm::vec3(0, 0, 1));
+    EXPECT_EQ(scene.shading[3].normal[0], glm::vec3(0, 0, 1));
+    EXPECT_EQ(scene.shading[6].normal[0], glm::vec3(0, 0, -1));
+}
+
+TEST(GltfLoader, SharedMeshesEqualPerNodeCopies) {
+    // Decoding a mesh once and placing it per node gives bit for bit what decoding a copy per node gives,
+    // in the same order, with the same shading and materials.
+    const auto folder = test::temporaryFolder();
+    const Scene shared = loadGltf(writeInstancedMeshes(folder, true).string());
+    const Scene copies = loadGltf(writeInstancedMeshes(folder, false).string());
+    ASSERT_EQ(shared.triangles.size(), 9u);
+    ASSERT_EQ(copies.triangles.size(), shared.triangles.size());
+    EXPECT_EQ(shared.origin, copies.origin);
+    const std::vector<uint32_t> materials = {0, 1, 1, 0, 1, 1, 0, 1, 1};  // A, B, A, B, A, B
+    for (size_t i = 0; i < shared.triangles.size(); ++i) {
+        SCOPED_TRACE("triangle " + std::to_string(i));
+        EXPECT_EQ(shared.triangles[i].material, materials[i]);
+        EXPECT_EQ(std::memcmp(&shared.triangles[i], &copies.triangles[i], sizeof(Triangle)), 0);
+        EXPECT_EQ(std::memcmp(&shared.shading[i], &copies.shading[i], sizeof(TriangleShading)), 0);
+    }
+    EXPECT_EQ(shared.warnings, copies.warnings);
 }
 
 TEST(GltfLoader, VolumeAndTransmissionExtensions) {

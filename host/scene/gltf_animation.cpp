@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <glm/gtc/matrix_transform.hpp>
-
+#include "scene/gltf_transforms.h"
 #include "scene/scene_error.h"
 
 namespace vkrt {
@@ -69,9 +68,7 @@ glm::dvec4 sample(const AnimationChannel& channel, double time) {
 }  // namespace
 
 glm::dmat4 NodeTrs::matrix() const {
-    glm::dmat4 m = glm::translate(glm::dmat4(1.0), translation);
-    m = m * glm::mat4_cast(rotation);
-    return glm::scale(m, scale);
+    return trsMatrix(translation, rotation, scale);
 }
 
 NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors,

@@ -1,0 +1,50 @@
+#include "scene/gltf_cameras.h"
+
+#include <cmath>
+
+#include <tiny_gltf.h>
+
+#include "scene/gltf_extensions.h"
+
+namespace vkrt {
+
+void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, const std::string& nodeName) {
+    if (cameraIndex >= static_cast<int>(context.model.cameras.size())) {
+        context.fail("node '" + nodeName + "' refers to camera " + std::to_string(cameraIndex) +
+                     ", which does not exist");
+    }
+    const tinygltf::Camera& source = context.model.cameras[cameraIndex];
+    const std::string where = describe("camera", cameraIndex, source.name);
+    Camera camera;
+    camera.name = source.name.empty() ? (nodeName.empty() ? where : nodeName) : source.name;
+    // The projection and its parameters.
+    if (source.type == "perspective") {
+        camera.projection = Projection::Perspective;
+        camera.yfov = source.perspective.yfov;
+        camera.aspectRatio = source.perspective.aspectRatio;
+        if (!(camera.yfov > 0.0 && camera.yfov < M_PI)) context.fail(where + ": yfov must be in (0, pi)");
+    } else if (source.type == "orthographic") {
+        camera.projection = Projection::Orthographic;
+        camera.xmag = source.orthographic.xmag;
+        camera.ymag = source.orthographic.ymag;
+        if (!(camera.xmag != 0.0 && camera.ymag != 0.0 && std::isfinite(camera.xmag) &&
+              std::isfinite(camera.ymag))) {
+            context.fail(where + ": xmag and ymag must be finite and non-zero");
+        }
+    } else {
+        context.fail(where + " has unknown type '" + source.type + "'");
+    }
+    readCameraExtras(context, source.extras, where, camera);
+    // glTF cameras look down the node's -Z with +Y up; scale in the node is ignored (section 3.10.1).
+    const glm::dmat3 linear(world);
+    camera.position = glm::dvec3(world[3]);
+    camera.forward = glm::normalize(linear * glm::dvec3(0.0, 0.0, -1.0));
+    glm::dvec3 up = linear * glm::dvec3(0.0, 1.0, 0.0);
+    camera.right = glm::normalize(glm::cross(camera.forward, up));
+    camera.up = glm::cross(camera.right, camera.forward);
+    if (!std::isfinite(camera.right.x + camera.right.y + camera.right.z))
+        context.fail(where + ": its node transform is singular");
+    context.scene.cameras.push_back(camera);
+}
+
+}  // namespace vkrt

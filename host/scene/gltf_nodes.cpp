@@ -1,0 +1,115 @@
+#include "scene/gltf_nodes.h"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include <tiny_gltf.h>
+
+#include "scene/gltf_transforms.h"
+
+namespace vkrt {
+
+std::vector<int> sceneRoots(const GltfContext& context) {
+    const tinygltf::Model& model = context.model;
+    if (!model.scenes.empty()) {
+        int index = model.defaultScene >= 0 ? model.defaultScene : 0;
+        if (index >= static_cast<int>(model.scenes.size())) {
+            context.fail("default scene " + std::to_string(index) + " does not exist");
+        }
+        return model.scenes[index].nodes;
+    }
+    // No scene: render every node that is nobody's child.
+    std::vector<bool> isChild(model.nodes.size(), false);
+    for (const tinygltf::Node& node : model.nodes) {
+        for (int child : node.children) {
+            if (child >= 0 && child < static_cast<int>(isChild.size())) isChild[child] = true;
+        }
+    }
+    std::vector<int> roots;
+    for (size_t i = 0; i < isChild.size(); ++i) {
+        if (!isChild[i]) roots.push_back(static_cast<int>(i));
+    }
+    return roots;
+}
+
+void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots) {
+    const std::vector<tinygltf::Node>& nodes = context.model.nodes;
+    const int nodeCount = static_cast<int>(nodes.size());
+    // Record each node's parent, failing on bad indices, self-loops and second parents.
+    std::vector<int> parent(nodeCount, -1);
+    for (int i = 0; i < nodeCount; ++i) {
+        for (int child : nodes[i].children) {
+            if (child < 0 || child >= nodeCount) {
+                context.fail(describe("node", i, nodes[i].name) + " has child " + std::to_string(child) +
+                             ", which does not exist");
+            }
+            if (child == i) context.fail(describe("node", i, nodes[i].name) + " is its own child (a cycle)");
+            if (parent[child] >= 0) {
+                context.fail(describe("node", child, nodes[child].name) + " has two parents, nodes " +
+                             std::to_string(parent[child]) + " and " + std::to_string(i));
+            }
+            parent[child] = i;
+        }
+    }
+    // With one parent per node, a cycle is a chain of parents that returns to where it started.
+    std::vector<int> state(nodeCount, 0);  // 0 unvisited, 1 on the current chain, 2 known to reach a root
+    for (int start = 0; start < nodeCount; ++start) {
+        std::vector<int> chain;
+        int n = start;
+        while (n >= 0 && state[n] == 0) {
+            state[n] = 1;
+            chain.push_back(n);
+            n = parent[n];
+        }
+        if (n >= 0 && state[n] == 1) {
+            context.fail("the node graph has a cycle through " + describe("node", n, nodes[n].name));
+        }
+        for (int c : chain) state[c] = 2;
+    }
+    for (int root : roots) {
+        if (root < 0 || root >= nodeCount)
+            context.fail("the scene refers to node " + std::to_string(root) + ", which does not exist");
+        if (parent[root] >= 0)
+            context.fail(describe("node", root, nodes[root].name) + " is a scene root and a child");
+    }
+}
+
+glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>& roots) {
+    const tinygltf::Model& model = context.model;
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    auto grow = [&](const glm::dvec3& q) {
+        if (!std::isfinite(q.x + q.y + q.z)) return;
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+    };
+    std::function<void(int, const glm::dmat4&)> visit = [&](int nodeIndex, const glm::dmat4& parent) {
+        const tinygltf::Node& node = model.nodes[nodeIndex];
+        const glm::dmat4 world = parent * localTransform(context, nodeIndex);
+        // Grow by the 8 corners of each primitive's POSITION bounds.
+        if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) {
+            for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
+                auto position = primitive.attributes.find("POSITION");
+                if (position == primitive.attributes.end() || position->second < 0 ||
+                    position->second >= static_cast<int>(model.accessors.size())) {
+                    continue;
+                }
+                const tinygltf::Accessor& accessor = model.accessors[position->second];
+                if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
+                for (int corner = 0; corner < 8; ++corner) {
+                    const glm::dvec4 p(corner & 1 ? accessor.maxValues[0] : accessor.minValues[0],
+                                       corner & 2 ? accessor.maxValues[1] : accessor.minValues[1],
+                                       corner & 4 ? accessor.maxValues[2] : accessor.minValues[2], 1.0);
+                    grow(glm::dvec3(world * p));
+                }
+            }
+        }
+        // Grow by a sphere's centre.
+        if (node.extensions.count("VKRT_sphere")) grow(glm::dvec3(world[3]));
+        for (int child : node.children) visit(child, world);
+    };
+    for (int root : roots) visit(root, glm::dmat4(1.0));
+    return lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(0.0);
+}
+
+}  // namespace vkrt

@@ -1,0 +1,180 @@
+#include "scene/gltf_primitives.h"
+
+#include <cmath>
+
+#include <tiny_gltf.h>
+
+#include "scene/gltf_materials.h"
+
+namespace vkrt {
+
+void MeshInstancer::addInstance(int meshIndex, const std::vector<glm::dmat4>& poses) {
+    // Decode each primitive on the mesh's first instance, placing it before decoding the next, so that
+    // errors come in the order the file's content meets them; later instances only place.
+    std::vector<DecodedPrimitive>& primitives = decoded_[meshIndex];
+    const size_t primitiveCount = context_.model.meshes[meshIndex].primitives.size();
+    for (size_t p = 0; p < primitiveCount; ++p) {
+        if (p == primitives.size()) primitives.push_back(decode(meshIndex, p));
+        place(primitives[p], poses);
+    }
+}
+
+void MeshInstancer::warnAboutSkipped() {
+    if (degenerateTriangles_ > 0) {
+        context_.warn(std::to_string(degenerateTriangles_) + " degenerate (zero-area) triangle(s) skipped");
+    }
+    for (int mode : skippedModes_) {
+        context_.warn("primitives with mode " + std::to_string(mode) +
+                      " (points or lines) skipped: vkrt renders triangles");
+    }
+}
+
+DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
+    const tinygltf::Mesh& mesh = context_.model.meshes[meshIndex];
+    const tinygltf::Primitive& primitive = mesh.primitives[primitiveIndex];
+    const AccessorReader& accessors = context_.accessors;
+    DecodedPrimitive decoded;
+    decoded.where = describe("mesh", meshIndex, mesh.name) + " primitive " + std::to_string(primitiveIndex);
+    const std::string& where = decoded.where;
+
+    // Triangles only: points and lines are skipped with a warning.
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    if (mode >= TINYGLTF_MODE_POINTS && mode <= 3) {
+        skippedModes_.insert(mode);
+        decoded.skipped = true;
+        return decoded;
+    }
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        context_.fail(where + " has an invalid mode " + std::to_string(mode));
+    }
+
+    // Read the vertex attributes.
+    auto position = primitive.attributes.find("POSITION");
+    if (position == primitive.attributes.end()) context_.fail(where + " has no POSITION attribute");
+    decoded.positions = accessors.readFloats(position->second, 3, where + " POSITION");
+    const std::vector<float>& positions = decoded.positions;
+    const size_t vertexCount = positions.size() / 3;
+    for (size_t i = 0; i < positions.size(); ++i) {
+        if (!std::isfinite(positions[i])) {
+            context_.fail(where + " POSITION has a non-finite value at vertex " + std::to_string(i / 3));
+        }
+    }
+    if (auto it = primitive.attributes.find("NORMAL"); it != primitive.attributes.end()) {
+        decoded.normals = accessors.readFloats(it->second, 3, where + " NORMAL");
+        if (decoded.normals.size() != positions.size())
+            context_.fail(where + " NORMAL and POSITION counts differ");
+    }
+    if (auto it = primitive.attributes.find("TEXCOORD_0"); it != primitive.attributes.end()) {
+        decoded.uvs = accessors.readFloats(it->second, 2, where + " TEXCOORD_0");
+        if (decoded.uvs.size() / 2 != vertexCount)
+            context_.fail(where + " TEXCOORD_0 and POSITION counts differ");
+    }
+
+    // Read and check the indices; without an accessor, the vertices in order.
+    std::vector<uint32_t> indices;
+    if (primitive.indices >= 0) {
+        indices = accessors.readIndices(primitive.indices, where + " indices");
+        for (size_t i = 0; i < indices.size(); ++i) {
+            if (indices[i] >= vertexCount) {
+                context_.fail(where + " index " + std::to_string(indices[i]) + " at position " +
+                              std::to_string(i) + " is out of range (the primitive has " +
+                              std::to_string(vertexCount) + " vertices)");
+            }
+        }
+    } else {
+        indices.resize(vertexCount);
+        for (size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<uint32_t>(i);
+    }
+
+    // Triangle list from strips and fans (glTF 2.0 section 3.7.2.1).
+    std::vector<std::array<uint32_t, 3>>& faces = decoded.faces;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        for (size_t i = 0; i + 2 < indices.size(); i += 3)
+            faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (size_t i = 0; i + 2 < indices.size(); ++i) {
+            if (i % 2 == 0)
+                faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
+            else
+                faces.push_back({indices[i], indices[i + 2], indices[i + 1]});
+        }
+    } else {
+        for (size_t i = 0; i + 2 < indices.size(); ++i)
+            faces.push_back({indices[i + 1], indices[i + 2], indices[0]});
+    }
+
+    // Resolve the material; glTF's default when the primitive names none.
+    if (primitive.material < 0) {
+        decoded.material = defaultMaterial(context_);
+    } else if (primitive.material >= static_cast<int>(context_.model.materials.size())) {
+        context_.fail(where + " refers to material " + std::to_string(primitive.material) +
+                      ", which does not exist");
+    } else {
+        decoded.material = static_cast<uint32_t>(primitive.material);
+    }
+    return decoded;
+}
+
+void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<glm::dmat4>& poses) {
+    if (primitive.skipped) return;
+    const std::string& where = primitive.where;
+    const std::vector<float>& positions = primitive.positions;
+    const std::vector<float>& normals = primitive.normals;
+    const std::vector<float>& uvs = primitive.uvs;
+    const uint32_t material = primitive.material;
+    const glm::dmat4& world = poses[0];
+
+    const glm::dmat3 linear(world);
+    const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
+    const bool mirrored = glm::determinant(linear) < 0.0;  // mirroring reverses the winding
+    auto placed = [&](const glm::dmat4& transform, uint32_t v) {
+        return glm::vec3(transform *
+                         glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
+    };
+    auto worldPosition = [&](uint32_t v) { return placed(world, v); };
+    for (auto face : primitive.faces) {
+        // Place the triangle at the shutter's opening; drop it when it has no area.
+        if (mirrored) std::swap(face[1], face[2]);
+        Triangle triangle{worldPosition(face[0]), worldPosition(face[1]), worldPosition(face[2]), material};
+        if (!std::isfinite(triangle.v0.x + triangle.v0.y + triangle.v0.z + triangle.v1.x + triangle.v1.y +
+                           triangle.v1.z + triangle.v2.x + triangle.v2.y + triangle.v2.z)) {
+            context_.fail(where + " has a vertex that its node transform moves out of floating-point range");
+        }
+        const glm::dvec3 cross = glm::cross(glm::dvec3(triangle.v1) - glm::dvec3(triangle.v0),
+                                            glm::dvec3(triangle.v2) - glm::dvec3(triangle.v0));
+        const double crossLength = glm::length(cross);
+        if (!(crossLength > 0.0)) {
+            ++degenerateTriangles_;
+            continue;
+        }
+        // Shading normals (the geometric normal where the file has none or they vanish) and uvs.
+        const glm::vec3 geometric(cross / crossLength);
+        TriangleShading shading{};
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = face[k];
+            shading.normal[k] = geometric;
+            if (!normals.empty()) {
+                glm::dvec3 n =
+                    normalMatrix * glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+                double length = glm::length(n);
+                if (length > 0.0 && std::isfinite(length)) shading.normal[k] = glm::vec3(n / length);
+            }
+            if (!uvs.empty()) shading.uv[k] = glm::vec2(uvs[2 * v], uvs[2 * v + 1]);
+        }
+        context_.scene.triangles.push_back(triangle);
+        context_.scene.shading.push_back(shading);
+        // The triangle's later poses, one per motion segment end.
+        for (size_t k = 1; k < poses.size(); ++k) {
+            const Triangle pose{placed(poses[k], face[0]), placed(poses[k], face[1]),
+                                placed(poses[k], face[2]), material};
+            if (!std::isfinite(pose.v0.x + pose.v0.y + pose.v0.z + pose.v1.x + pose.v1.y + pose.v1.z +
+                               pose.v2.x + pose.v2.y + pose.v2.z)) {
+                context_.fail(where + " has a vertex that its animation moves out of floating-point range");
+            }
+            context_.scene.trianglePoses.push_back(pose);
+        }
+    }
+}
+
+}  // namespace vkrt
