@@ -23,11 +23,13 @@ VKRT_FN real3 reflectAbout(real3 toViewer, real3 normal) { return 2.0 * dot(toVi
 // internal reflection.
 VKRT_FN bool refractThrough(real3 toViewer, real3 normal, real eta, VKRT_OUT(real3) transmitted) {
     const real cosI = dot(toViewer, normal);
-    const real sin2I = max(0.0, 1.0 - cosI * cosI);
-    const real sin2T = sin2I / (eta * eta);
+    // cos^2 of the transmitted angle, 1 - (1 - cosI^2) / eta^2, in a form that keeps cosI^2 at grazing
+    // incidence: in single precision 1 - cosI^2 rounds to 1 below cosI = 2.4e-4, which made an
+    // index-matched surface reflect totally.
+    const real cos2T = (eta * eta - 1.0 + cosI * cosI) / (eta * eta);
     transmitted = real3(0.0);
-    if (sin2T >= 1.0) return false;
-    const real cosT = sqrt(1.0 - sin2T);
+    if (cos2T <= 0.0) return false;
+    const real cosT = sqrt(cos2T);
     transmitted = -toViewer / eta + (cosI / eta - cosT) * normal;
     return true;
 }
@@ -37,9 +39,9 @@ VKRT_FN bool refractThrough(real3 toViewer, real3 normal, real eta, VKRT_OUT(rea
 // internal reflection.
 VKRT_FN real fresnelDielectric(real cosI, real eta) {
     cosI = clamp(cosI, 0.0, 1.0);
-    const real sin2T = (1.0 - cosI * cosI) / (eta * eta);
-    if (sin2T >= 1.0) return 1.0;
-    const real cosT = sqrt(1.0 - sin2T);
+    const real cos2T = (eta * eta - 1.0 + cosI * cosI) / (eta * eta);  // as in refractThrough
+    if (cos2T <= 0.0) return 1.0;
+    const real cosT = sqrt(cos2T);
     const real rs = (cosI - eta * cosT) / (cosI + eta * cosT);
     const real rp = (eta * cosI - cosT) / (eta * cosI + cosT);
     return 0.5 * (rs * rs + rp * rp);

@@ -71,9 +71,11 @@ VKRT_FN bool intersectSphere(real3 center, real radius, real3 origin, real3 dire
 }
 
 // Texture coordinates at outward unit normal n (+Y up, as in glTF): u is the longitude, 0.5 facing +Z; v runs
-// from 0 at the north pole to 1 at the south pole.
+// from 0 at the north pole to 1 at the south pole. At the poles, where the longitude is undefined (and GLSL's
+// atan(0, 0) too), u is 0.5.
 VKRT_FN real2 sphereUv(real3 n) {
-    return real2(0.5 + atan(n.x, n.z) / (2.0 * VKRT_PI), acos(clamp(n.y, -1.0, 1.0)) / VKRT_PI);
+    const real u = n.x == 0.0 && n.z == 0.0 ? 0.5 : 0.5 + atan(n.x, n.z) / (2.0 * VKRT_PI);
+    return real2(u, acos(clamp(n.y, -1.0, 1.0)) / VKRT_PI);
 }
 
 // 1 - cos(theta_max) of the cone a sphere subtends from a point at squared distance `distance2` from its

@@ -1,0 +1,36 @@
+#version 460
+// Evaluates the shared shading functions (shaders/*.h) in single precision on a table of cases
+// (shading_cases.h), for tests/shading_functions_test.cpp to compare with their double-precision C++
+// evaluation.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+
+#define VKRT_HAS_TEXTURES
+#define VKRT_HAS_DEPTH_OF_FIELD
+#include "shared.h"
+#include "shading_language.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 1) readonly buffer Texels { uint texels[]; };
+
+// The device the texture functions read through: the texel buffer. textured() also names the texture table
+// and texture coordinates, which no case uses.
+uint device_texel(uint index) { return texels[index]; }
+GpuTexture device_textureInfo(int index) { return GpuTexture(0u, 1u, 1u, 0u); }
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv) { return hitUv; }
+
+#include "shading_cases.h"
+
+layout(std430, binding = 0) readonly buffer Cases { FunctionCase cases[]; };
+layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };
+layout(push_constant) uniform Constants { uint count; };
+
+void main() {
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    vec4 r0, r1;
+    evaluateCase(cases[i], r0, r1);
+    results[2u * i] = r0;
+    results[2u * i + 1u] = r1;
+}

@@ -1,0 +1,307 @@
+// Every shared shading function (shaders/*.h) evaluated on the GPU in single precision and in C++ in double
+// precision on the same table of inputs, grazing angles, total internal reflection, roughness 0 and 1 and
+// radii from 1e-2 to 1e5 included, compared function by function with stated tolerances. The closed-form
+// tests (optics_test.cpp, reference_renderer_test.cpp) check the C++ evaluation; this test carries them over
+// to the code the GPU runs.
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu/compute_pipeline.h"
+#include "gpu/gpu_buffer.h"
+#include "gpu/gpu_timer.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/vulkan_context.h"
+#include "test_support.h"
+#include "texture_sampling.h"
+
+#include "glsl/shading_cases.h"
+
+namespace vkrt {
+namespace {
+
+using shading::FunctionCase;
+
+const char* const kFunctionNames[VKRT_CASE_COUNT] = {"fresnel (dielectric, Schlick, F0)",
+                                                     "refraction and reflection",
+                                                     "GGX D, Lambda, G1, G2, pdf, alpha",
+                                                     "GGX visible-normal sampling",
+                                                     "surface response and BRDF",
+                                                     "punctual light arrival",
+                                                     "triangle light sampling",
+                                                     "sphere light sampling and pdf",
+                                                     "sphere roots and texture coordinates",
+                                                     "Beer-Lambert, pdfs, power heuristic",
+                                                     "medium stack",
+                                                     "texture sampling, sRGB, wrapping",
+                                                     "camera rays",
+                                                     "pixel filters, concentric disk",
+                                                     "orthonormal basis",
+                                                     "rotation, max component"};
+
+// The CPU's texel fetch for texture_sampling.h.
+struct TexelDevice {
+    const std::vector<uint32_t>* texels;
+    uint32_t texel(uint32_t index) const { return (*texels)[index]; }
+    gpu::GpuTexture textureInfo(int) const { return {0, 1, 1, 0}; }
+    glm::dvec2 textureCoordinates(uint32_t, glm::dvec2 uv) const { return uv; }
+};
+
+// How far single precision may fall from double precision, per function. The relative part is a few
+// hundred float ulps (2^-23 = 1.2e-7); the absolute part covers results that cancel to near zero. Functions
+// whose conditioning varies with the input scale their tolerance by it (see tolerance()).
+struct Tolerance {
+    double absolute;
+    double relative;
+};
+
+class ShadingFunctions : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        ContextOptions options;
+        options.validation = true;
+        context_ = std::make_unique<VulkanContext>(options);
+    }
+    static void TearDownTestSuite() { context_.reset(); }
+    static inline std::unique_ptr<VulkanContext> context_;
+};
+
+FunctionCase makeCase(uint32_t function, uint32_t integer, glm::vec4 a, glm::vec4 b = glm::vec4(0.0f),
+                      glm::vec4 c = glm::vec4(0.0f), glm::vec4 d = glm::vec4(0.0f),
+                      glm::vec4 e = glm::vec4(0.0f)) {
+    FunctionCase fc{};
+    fc.function = function;
+    fc.integer = integer;
+    fc.a = a;
+    fc.b = b;
+    fc.c = c;
+    fc.d = d;
+    fc.e = e;
+    return fc;
+}
+
+glm::vec4 direction(double theta, double phi = 0.0) {
+    return glm::vec4(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta), 0.0f);
+}
+
+std::vector<FunctionCase> makeCases() {
+    std::vector<FunctionCase> cases;
+    const float roughnesses[] = {0.0f, 1e-3f, 0.1f, 0.5f, 1.0f};
+    // Fresnel: normal, oblique and grazing incidence; from outside, from inside (total internal reflection
+    // beyond 48 degrees for glass), index-matched and diamond.
+    for (float cosI : {1.0f, 0.9f, 0.5f, 0.2f, 1e-4f, 0.0f}) {
+        for (float eta : {1.5f, 1.0f / 1.5f, 1.0f, 2.4f, 1.0f / 2.4f}) {
+            cases.push_back(makeCase(VKRT_CASE_FRESNEL, 0, {cosI, eta, 0, 0}, {0.9f, 0.6f, 0.05f, 0}));
+        }
+    }
+    for (double theta : {0.0, 0.5, 0.9, 1.2, 1.5707}) {
+        for (float eta : {1.5f, 1.0f / 1.5f, 1.0f, 2.4f}) {
+            glm::vec4 normal(0, 0, 1, eta);
+            cases.push_back(makeCase(VKRT_CASE_REFRACT, 0, direction(theta, 0.3), normal));
+        }
+    }
+    // GGX: from the mirror limit (roughness 1e-3) to roughness 1, half vectors from the normal to grazing.
+    for (float roughness : roughnesses) {
+        const float alpha = std::max(roughness * roughness, 1e-6f);
+        for (float cosH : {1.0f, 0.999f, 0.9f, 0.5f, 0.05f}) {
+            cases.push_back(makeCase(VKRT_CASE_GGX, 0, {cosH, alpha, 0.7f, roughness}));
+        }
+        for (double theta : {0.05, 0.8, 1.5}) {
+            for (float u : {0.1f, 0.5f, 0.95f}) {
+                glm::vec4 toViewer = direction(theta, 1.0);
+                toViewer.w = alpha;
+                cases.push_back(makeCase(VKRT_CASE_VISIBLE_NORMAL, 0, toViewer, {u, 1.0f - u * 0.7f, 0, 0}));
+            }
+        }
+        // Surface response: dielectric, metal and glass at this roughness, lights from several directions.
+        for (float metallic : {0.0f, 1.0f}) {
+            for (float transmission : {0.0f, 1.0f}) {
+                for (double lightTheta : {0.3, 1.2}) {
+                    cases.push_back(makeCase(VKRT_CASE_SURFACE, 0, {0.8f, 0.5f, 0.2f, metallic},
+                                             {2.0f, 1.5f, 1.0f, roughness}, {transmission, 1.5f, 0.5f, 0},
+                                             direction(0.4, 0.2) + glm::vec4(0, 0, 0, 0.8f),
+                                             direction(lightTheta, 2.9)));
+                }
+            }
+        }
+    }
+    // Punctual lights: point with and without range, spot inside, across and outside its cone, directional.
+    for (uint32_t type : {0u, 1u, 2u}) {
+        for (float range : {0.0f, 3.0f}) {
+            for (glm::vec4 point :
+                 {glm::vec4(0, 0, 0, 0), glm::vec4(0.5f, 0.2f, -1, 0), glm::vec4(2, 1, -0.5f, 0)}) {
+                cases.push_back(makeCase(VKRT_CASE_PUNCTUAL, type, {0, 0, 2, range}, {0.1f, 0, -1, 0.7f},
+                                         {50, 30, 10, 5.0f}, point));
+            }
+        }
+    }
+    for (float u : {0.0f, 0.3f, 0.999f}) {
+        for (float v : {0.0f, 0.5f, 0.999f}) {
+            cases.push_back(makeCase(VKRT_CASE_TRIANGLE_LIGHT, 0, {0, 0, 1, 0.25f}, {2, 0, 1, 0},
+                                     {0, 3, 1.5f, 0}, {u, v, 0, 0}));
+        }
+    }
+    // Spheres from 1e-2 to 1e5 in radius, seen from inside, nearby and far away.
+    for (float radius : {1e-2f, 1.0f, 1e3f, 1e5f}) {
+        for (float distance : {0.5f, 2.0f, 1e3f}) {
+            const glm::vec4 center(1, -2, 3, radius);
+            const glm::vec4 from =
+                glm::vec4(1, -2, 3, 0) + distance * radius * glm::vec4(0.6f, 0.0f, 0.8f, 0.0f);
+            for (float u : {0.05f, 0.5f, 0.95f}) {
+                cases.push_back(makeCase(VKRT_CASE_SPHERE_LIGHT, 0, center, from + glm::vec4(0, 0, 0, 0.3f),
+                                         {u, 1.0f - u, 0, 0}));
+            }
+            for (glm::vec4 aim : {-glm::vec4(0.6f, 0.0f, 0.8f, 0), glm::vec4(-0.6f, 0.1f, -0.78f, 0),
+                                  glm::vec4(0, 1, 0, 0)}) {
+                cases.push_back(makeCase(VKRT_CASE_SPHERE, 0, center, from, aim));
+            }
+        }
+    }
+    for (float distance : {0.0f, 0.5f, 3.0f, INFINITY}) {
+        for (float attenuationDistance : {0.25f, INFINITY}) {
+            cases.push_back(makeCase(VKRT_CASE_ABSORPTION, 0, {0.5f, 0.0f, 1.0f, attenuationDistance},
+                                     {distance, 0.3f, 2.0f, 0.5f}, {1.0f, 0.4f, 0.9f, 2.5f}));
+        }
+    }
+    for (uint32_t ops : {0x0u, 0x1u, 0x21u, 0x921u, 0xa21u, 0x54321u, 0x87654321u, 0xb9321u}) {
+        cases.push_back(makeCase(VKRT_CASE_MEDIA, ops, glm::vec4(0)));
+    }
+    for (uint32_t flags : {0u, 1u | 4u, 2u | 8u, 16u, 16u | 2u}) {
+        for (glm::vec2 uv :
+             {glm::vec2(0.1f, 0.2f), glm::vec2(0.5f, 0.5f), glm::vec2(-0.3f, 1.4f), glm::vec2(2.7f, -1.1f)}) {
+            cases.push_back(makeCase(VKRT_CASE_TEXTURE, flags, {uv.x, uv.y, uv.x * uv.x * 0.3f, 0},
+                                     {uv.x * 10 - 7, 4, float(flags & 3u), 0}));
+        }
+    }
+    for (uint32_t projection : {0u, 1u}) {
+        for (float lens : {0.0f, 0.2f}) {
+            for (glm::vec4 film : {glm::vec4(0.5f, 0.5f, 0.5f, 0.5f), glm::vec4(63.5f, 20, 0.1f, 0.9f),
+                                   glm::vec4(31, 47.9f, 0.99f, 0.01f)}) {
+                cases.push_back(makeCase(VKRT_CASE_CAMERA, projection, {1, 2, 10, 0.4f}, {0, 0, -1, lens},
+                                         {1, 0, 0, 8.0f}, {0, 1, 0, 3.0f}, film));
+            }
+        }
+    }
+    for (uint32_t filter : {0u, 1u, 2u}) {
+        for (glm::vec2 u :
+             {glm::vec2(0, 0), glm::vec2(0.25f, 0.75f), glm::vec2(0.5f, 0.5f), glm::vec2(0.999f, 0.01f)}) {
+            cases.push_back(makeCase(VKRT_CASE_FILTER, filter, {u.x, u.y, u.x, 0}));
+        }
+    }
+    for (glm::vec4 n : {glm::vec4(0, 0, 1, 0), glm::vec4(0, 0, -1, 0), glm::vec4(1, 2, 3, 0),
+                        glm::vec4(0.3f, -0.2f, -0.9f, 0), glm::vec4(1, 0, 1e-4f, 0)}) {
+        cases.push_back(makeCase(VKRT_CASE_BASIS, 0, n));
+        cases.push_back(makeCase(VKRT_CASE_ROTATE, 0, n, {0, 1, 0.2f, 0}, {0.5f, -0.5f, 1, 0}));
+        cases.push_back(makeCase(VKRT_CASE_ROTATE, 0, n, -n, {0.5f, -0.5f, 1, 0}));
+    }
+    return cases;
+}
+
+// The test texture's texels: sRGB bytes that vary by position.
+std::vector<uint32_t> testTexels() {
+    std::vector<uint32_t> texels;
+    for (uint32_t i = 0; i < VKRT_CASE_TEXTURE_WIDTH * VKRT_CASE_TEXTURE_HEIGHT; ++i) {
+        texels.push_back((i * 37u % 256u) | ((255u - i * 20u) << 8) | ((i * 91u % 256u) << 16) |
+                         (200u << 24));
+    }
+    return texels;
+}
+
+// GGX's D divides by cos^2 (alpha^2 - 1) + 1, which float resolves only to 2^-24: near the mirror limit the
+// error grows as 1 / that denominator, and so does the tolerance.
+Tolerance tolerance(const FunctionCase& fc) {
+    switch (fc.function) {
+        case VKRT_CASE_GGX: {
+            const double cosH = fc.a.x, alpha = fc.a.y;
+            const double denominator = std::max(cosH * cosH * (alpha * alpha - 1.0) + 1.0, 1e-300);
+            return {1e-6, 1e-5 + 4.0 * 1.2e-7 / std::min(1.0, denominator)};
+        }
+        case VKRT_CASE_SPHERE_LIGHT:
+        case VKRT_CASE_SPHERE: {
+            // Positions are as exact as the sphere's and the viewer's coordinates allow in float.
+            const double scale =
+                std::abs(fc.a.w) + glm::length(glm::dvec3(fc.b)) + glm::length(glm::dvec3(fc.a));
+            return {4e-6 * scale, 1e-4};
+        }
+        case VKRT_CASE_MEDIA:
+            return {0.0, 0.0};  // integers: exact
+        default:
+            return {2e-6, 2e-5};
+    }
+}
+
+TEST_F(ShadingFunctions, GpuMatchesCppFunctionByFunction) {
+    const std::vector<FunctionCase> cases = makeCases();
+    const std::vector<uint32_t> texels = testTexels();
+
+    // The kernel includes shading_cases.h from tests/glsl; the shaders it includes come from the binary.
+    auto read = [](const std::filesystem::path& path) {
+        std::ifstream file(path);
+        std::stringstream text;
+        text << file.rdbuf();
+        return text.str();
+    };
+    std::string source = read(test::sourceDir() / "tests/glsl/shading_functions.comp");
+    const std::string include = "#include \"shading_cases.h\"";
+    source.replace(source.find(include), include.size(),
+                   read(test::sourceDir() / "tests/glsl/shading_cases.h"));
+    std::vector<std::string> defines;
+    if (context_->hasShaderFloat64())
+        defines.push_back("VKRT_SPHERE_FLOAT64");  // as the renderer compiles it
+    const CompiledShader shader = compileShaderSource("shading_functions.comp", source, defines, "");
+    ComputePipeline pipeline(*context_, shader.spirv, 3, sizeof(uint32_t));
+    GpuBuffer caseBuffer(*context_, cases);
+    GpuBuffer texelBuffer(*context_, texels);
+    GpuBuffer results(*context_, cases.size() * 2 * sizeof(glm::vec4));
+    pipeline.bind({&caseBuffer, &texelBuffer, &results});
+    const uint32_t count = static_cast<uint32_t>(cases.size());
+    context_->submitAndWait([&](VkCommandBuffer commands) {
+        pipeline.dispatch(commands, &count, sizeof(count), (count + 63) / 64, 1);
+        makeShaderWritesVisibleToHost(commands);
+    });
+    std::vector<glm::vec4> gpu(cases.size() * 2);
+    results.download(gpu.data(), gpu.size() * sizeof(glm::vec4));
+    EXPECT_EQ(context_->validationMessages(), 0u);
+
+    const TexelDevice device{&texels};
+    std::vector<int> checked(VKRT_CASE_COUNT, 0);
+    std::vector<double> worst(VKRT_CASE_COUNT, 0.0);  // the largest error as a fraction of its tolerance
+    for (size_t i = 0; i < cases.size(); ++i) {
+        glm::dvec4 cpu[2];
+        shading::evaluateCase(device, cases[i], cpu[0], cpu[1]);
+        const Tolerance t = tolerance(cases[i]);
+        const uint32_t function = cases[i].function;
+        ++checked[function];
+        for (int row = 0; row < 2; ++row) {
+            for (int k = 0; k < 4; ++k) {
+                const double expected = cpu[row][k], actual = gpu[2 * i + row][k];
+                if (!std::isfinite(expected) || !std::isfinite(actual)) {
+                    EXPECT_TRUE(expected == actual || (std::isnan(expected) && std::isnan(actual)))
+                        << kFunctionNames[function] << ", case " << i << ", result " << row * 4 + k
+                        << ": GPU " << actual << ", C++ " << expected;
+                    continue;
+                }
+                const double allowed = t.absolute + t.relative * std::abs(expected);
+                const double error = std::abs(actual - expected);
+                worst[function] = std::max(worst[function], allowed > 0.0 ? error / allowed
+                                                            : error > 0.0 ? 1e9
+                                                                          : 0.0);
+                EXPECT_LE(error, allowed) << kFunctionNames[function] << ", case " << i << ", result "
+                                          << row * 4 + k << ": GPU " << actual << ", C++ " << expected;
+            }
+        }
+    }
+    for (uint32_t f = 0; f < VKRT_CASE_COUNT; ++f) {
+        EXPECT_GT(checked[f], 0) << kFunctionNames[f] << " has no cases";
+        std::printf("%-40s %3d cases, largest error %.3f of its tolerance\n", kFunctionNames[f], checked[f],
+                    worst[f]);
+    }
+}
+
+}  // namespace
+}  // namespace vkrt
