@@ -7,6 +7,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/checkpoint_schedule.h"
 #include "cpu/optics.h"
 #include "cpu/pixel_filter.h"
 #include "cpu/punctual_light.h"
@@ -410,22 +411,13 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
     std::vector<glm::dvec4> sums(pixels, glm::dvec4(0.0));
     const unsigned threads =
         settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
-    const auto start = std::chrono::steady_clock::now();
-    double pausedMs = 0.0;  // time spent in checkpoint callbacks, not rendering
-    double lastCheckpointMs = 0.0;
+    CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
 
-    // Passes of samples over all rows. Without checkpoints, one pass; with them, passes end at every power
-    // of two (and after any pass that crosses checkpointEveryMs). Per pixel the samples are summed in the
-    // same order either way, so the image does not depend on the passes.
+    // Passes of samples over all rows, ending where the schedule says. Per pixel the samples are summed in
+    // the same order either way, so the image does not depend on the passes.
     uint32_t done = 0;
     while (done < spp) {
-        uint32_t end = spp;
-        if (checkpoint) {
-            end = 1;
-            while (end <= done) end *= 2;
-            end = std::min(end, spp);
-            if (checkpointEveryMs > 0.0) end = std::min(end, done + std::max(1u, (end - done) / 4));
-        }
+        const uint32_t end = schedule.passEnd(done);
         std::atomic<int> nextRow{0};
         std::atomic<uint64_t> rowsDone{0};
         std::mutex merge;
@@ -455,17 +447,11 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
         for (std::thread& t : pool) t.join();
         done = end;
 
-        const bool powerOfTwo = (done & (done - 1)) == 0;
-        const double renderMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
-            pausedMs;
-        if (checkpoint && (powerOfTwo || done == spp ||
-                           (checkpointEveryMs > 0.0 && renderMs - lastCheckpointMs >= checkpointEveryMs))) {
-            const auto pause = std::chrono::steady_clock::now();
-            checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
-            lastCheckpointMs = renderMs;
-            pausedMs +=
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pause).count();
+        const double renderMs = schedule.renderMs();
+        if (schedule.due(done, renderMs)) {
+            schedule.take(renderMs, [&] {
+                checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+            });
         }
     }
     result.image = averageOf(sums, settings_.width, settings_.height);
