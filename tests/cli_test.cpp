@@ -156,6 +156,24 @@ TEST(Cli, HeightFollowsTheCameraAspectRatio) {
     EXPECT_EQ(readImage(out.string()).height, 20);  // the Cornell camera's aspect ratio is 1
 }
 
+// Emissive spheres light a scene as much as lights and emissive triangles do: no ambient fallback.
+TEST(Cli, SceneLitByEmissiveSpheresGetsNoLightsWarning) {
+    const auto folder = test::temporaryFolder();
+    const auto result =
+        test::runVkrt("--scene " + quoted(test::sourceDir() / "scenes/glossy.gltf") +
+                      " --device cpu --width 16 --height 10 --spp 1 --out " + quoted(folder / "g.pfm"));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_EQ(result.output.find("no lights"), std::string::npos) << result.output;
+    // A scene with nothing in it does get the warning.
+    test::writeText(folder / "empty.gltf",
+                    R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})");
+    const auto empty =
+        test::runVkrt("--scene " + quoted(folder / "empty.gltf") +
+                      " --device cpu --width 4 --height 4 --spp 1 --out " + quoted(folder / "e.pfm"));
+    ASSERT_EQ(empty.exitCode, 0) << empty.output;
+    EXPECT_NE(empty.output.find("the scene has no lights"), std::string::npos) << empty.output;
+}
+
 TEST(Cli, EveryThirdPartySceneRenders) {
     if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal();
     const auto folder = test::temporaryFolder();

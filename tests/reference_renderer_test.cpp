@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/render_policy.h"
 #include "bvh/triangle_bvh.h"
 #include "cpu/reference_renderer.h"
 #include "image/image_metrics.h"
@@ -417,17 +418,18 @@ TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
 class CornellBox : public ::testing::Test {
   protected:
     RenderResult render(int size, int samplesPerPixel, uint32_t seed = 0, int threads = 0) const {
-        RenderSettings settings;
-        settings.width = settings.height = size;
-        settings.samplesPerPixel = samplesPerPixel;
-        settings.seed = seed;
-        settings.threads = threads;
-        return ReferenceRenderer(scene, bvh, camera, settings).render();
+        RenderRequest request;
+        request.settings.width = size;
+        request.height = size;
+        request.settings.samplesPerPixel = samplesPerPixel;
+        request.settings.seed = seed;
+        request.settings.threads = threads;
+        const RenderSetup setup = resolveRender(request, scene);
+        return ReferenceRenderer(scene, bvh, setup.camera, setup.settings).render();
     }
 
     const Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
     const FlatBvh bvh = bvhFor(scene);
-    const Camera camera = selectCamera(scene, 0, 1.0);
 };
 
 TEST_F(CornellBox, IsRecognisable) {
@@ -461,18 +463,17 @@ TEST_F(CornellBox, SameSeedSameImageOtherSeedOtherNoise) {
 TEST(ReferenceRenderer, WhittedSceneHasNoNonFiniteSamplesAndTracesSecondaryRays) {
     const Scene scene = loadGltf((test::sourceDir() / "scenes/whitted.gltf").string());
     const FlatBvh bvh = bvhFor(scene);
-    RenderSettings settings;
-    settings.width = 40;
-    settings.height = 30;
-    settings.samplesPerPixel = 1;
-    const RenderResult result =
-        ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    RenderRequest request;
+    request.settings.width = 40;
+    request.height = 30;
+    request.settings.samplesPerPixel = 1;
+    RenderSetup setup = resolveRender(request, scene);
+    const RenderResult result = ReferenceRenderer(scene, bvh, setup.camera, setup.settings).render();
     EXPECT_EQ(result.rays.nonFiniteSamples, 0u);
     EXPECT_GT(result.rays.secondary, 100u);
     // Depth 0 traces no reflection or refraction at all.
-    settings.maxDepth = 0;
-    const RenderResult flat =
-        ReferenceRenderer(scene, bvh, selectCamera(scene, 0, 4.0 / 3.0), settings).render();
+    setup.settings.maxDepth = 0;
+    const RenderResult flat = ReferenceRenderer(scene, bvh, setup.camera, setup.settings).render();
     EXPECT_EQ(flat.rays.secondary, 0u);
 }
 

@@ -1,10 +1,12 @@
 #include "embree_tracer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
-#include <thread>
 
 #include <embree3/rtcore.h>
+
+#include "common/parallel_for.h"
 
 namespace vkrt {
 
@@ -44,7 +46,10 @@ EmbreeTracer::~EmbreeTracer() {
 double EmbreeTracer::trace(const std::vector<gpu::GpuRay>& rays, bool anyHit, int threads,
                            std::vector<uint32_t>& hits) const {
     hits.assign(rays.size(), VKRT_NO_HIT);
-    auto work = [&](size_t begin, size_t end) {
+    // Blocks of rays, handed out in order to the threads.
+    constexpr size_t kBlock = 1024;
+    auto work = [&](size_t block, unsigned /*worker*/) {
+        const size_t begin = block * kBlock, end = std::min(rays.size(), begin + kBlock);
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         for (size_t i = begin; i < end; ++i) {
@@ -70,12 +75,7 @@ double EmbreeTracer::trace(const std::vector<gpu::GpuRay>& rays, bool anyHit, in
         }
     };
     const auto start = std::chrono::steady_clock::now();
-    std::vector<std::thread> pool;
-    const size_t chunk = (rays.size() + threads - 1) / threads;
-    for (int t = 1; t < threads; ++t)
-        pool.emplace_back(work, std::min(rays.size(), t * chunk), std::min(rays.size(), (t + 1) * chunk));
-    work(0, std::min(rays.size(), chunk));
-    for (std::thread& thread : pool) thread.join();
+    parallelFor((rays.size() + kBlock - 1) / kBlock, threadCount(threads), work);
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 

@@ -6,6 +6,7 @@ packages=(
     libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools  # loader, lavapipe, validation
     glslang-dev glslang-tools spirv-tools                                   # run-time GLSL -> SPIR-V
     libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev # math, glTF, JSON, images
+    libcli11-dev                                                            # command line
     libgtest-dev                                                            # tests
     libembree-dev                                                           # benchmark anchor (optional)
 )

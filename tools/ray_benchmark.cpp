@@ -17,12 +17,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/render_policy.h"
 #include "bvh/triangle_bvh.h"
 #include "gpu/gpu_raycaster.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
 #include "random.h"
-#include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
@@ -106,7 +106,10 @@ int main(int argc, char** argv) {
     }
     try {
         const Scene scene = scenePath.empty() ? sphereOverGround(triangles) : loadGltf(scenePath);
-        const Camera camera = selectCamera(scene, 0, static_cast<double>(width) / height);
+        RenderRequest request;
+        request.settings.width = width;
+        request.height = height;
+        const Camera camera = resolveRender(request, scene).camera;
 
         const TriangleBvh triangleBvh = buildTriangleBvh(scene.triangles);
         const FlatBvh& flat = triangleBvh.flat;

@@ -12,6 +12,7 @@
 #include "app/convergence_report.h"
 #include "app/options.h"
 #include "app/progress_bar.h"
+#include "app/render_policy.h"
 #include "app/render_stats.h"
 #include "bvh/triangle_bvh.h"
 #include "cpu/reference_renderer.h"
@@ -19,7 +20,6 @@
 #include "gpu/vulkan_check.h"
 #include "gpu/vulkan_context.h"
 #include "image/image_io.h"
-#include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
 
@@ -48,28 +48,14 @@ int run(Options options) {
         }
     }
 
-    // A file camera with an aspect ratio sets the height when only the width was given.
-    RenderSettings& settings = options.render;
-    if (!options.heightGiven && options.camera < static_cast<int>(scene.cameras.size()) &&
-        scene.cameras[options.camera].aspectRatio > 0.0) {
-        settings.height = std::max(
-            1, static_cast<int>(std::lround(settings.width / scene.cameras[options.camera].aspectRatio)));
-    }
-    Camera camera =
-        selectCamera(scene, options.camera, static_cast<double>(settings.width) / settings.height);
-    if (options.aperture) camera.aperture = *options.aperture;
-    if (options.focusDistance) camera.focusDistance = *options.focusDistance;
-    if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
-        // Focus on the middle of the scene, measured along the view direction.
-        camera.focusDistance =
-            std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
-    }
-    const bool hasLights = !scene.lights.empty() || !scene.emissiveTriangles.empty();
-    settings.ambient = options.ambient.value_or(glm::dvec3(hasLights ? 0.05 : 1.0));
-    if (!hasLights && !options.ambient && !options.quiet) {
-        std::fprintf(stderr,
-                     "vkrt: warning: %s: the scene has no lights; an ambient radiance of 1 lights it\n",
-                     options.scenePath.c_str());
+    // Settings and camera from what was asked and what the scene holds.
+    const RenderSetup setup = resolveRender(options.request, scene);
+    const RenderSettings& settings = setup.settings;
+    const Camera& camera = setup.camera;
+    if (!options.quiet) {
+        for (const std::string& warning : setup.warnings) {
+            std::fprintf(stderr, "vkrt: warning: %s: %s\n", options.scenePath.c_str(), warning.c_str());
+        }
     }
 
     // Acceleration structure.
@@ -208,7 +194,7 @@ int main(int argc, char** argv) {
     try {
         Options options = parseOptions(argc, argv);
         if (options.help) {
-            std::fputs(helpText(), stdout);
+            std::fputs(helpText().c_str(), stdout);
             return 0;
         }
         if (options.listDevices) {

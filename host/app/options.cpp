@@ -1,191 +1,262 @@
 #include "app/options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "image/image_io.h"
 #include "random.h"
+#include "shared.h"
 
 namespace vkrt {
 namespace {
 
-template <typename T>
-T parseNumber(const std::string& flag, const std::string& text) {
-    T value{};
-    const char* end = text.data() + text.size();
-    auto [ptr, error] = std::from_chars(text.data(), end, value);
-    if (error != std::errc() || ptr != end) throw UsageError(flag + ": '" + text + "' is not a valid number");
-    if constexpr (std::is_floating_point_v<T>) {
-        if (!std::isfinite(value)) throw UsageError(flag + ": '" + text + "' is not finite");
-    }
-    return value;
-}
-
-int parseInt(const std::string& flag, const std::string& text, int min, int max) {
-    const long long value = parseNumber<long long>(flag, text);
-    if (value < min || value > max) {
-        throw UsageError(flag + " must be between " + std::to_string(min) + " and " + std::to_string(max));
-    }
-    return static_cast<int>(value);
-}
-
-glm::dvec3 parseColor(const std::string& flag, const std::string& text) {
+// A colour: one value for grey, or three separated by commas (R,G,B). Empty when malformed.
+std::optional<glm::dvec3> parseColor(const std::string& text) {
     std::vector<double> parts;
     std::stringstream stream(text);
     std::string part;
-    while (std::getline(stream, part, ',')) parts.push_back(parseNumber<double>(flag, part));
+    while (std::getline(stream, part, ',')) {
+        double value = 0.0;
+        const char* end = part.data() + part.size();
+        auto [ptr, error] = std::from_chars(part.data(), end, value);
+        if (error != std::errc() || ptr != end || !std::isfinite(value)) return std::nullopt;
+        parts.push_back(value);
+    }
     if (parts.size() == 1) return glm::dvec3(parts[0]);
     if (parts.size() == 3) return glm::dvec3(parts[0], parts[1], parts[2]);
-    throw UsageError(flag + " takes one value or three separated by commas (R,G,B)");
+    return std::nullopt;
 }
+
+// Checks on the text of a value, before CLI11 converts it; each returns the error or an empty string.
+template <typename T>
+std::optional<T> parseNumber(const std::string& text) {
+    T value{};
+    const char* end = text.data() + text.size();
+    auto [ptr, error] = std::from_chars(text.data(), end, value);
+    if (error != std::errc() || ptr != end) return std::nullopt;
+    return value;
+}
+const CLI::Validator kInteger(
+    [](std::string& text) {
+        return parseNumber<long long>(text) ? std::string() : "'" + text + "' is not a whole number";
+    },
+    "");
+const CLI::Validator kFinite(
+    [](std::string& text) {
+        const std::optional<double> value = parseNumber<double>(text);
+        if (!value) return "'" + text + "' is not a valid number";
+        return std::isfinite(*value) ? std::string() : "'" + text + "' is not finite";
+    },
+    "");
+const CLI::Validator kPositive(
+    [](std::string& text) { return *parseNumber<double>(text) > 0.0 ? std::string() : "must be positive"; },
+    "");
+const CLI::Validator kNotNegative(
+    [](std::string& text) {
+        return *parseNumber<double>(text) >= 0.0 ? std::string() : "must not be negative";
+    },
+    "");
+const CLI::Validator kColor(
+    [](std::string& text) {
+        return parseColor(text) ? std::string()
+                                : "'" + text + "' is not one value or three separated by commas (R,G,B)";
+    },
+    "");
+const CLI::Validator kImagePath(
+    [](std::string& text) {
+        try {
+            imageFormatFromPath(text);
+            return std::string();
+        } catch (const ImageError& e) {
+            return std::string(e.what());
+        }
+    },
+    "");
+const CLI::Validator kReportPath(
+    [](std::string& text) {
+        const std::string extension = std::filesystem::path(text).extension().string();
+        return extension == ".json" || extension == ".csv" ? std::string() : "must name a .json or .csv file";
+    },
+    "");
+
+// The parser, bound to the Options it fills, plus the raw text of values converted after parsing.
+struct CommandLine {
+    CLI::App app{"vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes", "vkrt"};
+    Options options;
+    std::string device = "gpu", filter = "box";
+    std::vector<double> shutter;
+    std::string ambient, background;
+    int height = 512;
+    bool noMis = false;
+
+    CommandLine() {
+        RenderSettings& s = options.request.settings;
+        app.set_help_flag();  // --help is an ordinary flag: main() prints the help and exits 0
+        app.get_formatter()->column_width(30);
+        app.footer("Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.");
+        app.add_flag("-h,--help", options.help, "this text");
+        app.add_option("--scene", options.scenePath, "glTF 2.0 scene (.gltf or .glb) to render (required)")
+            ->type_name("FILE");
+        app.add_option("--out", options.outputPath,
+                       "output image: .png (tonemapped sRGB), .exr or .pfm (linear)")
+            ->type_name("FILE")
+            ->check(kImagePath)
+            ->capture_default_str();
+        app.add_option("--width", s.width, "image width in pixels")
+            ->type_name("W")
+            ->check(kInteger)
+            ->check(CLI::Range(1, 16384))
+            ->capture_default_str();
+        app.add_option("--height", height, "image height in pixels")
+            ->type_name("H")
+            ->check(kInteger)
+            ->check(CLI::Range(1, 16384))
+            ->default_str("width / the camera's aspect ratio, else 512");
+        app.add_option("--spp", s.samplesPerPixel, "samples per pixel (jittered, stratified)")
+            ->type_name("N")
+            ->check(kInteger)
+            ->check(CLI::Range(1, 1 << 24))
+            ->capture_default_str();
+        app.add_option("--max-depth", s.maxDepth,
+                       "reflection/refraction bounces after the first hit (0-" +
+                           std::to_string(VKRT_MAX_RAY_DEPTH) + ")")
+            ->type_name("D")
+            ->check(kInteger)
+            ->check(CLI::Range(0, VKRT_MAX_RAY_DEPTH))
+            ->capture_default_str();
+        app.add_option(
+               "--light-samples", s.lightSamples,
+               "area-light samples per shading point (1-" + std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
+            ->type_name("N")
+            ->check(kInteger)
+            ->check(CLI::Range(1, static_cast<int>(VKRT_MAX_LIGHT_SAMPLES)))
+            ->capture_default_str();
+        app.add_flag("--no-mis", noMis,
+                     "light glossy surfaces by light samples alone (no multiple importance sampling)");
+        app.add_option("--filter", filter, "pixel filter: box, tent (radius 1 px) or gaussian (sigma 0.5 px)")
+            ->type_name("box|tent|gaussian")
+            ->check(CLI::IsMember({"box", "tent", "gaussian"}))
+            ->capture_default_str();
+        app.add_option("--device", device, "GPU tracer (Vulkan compute) or the CPU reference renderer")
+            ->type_name("gpu|cpu")
+            ->check(CLI::IsMember({"gpu", "cpu"}))
+            ->capture_default_str();
+        app.add_option("--device-index", options.deviceIndex, "which Vulkan device (see --list-devices)")
+            ->type_name("N")
+            ->check(kInteger)
+            ->check(CLI::Range(0, 255))
+            ->default_str("discrete GPU first");
+        app.add_flag("--list-devices", options.listDevices, "print the Vulkan devices and exit");
+        app.add_flag("--validate", options.validate, "enable the Khronos validation layer");
+        app.add_option("--time-limit", options.timeLimitSeconds,
+                       "GPU: stop after the pass that crosses this time")
+            ->type_name("SECONDS")
+            ->check(kFinite)
+            ->check(kPositive);
+        app.add_option("--shutter", shutter,
+                       "motion blur: shutter interval in the file's animation time (seconds)")
+            ->type_name("SECONDS")
+            ->expected(2)
+            ->check(kFinite)
+            ->default_str("the scene's extras.shutter, else 0 0");
+        app.add_option("--aperture", options.request.aperture,
+                       "thin-lens radius in scene units (depth of field)")
+            ->type_name("R")
+            ->check(kFinite)
+            ->check(kNotNegative)
+            ->default_str("the camera's, else 0");
+        app.add_option("--focus-distance", options.request.focusDistance, "distance of the plane in focus")
+            ->type_name("D")
+            ->check(kFinite)
+            ->check(kPositive)
+            ->default_str("the camera's, else the scene's centre");
+        app.add_option("--reference", options.referencePath,
+                       "linear image (.exr/.pfm) to measure the error against")
+            ->type_name("FILE");
+        app.add_option("--report", options.reportPath,
+                       "error against run time at every doubling of samples (.json or .csv); without "
+                       "--reference, a render with 16x the samples and seed+1 is the reference")
+            ->type_name("FILE")
+            ->check(kReportPath);
+        app.add_option("--report-every-ms", options.reportEveryMs,
+                       "also record a checkpoint after any pass that crosses N ms")
+            ->type_name("N")
+            ->check(kFinite)
+            ->check(kPositive);
+        app.add_option("--seed", s.seed, "seed of the counter-based random numbers")
+            ->type_name("S")
+            ->check(kInteger)
+            ->check(CLI::Range(0u, 2147483647u))
+            ->capture_default_str();
+        app.add_option("--camera", options.request.camera, "which camera of the file to use (node order)")
+            ->type_name("N")
+            ->check(kInteger)
+            ->check(CLI::Range(0, 1 << 20))
+            ->capture_default_str();
+        app.add_option("--ambient", ambient, "ambient radiance")
+            ->type_name("R[,G,B]")
+            ->check(kColor)
+            ->default_str("0.05; 1 when the scene has no lights");
+        app.add_option("--background", background, "radiance of rays that leave the scene")
+            ->type_name("R[,G,B]")
+            ->check(kColor)
+            ->default_str("0");
+        app.add_option("--exposure", options.exposure, "PNG exposure in stops")
+            ->type_name("EV")
+            ->check(kFinite)
+            ->capture_default_str();
+        app.add_option("--threads", s.threads, "CPU threads (0 = all)")
+            ->type_name("N")
+            ->check(kInteger)
+            ->check(CLI::Range(0, 1024))
+            ->capture_default_str();
+        app.add_option("--stats", options.statsPath, "write render statistics as JSON")
+            ->type_name("FILE.json");
+        app.add_flag("--quiet", options.quiet, "no progress bar or warnings");
+    }
+
+    // The values CLI11 leaves as text or that depend on one another.
+    void finish() {
+        RenderSettings& s = options.request.settings;
+        if (app.count("--height")) options.request.height = height;
+        s.multipleImportanceSampling = !noMis;
+        s.pixelFilter = filter == "tent"       ? PixelFilter::Tent
+                        : filter == "gaussian" ? PixelFilter::Gaussian
+                                               : PixelFilter::Box;
+        options.device = device == "cpu" ? DeviceKind::Cpu : DeviceKind::Gpu;
+        if (!shutter.empty()) {
+            if (!(shutter[1] >= shutter[0])) throw UsageError("--shutter: CLOSE must not come before OPEN");
+            options.shutter = std::array<double, 2>{shutter[0], shutter[1]};
+        }
+        if (!ambient.empty()) options.request.ambient = parseColor(ambient);
+        if (!background.empty()) s.background = *parseColor(background);
+    }
+};
 
 }  // namespace
 
-const char* helpText() {
-    return R"(vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes
-
-Usage: vkrt --scene FILE [options]
-
-  --scene FILE          glTF 2.0 scene (.gltf or .glb) to render (required)
-  --out FILE            output image: .png (tonemapped sRGB), .exr or .pfm (linear)  [out.png]
-  --width W             image width in pixels                                         [512]
-  --height H            image height in pixels  [width / the camera's aspect ratio, else 512]
-  --spp N               samples per pixel (jittered, stratified)                      [16]
-  --max-depth D         reflection/refraction bounces after the first hit (0-24)     [8]
-  --light-samples N     area-light samples per shading point (1-16)                   [1]
-  --no-mis              light glossy surfaces by light samples alone (no multiple importance sampling)
-  --filter box|tent|gaussian   pixel filter (tent: radius 1 px; Gaussian: sigma 0.5 px) [box]
-  --device gpu|cpu      GPU tracer (Vulkan compute) or the CPU reference renderer   [gpu]
-  --device-index N      which Vulkan device (see --list-devices)    [discrete GPU first]
-  --list-devices        print the Vulkan devices and exit
-  --validate            enable the Khronos validation layer
-  --time-limit SECONDS  GPU: stop after the pass that crosses this time
-  --shutter OPEN CLOSE  motion blur: shutter interval in the file's animation time (seconds)
-                        [the scene's extras.shutter, else 0 0]
-  --aperture R          thin-lens radius in scene units (depth of field)   [the camera's, else 0]
-  --focus-distance D    distance of the plane in focus  [the camera's, else the scene's centre]
-  --reference FILE      linear image (.exr/.pfm) to measure the error against
-  --report FILE         error against run time at every doubling of samples (.json or .csv);
-                        without --reference, a render with 16x the samples and seed+1 is the reference
-  --report-every-ms N   also record a checkpoint after any pass that crosses N ms
-  --seed S              seed of the counter-based random numbers                      [0]
-  --camera N            which camera of the file to use (node order)                  [0]
-  --ambient R[,G,B]     ambient radiance       [0.05; 1 when the scene has no lights]
-  --background R[,G,B]  radiance of rays that leave the scene                         [0]
-  --exposure EV         PNG exposure in stops                                         [0]
-  --threads N           CPU threads (0 = all)                                         [0]
-  --stats FILE.json     write render statistics as JSON
-  --quiet               no progress bar or warnings
-  --help                this text
-
-Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.
-)";
+std::string helpText() {
+    CommandLine commandLine;
+    return commandLine.app.help();
 }
 
 Options parseOptions(int argc, const char* const argv[]) {
-    Options options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string flag = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw UsageError(flag + " needs a value");
-            return argv[++i];
-        };
-        if (flag == "--help" || flag == "-h") {
-            options.help = true;
-        } else if (flag == "--scene") {
-            options.scenePath = value();
-        } else if (flag == "--out") {
-            options.outputPath = value();
-            try {
-                imageFormatFromPath(options.outputPath);
-            } catch (const ImageError& e) {
-                throw UsageError(std::string("--out: ") + e.what());
-            }
-        } else if (flag == "--width") {
-            options.render.width = parseInt(flag, value(), 1, 16384);
-            options.widthGiven = true;
-        } else if (flag == "--height") {
-            options.render.height = parseInt(flag, value(), 1, 16384);
-            options.heightGiven = true;
-        } else if (flag == "--spp") {
-            options.render.samplesPerPixel = parseInt(flag, value(), 1, 1 << 24);
-        } else if (flag == "--max-depth") {
-            options.render.maxDepth = parseInt(flag, value(), 0, 24);
-        } else if (flag == "--filter") {
-            const std::string filter = value();
-            if (filter == "box")
-                options.render.pixelFilter = PixelFilter::Box;
-            else if (filter == "tent")
-                options.render.pixelFilter = PixelFilter::Tent;
-            else if (filter == "gaussian")
-                options.render.pixelFilter = PixelFilter::Gaussian;
-            else
-                throw UsageError("--filter must be box, tent or gaussian");
-        } else if (flag == "--light-samples") {
-            options.render.lightSamples = parseInt(flag, value(), 1, VKRT_MAX_LIGHT_SAMPLES);
-        } else if (flag == "--no-mis") {
-            options.render.multipleImportanceSampling = false;
-        } else if (flag == "--device") {
-            const std::string device = value();
-            if (device == "gpu")
-                options.device = DeviceKind::Gpu;
-            else if (device == "cpu")
-                options.device = DeviceKind::Cpu;
-            else
-                throw UsageError("--device must be gpu or cpu");
-        } else if (flag == "--device-index") {
-            options.deviceIndex = parseInt(flag, value(), 0, 255);
-        } else if (flag == "--list-devices") {
-            options.listDevices = true;
-        } else if (flag == "--validate") {
-            options.validate = true;
-        } else if (flag == "--time-limit") {
-            options.timeLimitSeconds = parseNumber<double>(flag, value());
-            if (options.timeLimitSeconds <= 0.0) throw UsageError("--time-limit must be positive");
-        } else if (flag == "--shutter") {
-            const double open = parseNumber<double>(flag, value());
-            const double close = parseNumber<double>(flag, value());
-            if (!(close >= open)) throw UsageError("--shutter: CLOSE must not come before OPEN");
-            options.shutter = std::array<double, 2>{open, close};
-        } else if (flag == "--aperture") {
-            options.aperture = parseNumber<double>(flag, value());
-            if (*options.aperture < 0.0) throw UsageError("--aperture must not be negative");
-        } else if (flag == "--focus-distance") {
-            options.focusDistance = parseNumber<double>(flag, value());
-            if (*options.focusDistance <= 0.0) throw UsageError("--focus-distance must be positive");
-        } else if (flag == "--reference") {
-            options.referencePath = value();
-        } else if (flag == "--report") {
-            options.reportPath = value();
-            const std::string extension = std::filesystem::path(options.reportPath).extension().string();
-            if (extension != ".json" && extension != ".csv")
-                throw UsageError("--report must name a .json or .csv file");
-        } else if (flag == "--report-every-ms") {
-            options.reportEveryMs = parseNumber<double>(flag, value());
-            if (options.reportEveryMs <= 0.0) throw UsageError("--report-every-ms must be positive");
-        } else if (flag == "--seed") {
-            options.render.seed = static_cast<uint32_t>(parseInt(flag, value(), 0, 2147483647));
-        } else if (flag == "--camera") {
-            options.camera = parseInt(flag, value(), 0, 1 << 20);
-        } else if (flag == "--ambient") {
-            options.ambient = parseColor(flag, value());
-        } else if (flag == "--background") {
-            options.render.background = parseColor(flag, value());
-        } else if (flag == "--exposure") {
-            options.exposure = parseNumber<double>(flag, value());
-        } else if (flag == "--threads") {
-            options.render.threads = parseInt(flag, value(), 0, 1024);
-        } else if (flag == "--stats") {
-            options.statsPath = value();
-        } else if (flag == "--quiet") {
-            options.quiet = true;
-        } else {
-            throw UsageError("unknown option '" + flag + "' (see --help)");
-        }
+    CommandLine commandLine;
+    try {
+        commandLine.app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        std::string message = e.what();
+        std::replace(message.begin(), message.end(), '\n', ' ');
+        throw UsageError(message + " (see --help)");
     }
+    commandLine.finish();
+    const Options& options = commandLine.options;
     if (!options.help && !options.listDevices && options.scenePath.empty()) {
         throw UsageError("--scene FILE is required (see --help)");
     }

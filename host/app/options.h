@@ -2,12 +2,11 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include "common/render_settings.h"
+#include "app/render_policy.h"
 
 namespace vkrt {
 
@@ -27,24 +26,20 @@ struct Options {
     bool listDevices = false;
     bool validate = false;  // Khronos validation layer
     double timeLimitSeconds = 0.0;
-    std::optional<double> aperture;                // thin-lens radius; overrides the camera's
-    std::optional<double> focusDistance;           // overrides the camera's
     std::optional<std::array<double, 2>> shutter;  // motion blur: open and close times; overrides the scene's
     std::string referencePath;                     // --reference: image to measure the error against
     std::string reportPath;                        // --report: convergence report (.json or .csv)
     double reportEveryMs = 0.0;                    // --report-every-ms: checkpoints by time too
-    int camera = 0;
-    bool widthGiven = false, heightGiven = false;
-    std::optional<glm::dvec3> ambient;  // unset: 0.05, or 1 for a scene without lights
     double exposure = 0.0;
     bool quiet = false;
     bool help = false;
-    RenderSettings render;
+    RenderRequest request;  // settings, camera and lens as asked; resolveRender() fills in the rest
 };
 
 // Throws UsageError with a one-line message for anything malformed.
 Options parseOptions(int argc, const char* const argv[]);
 
-const char* helpText();
+// Every option with its default.
+std::string helpText();
 
 }  // namespace vkrt

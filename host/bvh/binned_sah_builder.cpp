@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <future>
 #include <stdexcept>
-#include <thread>
+
+#include "common/fork_join.h"
+#include "common/parallel_for.h"
 
 namespace vkrt {
 namespace {
@@ -36,11 +37,10 @@ int levelsNeeded(uint32_t count, int maxLeafSize) {
 
 class Builder {
   public:
-    Builder(std::span<const Aabb> bounds, const BvhConfig& config) : bounds_(bounds), config_(config) {
+    Builder(std::span<const Aabb> bounds, const BvhConfig& config)
+        : bounds_(bounds), config_(config), forkJoin_(threadCount(config.threads)) {
         centers_.resize(bounds.size());
         for (size_t i = 0; i < bounds.size(); ++i) centers_[i] = bounds[i].center();
-        unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-        threadBudget_ = config.threads > 0 ? config.threads : static_cast<int>(hardware);
     }
 
     Bvh build() {
@@ -50,7 +50,6 @@ class Builder {
         // A binary tree with at least one primitive per leaf has at most 2n - 1 nodes.
         bvh_.nodes.resize(count == 0 ? 1 : 2 * static_cast<size_t>(count) - 1);
         nextNode_ = 1;
-        busyThreads_ = 1;
         buildNode(0, 0, count, 1);
         bvh_.nodes.resize(nextNode_);
         return std::move(bvh_);
@@ -91,32 +90,16 @@ class Builder {
         const uint32_t left = nextNode_.fetch_add(2);
         node.leftOrFirst = left;
         node.primCount = 0;
-        const bool parallel = std::min(middle - begin, end - middle) >= kParallelThreshold && claimThread();
-        if (parallel) {
-            auto leftTask = std::async(std::launch::async, [&, left, begin, middle, level] {
-                buildNode(left, begin, middle, level + 1);
-                busyThreads_.fetch_sub(1);
-            });
-            buildNode(left + 1, middle, end, level + 1);
-            leftTask.get();
-        } else {
-            buildNode(left, begin, middle, level + 1);
-            buildNode(left + 1, middle, end, level + 1);
-        }
+        forkJoin_.invoke(
+            std::min(middle - begin, end - middle) >= kParallelThreshold,
+            [&] { buildNode(left, begin, middle, level + 1); },
+            [&] { buildNode(left + 1, middle, end, level + 1); });
     }
 
     void makeLeaf(BvhBuildNode& node, uint32_t begin, uint32_t count) {
         node.leftOrFirst = begin;
         node.primCount = count;
         if (count == 0) node.bounds = Aabb{};  // the empty tree: a leaf no ray can hit
-    }
-
-    bool claimThread() {
-        int busy = busyThreads_.load();
-        while (busy < threadBudget_) {
-            if (busyThreads_.compare_exchange_weak(busy, busy + 1)) return true;
-        }
-        return false;
     }
 
     int binOf(const glm::vec3& center, const Aabb& centerBounds, int axis) const {
@@ -194,8 +177,7 @@ class Builder {
     std::vector<glm::vec3> centers_;
     Bvh bvh_;
     std::atomic<uint32_t> nextNode_{0};
-    std::atomic<int> busyThreads_{0};
-    int threadBudget_ = 1;
+    ForkJoin forkJoin_;
 };
 
 }  // namespace

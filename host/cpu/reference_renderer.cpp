@@ -5,9 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
-#include <thread>
 
 #include "camera.h"
+#include "common/checkpoint_schedule.h"
+#include "common/parallel_for.h"
 #include "cpu/closest_hit.h"
 #include "random.h"
 
@@ -159,64 +160,43 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
     const uint64_t pixels = static_cast<uint64_t>(settings_.width) * settings_.height;
     std::vector<glm::dvec4> sums(pixels, glm::dvec4(0.0));
-    const unsigned threads =
-        settings_.threads > 0 ? settings_.threads : std::max(1u, std::thread::hardware_concurrency());
-    const auto start = std::chrono::steady_clock::now();
-    double pausedMs = 0.0;  // time spent in checkpoint callbacks, not rendering
-    double lastCheckpointMs = 0.0;
+    const unsigned threads = threadCount(settings_.threads);
+    CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
 
-    // Passes of samples over all rows. Without checkpoints, one pass; with them, passes end at every power
-    // of two (and after any pass that crosses checkpointEveryMs). Per pixel the samples are summed in the
-    // same order either way, so the image does not depend on the passes.
+    // Passes of samples over all rows, ending where the schedule says. Per pixel the samples are summed in
+    // the same order either way, so the image does not depend on the passes.
     uint32_t done = 0;
     while (done < spp) {
-        uint32_t end = spp;
-        if (checkpoint) {
-            end = 1;
-            while (end <= done) end *= 2;
-            end = std::min(end, spp);
-            if (checkpointEveryMs > 0.0) end = std::min(end, done + std::max(1u, (end - done) / 4));
-        }
-        std::atomic<int> nextRow{0};
+        const uint32_t end = schedule.passEnd(done);
         std::atomic<uint64_t> rowsDone{0};
-        std::mutex merge;
-        auto worker = [&] {
-            RayCounters counters;
-            for (int y = nextRow++; y < settings_.height; y = nextRow++) {
-                for (int x = 0; x < settings_.width; ++x) {
-                    sums[static_cast<size_t>(y) * settings_.width + x] +=
-                        renderPixel(x, y, done, end, counters);
-                }
-                const uint64_t rows = ++rowsDone;
-                if (progress) {
-                    std::lock_guard<std::mutex> lock(merge);
-                    progress(static_cast<uint64_t>(done) * settings_.height + rows * (end - done),
-                             static_cast<uint64_t>(spp) * settings_.height);
-                }
+        std::mutex progressLock;
+        std::vector<RayCounters> counters(threads);
+        parallelFor(static_cast<size_t>(settings_.height), threads, [&](size_t row, unsigned worker) {
+            const int y = static_cast<int>(row);
+            for (int x = 0; x < settings_.width; ++x) {
+                sums[static_cast<size_t>(y) * settings_.width + x] +=
+                    renderPixel(x, y, done, end, counters[worker]);
             }
-            std::lock_guard<std::mutex> lock(merge);
-            result.rays.primary += counters.primary;
-            result.rays.shadow += counters.shadow;
-            result.rays.secondary += counters.secondary;
-            result.rays.nonFiniteSamples += counters.nonFiniteSamples;
-        };
-        std::vector<std::thread> pool;
-        for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-        worker();
-        for (std::thread& t : pool) t.join();
+            const uint64_t rows = ++rowsDone;
+            if (progress) {
+                std::lock_guard<std::mutex> lock(progressLock);
+                progress(static_cast<uint64_t>(done) * settings_.height + rows * (end - done),
+                         static_cast<uint64_t>(spp) * settings_.height);
+            }
+        });
+        for (const RayCounters& c : counters) {
+            result.rays.primary += c.primary;
+            result.rays.shadow += c.shadow;
+            result.rays.secondary += c.secondary;
+            result.rays.nonFiniteSamples += c.nonFiniteSamples;
+        }
         done = end;
 
-        const bool powerOfTwo = (done & (done - 1)) == 0;
-        const double renderMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
-            pausedMs;
-        if (checkpoint && (powerOfTwo || done == spp ||
-                           (checkpointEveryMs > 0.0 && renderMs - lastCheckpointMs >= checkpointEveryMs))) {
-            const auto pause = std::chrono::steady_clock::now();
-            checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
-            lastCheckpointMs = renderMs;
-            pausedMs +=
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pause).count();
+        const double renderMs = schedule.renderMs();
+        if (schedule.due(done, renderMs)) {
+            schedule.take(renderMs, [&] {
+                checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+            });
         }
     }
     result.image = averageOf(sums, settings_.width, settings_.height);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/checkpoint_schedule.h"
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
@@ -116,10 +117,7 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
     RenderResult result;
     const uint32_t height = static_cast<uint32_t>(settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
-    const auto start = std::chrono::steady_clock::now();
-    double pausedMs = 0.0;  // time spent in checkpoint callbacks, not rendering
-    double lastCheckpointMs = 0.0;
-    uint32_t nextPowerOfTwo = 1;
+    CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
 
     // Passes of `samples` samples over the whole image, in bands of rows. Each dispatch is sized from the
     // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
@@ -134,9 +132,8 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
     while (samplesDone < spp) {
         // At most kMaxSamplesPerDispatch per pixel: llvmpipe cuts off an invocation's loops after 65535
         // iterations in total, so one invocation must not trace too many samples.
-        // Checkpoints fall on every power of two, so passes must end there.
-        uint32_t limit = std::min(spp - samplesDone, kMaxSamplesPerDispatch);
-        if (checkpoint) limit = std::min(limit, nextPowerOfTwo - samplesDone);
+        // Passes end where the schedule says (every power of two, with checkpoints).
+        const uint32_t limit = std::min(schedule.boundary(samplesDone) - samplesDone, kMaxSamplesPerDispatch);
         const uint32_t samples =
             static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(limit)));
         for (uint32_t row = 0; row < height;) {
@@ -152,16 +149,11 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
                          static_cast<uint64_t>(spp) * height);
         }
         samplesDone += samples;
-        const double renderMs = millisecondsSince(start) - pausedMs;
+        const double renderMs = schedule.renderMs();
         const bool timeUp = options_.timeLimitSeconds > 0.0 && renderMs >= options_.timeLimitSeconds * 1000.0;
-        if (checkpoint && (samplesDone == nextPowerOfTwo || samplesDone == spp || timeUp ||
-                           (checkpointEveryMs > 0.0 && renderMs - lastCheckpointMs >= checkpointEveryMs))) {
-            const auto pause = std::chrono::steady_clock::now();
-            checkpoint(samplesDone, renderMs, report_.gpuMs, readImage());
-            lastCheckpointMs = renderMs;
-            pausedMs += millisecondsSince(pause);
+        if (checkpoint && (schedule.due(samplesDone, renderMs) || timeUp)) {
+            schedule.take(renderMs, [&] { checkpoint(samplesDone, renderMs, report_.gpuMs, readImage()); });
         }
-        while (nextPowerOfTwo <= samplesDone) nextPowerOfTwo *= 2;
         if (timeUp) break;
     }
     report_.samplesPerPixel = samplesDone;

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/render_policy.h"
 #include "bvh/triangle_bvh.h"
 #include "cpu/closest_hit.h"
 #include "cpu/reference_renderer.h"
@@ -16,7 +17,6 @@
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "random.h"
-#include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
@@ -173,17 +173,21 @@ void invarianceCases(const VulkanContext& context, const StabilityOptions& optio
                      std::vector<StabilityResult>& results) {
     for (const char* sceneName : {"cornell", "whitted"}) {
         const std::filesystem::path path = options.sourceDir / "scenes" / (std::string(sceneName) + ".gltf");
-        RenderSettings settings = settingsFor(options);
+        // The scene's own camera and the command's defaults for everything the options leave open.
+        RenderRequest request;
+        request.settings = settingsFor(options);
+        request.height = options.height;
         const Scene unit =
             transformedVariant(path, 1.0, 0.0, options.workDir, std::string(sceneName) + "-unit");
-        const Camera unitCamera = selectCamera(unit, 0, 1.0);
-        const Rendered reference = renderBoth(context, unit, unitCamera, settings, options);
+        const RenderSetup unitSetup = resolveRender(request, unit);
+        const Rendered reference = renderBoth(context, unit, unitSetup.camera, unitSetup.settings, options);
         results.push_back(measure(options, "scale", std::string(sceneName) + " x1", reference));
         for (double scale : {1e-5, 1e-3, 1e3, 1e6}) {
             std::ostringstream name;
             name << sceneName << " x" << scale;
             const Scene scene = transformedVariant(path, scale, 0.0, options.workDir, name.str());
-            const Rendered r = renderBoth(context, scene, selectCamera(scene, 0, 1.0), settings, options);
+            const RenderSetup setup = resolveRender(request, scene);
+            const Rendered r = renderBoth(context, scene, setup.camera, setup.settings, options);
             StabilityResult result = measure(options, "scale", name.str(), r);
             setInvariance(result, r.gpu, reference.gpu);
             results.push_back(result);
@@ -192,7 +196,8 @@ void invarianceCases(const VulkanContext& context, const StabilityOptions& optio
             std::ostringstream name;
             name << sceneName << " +" << offset;
             const Scene scene = transformedVariant(path, 1.0, offset, options.workDir, name.str());
-            const Rendered r = renderBoth(context, scene, selectCamera(scene, 0, 1.0), settings, options);
+            const RenderSetup setup = resolveRender(request, scene);
+            const Rendered r = renderBoth(context, scene, setup.camera, setup.settings, options);
             StabilityResult result = measure(options, "far from origin", name.str(), r);
             setInvariance(result, r.gpu, reference.gpu);
             results.push_back(result);

@@ -1,0 +1,48 @@
+#include "app/render_policy.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "scene/camera_selection.h"
+
+namespace vkrt {
+
+bool sceneHasLights(const Scene& scene) {
+    return !scene.lights.empty() || !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
+}
+
+RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
+    RenderSetup setup;
+    RenderSettings& settings = setup.settings;
+    settings = request.settings;
+
+    // Image size: a file camera with an aspect ratio sets the height unless it was asked for.
+    if (request.height) {
+        settings.height = *request.height;
+    } else if (request.camera >= 0 && request.camera < static_cast<int>(scene.cameras.size()) &&
+               scene.cameras[request.camera].aspectRatio > 0.0) {
+        settings.height = std::max(
+            1, static_cast<int>(std::lround(settings.width / scene.cameras[request.camera].aspectRatio)));
+    }
+
+    // Camera, with the lens overrides; a lens without a focus distance focuses on the middle of the scene,
+    // measured along the view direction.
+    Camera& camera = setup.camera;
+    camera = selectCamera(scene, request.camera, static_cast<double>(settings.width) / settings.height);
+    if (request.aperture) camera.aperture = *request.aperture;
+    if (request.focusDistance) camera.focusDistance = *request.focusDistance;
+    if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
+        camera.focusDistance =
+            std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
+    }
+
+    // Ambient light: a little in a lit scene; in a dark one, enough to see it by.
+    const bool lit = sceneHasLights(scene);
+    settings.ambient = request.ambient.value_or(glm::dvec3(lit ? kLitSceneAmbient : kUnlitSceneAmbient));
+    if (!lit && !request.ambient) {
+        setup.warnings.push_back("the scene has no lights; an ambient radiance of 1 lights it");
+    }
+    return setup;
+}
+
+}  // namespace vkrt

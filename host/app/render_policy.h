@@ -1,0 +1,47 @@
+// Render policy: what the user asked for, plus the scene, gives the render settings and the camera. Every
+// default that depends on the scene is decided here, once, for the command, the tools and the tests.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "common/render_settings.h"
+#include "scene/scene.h"
+
+namespace vkrt {
+
+// What was asked; an unset optional leaves the choice to the scene.
+struct RenderRequest {
+    // Used as given, except that `height` and `ambient` below take precedence over settings.height and
+    // settings.ambient.
+    RenderSettings settings;
+    // Unset: settings.width / the camera's aspect ratio when the file gives one, else settings.height.
+    std::optional<int> height;
+    // Unset: 0.05 in a lit scene; 1, with a warning, in a scene without lights.
+    std::optional<glm::dvec3> ambient;
+    int camera = 0;                       // the file's camera in node order (0: the framing camera if none)
+    std::optional<double> aperture;       // thin-lens radius; unset: the camera's
+    std::optional<double> focusDistance;  // unset: the camera's, else the scene's centre along the view
+};
+
+// What to render with, and what the user should be told about the choices made.
+struct RenderSetup {
+    RenderSettings settings;
+    Camera camera;
+    std::vector<std::string> warnings;  // one line each, without a prefix
+};
+
+// Ambient radiance of a lit scene, and of a scene without lights (where it is the only light).
+inline constexpr double kLitSceneAmbient = 0.05;
+inline constexpr double kUnlitSceneAmbient = 1.0;
+
+// Punctual lights, emissive triangles and emissive spheres light a scene.
+bool sceneHasLights(const Scene& scene);
+
+// Throws SceneError when request.camera does not exist.
+RenderSetup resolveRender(const RenderRequest& request, const Scene& scene);
+
+}  // namespace vkrt

@@ -1,0 +1,152 @@
+// The render policy: which scenes count as lit, the ambient default, the image height, the camera and its
+// focus.
+#include <gtest/gtest.h>
+
+#include "app/render_policy.h"
+#include "scene/scene_builder.h"
+#include "scene/scene_error.h"
+
+namespace vkrt {
+namespace {
+
+// A grey unit square around the origin in the z = 0 plane, with no lights.
+Scene darkSquare() {
+    Scene scene;
+    Material grey;
+    grey.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    scene.materials.push_back(grey);
+    addFlatQuad(scene, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, 0);
+    finalizeScene(scene);
+    return scene;
+}
+
+uint32_t addEmissiveMaterial(Scene& scene) {
+    Material glow;
+    glow.emission = glm::vec3(2.0f);
+    scene.materials.push_back(glow);
+    return static_cast<uint32_t>(scene.materials.size() - 1);
+}
+
+// A camera 5 units in front of the square, looking at it.
+Camera cameraInFront(double aspectRatio) {
+    Camera camera;
+    camera.name = "front";
+    camera.position = glm::dvec3(0.0, 0.0, 5.0);
+    camera.aspectRatio = aspectRatio;
+    return camera;
+}
+
+TEST(RenderPolicy, SceneWithoutLightsGetsAmbientOneAndAWarning) {
+    const Scene scene = darkSquare();
+    EXPECT_FALSE(sceneHasLights(scene));
+    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    EXPECT_EQ(setup.settings.ambient, glm::dvec3(kUnlitSceneAmbient));
+    ASSERT_EQ(setup.warnings.size(), 1u);
+    EXPECT_NE(setup.warnings[0].find("no lights"), std::string::npos) << setup.warnings[0];
+}
+
+TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {
+    RenderRequest request;
+    request.ambient = glm::dvec3(0.0, 0.25, 0.5);
+    const RenderSetup setup = resolveRender(request, darkSquare());
+    EXPECT_EQ(setup.settings.ambient, glm::dvec3(0.0, 0.25, 0.5));
+    EXPECT_TRUE(setup.warnings.empty());
+}
+
+void expectLit(const Scene& scene, const char* by) {
+    EXPECT_TRUE(sceneHasLights(scene)) << by;
+    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    EXPECT_EQ(setup.settings.ambient, glm::dvec3(kLitSceneAmbient)) << by;
+    EXPECT_TRUE(setup.warnings.empty()) << by;
+}
+
+TEST(RenderPolicy, PunctualLightLightsTheScene) {
+    Scene scene = darkSquare();
+    PunctualLight light;
+    light.type = LightType::Point;
+    scene.lights.push_back(light);
+    expectLit(scene, "a point light");
+}
+
+TEST(RenderPolicy, EmissiveTriangleLightsTheScene) {
+    Scene scene = darkSquare();
+    const uint32_t glow = addEmissiveMaterial(scene);
+    addFlatTriangle(scene, {-1, 2, 0}, {1, 2, 0}, {0, 3, 0}, glow);
+    finalizeScene(scene);
+    ASSERT_EQ(scene.emissiveTriangles.size(), 1u);
+    expectLit(scene, "an emissive triangle");
+}
+
+TEST(RenderPolicy, EmissiveSphereLightsTheScene) {
+    Scene scene = darkSquare();
+    const uint32_t glow = addEmissiveMaterial(scene);
+    scene.spheres.push_back(Sphere{{0.0f, 2.0f, 0.0f}, 0.5f, glow});
+    scene.emissiveSpheres.push_back(0);
+    expectLit(scene, "an emissive sphere");
+}
+
+TEST(RenderPolicy, HeightFollowsTheCameraAspectRatioWhenNotAsked) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(2.0));
+    RenderRequest request;
+    request.settings.width = 101;
+    const RenderSetup setup = resolveRender(request, scene);
+    EXPECT_EQ(setup.settings.width, 101);
+    EXPECT_EQ(setup.settings.height, 51);  // 50.5 rounds up
+    EXPECT_EQ(setup.camera.name, "front");
+}
+
+TEST(RenderPolicy, AskedHeightWinsOverTheAspectRatio) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(2.0));
+    RenderRequest request;
+    request.settings.width = 100;
+    request.height = 80;
+    EXPECT_EQ(resolveRender(request, scene).settings.height, 80);
+}
+
+TEST(RenderPolicy, WithoutAnAspectRatioTheHeightIsTheSettings) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(0.0));
+    RenderRequest request;
+    request.settings.width = 100;
+    request.settings.height = 70;
+    EXPECT_EQ(resolveRender(request, scene).settings.height, 70);
+    // Without cameras the framing camera uses the image's aspect ratio.
+    EXPECT_TRUE(resolveRender(request, darkSquare()).camera.generated);
+}
+
+TEST(RenderPolicy, MissingCameraIsASceneError) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(1.0));
+    RenderRequest request;
+    request.camera = 1;
+    EXPECT_THROW(resolveRender(request, scene), SceneError);
+}
+
+TEST(RenderPolicy, ApertureWithoutFocusFocusesOnTheSceneCentre) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(1.0));
+    RenderRequest request;
+    EXPECT_EQ(resolveRender(request, scene).camera.aperture, 0.0);
+    request.aperture = 0.1;
+    const Camera camera = resolveRender(request, scene).camera;
+    EXPECT_EQ(camera.aperture, 0.1);
+    EXPECT_NEAR(camera.focusDistance, 5.0, 1e-9);  // the square's centre, 5 units along the view
+}
+
+TEST(RenderPolicy, AskedFocusDistanceAndTheCamerasOwnWin) {
+    Scene scene = darkSquare();
+    Camera lens = cameraInFront(1.0);
+    lens.aperture = 0.2;
+    lens.focusDistance = 3.0;
+    scene.cameras.push_back(lens);
+    RenderRequest request;
+    EXPECT_EQ(resolveRender(request, scene).camera.focusDistance, 3.0);
+    request.focusDistance = 7.0;
+    EXPECT_EQ(resolveRender(request, scene).camera.focusDistance, 7.0);
+    EXPECT_EQ(resolveRender(request, scene).camera.aperture, 0.2);
+}
+
+}  // namespace
+}  // namespace vkrt
