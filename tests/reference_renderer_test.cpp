@@ -4,21 +4,19 @@
 
 #include <gtest/gtest.h>
 
-#include "bvh/triangle_bvh.h"
 #include "cpu/punctual_light.h"
 #include "cpu/reference_renderer.h"
 #include "image/image_metrics.h"
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
-#include "test_support.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {
 
-FlatBvh bvhFor(const Scene& scene) {
-    return buildSceneBvh(scene).flat;
-}
+using test::bvhFor;
 
 Material lambert(glm::vec3 albedo) {
     Material m;
@@ -231,7 +229,7 @@ Estimate glossyHighlight(float roughness, bool mis) {
     scene.materials.push_back(lamp);
     scene.spheres.push_back({{1.0f, 0.0f, 1.0f}, 0.05f, 1});
     finalizeScene(scene);
-    const FlatBvh bvh = buildSceneBvh(scene).flat;
+    const FlatBvh bvh = bvhFor(scene);
     RenderSettings settings = quietSettings();
     settings.maxDepth = 1;
     settings.multipleImportanceSampling = mis;
