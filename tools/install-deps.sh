@@ -7,6 +7,7 @@ packages=(
     glslang-dev glslang-tools spirv-tools                                   # run-time GLSL -> SPIR-V
     libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev # math, glTF, JSON, images
     libgtest-dev                                                            # tests
+    libcli11-dev                                                            # the tools' arguments
     libembree-dev                                                           # benchmark anchor (optional)
 )
 sudo=""
