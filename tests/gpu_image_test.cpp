@@ -9,7 +9,6 @@
 
 #include <gtest/gtest.h>
 
-#include "cpu/reference_renderer.h"
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "support/gpu_fixture.h"

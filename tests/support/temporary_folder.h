@@ -1,4 +1,5 @@
-// A fresh, empty folder under the system temporary directory, named after the running GoogleTest test.
+// A fresh, empty folder under the system temporary directory, named after the running GoogleTest test and
+// the checkout (two checkouts running the same test at once must not share it).
 #pragma once
 
 #include <filesystem>
