@@ -12,7 +12,9 @@
 
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
-#include "test_support.h"
+#include "support/run_command.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {

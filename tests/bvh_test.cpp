@@ -12,7 +12,7 @@
 #include "random.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
-#include "test_support.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {

@@ -7,7 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image_io.h"
-#include "test_support.h"
+#include "support/run_command.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {

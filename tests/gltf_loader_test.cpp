@@ -9,7 +9,8 @@
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
-#include "test_support.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {

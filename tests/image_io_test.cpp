@@ -6,7 +6,7 @@
 
 #include "image/image_io.h"
 #include "image/image_metrics.h"
-#include "test_support.h"
+#include "support/temporary_folder.h"
 
 namespace vkrt {
 namespace {

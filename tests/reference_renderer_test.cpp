@@ -13,14 +13,13 @@
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
 #include "scene/shading_inputs.h"
-#include "test_support.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {
 
-FlatBvh bvhFor(const Scene& scene) {
-    return buildSceneBvh(scene).flat;
-}
+using test::bvhFor;
 
 Material lambert(glm::vec3 albedo) {
     Material m;
@@ -226,7 +225,7 @@ Estimate glossyHighlight(float roughness, bool mis) {
     scene.materials.push_back(lamp);
     scene.spheres.push_back({{1.0f, 0.0f, 1.0f}, 0.05f, 1});
     finalizeScene(scene);
-    const FlatBvh bvh = buildSceneBvh(scene).flat;
+    const FlatBvh bvh = bvhFor(scene);
     RenderSettings settings = quietSettings();
     settings.maxDepth = 1;
     settings.multipleImportanceSampling = mis;

@@ -17,7 +17,7 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
-#include "test_support.h"
+#include "support/test_paths.h"
 #include "texture_sampling.h"
 
 #include "glsl/shading_cases.h"

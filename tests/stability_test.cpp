@@ -5,7 +5,9 @@
 
 #include "gpu/vulkan_context.h"
 #include "stability/stability_suite.h"
-#include "test_support.h"
+#include "support/reference_comparison.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {
@@ -17,7 +19,7 @@ TEST(Stability, EveryCaseHoldsItsThresholds) {
     StabilityOptions options;
     options.sourceDir = test::sourceDir();
     options.workDir = test::temporaryFolder();
-    options.shaderCacheDir = (std::filesystem::temp_directory_path() / "vkrt-test-shader-cache").string();
+    options.shaderCacheDir = test::shaderCacheDir();
     options.dumpDir = options.workDir / "images";
     const std::vector<StabilityResult> results = runStabilitySuite(context, options);
     ASSERT_GE(results.size(), 25u);
@@ -40,8 +42,8 @@ TEST(Stability, EveryCaseHoldsItsThresholds) {
         // Every rendered case agrees with the double-precision reference, coplanar faces included (ties
         // between them go to the smaller triangle index on both sides).
         if (!r.leaks && !r.accumulationError) {
-            EXPECT_LE(r.gpuVsCpuOff, 0.005);
-            EXPECT_LE(r.gpuVsCpuMeanRelative, 0.002);
+            EXPECT_LE(r.gpuVsCpuOff, test::kMaxFractionOff);
+            EXPECT_LE(r.gpuVsCpuMeanRelative, test::kMaxMeanRelativeError);
         }
     }
     EXPECT_EQ(context.validationMessages(), 0u);

@@ -1,17 +1,20 @@
 // BVH build benchmark: builds the binned SAH BVH over a procedural mesh several times and prints JSON with
 // the median, minimum and maximum build time, node count, depth and SAH cost.
 //
-//   bvh_benchmark [--triangles N] [--runs R] [--threads T] [--scene FILE.gltf]
+//   bvh_benchmark [--triangles N | --scene FILE.gltf] [--runs R] [--threads T]
+//   (--help lists every option with its range; a bad argument prints one line and exits 2)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "bvh/binned_sah_builder.h"
+#include "command_line.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 
@@ -21,22 +24,20 @@ int main(int argc, char** argv) {
     int runs = 5;
     int threads = 0;
     std::string scenePath;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i];
-        if (flag == "--triangles")
-            triangleTarget = std::stoull(argv[i + 1]);
-        else if (flag == "--runs")
-            runs = std::max(1, std::stoi(argv[i + 1]));
-        else if (flag == "--threads")
-            threads = std::stoi(argv[i + 1]);
-        else if (flag == "--scene")
-            scenePath = argv[i + 1];
-        else {
-            std::fprintf(stderr,
-                         "usage: bvh_benchmark [--triangles N] [--runs R] [--threads T] [--scene FILE]\n");
-            return 2;
-        }
-    }
+    CLI::App app{"Times the binned SAH BVH build and prints JSON.", "bvh_benchmark"};
+    auto* triangleOption =
+        app.add_option("--triangles", triangleTarget, "about this many triangles in a UV sphere")
+            ->check(CLI::Range(size_t{1}, size_t{1'000'000'000}))
+            ->capture_default_str();
+    app.add_option("--runs", runs, "builds to time")->check(CLI::Range(1, 1000))->capture_default_str();
+    app.add_option("--threads", threads, "build threads (0: one per core)")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    app.add_option("--scene", scenePath, "the triangles of a glTF file instead of the sphere")
+        ->check(CLI::ExistingFile)
+        ->excludes(triangleOption);
+    if (const std::optional<int> exitCode = parseCommandLine(app, argc, argv)) return *exitCode;
+
     std::vector<Triangle> triangles;
     std::string input;
     if (!scenePath.empty()) {

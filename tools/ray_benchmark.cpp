@@ -3,6 +3,7 @@
 // per ray kind, the BVH build time and SAH cost, and the device.
 //
 //   ray_benchmark [--scene FILE | --triangles N] [--width W --height H] [--runs R] [--device-index N]
+//   (--help lists every option with its range; a bad argument prints one line and exits 2)
 //
 // Without --scene the input is a UV sphere of about N triangles (default 1M) over a ground quad.
 // Camera rays go through every pixel of the scene's camera; shadow rays run from each camera hit to a
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -19,6 +21,7 @@
 
 #include "app/render_policy.h"
 #include "bvh/triangle_bvh.h"
+#include "command_line.h"
 #include "gpu/gpu_raycaster.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
@@ -83,27 +86,25 @@ int main(int argc, char** argv) {
     std::string scenePath;
     size_t triangles = 1'000'000;
     int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scene")
-            scenePath = value;
-        else if (flag == "--triangles")
-            triangles = std::stoull(value);
-        else if (flag == "--width")
-            width = std::stoi(value);
-        else if (flag == "--height")
-            height = std::stoi(value);
-        else if (flag == "--runs")
-            runs = std::max(1, std::stoi(value));
-        else if (flag == "--device-index")
-            deviceIndex = std::stoi(value);
-        else {
-            std::fprintf(stderr,
-                         "usage: ray_benchmark [--scene FILE | --triangles N] [--width W --height H] "
-                         "[--runs R] [--device-index N]\n");
-            return 2;
-        }
-    }
+    CLI::App app{"Traces camera, shadow and diffuse rays through the GPU traversal and prints JSON.",
+                 "ray_benchmark"};
+    auto* sceneOption =
+        app.add_option("--scene", scenePath, "a glTF file instead of the sphere")->check(CLI::ExistingFile);
+    app.add_option("--triangles", triangles, "about this many triangles in the sphere over a ground quad")
+        ->check(CLI::Range(size_t{1}, size_t{1'000'000'000}))
+        ->excludes(sceneOption)
+        ->capture_default_str();
+    app.add_option("--width", width, "camera rays across")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--height", height, "camera rays down")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--runs", runs, "traces per ray kind")->check(CLI::Range(1, 1000))->capture_default_str();
+    app.add_option("--device-index", deviceIndex, "Vulkan device (-1: the best one)")
+        ->check(CLI::Range(-1, 1023))
+        ->capture_default_str();
+    if (const std::optional<int> exitCode = parseCommandLine(app, argc, argv)) return *exitCode;
     try {
         const Scene scene = scenePath.empty() ? sphereOverGround(triangles) : loadGltf(scenePath);
         RenderRequest request;

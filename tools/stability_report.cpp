@@ -2,11 +2,14 @@
 // --json. Cases are generated on the fly; --size and --spp vary the renders.
 //
 //   stability_report [--size N] [--spp N] [--long-samples N] [--json] [--dump DIR]
+//   (--help lists every option with its range; a bad argument prints one line and exits 2)
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "command_line.h"
 #include "gpu/shader_compiler.h"
 #include "stability/stability_suite.h"
 
@@ -17,26 +20,21 @@ int main(int argc, char** argv) {
     options.workDir = std::filesystem::temp_directory_path() / "vkrt-stability";
     options.shaderCacheDir = defaultShaderCacheDir();
     bool json = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string flag = argv[i];
-        auto value = [&] { return i + 1 < argc ? std::stoi(argv[++i]) : 0; };
-        if (flag == "--size")
-            options.width = options.height = value();
-        else if (flag == "--spp")
-            options.samplesPerPixel = value();
-        else if (flag == "--long-samples")
-            options.longAccumulationSamples = value();
-        else if (flag == "--json")
-            json = true;
-        else if (flag == "--dump" && i + 1 < argc)
-            options.dumpDir = argv[++i];
-        else {
-            std::fprintf(
-                stderr,
-                "usage: stability_report [--size N] [--spp N] [--long-samples N] [--json] [--dump DIR]\n");
-            return 2;
-        }
-    }
+    int size = options.width;
+    CLI::App app{"Runs the numerical-stability suite and prints its table.", "stability_report"};
+    app.add_option("--size", size, "image width and height")
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
+    app.add_option("--spp", options.samplesPerPixel, "samples per pixel")
+        ->check(CLI::Range(1, 1'000'000))
+        ->capture_default_str();
+    app.add_option("--long-samples", options.longAccumulationSamples, "samples of the long accumulation")
+        ->check(CLI::Range(1, 100'000'000))
+        ->capture_default_str();
+    app.add_flag("--json", json, "JSON instead of a Markdown table");
+    app.add_option("--dump", options.dumpDir, "write every case's images into this folder");
+    if (const std::optional<int> exitCode = parseCommandLine(app, argc, argv)) return *exitCode;
+    options.width = options.height = size;
     try {
         const VulkanContext context;
         const auto results = runStabilitySuite(context, options);

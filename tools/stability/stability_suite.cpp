@@ -14,19 +14,18 @@
 #include "cpu/triangle_intersection.h"
 #include "gpu/gpu_raycaster.h"
 #include "gpu/gpu_renderer.h"
-#include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "random.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
+#include "support/reference_comparison.h"
+#include "support/render_both.h"
 
 namespace vkrt {
 namespace {
 
-FlatBvh bvhFor(const Scene& scene) {
-    return buildSceneBvh(scene).flat;
-}
+using test::bvhFor;
 
 struct Rendered {
     Image gpu, cpu;
@@ -35,42 +34,33 @@ struct Rendered {
 
 Rendered renderBoth(const VulkanContext& context, const Scene& scene, const Camera& camera,
                     const RenderSettings& settings, const StabilityOptions& options) {
-    const FlatBvh bvh = bvhFor(scene);
-    GpuRenderOptions gpuOptions;
-    gpuOptions.shaderCacheDir = options.shaderCacheDir;
-    GpuRenderer gpu(context, scene, bvh, camera, settings, gpuOptions);
-    Rendered r;
-    const RenderResult g = gpu.render();
-    const RenderResult c = ReferenceRenderer(scene, bvh, camera, settings).render();
-    r.gpu = g.image;
-    r.cpu = c.image;
-    r.nonFinite = g.rays.nonFiniteSamples + c.rays.nonFiniteSamples;
-    return r;
+    const test::RenderPair pair =
+        test::renderGpuAndCpu(context, scene, bvhFor(scene), camera, settings, options.shaderCacheDir);
+    return {pair.gpu.image, pair.cpu.image, pair.gpu.rays.nonFiniteSamples + pair.cpu.rays.nonFiniteSamples};
 }
 
 StabilityResult measure(const StabilityOptions& options, const std::string& group, const std::string& name,
                         const Rendered& r) {
     if (!options.dumpDir.empty()) {
-        std::filesystem::create_directories(options.dumpDir);
         std::string file = name;
         for (char& c : file) {
             if (!std::isalnum(static_cast<unsigned char>(c))) c = '-';
         }
-        writeImage(r.gpu, (options.dumpDir / (file + "-gpu.pfm")).string());
-        writeImage(r.cpu, (options.dumpDir / (file + "-cpu.pfm")).string());
+        // FILE-image.pfm is the GPU's, FILE-reference.pfm the CPU reference's.
+        test::writeComparisonImages(options.dumpDir, file, r.gpu, r.cpu);
     }
     StabilityResult result;
     result.group = group;
     result.name = name;
     result.nonFiniteSamples = r.nonFinite;
-    const ImageDifference d = compareImages(r.gpu, r.cpu, 0.01, 2e-3);
+    const ImageDifference d = test::compareWithReference(r.gpu, r.cpu);
     result.gpuVsCpuOff = d.fractionOff;
     result.gpuVsCpuMeanRelative = d.meanRelativeError;
     return result;
 }
 
 void setInvariance(StabilityResult& result, const Image& image, const Image& reference) {
-    const ImageDifference d = compareImages(image, reference, 0.01, 2e-3);
+    const ImageDifference d = test::compareWithReference(image, reference);
     result.invarianceOff = d.fractionOff;
     result.invarianceMeanRelative = d.meanRelativeError;
 }

@@ -21,7 +21,8 @@ struct StabilityOptions {
     int height = 48;
     int samplesPerPixel = 4;
     int longAccumulationSamples = 100000;
-    std::filesystem::path dumpDir;  // when set, every case's GPU and CPU images are written here (PFM)
+    std::filesystem::path dumpDir;  // when set, every case's images go here: NAME-image.pfm (GPU),
+                                    // NAME-reference.pfm (CPU) and NAME-difference.pfm
 };
 
 struct StabilityResult {

@@ -1,0 +1,115 @@
+// GPU images against the CPU reference with the same seed, under the validation layer: every scene in
+// scenes/ and several third-party ones, and the variants of light sampling (without multiple importance
+// sampling, several light samples with a Gaussian pixel filter).
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "app/render_policy.h"
+#include "scene/gltf_loader.h"
+#include "support/gpu_fixture.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+using test::bvhFor;
+using test::expectMatchesReference;
+using test::Gpu;
+
+struct SceneCase {
+    std::string path;
+    int width, height, spp;
+};
+
+void PrintTo(const SceneCase& c, std::ostream* out) {
+    *out << std::filesystem::path(c.path).filename().string() << " " << c.width << "x" << c.height << " "
+         << c.spp << " spp";
+}
+
+class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
+
+TEST_P(GpuImage, MatchesCpuReference) {
+    const SceneCase& c = GetParam();
+    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal()) GTEST_SKIP();
+    const Scene scene = loadGltf(c.path);
+    const FlatBvh bvh = bvhFor(scene);
+    // The settings and camera the command would choose (the ambient term of scenes without lights included).
+    RenderRequest request;
+    request.settings.width = c.width;
+    request.height = c.height;
+    request.settings.samplesPerPixel = c.spp;
+    request.settings.seed = 7;
+    request.settings.background = glm::dvec3(0.2, 0.3, 0.4);
+    const RenderSetup setup = resolveRender(request, scene);
+    const RenderSettings& settings = setup.settings;
+    const Camera& camera = setup.camera;
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    expectMatchesReference(gpu.image, cpu.image, std::filesystem::path(c.path).stem().string());
+    EXPECT_EQ(gpu.rays.primary, cpu.rays.primary);
+    EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
+                0.002 * cpu.rays.shadow + 2);
+    EXPECT_NEAR(static_cast<double>(gpu.rays.secondary), static_cast<double>(cpu.rays.secondary),
+                0.002 * cpu.rays.secondary + 2);
+    EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
+}
+
+std::string own(const char* name) {
+    return (test::sourceDir() / "scenes" / name).string();
+}
+std::string real(const char* name) {
+    return (test::scenesReal() / name).string();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, GpuImage,
+    ::testing::Values(SceneCase{own("cornell.gltf"), 64, 64, 4}, SceneCase{own("whitted.gltf"), 80, 60, 4},
+                      SceneCase{own("lights.gltf"), 80, 60, 4}, SceneCase{own("dof.gltf"), 64, 48, 4},
+                      SceneCase{own("glossy.gltf"), 80, 50, 4}, SceneCase{own("motion-blur.gltf"), 80, 60, 4},
+                      SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
+                      SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
+                      SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},
+                      SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
+                      SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2}),
+    [](const ::testing::TestParamInfo<SceneCase>& info) {
+        std::string name = std::filesystem::path(info.param.path).stem().string();
+        name.erase(std::remove_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }),
+                   name.end());
+        return name;
+    });
+
+TEST_F(Gpu, GlossyLobesWithoutMultipleImportanceSamplingMatchCpuReference) {
+    const auto [scene, bvh, camera] = ownScene("glossy.gltf", 1.6);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 40;
+    settings.samplesPerPixel = 4;
+    settings.lightSamples = 3;
+    settings.multipleImportanceSampling = false;
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    expectMatchesReference(gpu.image, cpu.image, "glossy-no-mis");
+}
+
+TEST_F(Gpu, SeveralLightSamplesAndAGaussianFilterMatchCpuReference) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 48;
+    settings.samplesPerPixel = 2;
+    settings.lightSamples = 6;
+    settings.pixelFilter = PixelFilter::Gaussian;
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    expectMatchesReference(gpu.image, cpu.image, "cornell-6-light-samples");
+    EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
+                0.002 * cpu.rays.shadow);
+}
+
+}  // namespace
+}  // namespace vkrt
