@@ -1,12 +1,9 @@
-// What a render is asked to do and what it reports, shared by the CPU reference and the GPU tracer.
+// What a render is asked to do and the rays it traced, shared by the CPU reference and the GPU tracer.
 #pragma once
 
 #include <cstdint>
-#include <functional>
 
 #include <glm/glm.hpp>
-
-#include "image/image.h"
 
 namespace vkrt {
 
@@ -38,18 +35,5 @@ struct RayCounters {
     uint64_t nonFiniteSamples = 0;
     uint64_t total() const { return primary + shadow + secondary; }
 };
-
-struct RenderResult {
-    Image image;
-    RayCounters rays;
-};
-
-// Called as rows (CPU) or passes (GPU) finish: done out of total.
-using ProgressCallback = std::function<void(uint64_t done, uint64_t total)>;
-
-// Called with the image so far at checkpoints of a progressive render: samples per pixel done, render time
-// so far (checkpoints excluded) and GPU time (0 on the CPU).
-using CheckpointCallback =
-    std::function<void(uint32_t samples, double renderMs, double gpuMs, const Image& image)>;
 
 }  // namespace vkrt

@@ -12,6 +12,7 @@
 #include "bvh/flat_bvh.h"
 #include "camera.h"
 #include "common/render_settings.h"
+#include "image/render_result.h"
 #include "cpu/closest_hit.h"
 #include "cpu/cpu_shading_device.h"
 #include "scene/scene.h"

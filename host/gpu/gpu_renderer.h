@@ -8,6 +8,7 @@
 
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
+#include "image/render_result.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/gpu_scene.h"

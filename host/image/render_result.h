@@ -1,0 +1,26 @@
+// What a render returns, an image and the rays traced, and the callbacks that follow it as it forms; shared
+// by the CPU reference and the GPU tracer.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "common/render_settings.h"
+#include "image/image.h"
+
+namespace vkrt {
+
+struct RenderResult {
+    Image image;
+    RayCounters rays;
+};
+
+// Called as rows (CPU) or passes (GPU) finish: done out of total.
+using ProgressCallback = std::function<void(uint64_t done, uint64_t total)>;
+
+// Called with the image so far at checkpoints of a progressive render: samples per pixel done, render time
+// so far (checkpoints excluded) and GPU time (0 on the CPU).
+using CheckpointCallback =
+    std::function<void(uint32_t samples, double renderMs, double gpuMs, const Image& image)>;
+
+}  // namespace vkrt
