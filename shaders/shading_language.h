@@ -1,7 +1,7 @@
 // The common language of the physics that the GPU tracer and the CPU reference share: headers under shaders/
 // that include this one compile as GLSL, in single precision, and as C++, in double precision over GLM. The
 // physics is written once; only the integrator loops, the BVH walks and the ray offsets stay per device
-// (DESIGN.md, "Physics once, integrators per device").
+// (README.md, "How it is built").
 //
 // Shared code keeps to the subset both languages read alike:
 // - scalars and vectors are `real`, `real2`, `real3`, `real4` (float/vec in GLSL, double/dvec in C++);

@@ -147,7 +147,7 @@ TEST_F(Gpu, RaysMatchCpuTraversalOnProceduralMeshes) {
 
 TEST_F(Gpu, RaysMatchCpuOnAnalyticSpheres) {
     // Spheres from 1e-3 to 1e3 in radius beside triangles, one far from the rest: the float test of
-    // shaders/sphere.glsl against the double one, through the shared BVH.
+    // shaders/sphere_geometry.h against the double one, through the shared BVH.
     std::vector<Sphere> spheres;
     uint32_t state = 12345u;
     auto next = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) * 0x1p-24f; };

@@ -29,6 +29,7 @@
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
+#include "scene/shading_inputs.h"
 #ifdef VKRT_HAVE_EMBREE
 #include "embree_tracer.h"
 #endif
@@ -70,12 +71,11 @@ Scene sphereOverGround(size_t triangleTarget) {
     return scene;
 }
 
+// The pinhole ray through a pixel's centre (shaders/camera.h, as both renderers make it).
 gpu::GpuRay cameraRay(const Camera& camera, int x, int y, int width, int height) {
-    const double sx = 2.0 * (x + 0.5) / width - 1.0, sy = 1.0 - 2.0 * (y + 0.5) / height;
-    const double tanHalf = std::tan(0.5 * camera.yfov);
-    const glm::dvec3 d = glm::normalize(camera.forward + sx * tanHalf * width / height * camera.right +
-                                        sy * tanHalf * camera.up);
-    return {glm::vec3(camera.position), 0.0f, glm::vec3(d), 1e30f};
+    const shading::CameraRay ray =
+        shading::cameraRay(cameraFrame(camera, width, height), x + 0.5, y + 0.5, 0.5, 0.5);
+    return {glm::vec3(ray.origin), 0.0f, glm::vec3(ray.direction), 1e30f};
 }
 
 }  // namespace

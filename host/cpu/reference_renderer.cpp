@@ -24,21 +24,11 @@ glm::dvec3 geometricNormalOf(const Triangle& t) {
 
 ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                      const RenderSettings& settings)
-    : scene_(scene), bvh_(bvh), settings_(settings), shadingScene_(scene, bvh) {
-    camera_.projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
-                                                                       : VKRT_PROJECTION_PERSPECTIVE;
-    camera_.position = camera.position;
-    camera_.forward = camera.forward;
-    camera_.right = camera.right;
-    camera_.up = camera.up;
-    camera_.tanHalfFov = std::tan(0.5 * camera.yfov);
-    camera_.xmag = camera.xmag;
-    camera_.ymag = camera.ymag;
-    camera_.lensRadius = camera.aperture;
-    camera_.focusDistance = camera.focusDistance;
-    camera_.width = settings.width;
-    camera_.height = settings.height;
-}
+    : scene_(scene),
+      bvh_(bvh),
+      settings_(settings),
+      shadingScene_(scene, bvh),
+      camera_(cameraFrame(camera, settings.width, settings.height)) {}
 
 double ReferenceRenderer::shutterTime(uint32_t pixel, uint32_t sample) const {
     return scene_.moving() ? vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_TIME, 0) : 0.0;

@@ -147,17 +147,17 @@ std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params,
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
                                  const RenderSettings& settings) {
     gpu::SceneParams p{};
-    p.camera.position = glm::vec3(camera.position);
-    p.camera.projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
-                                                                        : VKRT_PROJECTION_PERSPECTIVE;
-    p.camera.forward = glm::vec3(camera.forward);
-    p.camera.tanHalfFov = static_cast<float>(std::tan(0.5 * camera.yfov));
-    p.camera.right = glm::vec3(camera.right);
-    p.camera.xmag = static_cast<float>(camera.xmag);
-    p.camera.up = glm::vec3(camera.up);
-    p.camera.ymag = static_cast<float>(camera.ymag);
-    p.camera.lensRadius = static_cast<float>(camera.aperture);
-    p.camera.focusDistance = static_cast<float>(camera.focusDistance);
+    const shading::CameraFrame frame = cameraFrame(camera, settings.width, settings.height);
+    p.camera.position = glm::vec3(frame.position);
+    p.camera.projection = frame.projection;
+    p.camera.forward = glm::vec3(frame.forward);
+    p.camera.tanHalfFov = static_cast<float>(frame.tanHalfFov);
+    p.camera.right = glm::vec3(frame.right);
+    p.camera.xmag = static_cast<float>(frame.xmag);
+    p.camera.up = glm::vec3(frame.up);
+    p.camera.ymag = static_cast<float>(frame.ymag);
+    p.camera.lensRadius = static_cast<float>(frame.lensRadius);
+    p.camera.focusDistance = static_cast<float>(frame.focusDistance);
     p.ambient = glm::vec3(settings.ambient);
     p.minThroughput = static_cast<float>(settings.minThroughput);
     p.background = glm::vec3(settings.background);

@@ -1,5 +1,5 @@
-// What a scene uses, so the GPU tracer compiles and uploads only that (DESIGN.md: "leave out what a scene
-// does not need").
+// What a scene uses, so the GPU tracer compiles and uploads only that: what a scene does not need is left
+// out of its shader variant and its buffers.
 #pragma once
 
 #include <string>

@@ -214,7 +214,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         shaderFloat64_ = supported.shaderFloat64 == VK_TRUE;
         VkPhysicalDeviceFeatures enabled{};
         enabled.shaderFloat64 =
-            supported.shaderFloat64;  // for spheres far larger than the view (sphere.glsl)
+            supported.shaderFloat64;  // for spheres far larger than the view (sphere_geometry.h)
         VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         features12.bufferDeviceAddress = VK_TRUE;
         VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};

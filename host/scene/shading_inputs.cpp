@@ -52,6 +52,24 @@ shading::PunctualLightParams punctualLightParams(const PunctualLight& light) {
     return p;
 }
 
+shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
+    shading::CameraFrame frame;
+    frame.projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
+                                                                     : VKRT_PROJECTION_PERSPECTIVE;
+    frame.position = camera.position;
+    frame.forward = camera.forward;
+    frame.right = camera.right;
+    frame.up = camera.up;
+    frame.tanHalfFov = std::tan(0.5 * camera.yfov);
+    frame.xmag = camera.xmag;
+    frame.ymag = camera.ymag;
+    frame.lensRadius = camera.aperture;
+    frame.focusDistance = camera.focusDistance;
+    frame.width = width;
+    frame.height = height;
+    return frame;
+}
+
 PackedTextures packTextures(const Scene& scene) {
     PackedTextures packed;
     for (const Texture& t : scene.textures) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "camera.h"
 #include "punctual_light.h"
 #include "scene/scene.h"
 #include "shared.h"
@@ -16,6 +17,9 @@ namespace vkrt {
 shading::SurfaceMaterial surfaceMaterial(const Material& material);
 
 shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
+
+// The camera as shaders/camera.h reads it, for an image of width x height pixels.
+shading::CameraFrame cameraFrame(const Camera& camera, int width, int height);
 
 // Every texture's RGBA8 texels in one array (red in the lowest byte, rows top to bottom), each texture
 // described by where its texels start, its size and its sampler (shaders/texture_sampling.h).
