@@ -62,7 +62,7 @@ VKRT_FN real2 concentricDisk(real u, real v) {
 
 // The ray through film position (filmX, filmY) in pixels, (0, 0) top-left; with a lens, through the lens
 // point that (lensU, lensV) in [0, 1)^2 picks (compiled in with VKRT_HAS_DEPTH_OF_FIELD).
-VKRT_FN CameraRay cameraRay(CameraFrame camera, real filmX, real filmY, real lensU, real lensV) {
+VKRT_FN CameraRay cameraRay(VKRT_IN(CameraFrame) camera, real filmX, real filmY, real lensU, real lensV) {
     // Film position in [-1, 1]^2, +y up.
     const real sx = 2.0 * filmX / camera.width - 1.0;
     const real sy = 1.0 - 2.0 * filmY / camera.height;

@@ -28,7 +28,7 @@ struct LightArrival {
     real3 irradiance;  // on a surface facing the light (multiply by the cosine)
 };
 
-VKRT_FN LightArrival arriveFrom(PunctualLightParams light, real3 point) {
+VKRT_FN LightArrival arriveFrom(VKRT_IN(PunctualLightParams) light, real3 point) {
     LightArrival arrival;
     if (light.type == VKRT_LIGHT_DIRECTIONAL) {
         arrival.toLight = -light.direction;

@@ -87,7 +87,7 @@ VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint 
     return ray;
 }
 
-VKRT_FN real stratified(ShadingContext context, uint dimension, uint axis) {
+VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint axis) {
     return real(vkrtStratified(context.seed, context.pixel, context.sampleIndex, dimension, axis));
 }
 
@@ -114,8 +114,8 @@ VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
 // Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
 // emissive primitive chosen by power, reflected towards the viewer. `origin` is where shadow rays start.
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real3 directLight(VKRT_DEVICE_PARAM ShadingContext context, uint node, real3 point, real3 origin,
-                          real3 normal, real3 geometricNormal, real3 toViewer, SurfaceResponse surface, uint self,
+VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, real3 point, real3 origin,
+                          real3 normal, real3 geometricNormal, real3 toViewer, VKRT_IN(SurfaceResponse) surface, uint self,
                           uint exclude, bool lobeSampled) {
     real3 sum = real3(0.0);
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
@@ -170,7 +170,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM ShadingContext context, uint node, r
 
 // The shading step at `hit` of `ray`, whose weight including absorption on the way is `pathThroughput`.
 VKRT_DEVICE_TEMPLATE
-VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM ShadingContext context, RayState ray, HitPoint hit,
+VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit,
                            real3 pathThroughput) {
     ShadedHit result;
     result.reflects = false;

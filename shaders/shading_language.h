@@ -7,7 +7,7 @@
 // - scalars and vectors are `real`, `real2`, `real3`, `real4` (float/vec in GLSL, double/dvec in C++);
 //   integers are `uint`, `int`, `uvec2`;
 // - functions are declared VKRT_FN; GLSL `out`/`inout` parameters are VKRT_OUT(T)/VKRT_INOUT(T), C++
-//   references;
+//   references; structs are passed as VKRT_IN(T), by value in GLSL and by const reference in C++;
 // - structs are declared, then filled member by member (no constructors, no aggregate initialisers);
 // - no swizzles (GLM has none without GLM_FORCE_SWIZZLE), no buffer access, no globals;
 // - what the device owns (buffers, the BVH, counters, the precision of ray offsets) is reached through
@@ -61,6 +61,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace vkrt::shading
 
 #define VKRT_FN inline
+#define VKRT_IN(T) const T&
 #define VKRT_OUT(T) T&
 #define VKRT_INOUT(T) T&
 #define VKRT_INFINITY ::vkrt::shading::kInfinity
@@ -90,6 +91,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define real3 vec3
 #define real4 vec4
 #define VKRT_FN
+#define VKRT_IN(T) T
 #define VKRT_OUT(T) out T
 #define VKRT_INOUT(T) inout T
 #define VKRT_INFINITY uintBitsToFloat(0x7f800000u)

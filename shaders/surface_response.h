@@ -39,7 +39,7 @@ struct SurfaceResponse {
     real ior;
 };
 
-VKRT_FN SurfaceResponse surfaceResponse(SurfaceMaterial material, real3 albedo) {
+VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
     SurfaceResponse s;
     s.albedo = albedo;
     s.metallic = material.metallic;
@@ -56,18 +56,18 @@ VKRT_FN SurfaceResponse surfaceResponse(SurfaceMaterial material, real3 albedo) 
 }
 
 // The fraction of light a transmissive surface lets through a shadow ray (shadow rays do not refract).
-VKRT_FN real3 shadowTint(SurfaceMaterial material, real3 albedo) {
+VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
     return (1.0 - material.metallic) * material.transmission * albedo;
 }
 
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.
-VKRT_FN real3 fresnelAt(SurfaceResponse s, real cosH, real eta) {
+VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
     return (1.0 - s.metallic) * real3(fresnelDielectric(cosH, eta)) + s.metallic * fresnelSchlick(s.albedo, cosH);
 }
 
 // The specular lobe for light from `toLight`: F D G2 / (4 cos_o cos_i); zero for a mirror (a delta lobe meets
 // a light of zero size with probability zero, and area lights reach mirrors through traced rays).
-VKRT_FN real3 specularBrdf(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight) {
+VKRT_FN real3 specularBrdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight) {
     const real cosOut = dot(normal, toViewer), cosIn = dot(normal, toLight);
     if (s.mirror || cosOut <= 0.0 || cosIn <= 0.0) return real3(0.0);
     const real3 halfway = normalize(toViewer + toLight);
@@ -76,7 +76,7 @@ VKRT_FN real3 specularBrdf(SurfaceResponse s, real3 normal, real3 toViewer, real
 }
 
 // Density with which the traced lobe would have chosen `toLight` (0 when it is not traced).
-VKRT_FN real lobePdf(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight) {
+VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight) {
     if (!s.traced || s.mirror) return 0.0;
     const real3 halfway = normalize(toViewer + toLight);
     return ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
@@ -84,7 +84,7 @@ VKRT_FN real lobePdf(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLi
 
 // Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
 // viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling).
-VKRT_FN real3 reflectedLight(SurfaceResponse s, real3 normal, real3 toViewer, real3 toLight, real3 irradiance,
+VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight, real3 irradiance,
                              real specularWeight) {
     const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
     return brdf * irradiance * dot(normal, toLight);

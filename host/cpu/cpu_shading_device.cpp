@@ -93,9 +93,4 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     return result;
 }
 
-glm::dvec3 CpuShadingDevice::offsetOrigin(const glm::dvec3& position, double errorScale,
-                                          const glm::dvec3& normal) const {
-    return position + 1e-9 * std::max(shading::maxAbs(position), errorScale) * normal;
-}
-
 }  // namespace vkrt

@@ -3,6 +3,7 @@
 // with the reference's double-precision tests; ray offsets suit double precision.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -57,7 +58,9 @@ class CpuShadingDevice {
     // magnitude of the numbers the position came from, so it is scale-invariant; in double precision 1e-9 is
     // far above the rounding of the hit point (about 1e-16 relative) and far below any feature float geometry
     // can resolve (6e-8). Excluding the primitive just hit removes the remaining risk of hitting it again.
-    glm::dvec3 offsetOrigin(const glm::dvec3& position, double errorScale, const glm::dvec3& normal) const;
+    glm::dvec3 offsetOrigin(const glm::dvec3& position, double errorScale, const glm::dvec3& normal) const {
+        return position + 1e-9 * std::max(shading::maxAbs(position), errorScale) * normal;
+    }
 
     double time() const { return time_; }
 

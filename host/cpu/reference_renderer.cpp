@@ -160,12 +160,17 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
         const uint32_t end = schedule.passEnd(done);
         std::atomic<uint64_t> rowsDone{0};
         std::mutex progressLock;
-        std::vector<RayCounters> counters(threads);
+        // One cache line per thread's counters: they change with every ray, and sharing a line between cores
+        // would make the threads wait on each other.
+        struct alignas(64) WorkerCounters {
+            RayCounters rays;
+        };
+        std::vector<WorkerCounters> counters(threads);
         parallelFor(static_cast<size_t>(settings_.height), threads, [&](size_t row, unsigned worker) {
             const int y = static_cast<int>(row);
             for (int x = 0; x < settings_.width; ++x) {
                 sums[static_cast<size_t>(y) * settings_.width + x] +=
-                    renderPixel(x, y, done, end, counters[worker]);
+                    renderPixel(x, y, done, end, counters[worker].rays);
             }
             const uint64_t rows = ++rowsDone;
             if (progress) {
@@ -174,11 +179,11 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
                          static_cast<uint64_t>(spp) * settings_.height);
             }
         });
-        for (const RayCounters& c : counters) {
-            result.rays.primary += c.primary;
-            result.rays.shadow += c.shadow;
-            result.rays.secondary += c.secondary;
-            result.rays.nonFiniteSamples += c.nonFiniteSamples;
+        for (const WorkerCounters& c : counters) {
+            result.rays.primary += c.rays.primary;
+            result.rays.shadow += c.rays.shadow;
+            result.rays.secondary += c.rays.secondary;
+            result.rays.nonFiniteSamples += c.rays.nonFiniteSamples;
         }
         done = end;
 
