@@ -66,7 +66,7 @@ VKRT_FN uvec2 mediaExited(uvec2 media, uint material) {
 // `attenuationDistance` (KHR_materials_volume; infinity: no absorption).
 VKRT_FN real3 beerLambert(real3 attenuationColor, real attenuationDistance, real distance) {
     real3 result = real3(1.0);
-    if (isinf(attenuationDistance)) return result;
+    if (isinf(attenuationDistance) || isnan(attenuationDistance)) return result;
     for (int c = 0; c < 3; ++c) {
         const real color = attenuationColor[c];
         if (color >= 1.0) continue;

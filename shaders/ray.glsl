@@ -1,5 +1,5 @@
 // Rays in single precision, and spawning new rays off a surface without hitting it again. The CPU reference
-// keeps its own, double-precision choices (host/cpu/reference_renderer.cpp).
+// keeps its own, double-precision choices (host/cpu/reference_renderer.cpp, host/cpu/cpu_shading_device.h).
 #ifndef VKRT_RAY_GLSL
 #define VKRT_RAY_GLSL
 

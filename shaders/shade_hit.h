@@ -3,8 +3,10 @@
 // host/cpu/reference_renderer.cpp): at a hit, the light leaving towards the viewer from the hit itself
 // (emission, the ambient term, direct light from punctual and area lights with shadow rays) and up to two
 // continuation rays (reflection and transmission through one sampled microfacet normal) with their weights.
-// What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials, textures, light
-// tables, shadow rays, and the precision-dependent ray offset.
+// What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials (material, materialOf),
+// textures (textureInfo, texel, textureCoordinates), lights (punctualLightCount, punctualLight, hasAreaLights,
+// sampleAreaLight, lightSolidAnglePdf), shadow rays (shadowTransmittance) and what depends on its precision:
+// the ray offset (offsetOrigin) and how far short of a light point a shadow ray stops (shadowRayLength).
 #ifndef VKRT_SHADE_HIT_H
 #define VKRT_SHADE_HIT_H
 
@@ -32,7 +34,6 @@ struct ShadingContext {
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
     uint lightSamples;   // area-light samples per shading point
     bool multipleImportanceSampling;
-    real shadowRayShortening;  // relative: shadow rays to area lights stop this short of the light point
     uint seed;
     uint pixel;
     uint sampleIndex;
@@ -95,7 +96,9 @@ VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint ax
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real mediumIor(VKRT_DEVICE_PARAM uvec2 media) {
     const int top = innermostMedium(media);
-    return top >= 0 ? VKRT_DEVICE(material)(uint(top)).ior : 1.0;
+    if (top < 0) return 1.0;
+    VKRT_IN(SurfaceMaterial) medium = VKRT_DEVICE(material)(uint(top));
+    return medium.ior;
 }
 
 // Beer-Lambert absorption of the innermost volume over `distance` (infinity: the ray left the scene).
@@ -104,7 +107,7 @@ VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
 #ifdef VKRT_HAS_VOLUMES
     const int top = innermostMedium(media);
     if (top >= 0) {
-        const SurfaceMaterial medium = VKRT_DEVICE(material)(uint(top));
+        VKRT_IN(SurfaceMaterial) medium = VKRT_DEVICE(material)(uint(top));
         return beerLambert(medium.attenuationColor, medium.attenuationDistance, distance);
     }
 #endif
@@ -144,12 +147,12 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const real distance = sqrt(distance2);
             if (light.primitive == self || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
             const real3 toLight = offset / distance;
-            const SurfaceMaterial emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
+            VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
             real cosLight = -dot(light.normal, toLight);
             if (emitter.doubleSided) cosLight = abs(cosLight);
             if (!(cosLight > 0.0) || dot(normal, toLight) <= 0.0 || dot(geometricNormal, toLight) <= 0.0) continue;
-            const real3 visible = VKRT_DEVICE(shadowTransmittance)(
-                origin, toLight, distance * (1.0 - context.shadowRayShortening), exclude, light.primitive);
+            const real3 visible = VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance),
+                                                                  exclude, light.primitive);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
             const real3 irradiance =
                 textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv) *
@@ -175,7 +178,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     ShadedHit result;
     result.reflects = false;
     result.transmits = false;
-    const SurfaceMaterial material = VKRT_DEVICE(material)(hit.material);
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     const real3 toViewer = -ray.direction;
 
     // Orient both normals towards the viewer; remember which side was hit.
@@ -216,9 +219,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     local += context.ambient * (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = surface.traced && !surface.mirror && continues;
-    local += directLight(VKRT_DEVICE_ARG context, ray.node, hit.position,
-                         VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal), normal,
-                         geometricNormal, toViewer, surface, hit.primitive, excludeOnViewerSide, lobeSampled);
+    // New rays on the viewer's side (shadow rays, reflections) start here.
+    const real3 viewerSide = VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal);
+    local += directLight(VKRT_DEVICE_ARG context, ray.node, hit.position, viewerSide, normal, geometricNormal,
+                         toViewer, surface, hit.primitive, excludeOnViewerSide, lobeSampled);
     result.radiance = local;
     if (!continues || !surface.traced) return result;
 
@@ -261,8 +265,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
-        result.reflection = rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal),
-                                     reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u, ray.depth + 1,
+        result.reflection = rayState(viewerSide, reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u, ray.depth + 1,
                                      excludeOnViewerSide, reflectPdf, ray.media);
     }
 

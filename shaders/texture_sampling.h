@@ -19,15 +19,17 @@ VKRT_SHADING_BEGIN
 using gpu::GpuTexture;
 #endif
 
+// i modulo n > 0, in [0, n), with both operands of % non-negative (GLSL leaves % of negatives undefined).
+VKRT_FN int positiveModulo(int i, int n) { return i >= 0 ? i % n : n - 1 - ((-1 - i) % n); }
+
 // Texel coordinate i of a row or column of `size` texels, wrapped.
 VKRT_FN uint wrapTexel(int i, int size, uint mode) {
     if (mode == VKRT_WRAP_CLAMP) return uint(clamp(i, 0, size - 1));
     if (mode == VKRT_WRAP_MIRROR) {
-        const int period = 2 * size;
-        const int m = ((i % period) + period) % period;
-        return uint(m < size ? m : period - 1 - m);
+        const int m = positiveModulo(i, 2 * size);
+        return uint(m < size ? m : 2 * size - 1 - m);
     }
-    return uint(((i % size) + size) % size);
+    return uint(positiveModulo(i, size));
 }
 
 VKRT_FN real srgbToLinear(real encoded) {
@@ -55,6 +57,7 @@ VKRT_FN real4 textureTexel(VKRT_DEVICE_PARAM GpuTexture texture, int x, int y) {
 // half-integer positions; bilinear unless the sampler asks for nearest.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv) {
+    if (texture.width == 0u || texture.height == 0u) return real4(1.0);  // no image: the factor alone
     const real x = uv.x * real(texture.width) - 0.5, y = uv.y * real(texture.height) - 0.5;
     if ((texture.flags & VKRT_TEXTURE_NEAREST) != 0u) {
         return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)));

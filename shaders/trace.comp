@@ -176,7 +176,6 @@ void main() {
     context.maxDepth = int(params.maxDepth);
     context.lightSamples = params.lightSamples;
     context.multipleImportanceSampling = params.multipleImportanceSampling != 0u;
-    context.shadowRayShortening = 1e-5;
     context.seed = seed;
     context.pixel = pixel;
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;

@@ -247,6 +247,14 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "KHR_draco_mesh_compression"},
+        {"more materials than the volume stack can name",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["materials"] = json::array();
+             for (int i = 0; i < 65535; ++i) d["materials"].push_back(json::object());
+             writeJson(file, d);
+         },
+         "65535 materials"},
         {"truncated GLB",
          [](auto&, auto& file) {
              file.replace_extension(".glb");

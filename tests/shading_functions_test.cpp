@@ -3,6 +3,7 @@
 // radii from 1e-2 to 1e5 included, compared function by function with stated tolerances. The closed-form
 // tests (optics_test.cpp, reference_renderer_test.cpp) check the C++ evaluation; this test carries them over
 // to the code the GPU runs.
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -42,7 +43,8 @@ const char* const kFunctionNames[VKRT_CASE_COUNT] = {"fresnel (dielectric, Schli
                                                      "camera rays",
                                                      "pixel filters, concentric disk",
                                                      "orthonormal basis",
-                                                     "rotation, max component"};
+                                                     "rotation, max component",
+                                                     "reflected light, diffuse and F0"};
 
 // The CPU's texel fetch for texture_sampling.h.
 struct TexelDevice {
@@ -52,9 +54,9 @@ struct TexelDevice {
     glm::dvec2 textureCoordinates(uint32_t, glm::dvec2 uv) const { return uv; }
 };
 
-// How far single precision may fall from double precision, per function. The relative part is a few
-// hundred float ulps (2^-23 = 1.2e-7); the absolute part covers results that cancel to near zero. Functions
-// whose conditioning varies with the input scale their tolerance by it (see tolerance()).
+// How far single precision may fall from double precision, per result. The relative part is a few hundred
+// float ulps (2^-23 = 1.2e-7); the absolute part covers results that cancel to near zero. Results whose
+// conditioning varies with the input scale their tolerance by it (see tolerances()).
 struct Tolerance {
     double absolute;
     double relative;
@@ -122,10 +124,12 @@ std::vector<FunctionCase> makeCases() {
         for (float metallic : {0.0f, 1.0f}) {
             for (float transmission : {0.0f, 1.0f}) {
                 for (double lightTheta : {0.3, 1.2}) {
-                    cases.push_back(makeCase(VKRT_CASE_SURFACE, 0, {0.8f, 0.5f, 0.2f, metallic},
-                                             {2.0f, 1.5f, 1.0f, roughness}, {transmission, 1.5f, 0.5f, 0},
-                                             direction(0.4, 0.2) + glm::vec4(0, 0, 0, 0.8f),
-                                             direction(lightTheta, 2.9)));
+                    for (uint32_t function : {VKRT_CASE_SURFACE, VKRT_CASE_SURFACE_LIGHT}) {
+                        cases.push_back(makeCase(function, 0, {0.8f, 0.5f, 0.2f, metallic},
+                                                 {2.0f, 1.5f, 1.0f, roughness}, {transmission, 1.5f, 0.5f, 0},
+                                                 direction(0.4, 0.2) + glm::vec4(0, 0, 0, 0.8f),
+                                                 direction(lightTheta, 2.9)));
+                    }
                 }
             }
         }
@@ -212,27 +216,53 @@ std::vector<uint32_t> testTexels() {
     return texels;
 }
 
-// GGX's D divides by cos^2 (alpha^2 - 1) + 1, which float resolves only to 2^-24: near the mirror limit the
-// error grows as 1 / that denominator, and so does the tolerance.
-Tolerance tolerance(const FunctionCase& fc) {
+// The tolerance of each of a case's eight results (r0.xyzw, r1.xyzw).
+std::array<Tolerance, 8> tolerances(const FunctionCase& fc) {
+    const Tolerance standard{2e-6, 2e-5};
+    std::array<Tolerance, 8> t;
+    t.fill(standard);
     switch (fc.function) {
         case VKRT_CASE_GGX: {
+            // D divides by cos^2 (alpha^2 - 1) + 1, which float resolves only to 2^-24: near the mirror limit
+            // its error grows as 1 / that denominator, and so does D's tolerance (the others keep theirs).
             const double cosH = fc.a.x, alpha = fc.a.y;
             const double denominator = std::max(cosH * cosH * (alpha * alpha - 1.0) + 1.0, 1e-300);
-            return {1e-6, 1e-5 + 4.0 * 1.2e-7 / std::min(1.0, denominator)};
+            t[0].relative = 1e-5 + 4.0 * 1.2e-7 / std::min(1.0, denominator);
+            t[4].relative = t[0].relative;  // the pdf carries D
+            break;
         }
-        case VKRT_CASE_SPHERE_LIGHT:
-        case VKRT_CASE_SPHERE: {
-            // Positions are as exact as the sphere's and the viewer's coordinates allow in float.
+        case VKRT_CASE_SPHERE_LIGHT: {
+            // Points are as exact as float coordinates of their magnitude allow; normals, texture
+            // coordinates and densities are compared as such.
             const double scale =
                 std::abs(fc.a.w) + glm::length(glm::dvec3(fc.b)) + glm::length(glm::dvec3(fc.a));
-            return {4e-6 * scale, 1e-4};
+            t[0] = t[1] = t[2] = {4e-6 * scale, 0.0};
+            t[3] = t[7] = {0.0, 1e-4};  // densities: relative
+            // The point is chosen by angles, through sin and cos, which Vulkan lets a device compute to 2^-11
+            // absolute (lavapipe: 5e-5 here), inside the cone the sphere subtends, which float resolves
+            // relative to that cone: the normal's error grows with distance / radius.
+            const double ratio = glm::length(glm::dvec3(fc.b) - glm::dvec3(fc.a)) / fc.a.w;
+            t[4] = t[5] = t[6] = {1e-4 + 1.2e-7 * ratio, 0.0};
+            break;
+        }
+        case VKRT_CASE_SPHERE: {
+            // Distances along the ray to a sphere of radius r seen from |from|: float rounds the origin and
+            // centre to 6e-8 of their magnitude (the roots are solved in double where the device has it).
+            const double scale =
+                std::abs(fc.a.w) + glm::length(glm::dvec3(fc.b)) + glm::length(glm::dvec3(fc.a));
+            t[0] = t[1] = t[6] = {4e-6 * scale, 1e-5};
+            t[2] = {0.0, 0.0};   // hit or miss: exact
+            t[3] = {0.0, 1e-4};  // 1 - cos of the subtended cone
+            t[4] = t[5] = {2e-5, 0.0};
+            break;
         }
         case VKRT_CASE_MEDIA:
-            return {0.0, 0.0};  // integers: exact
+            t.fill({0.0, 0.0});  // integers: exact
+            break;
         default:
-            return {2e-6, 2e-5};
+            break;
     }
+    return t;
 }
 
 TEST_F(ShadingFunctions, GpuMatchesCppFunctionByFunction) {
@@ -274,7 +304,7 @@ TEST_F(ShadingFunctions, GpuMatchesCppFunctionByFunction) {
     for (size_t i = 0; i < cases.size(); ++i) {
         glm::dvec4 cpu[2];
         shading::evaluateCase(device, cases[i], cpu[0], cpu[1]);
-        const Tolerance t = tolerance(cases[i]);
+        const std::array<Tolerance, 8> t = tolerances(cases[i]);
         const uint32_t function = cases[i].function;
         ++checked[function];
         for (int row = 0; row < 2; ++row) {
@@ -286,7 +316,8 @@ TEST_F(ShadingFunctions, GpuMatchesCppFunctionByFunction) {
                         << ": GPU " << actual << ", C++ " << expected;
                     continue;
                 }
-                const double allowed = t.absolute + t.relative * std::abs(expected);
+                const Tolerance& tolerance = t[row * 4 + k];
+                const double allowed = tolerance.absolute + tolerance.relative * std::abs(expected);
                 const double error = std::abs(actual - expected);
                 worst[function] = std::max(worst[function], allowed > 0.0 ? error / allowed
                                                             : error > 0.0 ? 1e9

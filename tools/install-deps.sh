@@ -8,7 +8,6 @@ packages=(
     libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev # math, glTF, JSON, images
     libcli11-dev                                                            # command line
     libgtest-dev                                                            # tests
-    libcli11-dev                                                            # the tools' arguments
     libembree-dev                                                           # benchmark anchor (optional)
 )
 sudo=""

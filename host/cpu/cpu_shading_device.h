@@ -34,7 +34,7 @@ class CpuShadingDevice {
     CpuShadingDevice(const CpuShadingScene& data, double time, RayCounters& counters)
         : data_(data), time_(time), counters_(counters) {}
 
-    shading::SurfaceMaterial material(uint32_t index) const { return data_.materials[index]; }
+    const shading::SurfaceMaterial& material(uint32_t index) const { return data_.materials[index]; }
     uint32_t materialOf(uint32_t primitive) const { return data_.scene.materialOf(primitive); }
 
     gpu::GpuTexture textureInfo(int index) const { return data_.textures.textures[index]; }
@@ -58,6 +58,9 @@ class CpuShadingDevice {
     // magnitude of the numbers the position came from, so it is scale-invariant; in double precision 1e-9 is
     // far above the rounding of the hit point (about 1e-16 relative) and far below any feature float geometry
     // can resolve (6e-8). Excluding the primitive just hit removes the remaining risk of hitting it again.
+    // Shadow rays to a point on a light stop 1e-9 of the distance short of it, far above double rounding.
+    double shadowRayLength(double distance) const { return distance * (1.0 - 1e-9); }
+
     glm::dvec3 offsetOrigin(const glm::dvec3& position, double errorScale, const glm::dvec3& normal) const {
         return position + 1e-9 * std::max(shading::maxAbs(position), errorScale) * normal;
     }

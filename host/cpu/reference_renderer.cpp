@@ -46,7 +46,6 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     context.maxDepth = settings_.maxDepth;
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);
     context.multipleImportanceSampling = settings_.multipleImportanceSampling;
-    context.shadowRayShortening = 1e-9;
     context.seed = settings_.seed;
     context.pixel = pixel;
     context.sampleIndex = sample;

@@ -12,9 +12,9 @@
 #include "bvh/flat_bvh.h"
 #include "camera.h"
 #include "common/render_settings.h"
-#include "image/render_result.h"
 #include "cpu/closest_hit.h"
 #include "cpu/cpu_shading_device.h"
+#include "image/render_result.h"
 #include "scene/scene.h"
 #include "shade_hit.h"
 

@@ -4,6 +4,7 @@
 
 #include <tiny_gltf.h>
 
+#include "media.h"
 #include "scene/gltf_extensions.h"
 
 namespace vkrt {
@@ -96,6 +97,12 @@ void convertTextures(GltfContext& context) {
 
 void convertMaterials(GltfContext& context) {
     const tinygltf::Model& model = context.model;
+    // Rays carry the volumes they are inside as 16-bit material indices (shaders/media.h), 0xffff meaning none;
+    // the default material may take one more index.
+    if (model.materials.size() + 1 >= VKRT_NO_MEDIUM) {
+        context.fail("has " + std::to_string(model.materials.size()) + " materials; vkrt supports at most " +
+                     std::to_string(VKRT_NO_MEDIUM - 2));
+    }
     for (size_t i = 0; i < model.materials.size(); ++i) {
         const tinygltf::Material& m = model.materials[i];
         const std::string where = describe("material", static_cast<int>(i), m.name);

@@ -32,7 +32,8 @@
 #define VKRT_CASE_FILTER 13u
 #define VKRT_CASE_BASIS 14u
 #define VKRT_CASE_ROTATE 15u
-#define VKRT_CASE_COUNT 16u
+#define VKRT_CASE_SURFACE_LIGHT 16u
+#define VKRT_CASE_COUNT 17u
 
 // The test texture: 4 x 3 texels at the start of the texel buffer.
 #define VKRT_CASE_TEXTURE_WIDTH 4u
@@ -83,7 +84,7 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
     } else if (fc.function == VKRT_CASE_VISIBLE_NORMAL) {
         const real3 m = sampleGgxVisibleNormal(normalize(xyz(a)), a.w, b.x, b.y);
         r0 = real4(m.x, m.y, m.z, 0.0);
-    } else if (fc.function == VKRT_CASE_SURFACE) {
+    } else if (fc.function == VKRT_CASE_SURFACE || fc.function == VKRT_CASE_SURFACE_LIGHT) {
         SurfaceMaterial material;
         material.baseColor = xyz(a);
         material.metallic = a.w;
@@ -99,11 +100,16 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.emissiveTexture = -1;
         const SurfaceResponse s = surfaceResponse(material, xyz(a));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
-        const real3 brdf = specularBrdf(s, normal, toViewer, toLight);
-        r0 = real4(brdf.x, brdf.y, brdf.z, lobePdf(s, normal, toViewer, toLight));
-        const real3 light = reflectedLight(s, normal, toViewer, toLight, xyz(b), c.z);
-        const real3 fresnel = fresnelAt(s, d.w, c.y);
-        r1 = real4(light.x + fresnel.x, light.y + fresnel.y, light.z, s.diffuse.x + s.specular.y + s.alpha);
+        if (fc.function == VKRT_CASE_SURFACE) {
+            const real3 brdf = specularBrdf(s, normal, toViewer, toLight);
+            r0 = real4(brdf.x, brdf.y, brdf.z, lobePdf(s, normal, toViewer, toLight));
+            const real3 fresnel = fresnelAt(s, d.w, c.y);
+            r1 = real4(fresnel.x, fresnel.y, fresnel.z, s.alpha);
+        } else {
+            const real3 light = reflectedLight(s, normal, toViewer, toLight, xyz(b), c.z);
+            r0 = real4(light.x, light.y, light.z, s.transmission);
+            r1 = real4(s.diffuse.x, s.specular.x, s.specular.y, (s.mirror ? 1.0 : 0.0) + (s.traced ? 2.0 : 0.0));
+        }
     } else if (fc.function == VKRT_CASE_PUNCTUAL) {
         PunctualLightParams light;
         light.type = fc.integer;
