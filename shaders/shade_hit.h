@@ -63,6 +63,20 @@ struct HitPoint {
     bool sphere;
 };
 
+// A hit seen from the ray that found it: normals turned towards the viewer, where new rays start, and which
+// primitive they skip.
+struct ShadingFrame {
+    real3 position;
+    real3 toViewer;         // back along the arriving ray
+    real3 geometricNormal;  // on the viewer's side
+    real3 normal;           // the shading normal, on the viewer's side (the geometric one where it faced away)
+    bool frontFace;         // the viewer is outside (in front of) the surface
+    real3 viewerSide;       // where rays to the viewer's side start (shadow rays, reflections)
+    uint primitive;
+    uint excludeOnViewerSide;  // what those rays skip: the primitive, unless they leave a sphere's inside
+    uint excludeBeyond;        // what transmitted rays skip: the primitive, unless they enter a sphere
+};
+
 // The shading step's result. A continuation's throughput already includes its weight.
 struct ShadedHit {
     real3 radiance;  // towards the viewer from the hit itself
@@ -114,12 +128,35 @@ VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
     return real3(1.0);
 }
 
-// Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
-// emissive primitive chosen by power, reflected towards the viewer. `origin` is where shadow rays start.
+// Orients a hit towards the ray that found it (shadeHit's first step).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, real3 point, real3 origin,
-                          real3 normal, real3 geometricNormal, real3 toViewer, VKRT_IN(SurfaceResponse) surface, uint self,
-                          uint exclude, bool lobeSampled) {
+VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {
+    ShadingFrame frame;
+    frame.position = hit.position;
+    frame.toViewer = -ray.direction;
+    frame.primitive = hit.primitive;
+    // Orient both normals towards the viewer; remember which side was hit.
+    frame.frontFace = dot(hit.geometricNormal, frame.toViewer) > 0.0;
+    frame.geometricNormal = frame.frontFace ? hit.geometricNormal : -hit.geometricNormal;
+    frame.normal = frame.frontFace ? hit.normal : -hit.normal;
+    if (!(dot(frame.normal, frame.toViewer) > 0.0)) frame.normal = frame.geometricNormal;  // faces away: the true one
+    frame.viewerSide = VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, frame.geometricNormal);
+    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far side);
+    // a ray leaving a sphere's outside cannot meet the sphere again.
+    frame.excludeOnViewerSide = hit.sphere && !frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+    frame.excludeBeyond = hit.sphere && frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+    return frame;
+}
+
+// Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
+// emissive primitive chosen by power, reflected towards the viewer by `surface`; `node` is the ray-tree node
+// whose random dimensions the light samples use. `lobeSampled`: the glossy lobe is also traced (MIS).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
+                          VKRT_IN(SurfaceResponse) surface, bool lobeSampled) {
+    const real3 point = frame.position, origin = frame.viewerSide, normal = frame.normal;
+    const real3 geometricNormal = frame.geometricNormal, toViewer = frame.toViewer;
+    const uint exclude = frame.excludeOnViewerSide;
     real3 sum = real3(0.0);
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
     const uint punctualLights = VKRT_DEVICE(punctualLightCount)();
@@ -145,7 +182,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const real3 offset = light.position - point;
             const real distance2 = dot(offset, offset);
             const real distance = sqrt(distance2);
-            if (light.primitive == self || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
+            if (light.primitive == frame.primitive || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
             const real3 toLight = offset / distance;
             VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
             real cosLight = -dot(light.normal, toLight);
@@ -179,25 +216,13 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.reflects = false;
     result.transmits = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
-    const real3 toViewer = -ray.direction;
-
-    // Orient both normals towards the viewer; remember which side was hit.
-    real3 geometricNormal = hit.geometricNormal, normal = hit.normal;
-    const bool frontFace = dot(geometricNormal, toViewer) > 0.0;
-    if (!frontFace) {
-        geometricNormal = -geometricNormal;
-        normal = -normal;
-    }
-    if (!(dot(normal, toViewer) > 0.0)) normal = geometricNormal;  // shading normal faces away: use the true one
-    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far side);
-    // a ray leaving a sphere's outside cannot meet the sphere again.
-    const uint excludeOnViewerSide = hit.sphere && !frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
-    const uint excludeBeyond = hit.sphere && frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+    const ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, hit);
+    const real3 toViewer = frame.toViewer, normal = frame.normal, geometricNormal = frame.geometricNormal;
 
     // Emission, weighed against light sampling when a glossy lobe chose the ray (multiple importance
     // sampling; without it, light samples alone light the lobe).
     real3 local = real3(0.0);
-    if ((frontFace || material.doubleSided) && maxComponent(material.emission) > 0.0) {
+    if ((frame.frontFace || material.doubleSided) && maxComponent(material.emission) > 0.0) {
         real emissionWeight = 1.0;
 #ifdef VKRT_HAS_AREA_LIGHTS
         if (ray.arrivalPdf > 0.0 && VKRT_DEVICE(hasAreaLights)()) {
@@ -219,10 +244,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     local += context.ambient * (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = surface.traced && !surface.mirror && continues;
-    // New rays on the viewer's side (shadow rays, reflections) start here.
-    const real3 viewerSide = VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, geometricNormal);
-    local += directLight(VKRT_DEVICE_ARG context, ray.node, hit.position, viewerSide, normal, geometricNormal,
-                         toViewer, surface, hit.primitive, excludeOnViewerSide, lobeSampled);
+    local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled);
     result.radiance = local;
     if (!continues || !surface.traced) return result;
 
@@ -234,7 +256,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #ifdef VKRT_HAS_VOLUMES
     volume = material.volume && surface.transmission > 0.0;
     if (volume) {
-        beyond = frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
+        beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
         eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
     }
 #endif
@@ -265,8 +287,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
-        result.reflection = rayState(viewerSide, reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u, ray.depth + 1,
-                                     excludeOnViewerSide, reflectPdf, ray.media);
+        result.reflection = rayState(frame.viewerSide, reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u,
+                                     ray.depth + 1, frame.excludeOnViewerSide, reflectPdf, ray.media);
     }
 
 #ifdef VKRT_HAS_TRANSMISSION
@@ -285,7 +307,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         result.transmissionWeight = transmitWeight;
         result.transmission = rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),
                                        direction, pathThroughput * transmitWeight, 2u * ray.node + 2u,
-                                       ray.depth + 1, excludeBeyond, 0.0, beyond);
+                                       ray.depth + 1, frame.excludeBeyond, 0.0, beyond);
     }
 #endif
     return result;
