@@ -1,7 +1,28 @@
 // The GPU's side of the shared shading code for materials and textures (VKRT_DEVICE in
-// shading_language.h): reads the scene's buffers. Requires `params` and geometry.glsl in scope.
+// shading_language.h): reads the scene's buffers. Requires `params` and geometry.glsl in scope. The texture
+// functions come first: the shared material code below calls them.
 #ifndef VKRT_DEVICE_MATERIALS_GLSL
 #define VKRT_DEVICE_MATERIALS_GLSL
+
+uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
+
+#ifdef VKRT_HAS_TEXTURES
+GpuTexture device_textureInfo(int index) { return params.textures.textures[index]; }
+
+uint device_texel(uint index) { return params.texels.texels[index]; }
+
+GpuTextureBinding device_textureBinding(int index) { return params.textureBindings.bindings[index]; }
+
+// A triangle's texture coordinates at barycentrics hitUv; spheres carry their own.
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv) {
+#ifdef VKRT_HAS_SPHERES
+    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return hitUv;
+#endif
+    const GpuShading s = params.shading.shading[primitive];
+    return (1.0 - hitUv.x - hitUv.y) * vec2(s.normalU0.w, s.v012.x) + hitUv.x * vec2(s.normalU1.w, s.v012.y) +
+           hitUv.y * vec2(s.normalU2.w, s.v012.z);
+}
+#endif
 
 #include "surface_response.h"
 
@@ -20,27 +41,8 @@ SurfaceMaterial device_material(uint index) {
     s.doubleSided = m.doubleSided != 0u;
     s.baseColorTexture = m.baseColorTexture;
     s.emissiveTexture = m.emissiveTexture;
+    s.metallicRoughnessTexture = m.metallicRoughnessTexture;
     return s;
 }
-
-uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
-
-#ifdef VKRT_HAS_TEXTURES
-GpuTexture device_textureInfo(int index) { return params.textures.textures[index]; }
-
-uint device_texel(uint index) { return params.texels.texels[index]; }
-
-// A triangle's texture coordinates at barycentrics hitUv; spheres carry their own.
-vec2 device_textureCoordinates(uint primitive, vec2 hitUv) {
-#ifdef VKRT_HAS_SPHERES
-    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return hitUv;
-#endif
-    const GpuShading s = params.shading.shading[primitive];
-    return (1.0 - hitUv.x - hitUv.y) * vec2(s.normalU0.w, s.v012.x) + hitUv.x * vec2(s.normalU1.w, s.v012.y) +
-           hitUv.y * vec2(s.normalU2.w, s.v012.z);
-}
-#endif
-
-#include "texture_sampling.h"
 
 #endif

@@ -238,8 +238,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                  textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv);
     }
 
-    const real3 albedo = textured(VKRT_DEVICE_ARG material.baseColor, material.baseColorTexture, hit.primitive, hit.uv);
-    const SurfaceResponse surface = surfaceResponse(material, albedo);
+    const SurfaceResponse surface =
+        surfaceResponse(material, sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv));
     // Ambient light reaches the diffuse part, and the specular part where it is not traced.
     local += context.ambient * (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
     const bool continues = ray.depth < context.maxDepth;

@@ -100,10 +100,20 @@ struct GpuMaterial {
     float ior;
     float thickness;  // 0: thin-walled
     uint doubleSided;
-    int baseColorTexture;  // -1: none
-    int emissiveTexture;   // -1: none
+    int baseColorTexture;          // texture binding (GpuTextureBinding), -1: none
+    int emissiveTexture;           // likewise
+    int metallicRoughnessTexture;  // likewise
     uint unused0;
-    uint unused1;
+};
+
+// A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
+// (uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z)), the texture (GpuTexture), and flags
+// (VKRT_BINDING_SRGB in texture_sampling.h: colours are sRGB-encoded, data such as metallic-roughness linear).
+struct GpuTextureBinding {
+    vec3 row0;
+    int texture;
+    vec3 row1;
+    uint flags;
 };
 
 // A texture's place in the texel buffer (RGBA8, one uint per texel, rows top to bottom).
@@ -190,6 +200,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ma
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBuffer {
     GpuTexture textures[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBindingBuffer {
+    GpuTextureBinding bindings[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
     uint texels[];
 };
@@ -243,7 +256,7 @@ struct SceneParams {
     VKRT_ADDRESS(AccumulationBuffer, accumulation);
     VKRT_ADDRESS(CounterBuffer, counters);
     VKRT_ADDRESS(PrimitiveBuffer, motion);  // motion blur: poses 1..motionSegments of every primitive, leaf order
-    uvec2 unused1;  // keeps the size a multiple of 16, as std430 rounds it
+    VKRT_ADDRESS(TextureBindingBuffer, textureBindings);
 };
 
 // Per dispatch: which samples of which rows.
@@ -276,6 +289,7 @@ static_assert(sizeof(GpuShading) == 64);
 static_assert(sizeof(GpuMaterial) == 80);
 static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial, baseColorTexture) == 64);
 static_assert(sizeof(GpuTexture) == 16);
+static_assert(sizeof(GpuTextureBinding) == 32 && offsetof(GpuTextureBinding, row1) == 16);
 static_assert(sizeof(GpuPunctualLight) == 64 && offsetof(GpuPunctualLight, coneScale) == 48);
 static_assert(sizeof(GpuAreaLight) == 16);
 static_assert(sizeof(GpuCamera) == 80 && offsetof(GpuCamera, lensRadius) == 64);
@@ -285,6 +299,7 @@ static_assert(offsetof(SceneParams, areaLightPower) == 144);
 static_assert(offsetof(SceneParams, nodes) == 160, "addresses start on an 8-byte boundary");
 static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
 static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
+static_assert(offsetof(SceneParams, textureBindings) == 160 + 11 * 8);
 static_assert(sizeof(SceneParams) == 256);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu

@@ -8,6 +8,7 @@
 #include "microfacet.h"
 #include "optics.h"
 #include "shading_language.h"
+#include "texture_sampling.h"
 
 VKRT_SHADING_BEGIN
 
@@ -23,9 +24,42 @@ struct SurfaceMaterial {
     real ior;
     bool volume;       // thickness > 0: the surface bounds a volume (else thin-walled)
     bool doubleSided;  // emits from both sides
-    int baseColorTexture;  // -1: none
-    int emissiveTexture;   // -1: none
+    int baseColorTexture;          // texture binding (texture_sampling.h), -1: none
+    int emissiveTexture;           // likewise
+    int metallicRoughnessTexture;  // likewise: blue multiplies metallic, green roughness
 };
+
+// A material's inputs at one point: each factor times its texture.
+struct MaterialSample {
+    real3 albedo;  // base colour, linear
+    real metallic;
+    real roughness;
+};
+
+// The factors alone, with base colour `albedo`.
+VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
+    MaterialSample s;
+    s.albedo = albedo;
+    s.metallic = material.metallic;
+    s.roughness = material.roughness;
+    return s;
+}
+
+// The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
+                                      real2 hitUv) {
+    MaterialSample s = untexturedSample(
+        material, textured(VKRT_DEVICE_ARG material.baseColor, material.baseColorTexture, primitive, hitUv));
+#ifdef VKRT_HAS_TEXTURES
+    if (material.metallicRoughnessTexture >= 0) {
+        const real4 texel = sampleBinding(VKRT_DEVICE_ARG material.metallicRoughnessTexture, primitive, hitUv);
+        s.roughness *= texel.y;
+        s.metallic *= texel.z;
+    }
+#endif
+    return s;
+}
 
 struct SurfaceResponse {
     real3 albedo;    // base colour (factor times texture), linear
@@ -39,25 +73,25 @@ struct SurfaceResponse {
     real ior;
 };
 
-VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
+VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
     SurfaceResponse s;
-    s.albedo = albedo;
-    s.metallic = material.metallic;
+    s.albedo = inputs.albedo;
+    s.metallic = inputs.metallic;
     s.ior = material.ior;
     s.transmission = (1.0 - s.metallic) * material.transmission;
-    s.diffuse = albedo * (1.0 - s.metallic) * (1.0 - material.transmission);
-    s.specular = mix(real3(dielectricF0(material.ior)), albedo, s.metallic);
-    s.alpha = ggxAlpha(material.roughness);
-    s.mirror = material.roughness < VKRT_MIRROR_ROUGHNESS;
+    s.diffuse = inputs.albedo * (1.0 - s.metallic) * (1.0 - material.transmission);
+    s.specular = mix(real3(dielectricF0(material.ior)), inputs.albedo, s.metallic);
+    s.alpha = ggxAlpha(inputs.roughness);
+    s.mirror = inputs.roughness < VKRT_MIRROR_ROUGHNESS;
     // A matte opaque dielectric (roughness 1, glTF's default) keeps its faint sheen to the lights and the
     // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene.
-    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || material.roughness < 1.0;
+    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || inputs.roughness < 1.0;
     return s;
 }
 
 // The fraction of light a transmissive surface lets through a shadow ray (shadow rays do not refract).
-VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
-    return (1.0 - material.metallic) * material.transmission * albedo;
+VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
+    return (1.0 - inputs.metallic) * material.transmission * inputs.albedo;
 }
 
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.

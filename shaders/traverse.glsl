@@ -40,7 +40,7 @@ float searchLimit(Hit hit, float tMax, const int mode) {
 bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 #ifdef VKRT_HAS_TRANSMISSION
     const SurfaceMaterial material = device_material(device_materialOf(primitive));
-    transmittance *= shadowTint(material, textured(material.baseColor, material.baseColorTexture, primitive, vec2(u, v)));
+    transmittance *= shadowTint(material, sampleMaterial(material, primitive, vec2(u, v)));
     if (maxComponent(transmittance) > 0.0) return false;
 #endif
     transmittance = vec3(0.0);  // opaque

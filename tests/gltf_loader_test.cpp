@@ -143,7 +143,7 @@ TEST(GltfLoader, DuckHasTexturedMaterialAndCamera) {
     EXPECT_EQ(scene.cameras[0].projection, Projection::Perspective);
     ASSERT_EQ(scene.textures.size(), 1u);
     EXPECT_GT(scene.textures[0].width, 0);
-    EXPECT_EQ(scene.materials[scene.triangles[0].material].baseColorTexture, 0);
+    EXPECT_EQ(scene.materials[scene.triangles[0].material].baseColorTexture.texture, 0);
     // The binary and text versions are the same model.
     EXPECT_EQ(loadReal("khronos-Duck/glTF-Binary/Duck.glb").triangles.size(), 4212u);
 }

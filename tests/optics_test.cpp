@@ -20,6 +20,10 @@ bool refract(const glm::dvec3& toViewer, const glm::dvec3& normal, double eta, g
 glm::dvec3 reflect(const glm::dvec3& toViewer, const glm::dvec3& normal) {
     return reflectAbout(toViewer, normal);
 }
+SurfaceMaterial untextured(const Material& material) {
+    std::vector<gpu::GpuTextureBinding> bindings;
+    return surfaceMaterial(material, bindings);
+}
 
 glm::dvec3 fromAngle(double theta) {
     return {std::sin(theta), 0.0, std::cos(theta)};
@@ -182,14 +186,16 @@ TEST(WhittedModel, LambertPartAndMirrorLobe) {
     Material white;
     white.metallic = 0.0f;
     white.ior = 1.0f;  // no specular reflectance
-    const SurfaceResponse s = surfaceResponse(surfaceMaterial(white), glm::dvec3(1.0));
+    const SurfaceResponse s =
+        surfaceResponse(untextured(white), untexturedSample(untextured(white), glm::dvec3(1.0)));
     EXPECT_NEAR(s.diffuse.x / M_PI, 1.0 / M_PI, 1e-15);
     EXPECT_FALSE(s.traced);  // matte: the lobe is lit by lights only
     EXPECT_NEAR(specularBrdf(s, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.9)).x, 0.0, 1e-15);
     // A mirror has a delta lobe: no response to lights, no density for multiple importance sampling.
     Material mirror;
     mirror.roughness = 0.0f;
-    const SurfaceResponse m = surfaceResponse(surfaceMaterial(mirror), glm::dvec3(1.0));
+    const SurfaceResponse m =
+        surfaceResponse(untextured(mirror), untexturedSample(untextured(mirror), glm::dvec3(1.0)));
     EXPECT_TRUE(m.mirror && m.traced);
     EXPECT_EQ(specularBrdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), glm::dvec3(0.0));
     EXPECT_EQ(lobePdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), 0.0);

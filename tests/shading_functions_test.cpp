@@ -44,13 +44,21 @@ const char* const kFunctionNames[VKRT_CASE_COUNT] = {"fresnel (dielectric, Schli
                                                      "pixel filters, concentric disk",
                                                      "orthonormal basis",
                                                      "rotation, max component",
-                                                     "reflected light, diffuse and F0"};
+                                                     "reflected light, diffuse and F0",
+                                                     "texture bindings, KHR_texture_transform"};
 
 // The CPU's texel fetch for texture_sampling.h.
 struct TexelDevice {
     const std::vector<uint32_t>* texels;
     uint32_t texel(uint32_t index) const { return (*texels)[index]; }
-    gpu::GpuTexture textureInfo(int) const { return {0, 1, 1, 0}; }
+    gpu::GpuTexture textureInfo(int) const {
+        return {0, VKRT_CASE_TEXTURE_WIDTH, VKRT_CASE_TEXTURE_HEIGHT, VKRT_WRAP_REPEAT};
+    }
+    gpu::GpuTextureBinding textureBinding(int index) const {
+        using glm::vec3;
+        if (index == 0) return {VKRT_CASE_BINDING0_ROW0, 0, VKRT_CASE_BINDING0_ROW1, VKRT_BINDING_SRGB};
+        return {VKRT_CASE_BINDING1_ROW0, 0, VKRT_CASE_BINDING1_ROW1, 0u};
+    }
     glm::dvec2 textureCoordinates(uint32_t, glm::dvec2 uv) const { return uv; }
 };
 
@@ -175,11 +183,17 @@ std::vector<FunctionCase> makeCases() {
     for (uint32_t ops : {0x0u, 0x1u, 0x21u, 0x921u, 0xa21u, 0x54321u, 0x87654321u, 0xb9321u}) {
         cases.push_back(makeCase(VKRT_CASE_MEDIA, ops, glm::vec4(0)));
     }
-    for (uint32_t flags : {0u, 1u | 4u, 2u | 8u, 16u, 16u | 2u}) {
+    for (uint32_t flags : {0u, 1u | 4u, 2u | 8u, 16u, 16u | 2u, 32u | 1u}) {
         for (glm::vec2 uv :
              {glm::vec2(0.1f, 0.2f), glm::vec2(0.5f, 0.5f), glm::vec2(-0.3f, 1.4f), glm::vec2(2.7f, -1.1f)}) {
             cases.push_back(makeCase(VKRT_CASE_TEXTURE, flags, {uv.x, uv.y, uv.x * uv.x * 0.3f, 0},
                                      {uv.x * 10 - 7, 4, float(flags & 3u), 0}));
+        }
+    }
+    for (uint32_t binding : {0u, 1u}) {
+        for (glm::vec2 uv : {glm::vec2(0.1f, 0.2f), glm::vec2(0.7f, 0.45f), glm::vec2(-0.3f, 1.4f)}) {
+            cases.push_back(makeCase(VKRT_CASE_BINDING, binding, {uv.x, uv.y, 0, 0}, {0.5f, -2.0f, 0.25f, 0},
+                                     {1.5f, 0.75f, -3.0f, 0}));
         }
     }
     for (uint32_t projection : {0u, 1u}) {

@@ -23,6 +23,7 @@ struct CpuShadingScene {
     const Scene& scene;
     const FlatBvh& bvh;
     std::vector<shading::SurfaceMaterial> materials;
+    std::vector<gpu::GpuTextureBinding> bindings;  // the materials' texture slots
     std::vector<shading::PunctualLightParams> punctualLights;
     PackedTextures textures;
     LightTable lights;
@@ -38,6 +39,7 @@ class CpuShadingDevice {
     uint32_t materialOf(uint32_t primitive) const { return data_.scene.materialOf(primitive); }
 
     gpu::GpuTexture textureInfo(int index) const { return data_.textures.textures[index]; }
+    const gpu::GpuTextureBinding& textureBinding(int index) const { return data_.bindings[index]; }
     uint32_t texel(uint32_t index) const { return data_.textures.texels[index]; }
     glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const;
 

@@ -53,7 +53,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     for (const Material& m : scene.materials) {
-        const shading::SurfaceMaterial s = surfaceMaterial(m);
+        const shading::SurfaceMaterial s = surfaceMaterial(m, data.textureBindings);
         gpu::GpuMaterial g{};
         g.baseColor = glm::vec3(s.baseColor);
         g.metallic = static_cast<float>(s.metallic);
@@ -67,9 +67,11 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.doubleSided = s.doubleSided ? 1u : 0u;
         g.baseColorTexture = data.features.textures ? s.baseColorTexture : -1;
         g.emissiveTexture = data.features.textures ? s.emissiveTexture : -1;
+        g.metallicRoughnessTexture = data.features.textures ? s.metallicRoughnessTexture : -1;
         data.materials.push_back(g);
     }
 
+    if (!data.features.textures) data.textureBindings.clear();
     if (data.features.textures) {
         PackedTextures packed = packTextures(scene);
         data.textures = std::move(packed.textures);
@@ -102,7 +104,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
 }
 
 GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
-    buffers_.reserve(8);
+    buffers_.reserve(10);
     auto upload = [&](const auto& values) -> uint64_t {
         if (values.empty()) return 0;
         buffers_.emplace_back(context, values);
@@ -119,6 +121,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.lights = upload(data.lights);
     addresses_.areaLights = upload(data.areaLights);
     addresses_.motion = upload(data.motion);
+    addresses_.textureBindings = upload(data.textureBindings);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -131,6 +134,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.lights = addresses_.lights;
     params.areaLights = addresses_.areaLights;
     params.motion = addresses_.motion;
+    params.textureBindings = addresses_.textureBindings;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

@@ -19,7 +19,8 @@ struct GpuSceneData {
     std::vector<gpu::GpuPrimitive> primitives;  // in BVH leaf order; each keeps its scene index
     std::vector<gpu::GpuShading> shading;       // only with smooth normals or textures
     std::vector<gpu::GpuMaterial> materials;
-    std::vector<gpu::GpuTexture> textures;  // only with textures
+    std::vector<gpu::GpuTexture> textures;                // only with textures
+    std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;

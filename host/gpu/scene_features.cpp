@@ -69,7 +69,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;
         const Material& material = scene.materials[m];
-        if (material.baseColorTexture >= 0 || (material.emissiveTexture >= 0 && material.emissive())) {
+        if (material.baseColorTexture.used() || material.metallicRoughnessTexture.used() ||
+            (material.emissiveTexture.used() && material.emissive())) {
             features.textures = true;
         }
         const bool transmits = material.transmission > 0.0f && material.metallic < 1.0f;

@@ -27,6 +27,21 @@ double jsonNumber(const GltfContext& context, const tinygltf::Value& object, con
     return v;
 }
 
+glm::vec2 jsonVector2(const GltfContext& context, const tinygltf::Value& object, const char* key,
+                      glm::vec2 fallback, const std::string& where) {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const tinygltf::Value& value = object.Get(key);
+    if (!value.IsArray() || value.ArrayLen() != 2)
+        context.fail(where + ": '" + key + "' must be an array of 2 numbers");
+    glm::vec2 v;
+    for (int c = 0; c < 2; ++c) {
+        if (!value.Get(c).IsNumber()) context.fail(where + ": '" + key + "' must be an array of 2 numbers");
+        v[c] = static_cast<float>(value.Get(c).GetNumberAsDouble());
+        if (!std::isfinite(v[c])) context.fail(where + ": '" + key + "' is not finite");
+    }
+    return v;
+}
+
 glm::vec3 jsonVector3(const GltfContext& context, const tinygltf::Value& object, const char* key,
                       glm::vec3 fallback, const std::string& where) {
     if (!object.IsObject() || !object.Has(key)) return fallback;

@@ -43,6 +43,8 @@ double jsonNumber(const GltfContext& context, const tinygltf::Value& object, con
                   const std::string& where);
 
 // object[key] as an array of 3 numbers, or `fallback` when the object or key is absent.
+glm::vec2 jsonVector2(const GltfContext& context, const tinygltf::Value& object, const char* key,
+                      glm::vec2 fallback, const std::string& where);
 glm::vec3 jsonVector3(const GltfContext& context, const tinygltf::Value& object, const char* key,
                       glm::vec3 fallback, const std::string& where);
 

@@ -65,6 +65,27 @@ int textureIndex(const GltfContext& context, int gltfTexture, const std::string&
     return gltfTexture;
 }
 
+// A material's texture slot: the texture, its texture coordinate set and its KHR_texture_transform.
+TextureSlot textureSlot(GltfContext& context, int index, int texCoord,
+                        const tinygltf::ExtensionMap& extensions, const std::string& where) {
+    TextureSlot slot;
+    slot.texture = textureIndex(context, index, where);
+    slot.texCoord = texCoord;
+    if (!slot.used()) return slot;
+    if (auto it = extensions.find("KHR_texture_transform"); it != extensions.end()) {
+        const std::string extWhere = where + " KHR_texture_transform";
+        if (!it->second.IsObject()) context.fail(extWhere + " must be a JSON object");
+        slot.offset = jsonVector2(context, it->second, "offset", glm::vec2(0.0f), extWhere);
+        slot.rotation = static_cast<float>(jsonNumber(context, it->second, "rotation", 0.0, extWhere));
+        slot.scale = jsonVector2(context, it->second, "scale", glm::vec2(1.0f), extWhere);
+        slot.texCoord = static_cast<int>(jsonNumber(context, it->second, "texCoord", texCoord, extWhere));
+    }
+    if (slot.texCoord != 0) {
+        context.warn(where + " uses TEXCOORD_" + std::to_string(slot.texCoord) + "; vkrt reads TEXCOORD_0");
+    }
+    return slot;
+}
+
 }  // namespace
 
 void convertTextures(GltfContext& context) {
@@ -97,8 +118,8 @@ void convertTextures(GltfContext& context) {
 
 void convertMaterials(GltfContext& context) {
     const tinygltf::Model& model = context.model;
-    // Rays carry the volumes they are inside as 16-bit material indices (shaders/media.h), 0xffff meaning none;
-    // the default material may take one more index.
+    // Rays carry the volumes they are inside as 16-bit material indices (shaders/media.h), 0xffff meaning
+    // none; the default material may take one more index.
     if (model.materials.size() + 1 >= VKRT_NO_MEDIUM) {
         context.fail("has " + std::to_string(model.materials.size()) + " materials; vkrt supports at most " +
                      std::to_string(VKRT_NO_MEDIUM - 2));
@@ -115,10 +136,12 @@ void convertMaterials(GltfContext& context) {
         }
         material.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
                                        pbr.baseColorFactor[3]);
-        material.baseColorTexture = textureIndex(context, pbr.baseColorTexture.index, where);
-        if (pbr.baseColorTexture.texCoord != 0)
-            context.warn(where + ": base colour texture uses TEXCOORD_" +
-                         std::to_string(pbr.baseColorTexture.texCoord) + "; vkrt reads TEXCOORD_0");
+        material.baseColorTexture =
+            textureSlot(context, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                        pbr.baseColorTexture.extensions, where + " base colour texture");
+        material.metallicRoughnessTexture =
+            textureSlot(context, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                        pbr.metallicRoughnessTexture.extensions, where + " metallic-roughness texture");
         material.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
         material.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
         if (m.emissiveFactor.size() != 3 || !allFinite(m.emissiveFactor)) {
@@ -133,7 +156,8 @@ void convertMaterials(GltfContext& context) {
         if (material.ior == 0.0f) material.ior = 1e6f;
         if (strength < 0.0f) context.fail(where + ": emissiveStrength must not be negative");
         material.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
-        material.emissiveTexture = textureIndex(context, m.emissiveTexture.index, where);
+        material.emissiveTexture = textureSlot(context, m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                               m.emissiveTexture.extensions, where + " emissive texture");
         context.scene.materials.push_back(material);
     }
 }

@@ -89,16 +89,29 @@ struct Texture {
     std::string name;
 };
 
+// A material's use of a texture: which one, through which texture coordinates, and the KHR_texture_transform
+// applied to them (uv' = translation(offset) * rotation * scale(scale) * uv, as the extension defines it).
+struct TextureSlot {
+    int texture = -1;  // index into Scene::textures; -1: none
+    int texCoord = 0;  // TEXCOORD_n; vkrt reads TEXCOORD_0
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;  // radians
+    glm::vec2 scale{1.0f};
+
+    bool used() const { return texture >= 0; }
+};
+
 // glTF metallic-roughness material with the transmission, ior, volume and emissive-strength extensions.
 // docs/materials.md explains how the Whitted model interprets these values.
 struct Material {
     std::string name;
     glm::vec4 baseColor{1.0f};
-    int baseColorTexture = -1;  // index into Scene::textures
+    TextureSlot baseColorTexture;          // sRGB, multiplies baseColor
+    TextureSlot metallicRoughnessTexture;  // linear: blue multiplies metallic, green roughness
     float metallic = 1.0f;
     float roughness = 1.0f;
-    glm::vec3 emission{0.0f};  // emissiveFactor * KHR_materials_emissive_strength
-    int emissiveTexture = -1;  // index into Scene::textures; multiplies `emission`
+    glm::vec3 emission{0.0f};     // emissiveFactor * KHR_materials_emissive_strength
+    TextureSlot emissiveTexture;  // sRGB, multiplies `emission`
     float transmission = 0.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled

@@ -19,9 +19,22 @@ uint32_t wrapBits(WrapMode mode) {
     }
 }
 
+// A texture slot as a binding: KHR_texture_transform's translation * rotation * scale as two matrix rows.
+int bind(const TextureSlot& slot, bool srgb, std::vector<gpu::GpuTextureBinding>& bindings) {
+    if (!slot.used()) return -1;
+    const float c = std::cos(slot.rotation), s = std::sin(slot.rotation);
+    gpu::GpuTextureBinding binding{};
+    binding.row0 = glm::vec3(c * slot.scale.x, s * slot.scale.y, slot.offset.x);
+    binding.row1 = glm::vec3(-s * slot.scale.x, c * slot.scale.y, slot.offset.y);
+    binding.texture = slot.texture;
+    binding.flags = srgb ? VKRT_BINDING_SRGB : 0u;
+    bindings.push_back(binding);
+    return static_cast<int>(bindings.size()) - 1;
+}
+
 }  // namespace
 
-shading::SurfaceMaterial surfaceMaterial(const Material& m) {
+shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::GpuTextureBinding>& bindings) {
     shading::SurfaceMaterial s;
     s.baseColor = glm::dvec3(glm::vec3(m.baseColor));
     s.metallic = m.metallic;
@@ -33,8 +46,9 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m) {
     s.ior = m.ior;
     s.volume = m.hasVolume();
     s.doubleSided = m.doubleSided;
-    s.baseColorTexture = m.baseColorTexture;
-    s.emissiveTexture = m.emissiveTexture;
+    s.baseColorTexture = bind(m.baseColorTexture, true, bindings);
+    s.emissiveTexture = bind(m.emissiveTexture, true, bindings);
+    s.metallicRoughnessTexture = bind(m.metallicRoughnessTexture, false, bindings);
     return s;
 }
 

@@ -14,7 +14,10 @@
 
 namespace vkrt {
 
-shading::SurfaceMaterial surfaceMaterial(const Material& material);
+// The material in the shared code's form. Its texture slots are appended to `bindings` (the GPU's
+// GpuTextureBinding table) and named by their index there; a slot without a texture is -1.
+shading::SurfaceMaterial surfaceMaterial(const Material& material,
+                                         std::vector<gpu::GpuTextureBinding>& bindings);
 
 shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
 

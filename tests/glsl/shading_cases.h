@@ -33,14 +33,21 @@
 #define VKRT_CASE_BASIS 14u
 #define VKRT_CASE_ROTATE 15u
 #define VKRT_CASE_SURFACE_LIGHT 16u
-#define VKRT_CASE_COUNT 17u
+#define VKRT_CASE_BINDING 17u
+#define VKRT_CASE_COUNT 18u
 
-// The test texture: 4 x 3 texels at the start of the texel buffer.
+// The test texture: 4 x 3 texels at the start of the texel buffer. Texture bindings 0 and 1 (the devices'
+// textureBinding) bind it as sRGB unchanged, and as linear data under a KHR_texture_transform.
+#define VKRT_CASE_BINDING0_ROW0 vec3(1.0, 0.0, 0.0)
+#define VKRT_CASE_BINDING0_ROW1 vec3(0.0, 1.0, 0.0)
+#define VKRT_CASE_BINDING1_ROW0 vec3(3.5, -0.75, 0.1)
+#define VKRT_CASE_BINDING1_ROW1 vec3(1.9, 1.4, -0.2)
 #define VKRT_CASE_TEXTURE_WIDTH 4u
 #define VKRT_CASE_TEXTURE_HEIGHT 3u
 
 #ifdef __cplusplus
 namespace vkrt::shading {
+using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 }
 #endif
@@ -98,7 +105,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.doubleSided = false;
         material.baseColorTexture = -1;
         material.emissiveTexture = -1;
-        const SurfaceResponse s = surfaceResponse(material, xyz(a));
+        material.metallicRoughnessTexture = -1;
+        const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {
             const real3 brdf = specularBrdf(s, normal, toViewer, toLight);
@@ -162,8 +170,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         texture.firstTexel = 0u;
         texture.width = VKRT_CASE_TEXTURE_WIDTH;
         texture.height = VKRT_CASE_TEXTURE_HEIGHT;
-        texture.flags = fc.integer;
-        r0 = sampleTexture(VKRT_DEVICE_ARG texture, real2(a.x, a.y));
+        texture.flags = fc.integer & 31u;
+        r0 = sampleTexture(VKRT_DEVICE_ARG texture, real2(a.x, a.y), (fc.integer & 32u) == 0u);  // bit 5: linear
         r1 = real4(srgbToLinear(a.z), real(wrapTexel(int(b.x), int(b.y), uint(b.z))), 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_CAMERA) {
         CameraFrame camera;
@@ -187,6 +195,15 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         const real2 disk = concentricDisk(a.x, a.y);
         r0 = real4(offset.x, offset.y, disk.x, disk.y);
         r1 = real4(tentInverse(a.z), 0.0, 0.0, 0.0);
+    } else if (fc.function == VKRT_CASE_BINDING) {
+        r0 = sampleBinding(VKRT_DEVICE_ARG int(fc.integer), 0u, real2(a.x, a.y));
+        GpuTextureBinding binding;
+        binding.row0 = vec3(fc.b.x, fc.b.y, fc.b.z);
+        binding.row1 = vec3(fc.c.x, fc.c.y, fc.c.z);
+        binding.texture = 0;
+        binding.flags = 0u;
+        const real2 uv = transformUv(binding, real2(a.x, a.y));
+        r1 = real4(uv.x, uv.y, 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_BASIS) {
         real3 b1, b2;
         orthonormalBasis(normalize(xyz(a)), b1, b2);

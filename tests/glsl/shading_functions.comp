@@ -14,13 +14,24 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 1) readonly buffer Texels { uint texels[]; };
 
-// The device the texture functions read through: the texel buffer. textured() also names the texture table
-// and texture coordinates, which no case uses.
-uint device_texel(uint index) { return texels[index]; }
-GpuTexture device_textureInfo(int index) { return GpuTexture(0u, 1u, 1u, 0u); }
-vec2 device_textureCoordinates(uint primitive, vec2 hitUv) { return hitUv; }
+// The device the texture functions read through (defined below, once the case constants are known): the
+// texel buffer, one texture and two bindings of it.
+uint device_texel(uint index);
+GpuTexture device_textureInfo(int index);
+GpuTextureBinding device_textureBinding(int index);
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv);
 
 #include "shading_cases.h"
+
+uint device_texel(uint index) { return texels[index]; }
+GpuTexture device_textureInfo(int index) {
+    return GpuTexture(0u, VKRT_CASE_TEXTURE_WIDTH, VKRT_CASE_TEXTURE_HEIGHT, VKRT_WRAP_REPEAT);
+}
+GpuTextureBinding device_textureBinding(int index) {
+    if (index == 0) return GpuTextureBinding(VKRT_CASE_BINDING0_ROW0, 0, VKRT_CASE_BINDING0_ROW1, VKRT_BINDING_SRGB);
+    return GpuTextureBinding(VKRT_CASE_BINDING1_ROW0, 0, VKRT_CASE_BINDING1_ROW1, 0u);
+}
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv) { return hitUv; }
 
 layout(std430, binding = 0) readonly buffer Cases { FunctionCase cases[]; };
 layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };
