@@ -72,11 +72,14 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(SceneCase{own("cornell.gltf"), 64, 64, 4}, SceneCase{own("whitted.gltf"), 80, 60, 4},
                       SceneCase{own("lights.gltf"), 80, 60, 4}, SceneCase{own("dof.gltf"), 64, 48, 4},
                       SceneCase{own("glossy.gltf"), 80, 50, 4}, SceneCase{own("motion-blur.gltf"), 80, 60, 4},
+                      SceneCase{own("textures.gltf"), 80, 50, 4},
                       SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
                       SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
                       SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},
                       SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
-                      SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2}),
+                      SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2},
+                      SceneCase{real("khronos-Avocado/glTF/Avocado.gltf"), 48, 48, 2},
+                      SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48, 2}),
     [](const ::testing::TestParamInfo<SceneCase>& info) {
         std::string name = std::filesystem::path(info.param.path).stem().string();
         name.erase(std::remove_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }),

@@ -5,6 +5,7 @@ import base64
 import json
 import math
 import struct
+import zlib
 
 
 class GltfBuilder:
@@ -51,12 +52,52 @@ class GltfBuilder:
         payload = struct.pack("<%dI" % len(indices), *indices)
         return self._accessor(self._view(payload, 34963), 5125, len(indices), "SCALAR")
 
+    def vec2_accessor(self, vectors):
+        payload = b"".join(struct.pack("<2f", *v) for v in vectors)
+        return self._accessor(self._view(payload, 34962), 5126, len(vectors), "VEC2")
+
+    # Textures ----------------------------------------------------------------------------------------
+    def texture(self, name, width, height, rgba, nearest=False):
+        """A texture from RGBA8 pixels (rows top to bottom, a list of (r, g, b, a) tuples), stored as a PNG
+        in the buffer."""
+        rows = b"".join(b"\0" + bytes(c for pixel in rgba[y * width:(y + 1) * width] for c in pixel)
+                        for y in range(height))
+
+        def chunk(kind, data):
+            return (struct.pack(">I", len(data)) + kind + data +
+                    struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+        png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
+               chunk(b"IDAT", zlib.compress(rows, 0)) + chunk(b"IEND", b""))
+        self.gltf.setdefault("images", []).append(
+            {"name": name, "bufferView": self._view(png, None), "mimeType": "image/png"})
+        filter_ = 9728 if nearest else 9729  # NEAREST or LINEAR
+        self.gltf.setdefault("samplers", []).append({"magFilter": filter_, "minFilter": filter_})
+        self.gltf.setdefault("textures", []).append(
+            {"name": name, "source": len(self.gltf["images"]) - 1, "sampler": len(self.gltf["samplers"]) - 1})
+        return len(self.gltf["textures"]) - 1
+
+    def texture_info(self, texture, offset=None, rotation=None, scale=None):
+        """A material's reference to a texture, with a KHR_texture_transform when any of its parts is given."""
+        info = {"index": texture}
+        transform = {key: value for key, value in (("offset", offset), ("rotation", rotation), ("scale", scale))
+                     if value is not None}
+        if transform:
+            info["extensions"] = {"KHR_texture_transform": transform}
+            self.extensions.add("KHR_texture_transform")
+        return info
+
     # Scene objects -----------------------------------------------------------------------------------
     def material(self, name, base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0, emission=None,
                  emission_strength=None, transmission=None, ior=None, thickness=None,
-                 attenuation_color=None, attenuation_distance=None):
+                 attenuation_color=None, attenuation_distance=None, base_color_texture=None,
+                 metallic_roughness_texture=None):
+        """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
             "baseColorFactor": list(base_color) + [1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}
+        if base_color_texture is not None:
+            material["pbrMetallicRoughness"]["baseColorTexture"] = base_color_texture
+        if metallic_roughness_texture is not None:
+            material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = metallic_roughness_texture
         extensions = {}
         if emission is not None:
             material["emissiveFactor"] = list(emission)
@@ -79,12 +120,14 @@ class GltfBuilder:
         return len(self.gltf["materials"]) - 1
 
     def mesh(self, name, primitives):
-        """primitives: list of (positions, normals or None, indices, material)."""
+        """primitives: list of (positions, normals or None, indices, material[, texture coordinates])."""
         out = []
-        for positions, normals, indices, material in primitives:
+        for positions, normals, indices, material, *uvs in primitives:
             attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
             if normals is not None:
                 attributes["NORMAL"] = self.vec3_accessor(normals)
+            if uvs:
+                attributes["TEXCOORD_0"] = self.vec2_accessor(uvs[0])
             out.append({"attributes": attributes, "indices": self.index_accessor(indices), "material": material})
         self.gltf["meshes"].append({"name": name, "primitives": out})
         return len(self.gltf["meshes"]) - 1

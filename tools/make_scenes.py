@@ -24,6 +24,10 @@ motion-blur.gltf: motion blur: over a checkerboard, a cube sliding at 1.5 units/
 degrees/s (glTF LINEAR animations) and a ball that jumps (STEP) during the half-second shutter given in the
 scene's extras.
 
+textures.gltf: textures and their transforms: a floor whose 2x2 checker KHR_texture_transform scales by 12
+and turns by 20 degrees, and analytic spheres banded by a metallic-roughness texture (blue: metal, green:
+roughness) and a base colour texture, under a directional and a point light.
+
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
@@ -271,6 +275,42 @@ def motion_blur():
     g.write(os.path.join(OUTPUT, "motion-blur.gltf"))
 
 
+def textures():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    # Uncompressed PNGs (zlib level 0) keep the file the same bytes whatever zlib builds it.
+    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (70, 90, 120, 255),
+                                          (70, 90, 120, 255), (235, 235, 235, 255)], nearest=True)
+    # Sixteen bands around a sphere: metal and smooth, then dielectric and rough (blue metal, green roughness).
+    bands = g.texture("bands", 16, 1, [(0, 40, 255, 255) if k % 2 == 0 else (0, 230, 0, 255) for k in range(16)],
+                      nearest=True)
+    rainbow = g.texture("rainbow", 4, 1, [(230, 60, 50, 255), (240, 200, 40, 255), (60, 170, 90, 255),
+                                          (60, 110, 220, 255)])
+    floor_material = g.material("checker floor", base_color=(1.0, 1.0, 1.0),
+                                base_color_texture=g.texture_info(checker, scale=[12.0, 12.0],
+                                                                  rotation=math.radians(20.0)))
+    floor = quad([[-6.0, 0.0, -6.0], [6.0, 0.0, -6.0], [6.0, 0.0, 6.0], [-6.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    uvs = [[(p[0] + 6.0) / 12.0, (p[2] + 6.0) / 12.0] for p in floor[0]]
+    g.node("floor", mesh=g.mesh("floor", [(floor[0], None, floor[1], floor_material, uvs)]))
+    banded = g.material("banded gold", base_color=(0.95, 0.75, 0.45), metallic=1.0, roughness=1.0,
+                        metallic_roughness_texture=g.texture_info(bands))
+    banded_twice = g.material("banded gold, bands doubled", base_color=(0.95, 0.75, 0.45), metallic=1.0,
+                              roughness=1.0, metallic_roughness_texture=g.texture_info(bands, scale=[2.0, 1.0]))
+    painted = g.material("painted", metallic=0.0, roughness=0.6,
+                         base_color_texture=g.texture_info(rainbow, offset=[0.125, 0.0]))
+    g.sphere("banded sphere", [-1.4, 0.7, 0.0], 0.7, banded)
+    g.sphere("banded sphere, doubled", [0.0, 0.7, 0.0], 0.7, banded_twice)
+    g.sphere("painted sphere", [1.4, 0.7, 0.0], 0.7, painted)
+    sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.96, 0.9], "intensity": 2.5})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.5, -1.0, -0.6]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    lamp = g.light({"type": "point", "name": "lamp", "color": [0.9, 0.95, 1.0], "intensity": 25.0})
+    g.node("lamp", translation=[2.5, 3.0, 3.0], extensions={"KHR_lights_punctual": {"light": lamp}})
+    eye, target = [0.0, 2.4, 5.2], [0.0, 0.5, 0.0]
+    camera = g.perspective_camera("textures-camera", math.radians(40.0), aspect_ratio=1.6)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "textures.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -282,3 +322,4 @@ if __name__ == "__main__":
     dof()
     glossy()
     motion_blur()
+    textures()

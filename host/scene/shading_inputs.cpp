@@ -19,7 +19,10 @@ uint32_t wrapBits(WrapMode mode) {
     }
 }
 
-// A texture slot as a binding: KHR_texture_transform's translation * rotation * scale as two matrix rows.
+// A texture slot as a binding: KHR_texture_transform's translation * rotation * scale as two matrix rows. The
+// extension writes its rotation as mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) and means those as rows, (cos, sin)
+// and (-sin, cos), as the Khronos sample viewer applies it: with them, every arrow of the self-checking
+// TextureTransformTest points at its "correct" mark (the transposed rotation points them at "error").
 int bind(const TextureSlot& slot, bool srgb, std::vector<gpu::GpuTextureBinding>& bindings) {
     if (!slot.used()) return -1;
     const float c = std::cos(slot.rotation), s = std::sin(slot.rotation);

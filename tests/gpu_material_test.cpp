@@ -1,0 +1,176 @@
+// Material inputs with known answers, on the GPU and the CPU reference alike: KHR_texture_transform scales a
+// checker, and the metallic-roughness texture's blue and green channels multiply metallic and roughness.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "image/image_metrics.h"
+#include "scene/scene_builder.h"
+#include "support/gpu_fixture.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+using test::bvhFor;
+using test::Gpu;
+
+// A texture of width x height texels given as RGBA8 words (red in the lowest byte).
+Texture textureOf(int width, int height, const std::vector<uint32_t>& texels) {
+    Texture texture;
+    texture.width = width;
+    texture.height = height;
+    texture.nearest = true;
+    for (uint32_t t : texels) {
+        for (int c = 0; c < 4; ++c) texture.rgba.push_back(static_cast<uint8_t>(t >> (8 * c)));
+    }
+    return texture;
+}
+
+// The unit square at z = 0 facing +z, texture coordinates equal to (x, 1 - y) (glTF: v runs down the image).
+void addUnitSquare(Scene& scene, uint32_t material) {
+    addFlatQuad(scene, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, material);
+    for (size_t i = scene.triangles.size() - 2; i < scene.triangles.size(); ++i) {
+        const Triangle& t = scene.triangles[i];
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 v = k == 0 ? t.v0 : k == 1 ? t.v1 : t.v2;
+            scene.shading[i].uv[k] = glm::vec2(v.x, 1.0f - v.y);
+        }
+    }
+}
+
+// An orthographic camera that sees exactly the unit square.
+Camera squareCamera() {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.5, 0.5, 1.0};
+    camera.forward = {0.0, 0.0, -1.0};
+    camera.right = {1.0, 0.0, 0.0};
+    camera.up = {0.0, 1.0, 0.0};
+    camera.xmag = camera.ymag = 0.5;
+    return camera;
+}
+
+// Lit by ambient radiance 1 alone: a Lambertian dielectric shows its albedo (plus F0 where the lobe is not
+// traced).
+RenderSettings ambientOnly(int size) {
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.samplesPerPixel = 4;
+    settings.ambient = glm::dvec3(1.0);
+    settings.background = glm::dvec3(0.25);
+    return settings;
+}
+
+// How many runs of bright and dark pixels a row crosses.
+int cellsAlongRow(const Image& image, int y) {
+    int cells = 1;
+    bool bright = image.at(0, y).x > 0.5f;
+    for (int x = 1; x < image.width; ++x) {
+        const bool now = image.at(x, y).x > 0.5f;
+        cells += now != bright ? 1 : 0;
+        bright = now;
+    }
+    return cells;
+}
+
+TEST_F(Gpu, TextureTransformScalesTheChecker) {
+    // A 2x2 white and black checker, scaled by 4 (and, the second time, moved by one whole period of the
+    // texture, which must not show): 8 cells across and down the square.
+    for (const float offset : {0.0f, 1.0f}) {
+        Scene scene;
+        scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
+        Material checker;
+        checker.metallic = 0.0f;
+        checker.ior = 1.0f;  // no specular: the albedo alone
+        checker.baseColorTexture.texture = 0;
+        checker.baseColorTexture.scale = glm::vec2(4.0f);
+        checker.baseColorTexture.offset = glm::vec2(offset);
+        scene.materials.push_back(checker);
+        addUnitSquare(scene, 0);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        const auto [gpu, cpu] =
+            test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64), test::shaderCacheDir());
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_EQ(cellsAlongRow(*image, 4), 8);
+            EXPECT_EQ(cellsAlongRow(*image, 37), 8);
+            EXPECT_NEAR(image->at(3, 3).x, 1.0f, 1e-6f);  // the top-left texel is white
+            EXPECT_NEAR(image->at(11, 3).x, 0.0f, 1e-6f);
+        }
+        test::expectMatchesReference(gpu.image, cpu.image, "texture-transform");
+    }
+}
+
+TEST_F(Gpu, TextureTransformRotatesAsTheSampleViewerDoes) {
+    // One white texel of four, at (u, v) in [0, 0.5)^2, rotated by 90 degrees: uv' = (v, -u), as the Khronos
+    // sample viewer applies KHR_texture_transform (TextureTransformTest checks itself with it). On the square
+    // (uv = (x, 1 - y)) the white quarter lands where x > 0.5 and y > 0.5: the image's top right. The transposed
+    // rotation would put it at the bottom left.
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xff000000u}));
+    Material quarter;
+    quarter.metallic = 0.0f;
+    quarter.ior = 1.0f;
+    quarter.baseColorTexture.texture = 0;
+    quarter.baseColorTexture.rotation = static_cast<float>(0.5 * M_PI);
+    scene.materials.push_back(quarter);
+    addUnitSquare(scene, 0);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16), test::shaderCacheDir());
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        EXPECT_NEAR(image->at(12, 3).x, 1.0f, 1e-6f);  // top right
+        EXPECT_NEAR(image->at(3, 12).x, 0.0f, 1e-6f);  // bottom left
+        EXPECT_NEAR(image->at(3, 3).x, 0.0f, 1e-6f);
+        EXPECT_NEAR(image->at(12, 12).x, 0.0f, 1e-6f);
+    }
+}
+
+TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
+    // Metallic and roughness factors 1 under a texture whose blue channel is 0 make a dielectric, equal to
+    // factors (0, 1) without a texture; green 0 and blue 1 make a mirror metal, equal to factors (1, 0).
+    struct Case {
+        uint32_t texel;  // RGBA8: green roughness, blue metallic
+        float metallic, roughness;
+    };
+    for (const Case& c : {Case{0xff00ff00u, 0.0f, 1.0f}, Case{0xffff0000u, 1.0f, 0.0f}}) {
+        Image images[2][2];  // [textured, factors][gpu, cpu]
+        for (int textured = 0; textured < 2; ++textured) {
+            Scene scene;
+            scene.textures.push_back(textureOf(1, 1, {c.texel}));
+            Material material;
+            material.baseColor = glm::vec4(0.8f, 0.6f, 0.4f, 1.0f);
+            if (textured == 0) {
+                material.metallic = material.roughness = 1.0f;
+                material.metallicRoughnessTexture.texture = 0;
+            } else {
+                material.metallic = c.metallic;
+                material.roughness = c.roughness;
+            }
+            scene.materials.push_back(material);
+            addUnitSquare(scene, 0);
+            finalizeScene(scene);
+            const FlatBvh bvh = bvhFor(scene);
+            const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16),
+                                                          test::shaderCacheDir());
+            images[textured][0] = gpu.image;
+            images[textured][1] = cpu.image;
+        }
+        for (int device = 0; device < 2; ++device) {
+            EXPECT_EQ(compareImages(images[0][device], images[1][device], 1e-6, 1e-7).fractionOff, 0.0)
+                << "texture " << std::hex << c.texel << " on the " << (device == 0 ? "GPU" : "CPU");
+        }
+        // The dielectric shows its albedo plus F0 (0.04) in the ambient light; the mirror metal reflects the
+        // background (0.25) with Schlick's F at normal incidence, its base colour.
+        const float expected = c.metallic == 0.0f ? 0.8f + 0.04f : 0.25f * 0.8f;
+        EXPECT_NEAR(images[0][1].at(8, 8).x, expected, 1e-5f);
+        test::expectMatchesReference(images[0][0], images[0][1], "metallic-roughness-texture");
+    }
+}
+
+}  // namespace
+}  // namespace vkrt
