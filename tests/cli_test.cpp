@@ -266,4 +266,19 @@ TEST(Cli, ReferenceOfTheWrongSizeIsBadInput) {
 }
 
 }  // namespace
+// Tone mapping changes the PNG and only the PNG: linear formats store the radiance as rendered.
+TEST(Cli, ToneMapAppliesToPngOnly) {
+    const auto folder = test::temporaryFolder();
+    auto render = [&](const char* toneMap, const char* file) {
+        const auto result = test::runVkrt("--scene " + kCornell + " --device cpu --width 24 --height 24 --spp 1 " +
+                                          "--tonemap " + toneMap + " --out " + quoted(folder / file));
+        EXPECT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream in(folder / file, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_NE(render("clamp", "clamp.png"), render("aces", "aces.png"));
+    EXPECT_NE(render("clamp", "clamp.png"), render("pbr-neutral", "neutral.png"));
+    EXPECT_EQ(render("clamp", "clamp.pfm"), render("aces", "aces.pfm"));
+}
+
 }  // namespace vkrt

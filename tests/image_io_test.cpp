@@ -33,14 +33,53 @@ TEST(ImageIo, LinearFormatsRoundTripExactly) {
 }
 
 TEST(ImageIo, SrgbEncoding) {
-    EXPECT_EQ(toSrgb8(0.0f, 0.0), 0);
-    EXPECT_EQ(toSrgb8(1.0f, 0.0), 255);
-    EXPECT_EQ(toSrgb8(7.0f, 0.0), 255);                  // clamped
-    EXPECT_EQ(toSrgb8(0.5f, 0.0), 188);                  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
-    EXPECT_EQ(toSrgb8(0.001f, 0.0), 3);                  // linear toe: 12.92 * 0.001 * 255 = 3.29
-    EXPECT_EQ(toSrgb8(0.25f, 1.0), toSrgb8(0.5f, 0.0));  // one stop of exposure doubles
-    EXPECT_EQ(toSrgb8(std::nanf(""), 0.0), 0);
-    EXPECT_EQ(toSrgb8(-1.0f, 0.0), 0);
+    EXPECT_EQ(toSrgb8(0.0), 0);
+    EXPECT_EQ(toSrgb8(1.0), 255);
+    EXPECT_EQ(toSrgb8(7.0), 255);  // clamped
+    EXPECT_EQ(toSrgb8(0.5), 188);  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
+    EXPECT_EQ(toSrgb8(0.001), 3);  // linear toe: 12.92 * 0.001 * 255 = 3.29
+    EXPECT_EQ(toSrgb8(std::nan("")), 0);
+    EXPECT_EQ(toSrgb8(-1.0), 0);
+}
+
+TEST(ToneMap, ClampClipsEachChannelAndExposureDoubles) {
+    EXPECT_EQ(toneMap({0.5, 2.0, -1.0}, ToneMap::Clamp), glm::dvec3(0.5, 1.0, 0.0));
+    EXPECT_EQ(toneMap({0.25, 0.25, 0.25}, ToneMap::Clamp, 1.0), glm::dvec3(0.5));  // one stop doubles
+    EXPECT_EQ(toneMap({std::nan(""), 0.5, 0.5}, ToneMap::PbrNeutral).x, 0.0);
+}
+
+TEST(ToneMap, AcesFollowsNarkowiczsFit) {
+    EXPECT_EQ(toneMap(glm::dvec3(0.0), ToneMap::Aces), glm::dvec3(0.0));
+    EXPECT_NEAR(toneMap(glm::dvec3(1.0), ToneMap::Aces).x, 2.54 / 3.16,
+                1e-15);  // (2.51 + 0.03) / (2.43 + 0.59 + 0.14)
+    EXPECT_EQ(toneMap(glm::dvec3(100.0), ToneMap::Aces), glm::dvec3(1.0));  // the fit passes 1; clipped
+}
+
+TEST(ToneMap, PbrNeutralKeepsBaseColoursAndRollsOffHighlights) {
+    // Below the compression start (0.76 after the 0.04 offset) colours pass, less the offset.
+    EXPECT_NEAR(toneMap(glm::dvec3(0.5), ToneMap::PbrNeutral).x, 0.46, 1e-15);
+    const glm::dvec3 colour = toneMap({0.7, 0.3, 0.1}, ToneMap::PbrNeutral);
+    EXPECT_NEAR(colour.r, 0.66, 1e-15);
+    EXPECT_NEAR(colour.g, 0.26, 1e-15);
+    EXPECT_NEAR(colour.b, 0.06, 1e-15);
+    // Dark colours: the offset shrinks to x - 6.25 x^2 for the darkest channel below 0.08.
+    EXPECT_NEAR(toneMap(glm::dvec3(0.05), ToneMap::PbrNeutral).x, 0.05 - (0.05 - 6.25 * 0.0025), 1e-15);
+    // Highlights approach 1 and never pass it: grey 10 to 1 - 0.24^2 / (9.96 + 0.24 - 0.76).
+    EXPECT_NEAR(toneMap(glm::dvec3(10.0), ToneMap::PbrNeutral).x, 1.0 - 0.0576 / 9.44, 1e-12);
+    double previous = 0.0;
+    for (double x = 0.0; x < 50.0; x += 0.01) {
+        const double y = toneMap(glm::dvec3(x), ToneMap::PbrNeutral).x;
+        ASSERT_GE(y, previous) << x;  // monotonic
+        ASSERT_LT(y, 1.0) << x;
+        previous = y;
+    }
+}
+
+TEST(ToneMap, NamesRoundTrip) {
+    for (ToneMap t : {ToneMap::Clamp, ToneMap::Aces, ToneMap::PbrNeutral}) {
+        EXPECT_EQ(toneMapFromName(toneMapName(t)), t);
+    }
+    EXPECT_FALSE(toneMapFromName("filmic"));
 }
 
 TEST(ImageIo, PngIsWrittenAndFailedWritesLeaveNothing) {

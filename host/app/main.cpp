@@ -149,7 +149,7 @@ int run(Options options) {
     }
     const RenderResult result = render(settings, context ? "gpu" : "cpu", checkpoint, &report);
 
-    writeImage(result.image, options.outputPath, options.exposure);
+    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
 
     report.scene = options.scenePath;
     report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";

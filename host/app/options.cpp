@@ -89,7 +89,7 @@ const CLI::Validator kReportPath(
 struct CommandLine {
     CLI::App app{"vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes", "vkrt"};
     Options options;
-    std::string device = "gpu", filter = "box";
+    std::string device = "gpu", filter = "box", toneMap = toneMapName(kDefaultToneMap);
     std::vector<double> shutter;
     std::string ambient, background;
     int height = 512;
@@ -207,6 +207,13 @@ struct CommandLine {
             ->type_name("R[,G,B]")
             ->check(kColor)
             ->default_str("0");
+        app.add_option(
+               "--tonemap", toneMap,
+               "PNG tone mapping: pbr-neutral (Khronos PBR Neutral, the glTF Sample Viewer's default: base "
+               "colours as authored, highlights rolled off), aces (Narkowicz's ACES fit) or clamp")
+            ->type_name("NAME")
+            ->check(CLI::IsMember({"pbr-neutral", "aces", "clamp"}))
+            ->capture_default_str();
         app.add_option("--exposure", options.exposure, "PNG exposure in stops")
             ->type_name("EV")
             ->check(kFinite)
@@ -230,6 +237,7 @@ struct CommandLine {
                         : filter == "gaussian" ? PixelFilter::Gaussian
                                                : PixelFilter::Box;
         options.device = device == "cpu" ? DeviceKind::Cpu : DeviceKind::Gpu;
+        options.toneMap = toneMapFromName(toneMap).value_or(kDefaultToneMap);  // CLI11 checked the name
         if (!shutter.empty()) {
             if (!(shutter[1] >= shutter[0])) throw UsageError("--shutter: CLOSE must not come before OPEN");
             options.shutter = std::array<double, 2>{shutter[0], shutter[1]};

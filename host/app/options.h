@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/render_policy.h"
+#include "image/tone_map.h"
 
 namespace vkrt {
 
@@ -31,6 +32,7 @@ struct Options {
     std::string reportPath;                        // --report: convergence report (.json or .csv)
     double reportEveryMs = 0.0;                    // --report-every-ms: checkpoints by time too
     double exposure = 0.0;
+    ToneMap toneMap = kDefaultToneMap;  // PNG only
     bool quiet = false;
     bool help = false;
     RenderRequest request;  // settings, camera and lens as asked; resolveRender() fills in the rest

@@ -22,10 +22,11 @@ std::string lowerExtension(const std::string& path) {
     return extension;
 }
 
-void writePng(const Image& image, const std::string& path, double exposure) {
+void writePng(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
     std::vector<unsigned char> bytes(static_cast<size_t>(image.width) * image.height * 3);
     for (size_t i = 0; i < image.pixels.size(); ++i) {
-        for (int c = 0; c < 3; ++c) bytes[3 * i + c] = toSrgb8(image.pixels[i][c], exposure);
+        const glm::dvec3 display = toneMap(glm::dvec3(image.pixels[i]), toneMapping, exposure);
+        for (int c = 0; c < 3; ++c) bytes[3 * i + c] = toSrgb8(display[c]);
     }
     if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3)) {
         throw ImageError(path + ": cannot write PNG");
@@ -102,20 +103,19 @@ ImageFormat imageFormatFromPath(const std::string& path) {
     throw ImageError(path + ": unknown image format '" + extension + "' (use .png, .exr or .pfm)");
 }
 
-unsigned char toSrgb8(float linear, double exposure) {
-    double v = static_cast<double>(linear) * std::exp2(exposure);
-    if (!(v > 0.0)) return 0;  // negative and NaN both map to black
-    v = std::min(v, 1.0);
+unsigned char toSrgb8(double display) {
+    if (!(display > 0.0)) return 0;  // negative and NaN both map to black
+    const double v = std::min(display, 1.0);
     const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
     return static_cast<unsigned char>(std::lround(encoded * 255.0));
 }
 
-void writeImage(const Image& image, const std::string& path, double exposure) {
+void writeImage(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
     const ImageFormat format = imageFormatFromPath(path);
     writeFileAtomically(path, [&](const std::string& temporary) {
         switch (format) {
             case ImageFormat::Png:
-                writePng(image, temporary, exposure);
+                writePng(image, temporary, exposure, toneMapping);
                 break;
             case ImageFormat::Exr:
                 writeExr(image, temporary);

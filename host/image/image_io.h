@@ -7,6 +7,7 @@
 #include <string>
 
 #include "image/image.h"
+#include "image/tone_map.h"
 
 namespace vkrt {
 
@@ -20,13 +21,14 @@ enum class ImageFormat { Png, Exr, Pfm };
 // The format named by the file's extension; throws ImageError for anything else.
 ImageFormat imageFormatFromPath(const std::string& path);
 
-// `exposure` is in stops and applies to PNG only; linear formats store the radiance as rendered.
-void writeImage(const Image& image, const std::string& path, double exposure = 0.0);
+// `exposure` (in stops) and `toneMap` apply to PNG only; linear formats store the radiance as rendered.
+void writeImage(const Image& image, const std::string& path, double exposure = 0.0,
+                ToneMap toneMap = ToneMap::Clamp);
 
 // Reads PFM and EXR (for references and tests).
 Image readImage(const std::string& path);
 
-// Linear radiance to an 8-bit sRGB value: scale by 2^exposure, clamp to [0, 1], sRGB transfer curve.
-unsigned char toSrgb8(float linear, double exposure);
+// A display value in [0, 1] to an 8-bit sRGB value (the sRGB transfer curve).
+unsigned char toSrgb8(double display);
 
 }  // namespace vkrt
