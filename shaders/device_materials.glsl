@@ -42,6 +42,8 @@ SurfaceMaterial device_material(uint index) {
     s.baseColorTexture = m.baseColorTexture;
     s.emissiveTexture = m.emissiveTexture;
     s.metallicRoughnessTexture = m.metallicRoughnessTexture;
+    s.occlusionTexture = m.occlusionTexture;
+    s.occlusionStrength = m.occlusionStrength;
     return s;
 }
 

@@ -240,8 +240,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
     const SurfaceResponse surface =
         surfaceResponse(material, sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv));
-    // Ambient light reaches the diffuse part, and the specular part where it is not traced.
-    local += context.ambient * (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
+    // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
+    // material's occlusion lets it.
+    local += ambientOcclusion(VKRT_DEVICE_ARG material, hit.primitive, hit.uv) * context.ambient *
+             (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = surface.traced && !surface.mirror && continues;
     local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled);

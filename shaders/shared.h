@@ -88,7 +88,7 @@ struct GpuShading {
     vec4 v012;
 };
 
-// A material, 80 bytes. See docs/materials.md for what each value means.
+// A material, 96 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
     vec3 baseColor;
     float metallic;
@@ -103,7 +103,11 @@ struct GpuMaterial {
     int baseColorTexture;          // texture binding (GpuTextureBinding), -1: none
     int emissiveTexture;           // likewise
     int metallicRoughnessTexture;  // likewise
+    int occlusionTexture;          // likewise
+    float occlusionStrength;       // occlusion = 1 + strength (red - 1)
     uint unused0;
+    uint unused1;
+    uint unused2;
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
@@ -286,7 +290,7 @@ static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
-static_assert(sizeof(GpuMaterial) == 80);
+static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, occlusionStrength) == 80);
 static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial, baseColorTexture) == 64);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuTextureBinding) == 32 && offsetof(GpuTextureBinding, row1) == 16);

@@ -27,6 +27,8 @@ struct SurfaceMaterial {
     int baseColorTexture;          // texture binding (texture_sampling.h), -1: none
     int emissiveTexture;           // likewise
     int metallicRoughnessTexture;  // likewise: blue multiplies metallic, green roughness
+    int occlusionTexture;          // likewise: red is how much ambient light reaches the surface
+    real occlusionStrength;        // occlusion = 1 + strength (red - 1)
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -122,6 +124,18 @@ VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toV
                              real specularWeight) {
     const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
     return brdf * irradiance * dot(normal, toLight);
+}
+
+// How much of the ambient light reaches a point (glTF's occlusion texture; 1 without one).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real ambientOcclusion(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv) {
+#ifdef VKRT_HAS_TEXTURES
+    if (material.occlusionTexture >= 0) {
+        const real occlusion = sampleBinding(VKRT_DEVICE_ARG material.occlusionTexture, primitive, hitUv).x;
+        return 1.0 + material.occlusionStrength * (occlusion - 1.0);
+    }
+#endif
+    return 1.0;
 }
 
 VKRT_SHADING_END

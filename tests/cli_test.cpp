@@ -281,4 +281,16 @@ TEST(Cli, ToneMapAppliesToPngOnly) {
     EXPECT_EQ(render("clamp", "clamp.pfm"), render("aces", "aces.pfm"));
 }
 
+// The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture.
+TEST(Cli, StatsReportTextureMemory) {
+    const auto folder = test::temporaryFolder();
+    const auto stats = folder / "stats.json";
+    const auto result = test::runVkrt("--scene " + quoted(test::sourceDir() / "scenes/textures.gltf") +
+                                      " --device cpu --width 16 --height 10 --spp 1 --out " +
+                                      quoted(folder / "t.pfm") + " --stats " + quoted(stats));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    std::ifstream file(stats);
+    EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], (2 * 2 + 16 + 4) * 4);
+}
+
 }  // namespace vkrt

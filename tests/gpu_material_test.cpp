@@ -1,5 +1,6 @@
-// Material inputs with known answers, on the GPU and the CPU reference alike: KHR_texture_transform scales a
-// checker, and the metallic-roughness texture's blue and green channels multiply metallic and roughness.
+// Material inputs with known answers, on the GPU and the CPU reference alike: KHR_texture_transform scales
+// and turns a checker, the metallic-roughness texture's blue and green channels multiply metallic and
+// roughness, and the occlusion texture dims the ambient term alone.
 #include <cmath>
 #include <vector>
 
@@ -92,8 +93,8 @@ TEST_F(Gpu, TextureTransformScalesTheChecker) {
         addUnitSquare(scene, 0);
         finalizeScene(scene);
         const FlatBvh bvh = bvhFor(scene);
-        const auto [gpu, cpu] =
-            test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64), test::shaderCacheDir());
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64),
+                                                      test::shaderCacheDir());
         for (const Image* image : {&gpu.image, &cpu.image}) {
             EXPECT_EQ(cellsAlongRow(*image, 4), 8);
             EXPECT_EQ(cellsAlongRow(*image, 37), 8);
@@ -107,8 +108,8 @@ TEST_F(Gpu, TextureTransformScalesTheChecker) {
 TEST_F(Gpu, TextureTransformRotatesAsTheSampleViewerDoes) {
     // One white texel of four, at (u, v) in [0, 0.5)^2, rotated by 90 degrees: uv' = (v, -u), as the Khronos
     // sample viewer applies KHR_texture_transform (TextureTransformTest checks itself with it). On the square
-    // (uv = (x, 1 - y)) the white quarter lands where x > 0.5 and y > 0.5: the image's top right. The transposed
-    // rotation would put it at the bottom left.
+    // (uv = (x, 1 - y)) the white quarter lands where x > 0.5 and y > 0.5: the image's top right. The
+    // transposed rotation would put it at the bottom left.
     Scene scene;
     scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xff000000u}));
     Material quarter;
@@ -155,8 +156,8 @@ TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
             addUnitSquare(scene, 0);
             finalizeScene(scene);
             const FlatBvh bvh = bvhFor(scene);
-            const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16),
-                                                          test::shaderCacheDir());
+            const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(),
+                                                          ambientOnly(16), test::shaderCacheDir());
             images[textured][0] = gpu.image;
             images[textured][1] = cpu.image;
         }
@@ -169,6 +170,53 @@ TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
         const float expected = c.metallic == 0.0f ? 0.8f + 0.04f : 0.25f * 0.8f;
         EXPECT_NEAR(images[0][1].at(8, 8).x, expected, 1e-5f);
         test::expectMatchesReference(images[0][0], images[0][1], "metallic-roughness-texture");
+    }
+}
+
+TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
+    // A Lambertian square of albedo 0.8 in ambient radiance 1 shows 0.8 times the occlusion,
+    // 1 + strength (red - 1); under a light alone (no ambient) occlusion changes nothing.
+    const double red = 128.0 / 255.0;
+    for (const float strength : {1.0f, 0.5f}) {
+        for (const bool ambient : {true, false}) {
+            Image images[2][2];  // [occluded, plain][gpu, cpu]
+            for (int occluded = 0; occluded < 2; ++occluded) {
+                Scene scene;
+                scene.textures.push_back(textureOf(1, 1, {0xff000080u}));
+                Material material;
+                material.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+                material.metallic = 0.0f;
+                material.ior = 1.0f;
+                if (occluded == 0) {
+                    material.occlusionTexture.texture = 0;
+                    material.occlusionStrength = strength;
+                }
+                scene.materials.push_back(material);
+                if (!ambient) {
+                    PunctualLight sun;
+                    sun.type = LightType::Directional;
+                    sun.direction = glm::normalize(glm::dvec3(0.3, -0.2, -1.0));
+                    sun.intensity = 2.0f;
+                    scene.lights.push_back(sun);
+                }
+                addUnitSquare(scene, 0);
+                finalizeScene(scene);
+                const FlatBvh bvh = bvhFor(scene);
+                RenderSettings settings = ambientOnly(16);
+                if (!ambient) settings.ambient = glm::dvec3(0.0);
+                const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings,
+                                                              test::shaderCacheDir());
+                images[occluded][0] = gpu.image;
+                images[occluded][1] = cpu.image;
+            }
+            const double occlusion = ambient ? 1.0 + strength * (red - 1.0) : 1.0;
+            for (int device = 0; device < 2; ++device) {
+                EXPECT_NEAR(images[0][device].at(8, 8).x, occlusion * images[1][device].at(8, 8).x, 1e-5)
+                    << "strength " << strength << (ambient ? ", ambient" : ", light")
+                    << (device ? ", CPU" : ", GPU");
+            }
+            if (ambient) EXPECT_NEAR(images[0][1].at(8, 8).x, 0.8 * occlusion, 1e-5);
+        }
     }
 }
 

@@ -155,6 +155,7 @@ int run(Options options) {
     report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
     report.camera = camera.name;
     report.triangles = scene.triangles.size();
+    for (const Texture& texture : scene.textures) report.textureBytes += texture.rgba.size();
     report.settings = settings;
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);

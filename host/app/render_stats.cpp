@@ -14,6 +14,7 @@ nlohmann::json toJson(const RunReport& r) {
         {"device", r.device},
         {"camera", r.camera},
         {"triangles", r.triangles},
+        {"texture_bytes", r.textureBytes},
         {"width", r.settings.width},
         {"height", r.settings.height},
         {"spp", r.samplesRendered},

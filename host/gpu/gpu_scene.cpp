@@ -68,6 +68,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.baseColorTexture = data.features.textures ? s.baseColorTexture : -1;
         g.emissiveTexture = data.features.textures ? s.emissiveTexture : -1;
         g.metallicRoughnessTexture = data.features.textures ? s.metallicRoughnessTexture : -1;
+        g.occlusionTexture = data.features.textures ? s.occlusionTexture : -1;
+        g.occlusionStrength = static_cast<float>(s.occlusionStrength);
         data.materials.push_back(g);
     }
 

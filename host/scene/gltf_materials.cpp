@@ -158,6 +158,12 @@ void convertMaterials(GltfContext& context) {
         material.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
         material.emissiveTexture = textureSlot(context, m.emissiveTexture.index, m.emissiveTexture.texCoord,
                                                m.emissiveTexture.extensions, where + " emissive texture");
+        material.occlusionTexture =
+            textureSlot(context, m.occlusionTexture.index, m.occlusionTexture.texCoord,
+                        m.occlusionTexture.extensions, where + " occlusion texture");
+        if (!std::isfinite(m.occlusionTexture.strength))
+            context.fail(where + ": occlusion strength is not finite");
+        material.occlusionStrength = static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
         context.scene.materials.push_back(material);
     }
 }

@@ -112,6 +112,8 @@ struct Material {
     float roughness = 1.0f;
     glm::vec3 emission{0.0f};     // emissiveFactor * KHR_materials_emissive_strength
     TextureSlot emissiveTexture;  // sRGB, multiplies `emission`
+    TextureSlot occlusionTexture;  // linear, red: how much ambient light reaches the surface
+    float occlusionStrength = 1.0f;  // occlusion = 1 + strength (red - 1)
     float transmission = 0.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled

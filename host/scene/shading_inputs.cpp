@@ -20,8 +20,8 @@ uint32_t wrapBits(WrapMode mode) {
 }
 
 // A texture slot as a binding: KHR_texture_transform's translation * rotation * scale as two matrix rows. The
-// extension writes its rotation as mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) and means those as rows, (cos, sin)
-// and (-sin, cos), as the Khronos sample viewer applies it: with them, every arrow of the self-checking
+// extension writes its rotation as mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) and means those as rows, (cos,
+// sin) and (-sin, cos), as the Khronos sample viewer applies it: with them, every arrow of the self-checking
 // TextureTransformTest points at its "correct" mark (the transposed rotation points them at "error").
 int bind(const TextureSlot& slot, bool srgb, std::vector<gpu::GpuTextureBinding>& bindings) {
     if (!slot.used()) return -1;
@@ -52,6 +52,8 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.baseColorTexture = bind(m.baseColorTexture, true, bindings);
     s.emissiveTexture = bind(m.emissiveTexture, true, bindings);
     s.metallicRoughnessTexture = bind(m.metallicRoughnessTexture, false, bindings);
+    s.occlusionTexture = bind(m.occlusionTexture, false, bindings);
+    s.occlusionStrength = m.occlusionStrength;
     return s;
 }
 

@@ -106,6 +106,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.baseColorTexture = -1;
         material.emissiveTexture = -1;
         material.metallicRoughnessTexture = -1;
+        material.occlusionTexture = -1;
+        material.occlusionStrength = 1.0;
         const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {
