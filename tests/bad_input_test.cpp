@@ -255,6 +255,17 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "65535 materials"},
+        {"Draco-compressed mesh (accessors without buffer views)",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+             d["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+             d["accessors"][1].erase("bufferView");  // the indices live in the compressed data
+             d["meshes"][0]["primitives"][0]["extensions"] = {
+                 {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+             writeJson(file, d);
+         },
+         "requires extension KHR_draco_mesh_compression"},
         {"truncated GLB",
          [](auto&, auto& file) {
              file.replace_extension(".glb");
@@ -324,4 +335,35 @@ TEST(BadInput, ValidTriangleLoads) {
 }
 
 }  // namespace
+// What a file uses that vkrt leaves out is named, once per file: skins and morph targets.
+TEST(BadInput, SkinsAndMorphTargetsAreWarnedAboutOnce) {
+    const auto folder = test::temporaryFolder();
+    // The triangle's bytes, then one identity matrix: tinygltf wants a skin's inverseBindMatrices.
+    std::vector<uint8_t> bytes = triangleBytes();
+    const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    bytes.resize(44 + sizeof(identity));
+    std::memcpy(bytes.data() + 44, identity, sizeof(identity));
+    json d = validTriangle(bytes);
+    d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 64}});
+    d["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 1}, {"type", "MAT4"}});
+    d["nodes"] = {{{"mesh", 0}, {"skin", 0}}, {{"name", "joint"}}};
+    d["skins"] = {{{"joints", {1}}, {"inverseBindMatrices", 2}}};
+    d["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}};
+    d["meshes"].push_back(d["meshes"][0]);
+    d["nodes"].push_back({{"mesh", 1}, {"translation", {2.0, 0.0, 0.0}}});
+    d["scenes"][0]["nodes"] = {0, 1, 2};
+    const auto file = folder / "skinned.gltf";
+    writeJson(file, d);
+    const Scene scene = loadGltf(file.string());
+    int skins = 0, morphs = 0;
+    for (const std::string& warning : scene.warnings) {
+        skins += warning.find("skins are not supported") != std::string::npos ? 1 : 0;
+        morphs +=
+            warning.find("morph targets are not supported: 2 primitive(s)") != std::string::npos ? 1 : 0;
+    }
+    EXPECT_EQ(skins, 1);
+    EXPECT_EQ(morphs, 1);
+    EXPECT_EQ(scene.triangles.size(), 2u);  // both meshes render, in their base shape
+}
+
 }  // namespace vkrt

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
+
+#include <nlohmann/json.hpp>
 
 #include "scene/gltf_loader.h"
 #include "scene/gltf_materials.h"
@@ -33,6 +37,47 @@ void checkExtensions(GltfContext& context) {
     for (const std::string& name : context.model.extensionsUsed) {
         if (!isSupportedExtension(name)) context.warn("ignoring optional extension " + name);
     }
+}
+
+void warnAboutUnsupportedFeatures(GltfContext& context) {
+    const tinygltf::Model& model = context.model;
+    if (!model.skins.empty()) {
+        context.warn("skins are not supported: " + std::to_string(model.skins.size()) +
+                     " skin(s) ignored, skinned meshes render in their rest pose");
+    }
+    size_t morphed = 0;
+    for (const tinygltf::Mesh& mesh : model.meshes) {
+        for (const tinygltf::Primitive& primitive : mesh.primitives)
+            morphed += primitive.targets.empty() ? 0 : 1;
+    }
+    if (morphed > 0) {
+        context.warn("morph targets are not supported: " + std::to_string(morphed) +
+                     " primitive(s) render with their base shape");
+    }
+}
+
+std::optional<std::string> unsupportedRequiredExtension(const std::string& path, bool binary) {
+    std::ifstream file(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(file)), {});
+    if (binary) {
+        // GLB: a 12-byte header, then the JSON chunk: its length (little-endian) and type, then the text.
+        if (text.size() < 20) return std::nullopt;
+        uint32_t length = 0;
+        for (int i = 0; i < 4; ++i)
+            length |= static_cast<uint32_t>(static_cast<unsigned char>(text[12 + i])) << (8 * i);
+        if (text.compare(16, 4, "JSON") != 0 || length > text.size() - 20) return std::nullopt;
+        text = text.substr(20, length);
+    }
+    const nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
+    if (json.is_discarded() || !json.is_object() || !json.contains("extensionsRequired") ||
+        !json["extensionsRequired"].is_array()) {
+        return std::nullopt;
+    }
+    for (const nlohmann::json& name : json["extensionsRequired"]) {
+        if (name.is_string() && !isSupportedExtension(name.get<std::string>()))
+            return name.get<std::string>();
+    }
+    return std::nullopt;
 }
 
 float readMaterialExtensions(const GltfContext& context, const tinygltf::ExtensionMap& extensions,

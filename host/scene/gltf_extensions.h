@@ -2,6 +2,8 @@
 // transforms, KHR_lights_punctual lights, VKRT_sphere spheres and the depth of field in camera extras.
 #pragma once
 
+#include <optional>
+
 #include <string>
 #include <vector>
 
@@ -14,6 +16,15 @@ namespace vkrt {
 
 // Fails on a required extension vkrt does not support; warns about an unsupported optional one.
 void checkExtensions(GltfContext& context);
+
+// What a file uses that vkrt leaves out, one warning each: skins (meshes render in their rest pose) and morph
+// targets (meshes render with their base shape).
+void warnAboutUnsupportedFeatures(GltfContext& context);
+
+// The first extension a file (.gltf, or .glb with `binary`) requires and vkrt does not support, read from its
+// JSON directly: tinygltf may reject such a file (a Draco-compressed mesh has accessors without buffer views)
+// before the loader can name the reason.
+std::optional<std::string> unsupportedRequiredExtension(const std::string& path, bool binary);
 
 // Reads KHR_materials_transmission, _ior, _volume into `material` and returns
 // KHR_materials_emissive_strength (1 when absent).

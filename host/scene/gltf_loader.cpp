@@ -49,6 +49,7 @@ Scene GltfConverter::convert() {
     Scene& scene = context_.scene;
     scene.sourcePath = context_.path;
     checkExtensions(context_);
+    warnAboutUnsupportedFeatures(context_);
     convertTextures(context_);
     convertMaterials(context_);
 
@@ -163,6 +164,9 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     const bool ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path)
                            : reader.LoadASCIIFromFile(&model, &error, &warning, path);
     if (!ok || !error.empty()) {
+        if (const auto extension = unsupportedRequiredExtension(path, binary)) {
+            throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
+        }
         std::string message = error.empty() ? "not a valid glTF file" : error;
         // tinygltf's messages can span lines; the command line reports one.
         std::replace(message.begin(), message.end(), '\n', ' ');
