@@ -44,6 +44,10 @@ SurfaceMaterial device_material(uint index) {
     s.metallicRoughnessTexture = m.metallicRoughnessTexture;
     s.occlusionTexture = m.occlusionTexture;
     s.occlusionStrength = m.occlusionStrength;
+    s.specularFactor = m.specularFactor;
+    s.specularColor = m.specularColor;
+    s.specularTexture = m.specularTexture;
+    s.specularColorTexture = m.specularColorTexture;
     return s;
 }
 

@@ -295,7 +295,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
 #ifdef VKRT_HAS_TRANSMISSION
     // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
-    real3 transmitWeight = surface.transmission * (1.0 - fresnelDielectric(cosMicro, eta)) * surface.albedo;
+    real3 transmitWeight = surface.transmission * (real3(1.0) - dielectricReflectance(surface, cosMicro, eta)) *
+                           surface.albedo;
     real3 direction = ray.direction;
     bool passes = maxComponent(transmitWeight) > 0.0;
     if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);

@@ -88,7 +88,7 @@ struct GpuShading {
     vec4 v012;
 };
 
-// A material, 96 bytes. See docs/materials.md for what each value means.
+// A material, 112 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
     vec3 baseColor;
     float metallic;
@@ -105,9 +105,11 @@ struct GpuMaterial {
     int metallicRoughnessTexture;  // likewise
     int occlusionTexture;          // likewise
     float occlusionStrength;       // occlusion = 1 + strength (red - 1)
-    uint unused0;
-    uint unused1;
-    uint unused2;
+    int specularTexture;           // likewise (KHR_materials_specular)
+    int specularColorTexture;      // likewise
+    uint unused0;                  // std430 starts the vec3 below on a 16-byte boundary
+    vec3 specularColor;            // KHR_materials_specular
+    float specularFactor;
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
@@ -290,7 +292,8 @@ static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
-static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, occlusionStrength) == 80);
+static_assert(sizeof(GpuMaterial) == 112 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
+              offsetof(GpuMaterial, specularColor) == 96 && offsetof(GpuMaterial, specularFactor) == 108);
 static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial, baseColorTexture) == 64);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuTextureBinding) == 32 && offsetof(GpuTextureBinding, row1) == 16);

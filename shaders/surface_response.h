@@ -29,6 +29,10 @@ struct SurfaceMaterial {
     int metallicRoughnessTexture;  // likewise: blue multiplies metallic, green roughness
     int occlusionTexture;          // likewise: red is how much ambient light reaches the surface
     real occlusionStrength;        // occlusion = 1 + strength (red - 1)
+    real specularFactor;           // KHR_materials_specular: scales the dielectric's reflection (0: Lambertian)
+    real3 specularColor;           // tints it at normal incidence
+    int specularTexture;           // texture binding: alpha multiplies specularFactor
+    int specularColorTexture;      // texture binding (sRGB): multiplies specularColor
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -36,6 +40,8 @@ struct MaterialSample {
     real3 albedo;  // base colour, linear
     real metallic;
     real roughness;
+    real specular;        // KHR_materials_specular's factor
+    real3 specularColor;  // and colour
 };
 
 // The factors alone, with base colour `albedo`.
@@ -44,6 +50,8 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.albedo = albedo;
     s.metallic = material.metallic;
     s.roughness = material.roughness;
+    s.specular = material.specularFactor;
+    s.specularColor = material.specularColor;
     return s;
 }
 
@@ -59,6 +67,13 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
         s.roughness *= texel.y;
         s.metallic *= texel.z;
     }
+    if (material.specularTexture >= 0) {
+        s.specular *= sampleBinding(VKRT_DEVICE_ARG material.specularTexture, primitive, hitUv).w;
+    }
+    if (material.specularColorTexture >= 0) {
+        const real4 texel = sampleBinding(VKRT_DEVICE_ARG material.specularColorTexture, primitive, hitUv);
+        s.specularColor *= real3(texel.x, texel.y, texel.z);
+    }
 #endif
     return s;
 }
@@ -73,6 +88,8 @@ struct SurfaceResponse {
     real transmission;  // (1 - metallic) * transmission
     real metallic;
     real ior;
+    real specularWeight;  // KHR_materials_specular: the dielectric's reflection scale
+    real3 specularTint;   // and its tint at normal incidence
 };
 
 VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
@@ -82,13 +99,26 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.ior = material.ior;
     s.transmission = (1.0 - s.metallic) * material.transmission;
     s.diffuse = inputs.albedo * (1.0 - s.metallic) * (1.0 - material.transmission);
-    s.specular = mix(real3(dielectricF0(material.ior)), inputs.albedo, s.metallic);
+    s.specularWeight = inputs.specular;
+    s.specularTint = inputs.specularColor;
+    const real3 dielectricF0Tinted = min(dielectricF0(material.ior) * inputs.specularColor, real3(1.0)) * inputs.specular;
+    s.specular = mix(dielectricF0Tinted, inputs.albedo, s.metallic);
     s.alpha = ggxAlpha(inputs.roughness);
     s.mirror = inputs.roughness < VKRT_MIRROR_ROUGHNESS;
     // A matte opaque dielectric (roughness 1, glTF's default) keeps its faint sheen to the lights and the
-    // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene.
-    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || inputs.roughness < 1.0;
+    // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene. A dielectric
+    // without specular reflection (KHR_materials_specular factor 0) has no lobe to trace.
+    s.traced = s.metallic > 0.0 || s.transmission > 0.0 || (inputs.roughness < 1.0 && inputs.specular > 0.0);
     return s;
+}
+
+// The dielectric part's reflectance at a microfacet seen at cosine cosH, eta relative across the interface:
+// the exact Fresnel term, scaled by KHR_materials_specular's factor and tinted by its colour at normal
+// incidence, the tint fading to none at grazing (the extension tints f0 and leaves f90 white).
+VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
+    const real grazing = pow(1.0 - clamp(cosH, 0.0, 1.0), 5.0);
+    return min(real3(fresnelDielectric(cosH, eta)) * mix(s.specularTint, real3(1.0), grazing), real3(1.0)) *
+           s.specularWeight;
 }
 
 // The fraction of light a transmissive surface lets through a shadow ray (shadow rays do not refract).
@@ -98,7 +128,7 @@ VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSamp
 
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.
 VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
-    return (1.0 - s.metallic) * real3(fresnelDielectric(cosH, eta)) + s.metallic * fresnelSchlick(s.albedo, cosH);
+    return (1.0 - s.metallic) * dielectricReflectance(s, cosH, eta) + s.metallic * fresnelSchlick(s.albedo, cosH);
 }
 
 // The specular lobe for light from `toLight`: F D G2 / (4 cos_o cos_i); zero for a mirror (a delta lobe meets

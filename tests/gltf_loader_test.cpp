@@ -72,6 +72,44 @@ TEST(GltfLoader, VkrtSphereIsPlacedByItsNodeTransform) {
     EXPECT_NEAR(scene.bounds.min.y + scene.origin.y, -0.5, 1e-4);
 }
 
+TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
+    // KHR_materials_specular (factors and a transformed specular colour texture), an occlusion texture with its
+    // strength and a transformed metallic-roughness texture; the image is a 1x1 PNG in a data URI.
+    const std::filesystem::path file = test::temporaryFolder() / "materials.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_materials_specular", "KHR_texture_transform", "VKRT_sphere"],
+        "scene": 0, "scenes": [{"nodes": [0]}],
+        "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg=="}],
+        "textures": [{"source": 0}],
+        "materials": [{
+            "pbrMetallicRoughness": {"metallicRoughnessTexture": {"index": 0,
+                "extensions": {"KHR_texture_transform": {"scale": [2, 3], "rotation": 0.5, "offset": [0.25, 0]}}}},
+            "occlusionTexture": {"index": 0, "strength": 0.5},
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.25, "specularColorFactor": [1, 0.5, 0],
+                "specularColorTexture": {"index": 0,
+                    "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.5]}}}}}
+        }],
+        "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
+    })");
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.materials.size(), 1u);
+    const Material& m = scene.materials[0];
+    EXPECT_EQ(m.metallicRoughnessTexture.texture, 0);
+    EXPECT_EQ(m.metallicRoughnessTexture.scale, glm::vec2(2.0f, 3.0f));
+    EXPECT_FLOAT_EQ(m.metallicRoughnessTexture.rotation, 0.5f);
+    EXPECT_EQ(m.metallicRoughnessTexture.offset, glm::vec2(0.25f, 0.0f));
+    EXPECT_EQ(m.occlusionTexture.texture, 0);
+    EXPECT_FLOAT_EQ(m.occlusionStrength, 0.5f);
+    EXPECT_FLOAT_EQ(m.specularFactor, 0.25f);
+    EXPECT_EQ(m.specularColor, glm::vec3(1.0f, 0.5f, 0.0f));
+    EXPECT_EQ(m.specularColorTexture.texture, 0);
+    EXPECT_EQ(m.specularColorTexture.offset, glm::vec2(0.5f, 0.5f));
+    EXPECT_FALSE(m.specularTexture.used());
+    EXPECT_FALSE(m.baseColorTexture.used());
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+}
+
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {
     // scenes/motion-blur.gltf: shutter [0, 0.5] from the scene's extras; a cube sliding +1.5 units/s in x
     // (LINEAR), a cube turning 90 degrees/s about y (LINEAR), a ball jumping up 0.8 at t = 0.25 (STEP).

@@ -220,5 +220,68 @@ TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
     }
 }
 
+TEST_F(Gpu, SpecularFactorZeroIsLambertian) {
+    // KHR_materials_specular with factor 0: a glossy dielectric (roughness 0.3) under a directional light of
+    // illuminance E shows exactly albedo / pi * E * cos(theta), which is what the conformance scenes need;
+    // with factor 1 its highlight adds to that.
+    const glm::dvec3 toLight = glm::normalize(glm::dvec3(-0.3, 0.2, 1.0));
+    const double albedo = 0.6, illuminance = 2.0;
+    for (const float specular : {0.0f, 1.0f}) {
+        Scene scene;
+        Material material;
+        material.baseColor = glm::vec4(glm::vec3(static_cast<float>(albedo)), 1.0f);
+        material.metallic = 0.0f;
+        material.roughness = 0.3f;
+        material.specularFactor = specular;
+        scene.materials.push_back(material);
+        PunctualLight sun;
+        sun.type = LightType::Directional;
+        sun.direction = -toLight;
+        sun.intensity = static_cast<float>(illuminance);
+        scene.lights.push_back(sun);
+        addUnitSquare(scene, 0);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        RenderSettings settings = ambientOnly(16);
+        settings.ambient = glm::dvec3(0.0);
+        settings.background = glm::dvec3(0.0);
+        const auto [gpu, cpu] =
+            test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings, test::shaderCacheDir());
+        const double lambert = albedo / M_PI * illuminance * toLight.z;
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            if (specular == 0.0f) {
+                EXPECT_NEAR(image->at(8, 8).x, lambert, 1e-6);
+            } else {
+                EXPECT_GT(image->at(8, 8).x, lambert + 1e-3);
+            }
+        }
+    }
+}
+
+TEST_F(Gpu, SpecularColorTintsTheReflectanceAtNormalIncidence) {
+    // In ambient light, a matte dielectric (roughness 1: the lobe is not traced) shows its albedo plus its
+    // F0, which KHR_materials_specular scales by the factor and tints by the colour: 0.04 x 0.8 x colour for
+    // ior 1.5.
+    Scene scene;
+    Material material;
+    material.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    material.metallic = 0.0f;
+    material.roughness = 1.0f;
+    material.specularFactor = 0.8f;
+    material.specularColor = glm::vec3(0.5f, 1.0f, 0.25f);
+    scene.materials.push_back(material);
+    addUnitSquare(scene, 0);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16), test::shaderCacheDir());
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        const glm::vec3 pixel = image->at(8, 8);
+        EXPECT_NEAR(pixel.x, 0.5 + 0.04 * 0.8 * 0.5, 1e-6);
+        EXPECT_NEAR(pixel.y, 0.5 + 0.04 * 0.8 * 1.0, 1e-6);
+        EXPECT_NEAR(pixel.z, 0.5 + 0.04 * 0.8 * 0.25, 1e-6);
+    }
+}
+
 }  // namespace
 }  // namespace vkrt

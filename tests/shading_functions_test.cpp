@@ -133,10 +133,12 @@ std::vector<FunctionCase> makeCases() {
             for (float transmission : {0.0f, 1.0f}) {
                 for (double lightTheta : {0.3, 1.2}) {
                     for (uint32_t function : {VKRT_CASE_SURFACE, VKRT_CASE_SURFACE_LIGHT}) {
-                        cases.push_back(makeCase(function, 0, {0.8f, 0.5f, 0.2f, metallic},
-                                                 {2.0f, 1.5f, 1.0f, roughness}, {transmission, 1.5f, 0.5f, 0},
-                                                 direction(0.4, 0.2) + glm::vec4(0, 0, 0, 0.8f),
-                                                 direction(lightTheta, 2.9)));
+                        for (float specular : {1.0f, 0.4f}) {  // KHR_materials_specular's factor
+                            cases.push_back(makeCase(
+                                function, 0, {0.8f, 0.5f, 0.2f, metallic}, {2.0f, 1.5f, 1.0f, roughness},
+                                {transmission, 1.5f, 0.5f, specular},
+                                direction(0.4, 0.2) + glm::vec4(0, 0, 0, 0.8f), direction(lightTheta, 2.9)));
+                        }
                     }
                 }
             }

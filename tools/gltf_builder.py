@@ -90,7 +90,7 @@ class GltfBuilder:
     def material(self, name, base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0, emission=None,
                  emission_strength=None, transmission=None, ior=None, thickness=None,
                  attenuation_color=None, attenuation_distance=None, base_color_texture=None,
-                 metallic_roughness_texture=None):
+                 metallic_roughness_texture=None, specular=None, specular_color=None):
         """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
             "baseColorFactor": list(base_color) + [1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}
@@ -105,6 +105,12 @@ class GltfBuilder:
             extensions["KHR_materials_emissive_strength"] = {"emissiveStrength": emission_strength}
         if transmission is not None:
             extensions["KHR_materials_transmission"] = {"transmissionFactor": transmission}
+        if specular is not None or specular_color is not None:
+            extensions["KHR_materials_specular"] = {}
+            if specular is not None:
+                extensions["KHR_materials_specular"]["specularFactor"] = specular
+            if specular_color is not None:
+                extensions["KHR_materials_specular"]["specularColorFactor"] = list(specular_color)
         if ior is not None:
             extensions["KHR_materials_ior"] = {"ior": ior}
         if thickness is not None:

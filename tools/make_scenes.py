@@ -26,7 +26,8 @@ scene's extras.
 
 textures.gltf: textures and their transforms: a floor whose 2x2 checker KHR_texture_transform scales by 12
 and turns by 20 degrees, and analytic spheres banded by a metallic-roughness texture (blue: metal, green:
-roughness) and a base colour texture, under a directional and a point light.
+roughness) and a base colour texture, under a directional and a point light; in front, three glossy white
+spheres with KHR_materials_specular factors 1, 0 (purely Lambertian) and 1 tinted red.
 
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
@@ -300,6 +301,11 @@ def textures():
     g.sphere("banded sphere", [-1.4, 0.7, 0.0], 0.7, banded)
     g.sphere("banded sphere, doubled", [0.0, 0.7, 0.0], 0.7, banded_twice)
     g.sphere("painted sphere", [1.4, 0.7, 0.0], 0.7, painted)
+    for k, (label, specular, colour) in enumerate((("specular 1", 1.0, None), ("specular 0", 0.0, None),
+                                                   ("specular tinted", 1.0, (1.0, 0.2, 0.2)))):
+        glossy_white = g.material(label, base_color=(0.7, 0.7, 0.7), roughness=0.15, specular=specular,
+                                  specular_color=colour)
+        g.sphere(label, [-0.9 + 0.9 * k, 0.3, 1.6], 0.3, glossy_white)
     sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.96, 0.9], "intensity": 2.5})
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.5, -1.0, -0.6]),
            extensions={"KHR_lights_punctual": {"light": sun}})

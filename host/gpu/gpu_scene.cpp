@@ -70,6 +70,10 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.metallicRoughnessTexture = data.features.textures ? s.metallicRoughnessTexture : -1;
         g.occlusionTexture = data.features.textures ? s.occlusionTexture : -1;
         g.occlusionStrength = static_cast<float>(s.occlusionStrength);
+        g.specularTexture = data.features.textures ? s.specularTexture : -1;
+        g.specularColorTexture = data.features.textures ? s.specularColorTexture : -1;
+        g.specularColor = glm::vec3(s.specularColor);
+        g.specularFactor = static_cast<float>(s.specularFactor);
         data.materials.push_back(g);
     }
 

@@ -70,7 +70,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
         if (!used[m]) continue;
         const Material& material = scene.materials[m];
         if (material.baseColorTexture.used() || material.metallicRoughnessTexture.used() ||
-            material.occlusionTexture.used() ||
+            material.occlusionTexture.used() || material.specularTexture.used() ||
+            material.specularColorTexture.used() ||
             (material.emissiveTexture.used() && material.emissive())) {
             features.textures = true;
         }

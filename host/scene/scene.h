@@ -114,6 +114,11 @@ struct Material {
     TextureSlot emissiveTexture;  // sRGB, multiplies `emission`
     TextureSlot occlusionTexture;  // linear, red: how much ambient light reaches the surface
     float occlusionStrength = 1.0f;  // occlusion = 1 + strength (red - 1)
+    // KHR_materials_specular: the dielectric's reflection, scaled (0: purely Lambertian) and tinted.
+    float specularFactor = 1.0f;
+    glm::vec3 specularColor{1.0f};
+    TextureSlot specularTexture;       // linear, alpha multiplies specularFactor
+    TextureSlot specularColorTexture;  // sRGB, multiplies specularColor
     float transmission = 0.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled

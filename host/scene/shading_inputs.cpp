@@ -54,6 +54,10 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.metallicRoughnessTexture = bind(m.metallicRoughnessTexture, false, bindings);
     s.occlusionTexture = bind(m.occlusionTexture, false, bindings);
     s.occlusionStrength = m.occlusionStrength;
+    s.specularFactor = m.specularFactor;
+    s.specularColor = glm::dvec3(m.specularColor);
+    s.specularTexture = bind(m.specularTexture, false, bindings);
+    s.specularColorTexture = bind(m.specularColorTexture, true, bindings);
     return s;
 }
 

@@ -108,6 +108,10 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.metallicRoughnessTexture = -1;
         material.occlusionTexture = -1;
         material.occlusionStrength = 1.0;
+        material.specularFactor = c.w;
+        material.specularColor = real3(0.9, 1.0, 0.7);
+        material.specularTexture = -1;
+        material.specularColorTexture = -1;
         const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {
