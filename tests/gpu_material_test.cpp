@@ -65,6 +65,19 @@ RenderSettings ambientOnly(int size) {
     return settings;
 }
 
+// The unit square in `scene` (which holds its textures and lights) with `material`, rendered on both devices.
+class GpuMaterials : public Gpu {
+  protected:
+    static test::RenderPair renderSquare(Scene scene, const Material& material,
+                                         const RenderSettings& settings) {
+        scene.materials.push_back(material);
+        addUnitSquare(scene, static_cast<uint32_t>(scene.materials.size()) - 1);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        return test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings, test::shaderCacheDir());
+    }
+};
+
 // How many runs of bright and dark pixels a row crosses.
 int cellsAlongRow(const Image& image, int y) {
     int cells = 1;
@@ -77,7 +90,7 @@ int cellsAlongRow(const Image& image, int y) {
     return cells;
 }
 
-TEST_F(Gpu, TextureTransformScalesTheChecker) {
+TEST_F(GpuMaterials, TextureTransformScalesTheChecker) {
     // A 2x2 white and black checker, scaled by 4 (and, the second time, moved by one whole period of the
     // texture, which must not show): 8 cells across and down the square.
     for (const float offset : {0.0f, 1.0f}) {
@@ -89,12 +102,7 @@ TEST_F(Gpu, TextureTransformScalesTheChecker) {
         checker.baseColorTexture.texture = 0;
         checker.baseColorTexture.scale = glm::vec2(4.0f);
         checker.baseColorTexture.offset = glm::vec2(offset);
-        scene.materials.push_back(checker);
-        addUnitSquare(scene, 0);
-        finalizeScene(scene);
-        const FlatBvh bvh = bvhFor(scene);
-        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64),
-                                                      test::shaderCacheDir());
+        const auto [gpu, cpu] = renderSquare(scene, checker, ambientOnly(64));
         for (const Image* image : {&gpu.image, &cpu.image}) {
             EXPECT_EQ(cellsAlongRow(*image, 4), 8);
             EXPECT_EQ(cellsAlongRow(*image, 37), 8);
@@ -105,7 +113,7 @@ TEST_F(Gpu, TextureTransformScalesTheChecker) {
     }
 }
 
-TEST_F(Gpu, TextureTransformRotatesAsTheSampleViewerDoes) {
+TEST_F(GpuMaterials, TextureTransformRotatesAsTheSampleViewerDoes) {
     // One white texel of four, at (u, v) in [0, 0.5)^2, rotated by 90 degrees: uv' = (v, -u), as the Khronos
     // sample viewer applies KHR_texture_transform (TextureTransformTest checks itself with it). On the square
     // (uv = (x, 1 - y)) the white quarter lands where x > 0.5 and y > 0.5: the image's top right. The
@@ -117,12 +125,7 @@ TEST_F(Gpu, TextureTransformRotatesAsTheSampleViewerDoes) {
     quarter.ior = 1.0f;
     quarter.baseColorTexture.texture = 0;
     quarter.baseColorTexture.rotation = static_cast<float>(0.5 * M_PI);
-    scene.materials.push_back(quarter);
-    addUnitSquare(scene, 0);
-    finalizeScene(scene);
-    const FlatBvh bvh = bvhFor(scene);
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16), test::shaderCacheDir());
+    const auto [gpu, cpu] = renderSquare(scene, quarter, ambientOnly(16));
     for (const Image* image : {&gpu.image, &cpu.image}) {
         EXPECT_NEAR(image->at(12, 3).x, 1.0f, 1e-6f);  // top right
         EXPECT_NEAR(image->at(3, 12).x, 0.0f, 1e-6f);  // bottom left
@@ -131,7 +134,7 @@ TEST_F(Gpu, TextureTransformRotatesAsTheSampleViewerDoes) {
     }
 }
 
-TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
+TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
     // Metallic and roughness factors 1 under a texture whose blue channel is 0 make a dielectric, equal to
     // factors (0, 1) without a texture; green 0 and blue 1 make a mirror metal, equal to factors (1, 0).
     struct Case {
@@ -152,12 +155,7 @@ TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
                 material.metallic = c.metallic;
                 material.roughness = c.roughness;
             }
-            scene.materials.push_back(material);
-            addUnitSquare(scene, 0);
-            finalizeScene(scene);
-            const FlatBvh bvh = bvhFor(scene);
-            const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(),
-                                                          ambientOnly(16), test::shaderCacheDir());
+            const auto [gpu, cpu] = renderSquare(scene, material, ambientOnly(16));
             images[textured][0] = gpu.image;
             images[textured][1] = cpu.image;
         }
@@ -173,7 +171,7 @@ TEST_F(Gpu, MetallicRoughnessTextureMultipliesTheFactors) {
     }
 }
 
-TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
+TEST_F(GpuMaterials, OcclusionTextureDimsOnlyTheAmbientTerm) {
     // A Lambertian square of albedo 0.8 in ambient radiance 1 shows 0.8 times the occlusion,
     // 1 + strength (red - 1); under a light alone (no ambient) occlusion changes nothing.
     const double red = 128.0 / 255.0;
@@ -191,7 +189,6 @@ TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
                     material.occlusionTexture.texture = 0;
                     material.occlusionStrength = strength;
                 }
-                scene.materials.push_back(material);
                 if (!ambient) {
                     PunctualLight sun;
                     sun.type = LightType::Directional;
@@ -199,13 +196,9 @@ TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
                     sun.intensity = 2.0f;
                     scene.lights.push_back(sun);
                 }
-                addUnitSquare(scene, 0);
-                finalizeScene(scene);
-                const FlatBvh bvh = bvhFor(scene);
                 RenderSettings settings = ambientOnly(16);
                 if (!ambient) settings.ambient = glm::dvec3(0.0);
-                const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings,
-                                                              test::shaderCacheDir());
+                const auto [gpu, cpu] = renderSquare(scene, material, settings);
                 images[occluded][0] = gpu.image;
                 images[occluded][1] = cpu.image;
             }
@@ -220,7 +213,7 @@ TEST_F(Gpu, OcclusionTextureDimsOnlyTheAmbientTerm) {
     }
 }
 
-TEST_F(Gpu, SpecularFactorZeroIsLambertian) {
+TEST_F(GpuMaterials, SpecularFactorZeroIsLambertian) {
     // KHR_materials_specular with factor 0: a glossy dielectric (roughness 0.3) under a directional light of
     // illuminance E shows exactly albedo / pi * E * cos(theta), which is what the conformance scenes need;
     // with factor 1 its highlight adds to that.
@@ -233,20 +226,15 @@ TEST_F(Gpu, SpecularFactorZeroIsLambertian) {
         material.metallic = 0.0f;
         material.roughness = 0.3f;
         material.specularFactor = specular;
-        scene.materials.push_back(material);
         PunctualLight sun;
         sun.type = LightType::Directional;
         sun.direction = -toLight;
         sun.intensity = static_cast<float>(illuminance);
         scene.lights.push_back(sun);
-        addUnitSquare(scene, 0);
-        finalizeScene(scene);
-        const FlatBvh bvh = bvhFor(scene);
         RenderSettings settings = ambientOnly(16);
         settings.ambient = glm::dvec3(0.0);
         settings.background = glm::dvec3(0.0);
-        const auto [gpu, cpu] =
-            test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings, test::shaderCacheDir());
+        const auto [gpu, cpu] = renderSquare(scene, material, settings);
         const double lambert = albedo / M_PI * illuminance * toLight.z;
         for (const Image* image : {&gpu.image, &cpu.image}) {
             if (specular == 0.0f) {
@@ -258,7 +246,7 @@ TEST_F(Gpu, SpecularFactorZeroIsLambertian) {
     }
 }
 
-TEST_F(Gpu, SpecularColorTintsTheReflectanceAtNormalIncidence) {
+TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
     // In ambient light, a matte dielectric (roughness 1: the lobe is not traced) shows its albedo plus its
     // F0, which KHR_materials_specular scales by the factor and tints by the colour: 0.04 x 0.8 x colour for
     // ior 1.5.
@@ -269,12 +257,7 @@ TEST_F(Gpu, SpecularColorTintsTheReflectanceAtNormalIncidence) {
     material.roughness = 1.0f;
     material.specularFactor = 0.8f;
     material.specularColor = glm::vec3(0.5f, 1.0f, 0.25f);
-    scene.materials.push_back(material);
-    addUnitSquare(scene, 0);
-    finalizeScene(scene);
-    const FlatBvh bvh = bvhFor(scene);
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(16), test::shaderCacheDir());
+    const auto [gpu, cpu] = renderSquare(scene, material, ambientOnly(16));
     for (const Image* image : {&gpu.image, &cpu.image}) {
         const glm::vec3 pixel = image->at(8, 8);
         EXPECT_NEAR(pixel.x, 0.5 + 0.04 * 0.8 * 0.5, 1e-6);

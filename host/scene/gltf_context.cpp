@@ -27,33 +27,36 @@ double jsonNumber(const GltfContext& context, const tinygltf::Value& object, con
     return v;
 }
 
+namespace {
+
+// `count` finite numbers from the array object[key] into `out`; false when the key is absent.
+bool jsonFloats(const GltfContext& context, const tinygltf::Value& object, const char* key, int count,
+                float* out, const std::string& where) {
+    if (!object.IsObject() || !object.Has(key)) return false;
+    const tinygltf::Value& value = object.Get(key);
+    const std::string expected =
+        where + ": '" + key + "' must be an array of " + std::to_string(count) + " numbers";
+    if (!value.IsArray() || static_cast<int>(value.ArrayLen()) != count) context.fail(expected);
+    for (int c = 0; c < count; ++c) {
+        if (!value.Get(c).IsNumber()) context.fail(expected);
+        out[c] = static_cast<float>(value.Get(c).GetNumberAsDouble());
+        if (!std::isfinite(out[c])) context.fail(where + ": '" + key + "' is not finite");
+    }
+    return true;
+}
+
+}  // namespace
+
 glm::vec2 jsonVector2(const GltfContext& context, const tinygltf::Value& object, const char* key,
                       glm::vec2 fallback, const std::string& where) {
-    if (!object.IsObject() || !object.Has(key)) return fallback;
-    const tinygltf::Value& value = object.Get(key);
-    if (!value.IsArray() || value.ArrayLen() != 2)
-        context.fail(where + ": '" + key + "' must be an array of 2 numbers");
     glm::vec2 v;
-    for (int c = 0; c < 2; ++c) {
-        if (!value.Get(c).IsNumber()) context.fail(where + ": '" + key + "' must be an array of 2 numbers");
-        v[c] = static_cast<float>(value.Get(c).GetNumberAsDouble());
-        if (!std::isfinite(v[c])) context.fail(where + ": '" + key + "' is not finite");
-    }
-    return v;
+    return jsonFloats(context, object, key, 2, &v.x, where) ? v : fallback;
 }
 
 glm::vec3 jsonVector3(const GltfContext& context, const tinygltf::Value& object, const char* key,
                       glm::vec3 fallback, const std::string& where) {
-    if (!object.IsObject() || !object.Has(key)) return fallback;
-    const tinygltf::Value& value = object.Get(key);
-    if (!value.IsArray() || value.ArrayLen() != 3)
-        context.fail(where + ": '" + key + "' must be an array of 3 numbers");
     glm::vec3 v;
-    for (int c = 0; c < 3; ++c) {
-        if (!value.Get(c).IsNumber()) context.fail(where + ": '" + key + "' must be an array of 3 numbers");
-        v[c] = static_cast<float>(value.Get(c).GetNumberAsDouble());
-    }
-    return v;
+    return jsonFloats(context, object, key, 3, &v.x, where) ? v : fallback;
 }
 
 }  // namespace vkrt
