@@ -238,11 +238,11 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                  textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv);
     }
 
-    const SurfaceResponse surface =
-        surfaceResponse(material, sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv));
+    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv);
+    const SurfaceResponse surface = surfaceResponse(material, inputs);
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
     // material's occlusion lets it.
-    local += ambientOcclusion(VKRT_DEVICE_ARG material, hit.primitive, hit.uv) * context.ambient *
+    local += inputs.occlusion * context.ambient *
              (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = surface.traced && !surface.mirror && continues;
