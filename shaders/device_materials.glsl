@@ -24,6 +24,17 @@ vec2 device_textureCoordinates(uint primitive, vec2 hitUv) {
 }
 #endif
 
+#ifdef VKRT_HAS_VERTEX_COLORS
+// COLOR_0 at barycentrics hitUv; spheres have none.
+vec4 device_vertexColor(uint primitive, vec2 hitUv) {
+#ifdef VKRT_HAS_SPHERES
+    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return vec4(1.0);
+#endif
+    const GpuVertexColors c = params.vertexColors.colors[primitive];
+    return (1.0 - hitUv.x - hitUv.y) * c.corner0 + hitUv.x * c.corner1 + hitUv.y * c.corner2;
+}
+#endif
+
 #include "surface_response.h"
 
 SurfaceMaterial device_material(uint index) {

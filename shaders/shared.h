@@ -80,6 +80,13 @@ struct GpuPrimitive {
     uint kind;  // VKRT_PRIMITIVE_*
 };
 
+// A triangle's COLOR_0 at its three corners (RGBA), 48 bytes.
+struct GpuVertexColors {
+    vec4 corner0;
+    vec4 corner1;
+    vec4 corner2;
+};
+
 // Per-vertex normals and texture coordinates, 64 bytes: normal.xyz with u in .w, and the three v's.
 struct GpuShading {
     vec4 normalU0;
@@ -209,6 +216,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Te
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TextureBindingBuffer {
     GpuTextureBinding bindings[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer VertexColorBuffer {
+    GpuVertexColors colors[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
     uint texels[];
 };
@@ -263,6 +273,8 @@ struct SceneParams {
     VKRT_ADDRESS(CounterBuffer, counters);
     VKRT_ADDRESS(PrimitiveBuffer, motion);  // motion blur: poses 1..motionSegments of every primitive, leaf order
     VKRT_ADDRESS(TextureBindingBuffer, textureBindings);
+    VKRT_ADDRESS(VertexColorBuffer, vertexColors);  // with VKRT_HAS_VERTEX_COLORS, leaf order
+    uvec2 unused1;  // keeps the size a multiple of 16, as std430 rounds it
 };
 
 // Per dispatch: which samples of which rows.
@@ -307,7 +319,9 @@ static_assert(offsetof(SceneParams, nodes) == 160, "addresses start on an 8-byte
 static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
 static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
 static_assert(offsetof(SceneParams, textureBindings) == 160 + 11 * 8);
-static_assert(sizeof(SceneParams) == 256);
+static_assert(offsetof(SceneParams, vertexColors) == 160 + 12 * 8);
+static_assert(sizeof(SceneParams) == 272);
+static_assert(sizeof(GpuVertexColors) == 48);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif

@@ -80,6 +80,10 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
                                       real2 hitUv) {
     MaterialSample s = untexturedSample(material, material.baseColor);
+#ifdef VKRT_HAS_VERTEX_COLORS
+    const real4 vertexColor = VKRT_DEVICE(vertexColor)(primitive, hitUv);
+    s.albedo *= real3(vertexColor.x, vertexColor.y, vertexColor.z);
+#endif
 #ifdef VKRT_HAS_TEXTURES
     for (int slot = 0; slot < VKRT_MATERIAL_SLOTS; ++slot) {
         const int binding = materialTexture(material, slot);

@@ -110,6 +110,27 @@ TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
     EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 }
 
+TEST(GltfLoader, VertexColorsFollowTheirTriangles) {
+    // scenes/textures.gltf: a floor without COLOR_0, then a tile with red, green, blue and white corners.
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/textures.gltf").string());
+    ASSERT_EQ(scene.vertexColors.size(), scene.triangles.size());
+    int white = 0, coloured = 0;
+    for (const auto& corners : scene.vertexColors) {
+        bool allWhite = true;
+        for (const glm::vec4& c : corners) {
+            allWhite = allWhite && c == glm::vec4(1.0f);
+            EXPECT_EQ(c.a, 1.0f);  // RGB colours get alpha 1
+        }
+        allWhite ? ++white : ++coloured;
+    }
+    EXPECT_EQ(white, 2);     // the floor
+    EXPECT_EQ(coloured, 2);  // the tile
+    const auto& tile = scene.vertexColors.back();
+    bool red = false;
+    for (const glm::vec4& c : tile) red = red || (std::abs(c.r - 1.0f) < 1e-6f && std::abs(c.g - 0.1f) < 1e-6f);
+    EXPECT_TRUE(red);
+}
+
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {
     // scenes/motion-blur.gltf: shutter [0, 0.5] from the scene's extras; a cube sliding +1.5 units/s in x
     // (LINEAR), a cube turning 90 degrees/s about y (LINEAR), a ball jumping up 0.8 at t = 0.25 (STEP).

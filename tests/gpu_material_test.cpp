@@ -1,6 +1,7 @@
 // Material inputs with known answers, on the GPU and the CPU reference alike: KHR_texture_transform scales
 // and turns a checker, the metallic-roughness texture's blue and green channels multiply metallic and
 // roughness, and the occlusion texture dims the ambient term alone.
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -263,6 +264,44 @@ TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
         EXPECT_NEAR(pixel.x, 0.5 + 0.04 * 0.8 * 0.5, 1e-6);
         EXPECT_NEAR(pixel.y, 0.5 + 0.04 * 0.8 * 1.0, 1e-6);
         EXPECT_NEAR(pixel.z, 0.5 + 0.04 * 0.8 * 0.25, 1e-6);
+    }
+}
+
+TEST_F(GpuMaterials, VertexColorsMultiplyTheBaseColour) {
+    // COLOR_0 given at the corners as (x, y, 1 - x) interpolates exactly across the square (it is linear in
+    // position): in ambient light a Lambertian square shows it pixel by pixel, times the base colour.
+    Scene scene;
+    Material material;
+    material.baseColor = glm::vec4(0.5f, 1.0f, 1.0f, 1.0f);
+    material.metallic = 0.0f;
+    material.ior = 1.0f;
+    scene.materials.push_back(material);
+    addUnitSquare(scene, 0);
+    for (const Triangle& t : scene.triangles) {
+        std::array<glm::vec4, 3> colors;
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 v = k == 0 ? t.v0 : k == 1 ? t.v1 : t.v2;
+            colors[k] = glm::vec4(v.x, v.y, 1.0f - v.x, 1.0f);
+        }
+        scene.vertexColors.push_back(colors);
+    }
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings = ambientOnly(16);
+    settings.samplesPerPixel = 64;
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings, test::shaderCacheDir());
+    test::expectMatchesReference(gpu.image, cpu.image, "vertex-colors");
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        for (const glm::ivec2 p : {glm::ivec2(2, 3), glm::ivec2(8, 8), glm::ivec2(13, 11)}) {
+            // A linear function averaged over a pixel is its value at the centre; 64 stratified samples
+            // average to within 1/64 of a pixel (the colour changes by 1/16 per pixel), hence 2e-3.
+            const double x = (p.x + 0.5) / 16.0, y = 1.0 - (p.y + 0.5) / 16.0;
+            const glm::vec3 pixel = image->at(p.x, p.y);
+            EXPECT_NEAR(pixel.x, 0.5 * x, 2e-3);
+            EXPECT_NEAR(pixel.y, y, 2e-3);
+            EXPECT_NEAR(pixel.z, 1.0 - x, 2e-3);
+        }
     }
 }
 

@@ -37,7 +37,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 9u);
+    EXPECT_EQ(full.features().defines().size(), 10u);
     for (const std::string& define : lean.defines()) {
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY") << define;
     }
@@ -48,7 +48,8 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
         return bytes.find(name) != std::string::npos;
     };
     for (const char* function :
-         {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom", "sphereRoots", "concentricDisk"}) {
+         {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom", "sphereRoots", "concentricDisk",
+          "device_vertexColor"}) {
         EXPECT_TRUE(names(full.spirv(), function)) << function;
         EXPECT_FALSE(names(lean.spirv(), function))
             << function << " is compiled in but the scene does not need it";

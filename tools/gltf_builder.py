@@ -126,14 +126,17 @@ class GltfBuilder:
         return len(self.gltf["materials"]) - 1
 
     def mesh(self, name, primitives):
-        """primitives: list of (positions, normals or None, indices, material[, texture coordinates])."""
+        """primitives: list of (positions, normals or None, indices, material[, texture coordinates or None[,
+        vertex colours (RGB)]])."""
         out = []
-        for positions, normals, indices, material, *uvs in primitives:
+        for positions, normals, indices, material, *extra in primitives:
             attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
             if normals is not None:
                 attributes["NORMAL"] = self.vec3_accessor(normals)
-            if uvs:
-                attributes["TEXCOORD_0"] = self.vec2_accessor(uvs[0])
+            if extra and extra[0] is not None:
+                attributes["TEXCOORD_0"] = self.vec2_accessor(extra[0])
+            if len(extra) > 1:
+                attributes["COLOR_0"] = self.vec3_accessor(extra[1])
             out.append({"attributes": attributes, "indices": self.index_accessor(indices), "material": material})
         self.gltf["meshes"].append({"name": name, "primitives": out})
         return len(self.gltf["meshes"]) - 1

@@ -21,6 +21,14 @@ glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 h
            hitUv.y * glm::dvec2(s.uv[2]);
 }
 
+glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) const {
+    const Scene& scene = data_.scene;
+    if (scene.vertexColors.empty() || scene.isSphere(primitive)) return glm::dvec4(1.0);
+    const std::array<glm::vec4, 3>& c = scene.vertexColors[primitive];
+    return (1.0 - hitUv.x - hitUv.y) * glm::dvec4(c[0]) + hitUv.x * glm::dvec4(c[1]) +
+           hitUv.y * glm::dvec4(c[2]);
+}
+
 shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, double v,
                                                       const glm::dvec3& from) const {
     const LightTable& lights = data_.lights;

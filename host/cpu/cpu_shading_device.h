@@ -42,6 +42,7 @@ class CpuShadingDevice {
     const gpu::GpuTextureBinding& textureBinding(int index) const { return data_.bindings[index]; }
     uint32_t texel(uint32_t index) const { return data_.textures.texels[index]; }
     glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const;
+    glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }

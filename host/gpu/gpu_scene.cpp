@@ -40,10 +40,17 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             data.primitives.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
                                        index, glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
             if (needShading) data.shading.push_back({});  // spheres compute theirs
+            if (data.features.vertexColors)
+                data.vertexColors.push_back({glm::vec4(1.0f), glm::vec4(1.0f), glm::vec4(1.0f)});
             continue;
         }
         const Triangle& t = scene.triangles[index];
         data.primitives.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
+        if (data.features.vertexColors) {
+            const std::array<glm::vec4, 3>& c =
+                scene.vertexColors.empty() ? kVertexColorWhite : scene.vertexColors[index];
+            data.vertexColors.push_back({c[0], c[1], c[2]});
+        }
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
             data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
@@ -110,7 +117,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
 }
 
 GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
-    buffers_.reserve(10);
+    buffers_.reserve(11);
     auto upload = [&](const auto& values) -> uint64_t {
         if (values.empty()) return 0;
         buffers_.emplace_back(context, values);
@@ -128,6 +135,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.areaLights = upload(data.areaLights);
     addresses_.motion = upload(data.motion);
     addresses_.textureBindings = upload(data.textureBindings);
+    addresses_.vertexColors = upload(data.vertexColors);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -141,6 +149,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.areaLights = addresses_.areaLights;
     params.motion = addresses_.motion;
     params.textureBindings = addresses_.textureBindings;
+    params.vertexColors = addresses_.vertexColors;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

@@ -16,8 +16,9 @@ namespace vkrt {
 struct GpuSceneData {
     SceneFeatures features;
     std::vector<gpu::BvhNode> nodes;
-    std::vector<gpu::GpuPrimitive> primitives;  // in BVH leaf order; each keeps its scene index
-    std::vector<gpu::GpuShading> shading;       // only with smooth normals or textures
+    std::vector<gpu::GpuPrimitive> primitives;       // in BVH leaf order; each keeps its scene index
+    std::vector<gpu::GpuShading> shading;            // only with smooth normals or textures
+    std::vector<gpu::GpuVertexColors> vertexColors;  // only with vertex colours, leaf order
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures

@@ -19,6 +19,7 @@ struct SceneFeatures {
     bool spheres = false;       // analytic spheres (VKRT_sphere)
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
+    bool vertexColors = false;  // COLOR_0 multiplies base colours
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();

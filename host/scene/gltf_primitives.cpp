@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <tiny_gltf.h>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "scene/gltf_materials.h"
 
@@ -69,6 +70,18 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         decoded.uvs = accessors.readFloats(it->second, 2, where + " TEXCOORD_0");
         if (decoded.uvs.size() / 2 != vertexCount)
             context_.fail(where + " TEXCOORD_0 and POSITION counts differ");
+    }
+    if (auto it = primitive.attributes.find("COLOR_0"); it != primitive.attributes.end()) {
+        // VEC3 or VEC4, float or normalized integers; RGB gets alpha 1.
+        const bool rgba = it->second >= 0 && it->second < static_cast<int>(context_.model.accessors.size()) &&
+                          context_.model.accessors[it->second].type == TINYGLTF_TYPE_VEC4;
+        const std::vector<float> colors = accessors.readFloats(it->second, rgba ? 4 : 3, where + " COLOR_0");
+        if (colors.size() / (rgba ? 4 : 3) != vertexCount)
+            context_.fail(where + " COLOR_0 and POSITION counts differ");
+        for (size_t v = 0; v < vertexCount; ++v) {
+            for (int c = 0; c < 4; ++c)
+                decoded.colors.push_back(c < 3 || rgba ? colors[(rgba ? 4 : 3) * v + c] : 1.0f);
+        }
     }
 
     // Read and check the indices; without an accessor, the vertices in order.
@@ -161,6 +174,14 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<g
                 if (length > 0.0 && std::isfinite(length)) shading.normal[k] = glm::vec3(n / length);
             }
             if (!uvs.empty()) shading.uv[k] = glm::vec2(uvs[2 * v], uvs[2 * v + 1]);
+        }
+        if (!primitive.colors.empty()) {
+            // Vertex colours start with this primitive: the triangles before it are white.
+            std::vector<std::array<glm::vec4, 3>>& colors = context_.scene.vertexColors;
+            colors.resize(context_.scene.triangles.size(), kVertexColorWhite);
+            std::array<glm::vec4, 3> corner;
+            for (int k = 0; k < 3; ++k) corner[k] = glm::make_vec4(&primitive.colors[4 * face[k]]);
+            colors.push_back(corner);
         }
         context_.scene.triangles.push_back(triangle);
         context_.scene.shading.push_back(shading);

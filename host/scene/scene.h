@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -110,9 +111,9 @@ struct Material {
     TextureSlot metallicRoughnessTexture;  // linear: blue multiplies metallic, green roughness
     float metallic = 1.0f;
     float roughness = 1.0f;
-    glm::vec3 emission{0.0f};     // emissiveFactor * KHR_materials_emissive_strength
-    TextureSlot emissiveTexture;  // sRGB, multiplies `emission`
-    TextureSlot occlusionTexture;  // linear, red: how much ambient light reaches the surface
+    glm::vec3 emission{0.0f};        // emissiveFactor * KHR_materials_emissive_strength
+    TextureSlot emissiveTexture;     // sRGB, multiplies `emission`
+    TextureSlot occlusionTexture;    // linear, red: how much ambient light reaches the surface
     float occlusionStrength = 1.0f;  // occlusion = 1 + strength (red - 1)
     // KHR_materials_specular: the dielectric's reflection, scaled (0: purely Lambertian) and tinted.
     float specularFactor = 1.0f;
@@ -165,6 +166,9 @@ struct Camera {
     bool generated = false;      // true for the default camera made when the file has none
 };
 
+inline constexpr std::array<glm::vec4, 3> kVertexColorWhite = {glm::vec4(1.0f), glm::vec4(1.0f),
+                                                               glm::vec4(1.0f)};
+
 // Motion segments for animations that are not a pure linear translation over the shutter: a step inside the
 // shutter ramps over 1/16 of it, and a rotation follows 16 chords of its arc.
 inline constexpr int kMotionSegments = 16;
@@ -177,7 +181,10 @@ struct Scene {
     glm::dvec3 origin{0.0};
     std::vector<Triangle> triangles;
     std::vector<TriangleShading> shading;  // parallel to triangles
-    std::vector<Sphere> spheres;           // primitives triangles.size() + i
+    // COLOR_0 at each corner (multiplying the base colour), parallel to triangles; empty when no primitive
+    // has vertex colours (kVertexColorWhite for triangles without).
+    std::vector<std::array<glm::vec4, 3>> vertexColors;
+    std::vector<Sphere> spheres;  // primitives triangles.size() + i
     // Motion blur: the shutter interval is cut into motionSegments equal segments (0: nothing moves), and
     // each primitive moves linearly from its pose at one segment's start to the next. Pose 0 is the
     // primitive itself; pose k >= 1 of triangle i is trianglePoses[i * motionSegments + k - 1] (and

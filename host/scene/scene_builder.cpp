@@ -57,6 +57,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
         if (still && !seen.insert(keyOf(scene.triangles[i])).second) continue;
         scene.triangles[kept] = scene.triangles[i];
         scene.shading[kept] = scene.shading[i];
+        if (!scene.vertexColors.empty()) scene.vertexColors[kept] = scene.vertexColors[i];
         for (size_t k = 0; k < segments; ++k)
             scene.trianglePoses[kept * segments + k] = scene.trianglePoses[i * segments + k];
         ++kept;
@@ -64,6 +65,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
     const size_t removed = scene.triangles.size() - kept;
     scene.triangles.resize(kept);
     scene.shading.resize(kept);
+    if (!scene.vertexColors.empty()) scene.vertexColors.resize(kept);
     scene.trianglePoses.resize(kept * segments);
     return removed;
 }
@@ -82,6 +84,8 @@ void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 
 }
 
 void finalizeScene(Scene& scene) {
+    // Triangles added after the last coloured one are white.
+    if (!scene.vertexColors.empty()) scene.vertexColors.resize(scene.triangles.size(), kVertexColorWhite);
     if (const size_t removed = removeDuplicateTriangles(scene); removed > 0) {
         scene.warnings.push_back(std::to_string(removed) + " duplicate triangle(s) removed");
     }
