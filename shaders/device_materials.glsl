@@ -13,10 +13,16 @@ uint device_texel(uint index) { return params.texels.texels[index]; }
 
 GpuTextureBinding device_textureBinding(int index) { return params.textureBindings.bindings[index]; }
 
-// A triangle's texture coordinates at barycentrics hitUv; spheres carry their own.
-vec2 device_textureCoordinates(uint primitive, vec2 hitUv) {
+// A triangle's texture coordinates of set `set` (0 or 1) at barycentrics hitUv; spheres carry their own.
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
 #ifdef VKRT_HAS_SPHERES
     if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return hitUv;
+#endif
+#ifdef VKRT_HAS_TEXCOORD1
+    if (set == 1u) {
+        const GpuTexCoords1 t = params.texCoords1.texCoords[primitive];
+        return (1.0 - hitUv.x - hitUv.y) * t.corners01.xy + hitUv.x * t.corners01.zw + hitUv.y * t.corner2.xy;
+    }
 #endif
     const GpuShading s = params.shading.shading[primitive];
     return (1.0 - hitUv.x - hitUv.y) * vec2(s.normalU0.w, s.v012.x) + hitUv.x * vec2(s.normalU1.w, s.v012.y) +

@@ -84,6 +84,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_MOTION
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_VERTEX_COLORS
+#define VKRT_HAS_TEXCOORD1
 
 #else  // GLSL
 

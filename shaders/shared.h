@@ -87,6 +87,12 @@ struct GpuVertexColors {
     vec4 corner2;
 };
 
+// A triangle's second texture coordinate set (TEXCOORD_1) at its corners, 32 bytes (the last pair unused).
+struct GpuTexCoords1 {
+    vec4 corners01;  // corner 0 in xy, corner 1 in zw
+    vec4 corner2;    // corner 2 in xy
+};
+
 // Per-vertex normals and texture coordinates, 64 bytes: normal.xyz with u in .w, and the three v's.
 struct GpuShading {
     vec4 normalU0;
@@ -219,6 +225,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Te
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer VertexColorBuffer {
     GpuVertexColors colors[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexCoord1Buffer {
+    GpuTexCoords1 texCoords[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
     uint texels[];
 };
@@ -274,7 +283,7 @@ struct SceneParams {
     VKRT_ADDRESS(PrimitiveBuffer, motion);  // motion blur: poses 1..motionSegments of every primitive, leaf order
     VKRT_ADDRESS(TextureBindingBuffer, textureBindings);
     VKRT_ADDRESS(VertexColorBuffer, vertexColors);  // with VKRT_HAS_VERTEX_COLORS, leaf order
-    uvec2 unused1;  // keeps the size a multiple of 16, as std430 rounds it
+    VKRT_ADDRESS(TexCoord1Buffer, texCoords1);      // with VKRT_HAS_TEXCOORD1, leaf order
 };
 
 // Per dispatch: which samples of which rows.
@@ -321,7 +330,7 @@ static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
 static_assert(offsetof(SceneParams, textureBindings) == 160 + 11 * 8);
 static_assert(offsetof(SceneParams, vertexColors) == 160 + 12 * 8);
 static_assert(sizeof(SceneParams) == 272);
-static_assert(sizeof(GpuVertexColors) == 48);
+static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu
 #endif

@@ -14,6 +14,8 @@
 #define VKRT_TEXTURE_NEAREST 16u
 // GpuTextureBinding::flags: the texels are sRGB-encoded colours (else linear data).
 #define VKRT_BINDING_SRGB 1u
+// GpuTextureBinding::flags: the binding reads the second texture coordinate set (TEXCOORD_1).
+#define VKRT_BINDING_TEXCOORD1 2u
 
 VKRT_SHADING_BEGIN
 
@@ -89,7 +91,8 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN real4 sampleBinding(VKRT_DEVICE_PARAM int binding, uint primitive, real2 hitUv) {
     VKRT_IN(GpuTextureBinding) b = VKRT_DEVICE(textureBinding)(binding);
     return sampleTexture(VKRT_DEVICE_ARG VKRT_DEVICE(textureInfo)(b.texture),
-                         transformUv(b, VKRT_DEVICE(textureCoordinates)(primitive, hitUv)),
+                         transformUv(b, VKRT_DEVICE(textureCoordinates)(primitive, hitUv,
+                                                                         (b.flags & VKRT_BINDING_TEXCOORD1) != 0u ? 1u : 0u)),
                          (b.flags & VKRT_BINDING_SRGB) != 0u);
 }
 #endif

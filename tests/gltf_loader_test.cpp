@@ -85,7 +85,7 @@ TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
         "materials": [{
             "pbrMetallicRoughness": {"metallicRoughnessTexture": {"index": 0,
                 "extensions": {"KHR_texture_transform": {"scale": [2, 3], "rotation": 0.5, "offset": [0.25, 0]}}}},
-            "occlusionTexture": {"index": 0, "strength": 0.5},
+            "occlusionTexture": {"index": 0, "strength": 0.5, "texCoord": 1},
             "extensions": {"KHR_materials_specular": {"specularFactor": 0.25, "specularColorFactor": [1, 0.5, 0],
                 "specularColorTexture": {"index": 0,
                     "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.5]}}}}}
@@ -101,6 +101,7 @@ TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
     EXPECT_EQ(m.metallicRoughnessTexture.offset, glm::vec2(0.25f, 0.0f));
     EXPECT_EQ(m.occlusionTexture.texture, 0);
     EXPECT_FLOAT_EQ(m.occlusionStrength, 0.5f);
+    EXPECT_EQ(m.occlusionTexture.texCoord, 1);  // the second set is read, without a warning
     EXPECT_FLOAT_EQ(m.specularFactor, 0.25f);
     EXPECT_EQ(m.specularColor, glm::vec3(1.0f, 0.5f, 0.0f));
     EXPECT_EQ(m.specularColorTexture.texture, 0);

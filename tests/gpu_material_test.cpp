@@ -305,5 +305,38 @@ TEST_F(GpuMaterials, VertexColorsMultiplyTheBaseColour) {
     }
 }
 
+TEST_F(GpuMaterials, TextureCoordinateSetOneIsRead) {
+    // The checker scaled by 4 (8 cells across) reads TEXCOORD_1, which spans the square; TEXCOORD_0 is zero
+    // everywhere, so a binding that read it would see one white texel.
+    for (const int texCoord : {1, 0}) {
+        Scene scene;
+        scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
+        Material checker;
+        checker.metallic = 0.0f;
+        checker.ior = 1.0f;
+        checker.baseColorTexture.texture = 0;
+        checker.baseColorTexture.texCoord = texCoord;
+        checker.baseColorTexture.scale = glm::vec2(4.0f);
+        scene.materials.push_back(checker);
+        addUnitSquare(scene, 0);
+        for (size_t i = 0; i < scene.triangles.size(); ++i) {
+            std::array<glm::vec2, 3> set1;
+            for (int k = 0; k < 3; ++k) {
+                set1[k] = scene.shading[i].uv[k];
+                scene.shading[i].uv[k] = glm::vec2(0.0f);
+            }
+            scene.uv1.push_back(set1);
+        }
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64),
+                                                      test::shaderCacheDir());
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_EQ(cellsAlongRow(*image, 4), texCoord == 1 ? 8 : 1) << "TEXCOORD_" << texCoord;
+        }
+        test::expectMatchesReference(gpu.image, cpu.image, "texcoord1");
+    }
+}
+
 }  // namespace
 }  // namespace vkrt

@@ -59,7 +59,7 @@ struct TexelDevice {
         if (index == 0) return {VKRT_CASE_BINDING0_ROW0, 0, VKRT_CASE_BINDING0_ROW1, VKRT_BINDING_SRGB};
         return {VKRT_CASE_BINDING1_ROW0, 0, VKRT_CASE_BINDING1_ROW1, 0u};
     }
-    glm::dvec2 textureCoordinates(uint32_t, glm::dvec2 uv) const { return uv; }
+    glm::dvec2 textureCoordinates(uint32_t, glm::dvec2 uv, uint32_t) const { return uv; }
 };
 
 // How far single precision may fall from double precision, per result. The relative part is a few hundred

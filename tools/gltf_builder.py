@@ -76,9 +76,11 @@ class GltfBuilder:
             {"name": name, "source": len(self.gltf["images"]) - 1, "sampler": len(self.gltf["samplers"]) - 1})
         return len(self.gltf["textures"]) - 1
 
-    def texture_info(self, texture, offset=None, rotation=None, scale=None):
+    def texture_info(self, texture, offset=None, rotation=None, scale=None, tex_coord=None):
         """A material's reference to a texture, with a KHR_texture_transform when any of its parts is given."""
         info = {"index": texture}
+        if tex_coord is not None:
+            info["texCoord"] = tex_coord
         transform = {key: value for key, value in (("offset", offset), ("rotation", rotation), ("scale", scale))
                      if value is not None}
         if transform:
@@ -127,7 +129,7 @@ class GltfBuilder:
 
     def mesh(self, name, primitives):
         """primitives: list of (positions, normals or None, indices, material[, texture coordinates or None[,
-        vertex colours (RGB)]])."""
+        vertex colours (RGB) or None[, second texture coordinates]]])."""
         out = []
         for positions, normals, indices, material, *extra in primitives:
             attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
@@ -135,8 +137,10 @@ class GltfBuilder:
                 attributes["NORMAL"] = self.vec3_accessor(normals)
             if extra and extra[0] is not None:
                 attributes["TEXCOORD_0"] = self.vec2_accessor(extra[0])
-            if len(extra) > 1:
+            if len(extra) > 1 and extra[1] is not None:
                 attributes["COLOR_0"] = self.vec3_accessor(extra[1])
+            if len(extra) > 2:
+                attributes["TEXCOORD_1"] = self.vec2_accessor(extra[2])
             out.append({"attributes": attributes, "indices": self.index_accessor(indices), "material": material})
         self.gltf["meshes"].append({"name": name, "primitives": out})
         return len(self.gltf["meshes"]) - 1

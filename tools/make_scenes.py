@@ -28,7 +28,7 @@ textures.gltf: textures and their transforms: a floor whose 2x2 checker KHR_text
 and turns by 20 degrees, and analytic spheres banded by a metallic-roughness texture (blue: metal, green:
 roughness) and a base colour texture, under a directional and a point light; in front, three glossy white
 spheres with KHR_materials_specular factors 1, 0 (purely Lambertian) and 1 tinted red, and a tile whose
-vertex colours (COLOR_0) blend red, green, blue and white.
+vertex colours (COLOR_0) blend red, green, blue and white under a checker read through TEXCOORD_1.
 
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
@@ -311,8 +311,10 @@ def textures():
     corner_colours = {(1.6, 0.9): (1.0, 0.1, 0.1), (2.6, 0.9): (0.1, 1.0, 0.1), (2.6, 1.9): (0.1, 0.1, 1.0),
                       (1.6, 1.9): (1.0, 1.0, 1.0)}
     colours = [corner_colours[(p[0], p[2])] for p in tile[0]]
-    white = g.material("vertex-coloured tile", base_color=(1.0, 1.0, 1.0))
-    g.node("tile", mesh=g.mesh("tile", [(tile[0], None, tile[1], white, None, colours)]))
+    second_uvs = [[(p[0] - 1.6) * 3.0, (p[2] - 0.9) * 3.0] for p in tile[0]]
+    white = g.material("vertex-coloured tile", base_color=(1.0, 1.0, 1.0),
+                       base_color_texture=g.texture_info(checker, tex_coord=1))
+    g.node("tile", mesh=g.mesh("tile", [(tile[0], None, tile[1], white, None, colours, second_uvs)]))
     sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.96, 0.9], "intensity": 2.5})
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.5, -1.0, -0.6]),
            extensions={"KHR_lights_punctual": {"light": sun}})

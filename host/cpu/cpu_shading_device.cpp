@@ -14,8 +14,13 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
 }
 
-glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const {
+glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
     if (data_.scene.isSphere(primitive)) return hitUv;  // spheres carry their texture coordinates
+    if (set == 1 && !data_.scene.uv1.empty()) {
+        const std::array<glm::vec2, 3>& t = data_.scene.uv1[primitive];
+        return (1.0 - hitUv.x - hitUv.y) * glm::dvec2(t[0]) + hitUv.x * glm::dvec2(t[1]) +
+               hitUv.y * glm::dvec2(t[2]);
+    }
     const TriangleShading& s = data_.scene.shading[primitive];
     return (1.0 - hitUv.x - hitUv.y) * glm::dvec2(s.uv[0]) + hitUv.x * glm::dvec2(s.uv[1]) +
            hitUv.y * glm::dvec2(s.uv[2]);

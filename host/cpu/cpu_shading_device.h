@@ -41,7 +41,7 @@ class CpuShadingDevice {
     gpu::GpuTexture textureInfo(int index) const { return data_.textures.textures[index]; }
     const gpu::GpuTextureBinding& textureBinding(int index) const { return data_.bindings[index]; }
     uint32_t texel(uint32_t index) const { return data_.textures.texels[index]; }
-    glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv) const;
+    glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
     glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }

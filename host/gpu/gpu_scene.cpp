@@ -42,6 +42,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             if (needShading) data.shading.push_back({});  // spheres compute theirs
             if (data.features.vertexColors)
                 data.vertexColors.push_back({glm::vec4(1.0f), glm::vec4(1.0f), glm::vec4(1.0f)});
+            if (data.features.texCoords1) data.texCoords1.push_back({});
             continue;
         }
         const Triangle& t = scene.triangles[index];
@@ -50,6 +51,11 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             const std::array<glm::vec4, 3>& c =
                 scene.vertexColors.empty() ? kVertexColorWhite : scene.vertexColors[index];
             data.vertexColors.push_back({c[0], c[1], c[2]});
+        }
+        if (data.features.texCoords1) {
+            const std::array<glm::vec2, 3> t =
+                scene.uv1.empty() ? std::array<glm::vec2, 3>{} : scene.uv1[index];
+            data.texCoords1.push_back({glm::vec4(t[0], t[1]), glm::vec4(t[2], 0.0f, 0.0f)});
         }
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
@@ -117,7 +123,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
 }
 
 GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
-    buffers_.reserve(11);
+    buffers_.reserve(12);
     auto upload = [&](const auto& values) -> uint64_t {
         if (values.empty()) return 0;
         buffers_.emplace_back(context, values);
@@ -136,6 +142,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.motion = upload(data.motion);
     addresses_.textureBindings = upload(data.textureBindings);
     addresses_.vertexColors = upload(data.vertexColors);
+    addresses_.texCoords1 = upload(data.texCoords1);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -150,6 +157,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.motion = addresses_.motion;
     params.textureBindings = addresses_.textureBindings;
     params.vertexColors = addresses_.vertexColors;
+    params.texCoords1 = addresses_.texCoords1;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

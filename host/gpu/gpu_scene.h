@@ -19,6 +19,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuPrimitive> primitives;       // in BVH leaf order; each keeps its scene index
     std::vector<gpu::GpuShading> shading;            // only with smooth normals or textures
     std::vector<gpu::GpuVertexColors> vertexColors;  // only with vertex colours, leaf order
+    std::vector<gpu::GpuTexCoords1> texCoords1;      // only with TEXCOORD_1, leaf order
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures

@@ -22,6 +22,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::motion, "motion_blur", "VKRT_HAS_MOTION"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
+    {&SceneFeatures::texCoords1, "texcoord1", "VKRT_HAS_TEXCOORD1"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -67,6 +68,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
     features.vertexColors = !scene.vertexColors.empty();
+    features.texCoords1 = !scene.uv1.empty();
     features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;

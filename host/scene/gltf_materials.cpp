@@ -76,9 +76,11 @@ void readTextureTransform(GltfContext& context, const tinygltf::Value& transform
     slot.texCoord = static_cast<int>(jsonNumber(context, transform, "texCoord", slot.texCoord, extWhere));
 }
 
-void warnAboutTexCoord(GltfContext& context, const TextureSlot& slot, const std::string& where) {
-    if (slot.used() && slot.texCoord != 0) {
-        context.warn(where + " uses TEXCOORD_" + std::to_string(slot.texCoord) + "; vkrt reads TEXCOORD_0");
+void warnAboutTexCoord(GltfContext& context, TextureSlot& slot, const std::string& where) {
+    if (slot.used() && (slot.texCoord < 0 || slot.texCoord > 1)) {
+        context.warn(where + " uses TEXCOORD_" + std::to_string(slot.texCoord) +
+                     "; vkrt reads TEXCOORD_0 and TEXCOORD_1, and reads TEXCOORD_0 for it");
+        slot.texCoord = 0;
     }
 }
 

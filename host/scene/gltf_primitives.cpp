@@ -71,6 +71,11 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         if (decoded.uvs.size() / 2 != vertexCount)
             context_.fail(where + " TEXCOORD_0 and POSITION counts differ");
     }
+    if (auto it = primitive.attributes.find("TEXCOORD_1"); it != primitive.attributes.end()) {
+        decoded.uvs1 = accessors.readFloats(it->second, 2, where + " TEXCOORD_1");
+        if (decoded.uvs1.size() / 2 != vertexCount)
+            context_.fail(where + " TEXCOORD_1 and POSITION counts differ");
+    }
     if (auto it = primitive.attributes.find("COLOR_0"); it != primitive.attributes.end()) {
         // VEC3 or VEC4, float or normalized integers; RGB gets alpha 1.
         const bool rgba = it->second >= 0 && it->second < static_cast<int>(context_.model.accessors.size()) &&
@@ -174,6 +179,14 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<g
                 if (length > 0.0 && std::isfinite(length)) shading.normal[k] = glm::vec3(n / length);
             }
             if (!uvs.empty()) shading.uv[k] = glm::vec2(uvs[2 * v], uvs[2 * v + 1]);
+        }
+        if (!primitive.uvs1.empty()) {
+            // The second texture coordinate set starts with this primitive: the triangles before it have
+            // zeros.
+            context_.scene.uv1.resize(context_.scene.triangles.size(), {});
+            std::array<glm::vec2, 3> corner;
+            for (int k = 0; k < 3; ++k) corner[k] = glm::make_vec2(&primitive.uvs1[2 * face[k]]);
+            context_.scene.uv1.push_back(corner);
         }
         if (!primitive.colors.empty()) {
             // Vertex colours start with this primitive: the triangles before it are white.

@@ -24,6 +24,7 @@ struct DecodedPrimitive {
     std::vector<float> normals;                  // 3 per vertex, or empty
     std::vector<float> uvs;                      // TEXCOORD_0, 2 per vertex, or empty
     std::vector<float> colors;                   // COLOR_0 as RGBA, 4 per vertex, or empty
+    std::vector<float> uvs1;                     // TEXCOORD_1, 2 per vertex, or empty
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
 };

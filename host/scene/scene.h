@@ -94,7 +94,7 @@ struct Texture {
 // applied to them (uv' = translation(offset) * rotation * scale(scale) * uv, as the extension defines it).
 struct TextureSlot {
     int texture = -1;  // index into Scene::textures; -1: none
-    int texCoord = 0;  // TEXCOORD_n; vkrt reads TEXCOORD_0
+    int texCoord = 0;  // TEXCOORD_n; vkrt reads sets 0 and 1
     glm::vec2 offset{0.0f};
     float rotation = 0.0f;  // radians
     glm::vec2 scale{1.0f};
@@ -184,6 +184,9 @@ struct Scene {
     // COLOR_0 at each corner (multiplying the base colour), parallel to triangles; empty when no primitive
     // has vertex colours (kVertexColorWhite for triangles without).
     std::vector<std::array<glm::vec4, 3>> vertexColors;
+    // TEXCOORD_1 at each corner, parallel to triangles; empty when no primitive has it (zero for those
+    // without).
+    std::vector<std::array<glm::vec2, 3>> uv1;
     std::vector<Sphere> spheres;  // primitives triangles.size() + i
     // Motion blur: the shutter interval is cut into motionSegments equal segments (0: nothing moves), and
     // each primitive moves linearly from its pose at one segment's start to the next. Pose 0 is the

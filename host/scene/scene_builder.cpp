@@ -58,6 +58,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
         scene.triangles[kept] = scene.triangles[i];
         scene.shading[kept] = scene.shading[i];
         if (!scene.vertexColors.empty()) scene.vertexColors[kept] = scene.vertexColors[i];
+        if (!scene.uv1.empty()) scene.uv1[kept] = scene.uv1[i];
         for (size_t k = 0; k < segments; ++k)
             scene.trianglePoses[kept * segments + k] = scene.trianglePoses[i * segments + k];
         ++kept;
@@ -66,6 +67,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
     scene.triangles.resize(kept);
     scene.shading.resize(kept);
     if (!scene.vertexColors.empty()) scene.vertexColors.resize(kept);
+    if (!scene.uv1.empty()) scene.uv1.resize(kept);
     scene.trianglePoses.resize(kept * segments);
     return removed;
 }
@@ -86,6 +88,7 @@ void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 
 void finalizeScene(Scene& scene) {
     // Triangles added after the last coloured one are white.
     if (!scene.vertexColors.empty()) scene.vertexColors.resize(scene.triangles.size(), kVertexColorWhite);
+    if (!scene.uv1.empty()) scene.uv1.resize(scene.triangles.size(), {});
     if (const size_t removed = removeDuplicateTriangles(scene); removed > 0) {
         scene.warnings.push_back(std::to_string(removed) + " duplicate triangle(s) removed");
     }

@@ -30,7 +30,7 @@ int bind(const TextureSlot& slot, bool srgb, std::vector<gpu::GpuTextureBinding>
     binding.row0 = glm::vec3(c * slot.scale.x, s * slot.scale.y, slot.offset.x);
     binding.row1 = glm::vec3(-s * slot.scale.x, c * slot.scale.y, slot.offset.y);
     binding.texture = slot.texture;
-    binding.flags = srgb ? VKRT_BINDING_SRGB : 0u;
+    binding.flags = (srgb ? VKRT_BINDING_SRGB : 0u) | (slot.texCoord == 1 ? VKRT_BINDING_TEXCOORD1 : 0u);
     bindings.push_back(binding);
     return static_cast<int>(bindings.size()) - 1;
 }

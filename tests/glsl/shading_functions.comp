@@ -19,7 +19,7 @@ layout(std430, binding = 1) readonly buffer Texels { uint texels[]; };
 uint device_texel(uint index);
 GpuTexture device_textureInfo(int index);
 GpuTextureBinding device_textureBinding(int index);
-vec2 device_textureCoordinates(uint primitive, vec2 hitUv);
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set);
 
 #include "shading_cases.h"
 
@@ -31,7 +31,7 @@ GpuTextureBinding device_textureBinding(int index) {
     if (index == 0) return GpuTextureBinding(VKRT_CASE_BINDING0_ROW0, 0, VKRT_CASE_BINDING0_ROW1, VKRT_BINDING_SRGB);
     return GpuTextureBinding(VKRT_CASE_BINDING1_ROW0, 0, VKRT_CASE_BINDING1_ROW1, 0u);
 }
-vec2 device_textureCoordinates(uint primitive, vec2 hitUv) { return hitUv; }
+vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) { return hitUv; }
 
 layout(std430, binding = 0) readonly buffer Cases { FunctionCase cases[]; };
 layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };
