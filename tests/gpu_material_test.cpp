@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gpu/scene_features.h"
 #include "image/image_metrics.h"
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
@@ -328,6 +329,8 @@ TEST_F(GpuMaterials, TextureCoordinateSetOneIsRead) {
             scene.uv1.push_back(set1);
         }
         finalizeScene(scene);
+        // The second set's buffer and shader path exist only when a slot reads it.
+        EXPECT_EQ(detectFeatures(scene).texCoords1, texCoord == 1);
         const FlatBvh bvh = bvhFor(scene);
         const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), ambientOnly(64),
                                                       test::shaderCacheDir());

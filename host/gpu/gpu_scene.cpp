@@ -90,11 +90,12 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         data.materials.push_back(g);
     }
 
-    if (!data.features.textures) data.textureBindings.clear();
     if (data.features.textures) {
         PackedTextures packed = packTextures(scene);
         data.textures = std::move(packed.textures);
         data.texels = std::move(packed.texels);
+    } else {
+        data.textureBindings.clear();  // no material reads one
     }
 
     for (const PunctualLight& light : scene.lights) {

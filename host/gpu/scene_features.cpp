@@ -68,16 +68,16 @@ SceneFeatures detectFeatures(const Scene& scene) {
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
     features.vertexColors = !scene.vertexColors.empty();
-    features.texCoords1 = !scene.uv1.empty();
     features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         if (!used[m]) continue;
         const Material& material = scene.materials[m];
-        if (material.baseColorTexture.used() || material.metallicRoughnessTexture.used() ||
-            material.occlusionTexture.used() || material.specularTexture.used() ||
-            material.specularColorTexture.used() ||
-            (material.emissiveTexture.used() && material.emissive())) {
+        for (const TextureSlot* slot : material.textureSlots()) {
+            // An emissive texture matters only on an emissive material.
+            if (!slot->used() || (slot == &material.emissiveTexture && !material.emissive())) continue;
             features.textures = true;
+            // The second texture coordinate set: read by a slot, and given by some mesh.
+            features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }
         const bool transmits = material.transmission > 0.0f && material.metallic < 1.0f;
         features.transmission |= transmits;

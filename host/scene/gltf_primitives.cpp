@@ -1,5 +1,6 @@
 #include "scene/gltf_primitives.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tiny_gltf.h>
@@ -77,15 +78,20 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
             context_.fail(where + " TEXCOORD_1 and POSITION counts differ");
     }
     if (auto it = primitive.attributes.find("COLOR_0"); it != primitive.attributes.end()) {
-        // VEC3 or VEC4, float or normalized integers; RGB gets alpha 1.
+        // VEC3 or VEC4, float or normalized integers, in [0, 1]; RGB gets alpha 1.
         const bool rgba = it->second >= 0 && it->second < static_cast<int>(context_.model.accessors.size()) &&
                           context_.model.accessors[it->second].type == TINYGLTF_TYPE_VEC4;
-        const std::vector<float> colors = accessors.readFloats(it->second, rgba ? 4 : 3, where + " COLOR_0");
-        if (colors.size() / (rgba ? 4 : 3) != vertexCount)
+        const int components = rgba ? 4 : 3;
+        const std::vector<float> colors = accessors.readFloats(it->second, components, where + " COLOR_0");
+        if (colors.size() / components != vertexCount)
             context_.fail(where + " COLOR_0 and POSITION counts differ");
         for (size_t v = 0; v < vertexCount; ++v) {
-            for (int c = 0; c < 4; ++c)
-                decoded.colors.push_back(c < 3 || rgba ? colors[(rgba ? 4 : 3) * v + c] : 1.0f);
+            for (int c = 0; c < 4; ++c) {
+                const float value = c < components ? colors[components * v + c] : 1.0f;
+                if (!std::isfinite(value))
+                    context_.fail(where + " COLOR_0 has a non-finite value at vertex " + std::to_string(v));
+                decoded.colors.push_back(std::clamp(value, 0.0f, 1.0f));
+            }
         }
     }
 

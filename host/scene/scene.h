@@ -128,6 +128,11 @@ struct Material {
     bool doubleSided = false;
 
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+    // Every texture slot.
+    std::array<const TextureSlot*, 6> textureSlots() const {
+        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture,
+                &occlusionTexture, &specularTexture,          &specularColorTexture};
+    }
     bool hasVolume() const { return thickness > 0.0f; }
 };
 
