@@ -4,6 +4,8 @@
 #ifndef VKRT_DEVICE_MATERIALS_GLSL
 #define VKRT_DEVICE_MATERIALS_GLSL
 
+#include "optics.h"
+
 uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
 
 #ifdef VKRT_HAS_TEXTURES
@@ -21,12 +23,11 @@ vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
 #ifdef VKRT_HAS_TEXCOORD1
     if (set == 1u) {
         const GpuTexCoords1 t = params.texCoords1.texCoords[primitive];
-        return (1.0 - hitUv.x - hitUv.y) * t.corners01.xy + hitUv.x * t.corners01.zw + hitUv.y * t.corner2.xy;
+        return barycentric(t.corners01.xy, t.corners01.zw, t.corner2.xy, hitUv);
     }
 #endif
     const GpuShading s = params.shading.shading[primitive];
-    return (1.0 - hitUv.x - hitUv.y) * vec2(s.normalU0.w, s.v012.x) + hitUv.x * vec2(s.normalU1.w, s.v012.y) +
-           hitUv.y * vec2(s.normalU2.w, s.v012.z);
+    return barycentric(vec2(s.normalU0.w, s.v012.x), vec2(s.normalU1.w, s.v012.y), vec2(s.normalU2.w, s.v012.z), hitUv);
 }
 #endif
 
@@ -37,7 +38,7 @@ vec4 device_vertexColor(uint primitive, vec2 hitUv) {
     if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return vec4(1.0);
 #endif
     const GpuVertexColors c = params.vertexColors.colors[primitive];
-    return (1.0 - hitUv.x - hitUv.y) * c.corner0 + hitUv.x * c.corner1 + hitUv.y * c.corner2;
+    return barycentric(c.corner0, c.corner1, c.corner2, hitUv);
 }
 #endif
 

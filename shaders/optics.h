@@ -10,6 +10,11 @@ VKRT_SHADING_BEGIN
 
 VKRT_FN real maxComponent(real3 v) { return max(v.x, max(v.y, v.z)); }
 
+// A value given at a triangle's corners, at barycentric weights uv of corners 1 and 2.
+VKRT_FN real2 barycentric(real2 a, real2 b, real2 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
+VKRT_FN real3 barycentric(real3 a, real3 b, real3 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
+VKRT_FN real4 barycentric(real4 a, real4 b, real4 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
+
 VKRT_FN real maxAbs(real3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
 
 VKRT_FN bool allFinite(real3 v) {

@@ -24,7 +24,7 @@ SurfacePoint hitPoint(vec3 origin, vec3 direction, float t, vec3 v0, vec3 v1, ve
     const float vertexScale = max(maxAbs(v0), max(maxAbs(v1), maxAbs(v2)));
     const float rayScale = maxAbs(origin) + t;
     if (rayScale < vertexScale) return SurfacePoint(origin + t * direction, rayScale);
-    return SurfacePoint((1.0 - u - v) * v0 + u * v1 + v * v2, vertexScale);
+    return SurfacePoint(barycentric(v0, v1, v2, vec2(u, v)), vertexScale);
 }
 
 // A sphere's hit point, and the outward normal there. Projected onto the sphere (RTG ch. 7) when that rounds

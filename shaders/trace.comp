@@ -113,8 +113,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.geometricNormal = normalize(cross(primitive.v1 - primitive.v0, primitive.v2 - primitive.v0));
 #ifdef VKRT_HAS_SMOOTH_NORMALS
         const GpuShading shading = params.shading.shading[hit.primitive];
-        p.normal = normalize((1.0 - hit.u - hit.v) * shading.normalU0.xyz + hit.u * shading.normalU1.xyz +
-                             hit.v * shading.normalU2.xyz);
+        p.normal = normalize(barycentric(shading.normalU0.xyz, shading.normalU1.xyz, shading.normalU2.xyz, vec2(hit.u, hit.v)));
 #ifdef VKRT_HAS_MOTION
         // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
         const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);

@@ -18,20 +18,17 @@ glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 h
     if (data_.scene.isSphere(primitive)) return hitUv;  // spheres carry their texture coordinates
     if (set == 1 && !data_.scene.uv1.empty()) {
         const std::array<glm::vec2, 3>& t = data_.scene.uv1[primitive];
-        return (1.0 - hitUv.x - hitUv.y) * glm::dvec2(t[0]) + hitUv.x * glm::dvec2(t[1]) +
-               hitUv.y * glm::dvec2(t[2]);
+        return shading::barycentric(glm::dvec2(t[0]), glm::dvec2(t[1]), glm::dvec2(t[2]), hitUv);
     }
     const TriangleShading& s = data_.scene.shading[primitive];
-    return (1.0 - hitUv.x - hitUv.y) * glm::dvec2(s.uv[0]) + hitUv.x * glm::dvec2(s.uv[1]) +
-           hitUv.y * glm::dvec2(s.uv[2]);
+    return shading::barycentric(glm::dvec2(s.uv[0]), glm::dvec2(s.uv[1]), glm::dvec2(s.uv[2]), hitUv);
 }
 
 glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) const {
     const Scene& scene = data_.scene;
     if (scene.vertexColors.empty() || scene.isSphere(primitive)) return glm::dvec4(1.0);
     const std::array<glm::vec4, 3>& c = scene.vertexColors[primitive];
-    return (1.0 - hitUv.x - hitUv.y) * glm::dvec4(c[0]) + hitUv.x * glm::dvec4(c[1]) +
-           hitUv.y * glm::dvec4(c[2]);
+    return shading::barycentric(glm::dvec4(c[0]), glm::dvec4(c[1]), glm::dvec4(c[2]), hitUv);
 }
 
 shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, double v,

@@ -74,8 +74,9 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     }
     const TriangleShading& shading = scene_.shading[hit.primitive];
     p.geometricNormal = geometricNormalOf(scene_.triangleAt(hit.primitive, time));
-    p.normal = glm::normalize((1.0 - hit.u - hit.v) * glm::dvec3(shading.normal[0]) +
-                              hit.u * glm::dvec3(shading.normal[1]) + hit.v * glm::dvec3(shading.normal[2]));
+    p.normal =
+        glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
+                                            glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
     // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
     if (time > 0.0) {
         p.normal = shading::rotateLike(p.normal, geometricNormalOf(scene_.triangles[hit.primitive]),
