@@ -66,6 +66,11 @@ SurfaceMaterial device_material(uint index) {
     s.specularColor = m.specularColor;
     s.specularTexture = m.specularTexture;
     s.specularColorTexture = m.specularColorTexture;
+    s.normalTexture = m.normalTexture;
+    s.normalScale = m.normalScale;
+    s.alphaMode = m.alphaMode;
+    s.alpha = m.alpha;
+    s.alphaCutoff = m.alphaCutoff;
     return s;
 }
 

@@ -39,6 +39,8 @@ using uint = uint32_t;
 // The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
 #define VKRT_DIM_LOBE_U 48u
 #define VKRT_DIM_LOBE_V 49u
+// Whether a ray goes on through the holes of alpha-blended surfaces (the node's last pair).
+#define VKRT_DIM_COVERAGE 62u
 
 VKRT_FUNC uint vkrtHash(uint x) {
     x ^= x >> 16u;
@@ -122,6 +124,15 @@ VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dim
     const uint bits = axis == 0u ? vkrtReverseBits(index) : vkrtSobol2(index);
     const uint scramble = vkrtHash(key ^ (0x68e31da4u + axis));
     return float((bits ^ scramble) >> 8u) * 5.9604644775390625e-8;
+}
+
+// A number for the `layer`-th decision of one kind along a ray (the surfaces of alpha-blended geometry it
+// meets, one after the other): the first two are the stratified pair at `dimension`, later ones are hashed
+// from the pair's dimension and the layer.
+VKRT_FUNC float vkrtLayered(uint seed, uint pixel, uint sampleIndex, uint dimension, uint layer) {
+    if (layer < 2u) return vkrtStratified(seed, pixel, sampleIndex, dimension, layer);
+    const uint bits = vkrtHash(vkrtRandomBits(seed, pixel, sampleIndex, dimension) ^ (layer * 0x9e3779b9u));
+    return float(bits >> 8u) * 5.9604644775390625e-8;
 }
 
 VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) {

@@ -23,6 +23,7 @@
 VKRT_SHADING_BEGIN
 
 #ifdef __cplusplus
+using ::vkrt::vkrtLayered;
 using ::vkrt::vkrtNodeDimension;
 using ::vkrt::vkrtStratified;
 #endif
@@ -57,6 +58,7 @@ struct HitPoint {
     real errorScale;        // the magnitude of the numbers `position` came from (for the ray offset)
     real3 geometricNormal;  // unit normals of the front (outside) side, at the hit's shutter time
     real3 normal;
+    real4 tangent;  // normal-mapped triangles: the tangent frame (surface_response.h's normalMapped), else 0
     real2 uv;  // barycentric weights of v1 and v2 (triangles), texture coordinates (spheres)
     uint primitive;
     uint material;
@@ -104,6 +106,24 @@ VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint 
 
 VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint axis) {
     return real(vkrtStratified(context.seed, context.pixel, context.sampleIndex, dimension, axis));
+}
+
+// The most surfaces with holes (alpha) a ray passes through; the next one it meets stops it as if covered.
+#define VKRT_MAX_ALPHA_LAYERS 64u
+
+// Whether the ray of ray-tree node `node` that met `primitive` at hitUv goes on through it: where the surface's
+// alpha leaves a hole (MASK), or with probability 1 - alpha (BLEND, an unbiased estimate of partial coverage).
+// `layer` counts the surfaces it has passed so far.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, uint layer, uint primitive,
+                           real2 hitUv) {
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(primitive));
+    if (material.alphaMode == VKRT_ALPHA_OPAQUE || layer >= VKRT_MAX_ALPHA_LAYERS) return false;
+    const real coverage = coverageAt(VKRT_DEVICE_ARG material, primitive, hitUv);
+    if (coverage >= 1.0) return false;
+    if (coverage <= 0.0) return true;
+    return real(vkrtLayered(context.seed, context.pixel, context.sampleIndex,
+                            vkrtNodeDimension(node, VKRT_DIM_COVERAGE), layer)) >= coverage;
 }
 
 // The index of refraction of the innermost volume, 1 (air) outside every volume.
@@ -191,9 +211,12 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const real3 visible = VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance),
                                                                   exclude, light.primitive);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
-            const real3 irradiance =
+            real3 irradiance =
                 textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv) *
                 cosLight / (distance2 * light.pdfArea);
+#ifdef VKRT_HAS_ALPHA
+            irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv);  // an emitter's holes
+#endif
             // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
             real weight = 1.0;
             if (lobeSampled && context.multipleImportanceSampling) {
@@ -216,7 +239,14 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.reflects = false;
     result.transmits = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
+    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv);
+#ifdef VKRT_HAS_NORMAL_MAPS
+    HitPoint mapped = hit;
+    if (material.normalTexture >= 0) mapped.normal = normalMapped(hit.normal, hit.tangent, inputs.tangentNormal);
+    const ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, mapped);
+#else
     const ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, hit);
+#endif
     const real3 toViewer = frame.toViewer, normal = frame.normal, geometricNormal = frame.geometricNormal;
 
     // Emission, weighed against light sampling when a glossy lobe chose the ray (multiple importance
@@ -238,7 +268,6 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                  textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv);
     }
 
-    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv);
     const SurfaceResponse surface = surfaceResponse(material, inputs);
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
     // material's occlusion lets it.

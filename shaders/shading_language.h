@@ -85,6 +85,8 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_VERTEX_COLORS
 #define VKRT_HAS_TEXCOORD1
+#define VKRT_HAS_NORMAL_MAPS
+#define VKRT_HAS_ALPHA
 
 #else  // GLSL
 

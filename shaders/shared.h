@@ -93,6 +93,14 @@ struct GpuTexCoords1 {
     vec4 corner2;    // corner 2 in xy
 };
 
+// A normal-mapped triangle's tangent frames at its corners, 48 bytes: the unit tangent in xyz, the bitangent's
+// sign in w (bitangent = w * cross(normal, tangent)); zero where there is none.
+struct GpuTangents {
+    vec4 corner0;
+    vec4 corner1;
+    vec4 corner2;
+};
+
 // Per-vertex normals and texture coordinates, 64 bytes: normal.xyz with u in .w, and the three v's.
 struct GpuShading {
     vec4 normalU0;
@@ -101,7 +109,7 @@ struct GpuShading {
     vec4 v012;
 };
 
-// A material, 112 bytes. See docs/materials.md for what each value means.
+// A material, 128 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
     vec3 baseColor;
     float metallic;
@@ -120,9 +128,13 @@ struct GpuMaterial {
     float occlusionStrength;       // occlusion = 1 + strength (red - 1)
     int specularTexture;           // likewise (KHR_materials_specular)
     int specularColorTexture;      // likewise
-    uint unused0;                  // std430 starts the vec3 below on a 16-byte boundary
+    uint alphaMode;                // VKRT_ALPHA_* (surface_response.h)
     vec3 specularColor;            // KHR_materials_specular
     float specularFactor;
+    int normalTexture;   // texture binding, -1: none
+    float normalScale;   // scales the tangent-space normal's x and y
+    float alpha;         // the base colour factor's alpha
+    float alphaCutoff;   // VKRT_ALPHA_MASK: alpha below it is a hole
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
@@ -228,6 +240,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ve
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexCoord1Buffer {
     GpuTexCoords1 texCoords[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TangentBuffer {
+    GpuTangents tangents[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
     uint texels[];
 };
@@ -284,6 +299,8 @@ struct SceneParams {
     VKRT_ADDRESS(TextureBindingBuffer, textureBindings);
     VKRT_ADDRESS(VertexColorBuffer, vertexColors);  // with VKRT_HAS_VERTEX_COLORS, leaf order
     VKRT_ADDRESS(TexCoord1Buffer, texCoords1);      // with VKRT_HAS_TEXCOORD1, leaf order
+    VKRT_ADDRESS(TangentBuffer, tangents);          // with VKRT_HAS_NORMAL_MAPS, leaf order
+    uvec2 unused1;                                  // the struct's size stays a multiple of 16 bytes
 };
 
 // Per dispatch: which samples of which rows.
@@ -313,8 +330,10 @@ static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
-static_assert(sizeof(GpuMaterial) == 112 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
+static_assert(sizeof(GpuMaterial) == 128 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
               offsetof(GpuMaterial, specularColor) == 96 && offsetof(GpuMaterial, specularFactor) == 108);
+static_assert(offsetof(GpuMaterial, normalTexture) == 112 && offsetof(GpuMaterial, alphaCutoff) == 124);
+static_assert(sizeof(GpuTangents) == 48);
 static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial, baseColorTexture) == 64);
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuTextureBinding) == 32 && offsetof(GpuTextureBinding, row1) == 16);
@@ -329,7 +348,8 @@ static_assert(offsetof(SceneParams, counters) == 160 + 9 * 8);
 static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
 static_assert(offsetof(SceneParams, textureBindings) == 160 + 11 * 8);
 static_assert(offsetof(SceneParams, vertexColors) == 160 + 12 * 8);
-static_assert(sizeof(SceneParams) == 272);
+static_assert(offsetof(SceneParams, tangents) == 160 + 14 * 8);
+static_assert(sizeof(SceneParams) == 288);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu

@@ -10,6 +10,11 @@
 #include "shading_language.h"
 #include "texture_sampling.h"
 
+// SurfaceMaterial::alphaMode: glTF's alphaMode.
+#define VKRT_ALPHA_OPAQUE 0u
+#define VKRT_ALPHA_MASK 1u   // alpha below the cutoff is a hole, else the surface is opaque
+#define VKRT_ALPHA_BLEND 2u  // the surface covers the fraction alpha
+
 VKRT_SHADING_BEGIN
 
 // A material's factors as both renderers read them (textures are looked up separately).
@@ -33,6 +38,11 @@ struct SurfaceMaterial {
     real3 specularColor;           // tints it at normal incidence
     int specularTexture;           // texture binding: alpha multiplies specularFactor
     int specularColorTexture;      // texture binding (sRGB): multiplies specularColor
+    int normalTexture;             // texture binding: the tangent-space normal
+    real normalScale;              // scales the normal's tangent-space x and y
+    uint alphaMode;                // VKRT_ALPHA_*
+    real alpha;                    // the base colour factor's alpha
+    real alphaCutoff;              // VKRT_ALPHA_MASK: alpha below it is a hole
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -43,7 +53,16 @@ struct MaterialSample {
     real specular;        // KHR_materials_specular's factor
     real3 specularColor;  // and colour
     real occlusion;       // how much of the ambient light reaches the point
+    real3 tangentNormal;  // the normal texture's normal in the tangent frame, x and y scaled; (0, 0, 1): none
+    real coverage;        // how much of the point the surface covers (alphaMode)
 };
+
+// How much of a point a surface whose base colour has alpha `alpha` there covers.
+VKRT_FN real coverageOf(VKRT_IN(SurfaceMaterial) material, real alpha) {
+    if (material.alphaMode == VKRT_ALPHA_MASK) return alpha >= material.alphaCutoff ? 1.0 : 0.0;
+    if (material.alphaMode == VKRT_ALPHA_BLEND) return clamp(alpha, 0.0, 1.0);
+    return 1.0;
+}
 
 // The factors alone, with base colour `albedo`.
 VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3 albedo) {
@@ -54,6 +73,8 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.specular = material.specularFactor;
     s.specularColor = material.specularColor;
     s.occlusion = 1.0;
+    s.tangentNormal = real3(0.0, 0.0, 1.0);
+    s.coverage = coverageOf(material, material.alpha);
     return s;
 }
 
@@ -63,14 +84,16 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
 #define VKRT_SLOT_OCCLUSION 2
 #define VKRT_SLOT_SPECULAR 3
 #define VKRT_SLOT_SPECULAR_COLOR 4
-#define VKRT_MATERIAL_SLOTS 5
+#define VKRT_SLOT_NORMAL 5
+#define VKRT_MATERIAL_SLOTS 6
 
 VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_BASE_COLOR) return m.baseColorTexture;
     if (slot == VKRT_SLOT_METALLIC_ROUGHNESS) return m.metallicRoughnessTexture;
     if (slot == VKRT_SLOT_OCCLUSION) return m.occlusionTexture;
     if (slot == VKRT_SLOT_SPECULAR) return m.specularTexture;
-    return m.specularColorTexture;
+    if (slot == VKRT_SLOT_SPECULAR_COLOR) return m.specularColorTexture;
+    return m.normalTexture;
 }
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates). The texture
@@ -80,9 +103,11 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
                                       real2 hitUv) {
     MaterialSample s = untexturedSample(material, material.baseColor);
+    real alpha = material.alpha;
 #ifdef VKRT_HAS_VERTEX_COLORS
     const real4 vertexColor = VKRT_DEVICE(vertexColor)(primitive, hitUv);
     s.albedo *= real3(vertexColor.x, vertexColor.y, vertexColor.z);
+    alpha *= vertexColor.w;
 #endif
 #ifdef VKRT_HAS_TEXTURES
     for (int slot = 0; slot < VKRT_MATERIAL_SLOTS; ++slot) {
@@ -91,6 +116,7 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
         const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv);
         if (slot == VKRT_SLOT_BASE_COLOR) {
             s.albedo *= real3(texel.x, texel.y, texel.z);
+            alpha *= texel.w;
         } else if (slot == VKRT_SLOT_METALLIC_ROUGHNESS) {
             s.roughness *= texel.y;
             s.metallic *= texel.z;
@@ -98,12 +124,47 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
             s.occlusion = 1.0 + material.occlusionStrength * (texel.x - 1.0);
         } else if (slot == VKRT_SLOT_SPECULAR) {
             s.specular *= texel.w;
-        } else {
+        } else if (slot == VKRT_SLOT_SPECULAR_COLOR) {
             s.specularColor *= real3(texel.x, texel.y, texel.z);
+        } else {
+            // glTF: (2 texel - 1) * (scale, scale, 1), normalised where the frame is applied.
+            s.tangentNormal = (2.0 * real3(texel.x, texel.y, texel.z) - 1.0) *
+                              real3(material.normalScale, material.normalScale, 1.0);
         }
     }
 #endif
+    s.coverage = coverageOf(material, alpha);
     return s;
+}
+
+// The coverage alone at a hit (sampleMaterial's, reading only what alpha depends on).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv) {
+    if (material.alphaMode == VKRT_ALPHA_OPAQUE) return 1.0;
+    real alpha = material.alpha;
+#ifdef VKRT_HAS_VERTEX_COLORS
+    alpha *= VKRT_DEVICE(vertexColor)(primitive, hitUv).w;
+#endif
+#ifdef VKRT_HAS_TEXTURES
+    if (material.baseColorTexture >= 0)
+        alpha *= sampleBinding(VKRT_DEVICE_ARG material.baseColorTexture, primitive, hitUv).w;
+#endif
+    return coverageOf(material, alpha);
+}
+
+// The shading normal with a normal map applied: the tangent-space normal `tangentNormal` in the frame of the
+// unit normal, the tangent (made orthogonal to it) and the bitangent w * cross(normal, tangent) (glTF 2.0,
+// 3.9.3). Without a usable tangent (zero where a mesh's texture coordinates give none) the normal stays.
+VKRT_FN real3 normalMapped(real3 normal, real4 tangent, real3 tangentNormal) {
+    const real3 along = real3(tangent.x, tangent.y, tangent.z);
+    const real3 t = along - normal * dot(normal, along);
+    const real tLength = length(t);
+    if (!(tLength > 0.0)) return normal;
+    const real3 unitTangent = t / tLength;
+    const real3 bitangent = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(normal, unitTangent);
+    const real3 mapped = tangentNormal.x * unitTangent + tangentNormal.y * bitangent + tangentNormal.z * normal;
+    const real mappedLength = length(mapped);
+    return mappedLength > 0.0 ? mapped / mappedLength : normal;
 }
 
 struct SurfaceResponse {
@@ -152,9 +213,11 @@ VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real 
     return reflectance * s.specularWeight;
 }
 
-// The fraction of light a transmissive surface lets through a shadow ray (shadow rays do not refract).
+// The fraction of light a surface lets through a shadow ray: all of it where the surface is missing (alpha),
+// and where it covers the point, what its transmission lets through (shadow rays do not refract).
 VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
-    return (1.0 - inputs.metallic) * material.transmission * inputs.albedo;
+    const real3 transmitted = (1.0 - inputs.metallic) * material.transmission * inputs.albedo;
+    return (1.0 - inputs.coverage) + inputs.coverage * transmitted;
 }
 
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.

@@ -6,7 +6,8 @@
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
-// VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD.
+// VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD, VKRT_HAS_VERTEX_COLORS, VKRT_HAS_TEXCOORD1, VKRT_HAS_NORMAL_MAPS,
+// VKRT_HAS_ALPHA.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
@@ -99,6 +100,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
     p.material = primitive.material;
     p.sphere = false;
     p.uv = vec2(hit.u, hit.v);
+    p.tangent = vec4(0.0);
     SurfacePoint surface;
 #ifdef VKRT_HAS_SPHERES
     p.sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
@@ -123,10 +125,41 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 #else
         p.normal = p.geometricNormal;
 #endif
+#ifdef VKRT_HAS_NORMAL_MAPS
+        const GpuTangents tangents = params.tangents.tangents[hit.primitive];
+        p.tangent = barycentric(tangents.corner0, tangents.corner1, tangents.corner2, vec2(hit.u, hit.v));
+#ifdef VKRT_HAS_MOTION
+        const GpuPrimitive atOpening = VKRT_PRIMITIVE(hit.primitive);
+        p.tangent.xyz = rotateLike(p.tangent.xyz, normalize(cross(atOpening.v1 - atOpening.v0, atOpening.v2 - atOpening.v0)),
+                                   p.geometricNormal, 1e-6);
+#endif
+#endif
     }
     p.position = surface.position;
     p.errorScale = surface.errorScale;
     return p;
+}
+
+// The nearest surface along `ray` that is there at its hit: the holes of alpha-tested and blended surfaces
+// (passesThrough) are passed, each skipped by searching on beyond its distance (a sphere is met again only at
+// its far side). One traversal call site, so the walk is inlined once.
+bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoint point) {
+    const ShearedRay sheared = shearRay(Ray(ray.origin, ray.direction));
+#ifdef VKRT_HAS_ALPHA
+    uint exclude = ray.exclude;
+    float tMin = 0.0;
+    for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
+        point = hitPointOf(ray, hit);
+        if (!passesThrough(context, ray.node, layer, point.primitive, point.uv)) return true;
+        exclude = point.sphere ? VKRT_NO_PRIMITIVE : point.primitive;
+        tMin = hit.t;
+    }
+    return false;
+#else
+    if (!traceClosest(sheared, ray.exclude, 0.0, VKRT_INFINITY, hit, vkrtWalksComplete)) return false;
+    point = hitPointOf(ray, hit);
+    return true;
+#endif
 }
 
 // Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
@@ -140,14 +173,14 @@ vec3 traceRayTree(CameraRay primary, ShadingContext context, inout uint secondar
     while (size > 0) {
         const RayState ray = stateOf(stack[--size]);
         Hit hit;
-        const bool found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY,
-                                        hit, vkrtWalksComplete);
+        HitPoint point;
+        const bool found = traceVisible(ray, context, hit, point);
         const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
         if (!found) {
             radiance += weight * params.background;
             continue;
         }
-        const ShadedHit shaded = shadeHit(context, ray, hitPointOf(ray, hit), weight);
+        const ShadedHit shaded = shadeHit(context, ray, point, weight);
         radiance += weight * shaded.radiance;
         // The transmission is pushed first, so that the reflection, pushed last, is traced first, as on the CPU.
         if (shaded.transmits) {

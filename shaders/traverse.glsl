@@ -38,7 +38,7 @@ float searchLimit(Hit hit, float tMax, const int mode) {
 // Multiplies `transmittance` by the transmission of a surface crossed at barycentrics / texture
 // coordinates (u, v); true when it is now opaque.
 bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
-#ifdef VKRT_HAS_TRANSMISSION
+#if defined(VKRT_HAS_TRANSMISSION) || defined(VKRT_HAS_ALPHA)
     const SurfaceMaterial material = device_material(device_materialOf(primitive));
     transmittance *= shadowTint(material, sampleMaterial(material, primitive, vec2(u, v)));
     if (maxComponent(transmittance) > 0.0) return false;

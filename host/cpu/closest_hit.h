@@ -42,14 +42,14 @@ inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex)
     return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
 }
 
-// The closest hit in (0, tMax) other than primitive `exclude`, ties broken by primitive index, with the
+// The closest hit in (tMin, tMax) other than primitive `exclude`, ties broken by primitive index, with the
 // scene at shutter time `time`; false on a miss.
-inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMax,
-                       uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
+inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
+                             double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
     bool found = false;
-    traverseBvh(bvh, ray, 0.0, tMax, [&](uint32_t prim, double& limit) {
+    traverseBvh(bvh, ray, tMin, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
-        if (prim != exclude && intersectPrimitive(scene, prim, ray, 0.0, limit, candidate, time) &&
+        if (prim != exclude && intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time) &&
             (!found || winsOver(candidate.t, prim, hit.t, hit.primitive))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
@@ -59,6 +59,12 @@ inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double
         return false;
     });
     return found;
+}
+
+// The same in (0, tMax).
+inline bool closestHit(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMax,
+                       uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
+    return closestHitBeyond(scene, bvh, ray, 0.0, tMax, exclude, hit, time);
 }
 
 }  // namespace vkrt

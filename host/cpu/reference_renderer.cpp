@@ -58,6 +58,7 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     p.material = scene_.materialOf(hit.primitive);
     p.sphere = scene_.isSphere(hit.primitive);
     p.uv = {hit.u, hit.v};
+    p.tangent = glm::dvec4(0.0);
     // The point along the ray, and the magnitude of the numbers it came from; rounding errors are relative to
     // it.
     p.position = ray.origin + hit.t * ray.direction;
@@ -82,7 +83,37 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
         p.normal = shading::rotateLike(p.normal, geometricNormalOf(scene_.triangles[hit.primitive]),
                                        p.geometricNormal, 1e-12);
     }
+    if (!scene_.tangents.empty()) {
+        const std::array<glm::vec4, 3>& t = scene_.tangents[hit.primitive];
+        p.tangent = shading::barycentric(glm::dvec4(t[0]), glm::dvec4(t[1]), glm::dvec4(t[2]),
+                                         glm::dvec2(hit.u, hit.v));
+        if (time > 0.0) {
+            const glm::dvec3 turned =
+                shading::rotateLike(glm::dvec3(p.tangent), geometricNormalOf(scene_.triangles[hit.primitive]),
+                                    p.geometricNormal, 1e-12);
+            p.tangent = glm::dvec4(turned, p.tangent.w);
+        }
+    }
     return p;
+}
+
+bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
+                                   const shading::RayState& ray, double time, SurfaceHit& hit,
+                                   shading::HitPoint& point) const {
+    // The holes of alpha-tested and blended surfaces are passed, each skipped by searching on beyond its distance
+    // (a sphere is met again only at its far side).
+    const Ray line{ray.origin, ray.direction};
+    uint32_t exclude = ray.exclude;
+    double tMin = 0.0;
+    for (uint32_t layer = 0;
+         closestHitBeyond(scene_, bvh_, line, tMin, std::numeric_limits<double>::infinity(), exclude, hit, time);
+         ++layer) {
+        point = hitPointOf(line, hit, time);
+        if (!shading::passesThrough(device, context, ray.node, layer, point.primitive, point.uv)) return true;
+        exclude = point.sphere ? kNoPrimitive : point.primitive;
+        tMin = hit.t;
+    }
+    return false;
 }
 
 glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shading::ShadingContext& context,
@@ -90,15 +121,14 @@ glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shadi
     const CpuShadingDevice device(shadingScene_, time, counters);
     const Ray line{ray.origin, ray.direction};
     SurfaceHit hit;
-    const bool found =
-        closestHit(scene_, bvh_, line, std::numeric_limits<double>::infinity(), ray.exclude, hit, time);
+    shading::HitPoint point;
+    const bool found = visibleHit(device, context, ray, time, hit, point);
     const glm::dvec3 absorbed =
         shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
     if (!found) return absorbed * settings_.background;
 
     // The shared shading step; its continuation rays are traced by recursion.
-    const shading::ShadedHit shaded =
-        shading::shadeHit(device, context, ray, hitPointOf(line, hit, time), ray.throughput * absorbed);
+    const shading::ShadedHit shaded = shading::shadeHit(device, context, ray, point, ray.throughput * absorbed);
     glm::dvec3 result = shaded.radiance;
     if (shaded.reflects) {
         ++counters.secondary;

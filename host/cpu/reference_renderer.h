@@ -47,6 +47,9 @@ class ReferenceRenderer {
   private:
     shading::ShadingContext shadingContext(uint32_t pixel, uint32_t sample) const;
     shading::HitPoint hitPointOf(const Ray& ray, const SurfaceHit& hit, double time) const;
+    // The nearest surface along `ray` that is there (alpha), as the GPU's traceVisible finds it.
+    bool visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
+                    const shading::RayState& ray, double time, SurfaceHit& hit, shading::HitPoint& point) const;
     // Radiance arriving along one ray of the tree, seen at shutter time `time`.
     glm::dvec3 radiance(const shading::RayState& ray, const shading::ShadingContext& context, double time,
                         RayCounters& counters) const;

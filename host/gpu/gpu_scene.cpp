@@ -43,6 +43,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             if (data.features.vertexColors)
                 data.vertexColors.push_back({glm::vec4(1.0f), glm::vec4(1.0f), glm::vec4(1.0f)});
             if (data.features.texCoords1) data.texCoords1.push_back({});
+            if (data.features.normalMaps) data.tangents.push_back({});
             continue;
         }
         const Triangle& t = scene.triangles[index];
@@ -56,6 +57,11 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
             const std::array<glm::vec2, 3> t =
                 scene.uv1.empty() ? std::array<glm::vec2, 3>{} : scene.uv1[index];
             data.texCoords1.push_back({glm::vec4(t[0], t[1]), glm::vec4(t[2], 0.0f, 0.0f)});
+        }
+        if (data.features.normalMaps) {
+            const std::array<glm::vec4, 3> t =
+                scene.tangents.empty() ? std::array<glm::vec4, 3>{} : scene.tangents[index];
+            data.tangents.push_back({t[0], t[1], t[2]});
         }
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
@@ -87,6 +93,12 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.specularColorTexture = data.features.textures ? s.specularColorTexture : -1;
         g.specularColor = glm::vec3(s.specularColor);
         g.specularFactor = static_cast<float>(s.specularFactor);
+        g.normalTexture = data.features.textures && data.features.normalMaps ? s.normalTexture : -1;
+        g.normalScale = static_cast<float>(s.normalScale);
+        // Without holes anywhere (SceneFeatures::alpha), every surface is opaque to the shader.
+        g.alphaMode = data.features.alpha ? s.alphaMode : VKRT_ALPHA_OPAQUE;
+        g.alpha = static_cast<float>(s.alpha);
+        g.alphaCutoff = static_cast<float>(s.alphaCutoff);
         data.materials.push_back(g);
     }
 
@@ -144,6 +156,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.textureBindings = upload(data.textureBindings);
     addresses_.vertexColors = upload(data.vertexColors);
     addresses_.texCoords1 = upload(data.texCoords1);
+    addresses_.tangents = upload(data.tangents);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -159,6 +172,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.textureBindings = addresses_.textureBindings;
     params.vertexColors = addresses_.vertexColors;
     params.texCoords1 = addresses_.texCoords1;
+    params.tangents = addresses_.tangents;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

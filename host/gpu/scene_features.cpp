@@ -23,6 +23,8 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
     {&SceneFeatures::texCoords1, "texcoord1", "VKRT_HAS_TEXCOORD1"},
+    {&SceneFeatures::normalMaps, "normal_maps", "VKRT_HAS_NORMAL_MAPS"},
+    {&SceneFeatures::alpha, "alpha", "VKRT_HAS_ALPHA"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -79,6 +81,10 @@ SceneFeatures detectFeatures(const Scene& scene) {
             // The second texture coordinate set: read by a slot, and given by some mesh.
             features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }
+        features.normalMaps |= material.normalTexture.used() && !scene.tangents.empty();
+        // COLOR_0's alpha multiplies the base colour's.
+        features.alpha |= material.partlyCovered() ||
+                          (material.alphaMode != AlphaMode::Opaque && !scene.vertexColors.empty());
         const bool transmits = material.transmission > 0.0f && material.metallic < 1.0f;
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();

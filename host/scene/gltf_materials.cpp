@@ -1,6 +1,7 @@
 #include "scene/gltf_materials.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <tiny_gltf.h>
 
@@ -134,6 +135,20 @@ void readSpecular(GltfContext& context, const tinygltf::ExtensionMap& extensions
     }
 }
 
+// alphaMode and alphaCutoff: how the base colour's alpha covers the surface.
+void readAlpha(GltfContext& context, const tinygltf::Material& m, const std::string& where, Material& material) {
+    if (m.alphaMode == "MASK") {
+        material.alphaMode = AlphaMode::Mask;
+    } else if (m.alphaMode == "BLEND") {
+        material.alphaMode = AlphaMode::Blend;
+    } else if (m.alphaMode != "OPAQUE") {
+        context.fail(where + ": alphaMode '" + m.alphaMode + "' is not OPAQUE, MASK or BLEND");
+    }
+    if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
+        context.fail(where + ": alphaCutoff must be a finite number of at least 0");
+    material.alphaCutoff = static_cast<float>(m.alphaCutoff);
+}
+
 }  // namespace
 
 void convertTextures(GltfContext& context) {
@@ -213,6 +228,11 @@ void convertMaterials(GltfContext& context) {
         if (!std::isfinite(m.occlusionTexture.strength))
             context.fail(where + ": occlusion strength is not finite");
         material.occlusionStrength = static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
+        material.normalTexture = textureSlot(context, m.normalTexture.index, m.normalTexture.texCoord,
+                                             m.normalTexture.extensions, where + " normal texture");
+        if (!std::isfinite(m.normalTexture.scale)) context.fail(where + ": normal texture scale is not finite");
+        material.normalScale = static_cast<float>(m.normalTexture.scale);
+        readAlpha(context, m, where, material);
         context.scene.materials.push_back(material);
     }
 }

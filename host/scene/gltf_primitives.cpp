@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "scene/gltf_materials.h"
+#include "scene/tangent_frames.h"
 
 namespace vkrt {
 
@@ -137,7 +138,60 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     } else {
         decoded.material = static_cast<uint32_t>(primitive.material);
     }
+    decodeTangents(primitive, decoded);
     return decoded;
+}
+
+void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {
+    const TextureSlot& normalTexture = context_.scene.materials[decoded.material].normalTexture;
+    decoded.normalMapped = normalTexture.used();
+    // Without normals the triangles are flat and the file's tangents are ignored (glTF 2.0, 3.7.2.1):
+    // place() derives one frame per face.
+    if (!decoded.normalMapped || decoded.normals.empty()) return;
+    const std::string& where = decoded.where;
+    const size_t vertexCount = decoded.positions.size() / 3;
+    if (auto it = primitive.attributes.find("TANGENT"); it != primitive.attributes.end()) {
+        decoded.tangents = context_.accessors.readFloats(it->second, 4, where + " TANGENT");
+        if (decoded.tangents.size() / 4 != vertexCount) context_.fail(where + " TANGENT and POSITION counts differ");
+        for (size_t i = 0; i < decoded.tangents.size(); ++i) {
+            if (!std::isfinite(decoded.tangents[i]))
+                context_.fail(where + " TANGENT has a non-finite value at vertex " + std::to_string(i / 4));
+        }
+        return;
+    }
+    // The texture coordinates the normal texture reads; without them the normal texture is one texel.
+    const std::vector<float>& uvs = normalTexture.texCoord == 1 ? decoded.uvs1 : decoded.uvs;
+    if (!uvs.empty()) decoded.tangents = vertexTangents(decoded.positions, decoded.normals, uvs, decoded.faces);
+}
+
+std::array<glm::vec4, 3> MeshInstancer::placedTangents(const std::vector<float>& tangents,
+                                                       const std::array<uint32_t, 3>& face,
+                                                       const glm::dmat3& linear, bool mirrored) {
+    // A tangent is a direction along the surface: it moves with the linear part of the transform. A mirroring
+    // transform flips the handedness of the frame, so the bitangent's sign flips with it.
+    std::array<glm::vec4, 3> corners{};
+    for (int k = 0; k < 3; ++k) {
+        const float* t = &tangents[4 * face[k]];
+        const glm::dvec3 placed = linear * glm::dvec3(t[0], t[1], t[2]);
+        const double length = glm::length(placed);
+        if (!(length > 0.0) || !std::isfinite(length)) continue;  // zero: no frame, no perturbation
+        const double w = (t[3] < 0.0f ? -1.0 : 1.0) * (mirrored ? -1.0 : 1.0);
+        corners[k] = glm::vec4(glm::dvec4(placed / length, w));
+    }
+    return corners;
+}
+
+std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
+                                                     const std::array<uint32_t, 3>& face,
+                                                     const glm::vec3& geometric) {
+    const std::vector<float>& uvs =
+        context_.scene.materials[primitive.material].normalTexture.texCoord == 1 ? primitive.uvs1 : primitive.uvs;
+    if (uvs.empty()) return {};
+    std::array<glm::dvec2, 3> uv;
+    for (int k = 0; k < 3; ++k) uv[k] = glm::dvec2(uvs[2 * face[k]], uvs[2 * face[k] + 1]);
+    const glm::vec4 frame = faceTangent({glm::dvec3(triangle.v0), glm::dvec3(triangle.v1), glm::dvec3(triangle.v2)},
+                                        uv, glm::dvec3(geometric));
+    return {frame, frame, frame};
 }
 
 void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<glm::dmat4>& poses) {
@@ -193,6 +247,13 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<g
             std::array<glm::vec2, 3> corner;
             for (int k = 0; k < 3; ++k) corner[k] = glm::make_vec2(&primitive.uvs1[2 * face[k]]);
             context_.scene.uv1.push_back(corner);
+        }
+        if (primitive.normalMapped) {
+            // Tangent frames start with this primitive: the triangles before it have none.
+            context_.scene.tangents.resize(context_.scene.triangles.size(), {});
+            context_.scene.tangents.push_back(primitive.tangents.empty()
+                                                  ? flatTangents(primitive, triangle, face, geometric)
+                                                  : placedTangents(primitive.tangents, face, linear, mirrored));
         }
         if (!primitive.colors.empty()) {
             // Vertex colours start with this primitive: the triangles before it are white.

@@ -13,6 +13,11 @@
 #include <glm/glm.hpp>
 
 #include "scene/gltf_context.h"
+#include "scene/scene.h"
+
+namespace tinygltf {
+struct Primitive;
+}
 
 namespace vkrt {
 
@@ -25,6 +30,8 @@ struct DecodedPrimitive {
     std::vector<float> uvs;                      // TEXCOORD_0, 2 per vertex, or empty
     std::vector<float> colors;                   // COLOR_0 as RGBA, 4 per vertex, or empty
     std::vector<float> uvs1;                     // TEXCOORD_1, 2 per vertex, or empty
+    bool normalMapped = false;                   // its material has a normal texture
+    std::vector<float> tangents;                 // normal-mapped with normals: 4 per vertex (tangent_frames.h)
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
 };
@@ -42,7 +49,16 @@ class MeshInstancer {
 
   private:
     DecodedPrimitive decode(int meshIndex, size_t primitiveIndex);
+    // TANGENT, or tangents derived from the normal texture's coordinates, for a normal-mapped primitive.
+    void decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
     void place(const DecodedPrimitive& primitive, const std::vector<glm::dmat4>& poses);
+    // The file's (or derived) tangents of a face, placed in the world.
+    static std::array<glm::vec4, 3> placedTangents(const std::vector<float>& tangents,
+                                                   const std::array<uint32_t, 3>& face, const glm::dmat3& linear,
+                                                   bool mirrored);
+    // The frame of a flat face (a primitive without normals), from its placed corners.
+    std::array<glm::vec4, 3> flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
+                                          const std::array<uint32_t, 3>& face, const glm::vec3& geometric);
 
     GltfContext& context_;
     // Decoded primitives by mesh index, filled in order by the mesh's first instance.

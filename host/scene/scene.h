@@ -77,6 +77,9 @@ struct TriangleShading {
     glm::vec2 uv[3];      // TEXCOORD_0, or zero
 };
 
+// glTF's alphaMode: how the base colour's alpha covers the surface.
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
 enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
 // An 8-bit RGBA texture as stored in the file (base colour textures are sRGB-encoded).
@@ -120,6 +123,10 @@ struct Material {
     glm::vec3 specularColor{1.0f};
     TextureSlot specularTexture;       // linear, alpha multiplies specularFactor
     TextureSlot specularColorTexture;  // sRGB, multiplies specularColor
+    TextureSlot normalTexture;  // linear, tangent-space normal (TANGENT or tangents from the slot's coordinates)
+    float normalScale = 1.0f;   // scales the normal's tangent-space x and y
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;   // MASK: alpha below it is a hole
     float transmission = 0.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
@@ -129,9 +136,16 @@ struct Material {
 
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     // Every texture slot.
-    std::array<const TextureSlot*, 6> textureSlots() const {
-        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture,
-                &occlusionTexture, &specularTexture,          &specularColorTexture};
+    std::array<const TextureSlot*, 7> textureSlots() const {
+        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture,     &occlusionTexture,
+                &specularTexture,  &specularColorTexture,     &normalTexture};
+    }
+    // Some of the surface may be missing: alpha MASK or BLEND, with an alpha that can fall below the cutoff
+    // (MASK) or 1 (BLEND) through the factor or the texture. COLOR_0's alpha multiplies it as well
+    // (SceneFeatures counts that).
+    bool partlyCovered() const {
+        if (alphaMode == AlphaMode::Opaque) return false;
+        return baseColorTexture.used() || baseColor.a < (alphaMode == AlphaMode::Mask ? alphaCutoff : 1.0f);
     }
     bool hasVolume() const { return thickness > 0.0f; }
 };
@@ -192,6 +206,10 @@ struct Scene {
     // TEXCOORD_1 at each corner, parallel to triangles; empty when no primitive has it (zero for those
     // without).
     std::vector<std::array<glm::vec2, 3>> uv1;
+    // Tangent frames of normal-mapped triangles at each corner: the tangent (unit, world space) in xyz and
+    // the bitangent's sign in w (bitangent = w * cross(normal, tangent)), parallel to triangles; empty when no
+    // triangle's material has a normal texture (zero, meaning none, for triangles without).
+    std::vector<std::array<glm::vec4, 3>> tangents;
     std::vector<Sphere> spheres;  // primitives triangles.size() + i
     // Motion blur: the shutter interval is cut into motionSegments equal segments (0: nothing moves), and
     // each primitive moves linearly from its pose at one segment's start to the next. Pose 0 is the

@@ -58,6 +58,13 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.specularColor = glm::dvec3(m.specularColor);
     s.specularTexture = bind(m.specularTexture, false, bindings);
     s.specularColorTexture = bind(m.specularColorTexture, true, bindings);
+    s.normalTexture = bind(m.normalTexture, false, bindings);
+    s.normalScale = m.normalScale;
+    s.alphaMode = m.alphaMode == AlphaMode::Mask    ? VKRT_ALPHA_MASK
+                  : m.alphaMode == AlphaMode::Blend ? VKRT_ALPHA_BLEND
+                                                    : VKRT_ALPHA_OPAQUE;
+    s.alpha = m.baseColor.a;
+    s.alphaCutoff = m.alphaCutoff;
     return s;
 }
 
