@@ -9,6 +9,7 @@
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
+#include "scene/tangent_frames.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
@@ -130,6 +131,62 @@ TEST(GltfLoader, VertexColorsFollowTheirTriangles) {
     bool red = false;
     for (const glm::vec4& c : tile) red = red || (std::abs(c.r - 1.0f) < 1e-6f && std::abs(c.g - 0.1f) < 1e-6f);
     EXPECT_TRUE(red);
+}
+
+TEST(GltfLoader, TangentFramesFollowTextureCoordinatesAndNodes) {
+    // scenes/surfaces.gltf: two normal-mapped panels facing +z whose u grows along their local +x and v down
+    // them. One derives its tangents; the other gives TANGENT (+x, w 1) and is mirrored in x by its node. In
+    // the world, the tangent points where u grows (+x, then -x) and the bitangent w cross(n, t) points up the
+    // image (+y) on both; triangles without a normal map have no frame.
+    const Scene scene = loadGltf((test::sourceDir() / "scenes/surfaces.gltf").string());
+    ASSERT_EQ(scene.tangents.size(), scene.triangles.size());
+    int derived = 0, mirrored = 0;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const Material& material = scene.materials[scene.triangles[i].material];
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4 frame = scene.tangents[i][k];
+            if (!material.normalTexture.used()) {
+                EXPECT_EQ(frame, glm::vec4(0.0f));
+                continue;
+            }
+            const glm::vec3 normal = scene.shading[i].normal[k];
+            const glm::vec3 bitangent = frame.w * glm::cross(normal, glm::vec3(frame));
+            EXPECT_NEAR(bitangent.y, 1.0f, 1e-6f);
+            const bool left = scene.triangles[i].v0.x + scene.origin.x < -0.8;
+            EXPECT_NEAR(frame.x, left ? 1.0f : -1.0f, 1e-6f);
+            EXPECT_EQ(frame.w, left ? 1.0f : -1.0f);
+            (left ? derived : mirrored) += k == 0;
+        }
+    }
+    EXPECT_EQ(derived, 2);
+    EXPECT_EQ(mirrored, 2);
+}
+
+TEST(TangentFrames, MirroredTextureCoordinatesFlipTheHandedness) {
+    // A square in the xy plane facing +z: with u along +x and v down (-y) the frame is right-handed (w = 1,
+    // bitangent +y); with u along -x it is mirrored (tangent -x, w = -1, the bitangent still +y). Texture
+    // coordinates that give no direction give no frame.
+    const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const std::vector<float> normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::vector<std::array<uint32_t, 3>> faces = {{0, 1, 2}, {0, 2, 3}};
+    for (const float direction : {1.0f, -1.0f}) {
+        std::vector<float> uvs;
+        for (size_t v = 0; v < 4; ++v) {
+            uvs.push_back(direction * positions[3 * v]);
+            uvs.push_back(1.0f - positions[3 * v + 1]);
+        }
+        const std::vector<float> tangents = vertexTangents(positions, normals, uvs, faces);
+        for (size_t v = 0; v < 4; ++v) {
+            EXPECT_NEAR(tangents[4 * v], direction, 1e-6f);
+            EXPECT_NEAR(tangents[4 * v + 1], 0.0f, 1e-6f);
+            EXPECT_EQ(tangents[4 * v + 3], direction);
+        }
+    }
+    const std::vector<float> flat(8, 0.5f);
+    for (float t : vertexTangents(positions, normals, flat, faces)) EXPECT_EQ(t, 0.0f);
+    EXPECT_EQ(faceTangent({glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)},
+                          {glm::dvec2(0, 1), glm::dvec2(1, 1), glm::dvec2(0, 0)}, glm::dvec3(0, 0, 1)),
+              glm::vec4(1, 0, 0, 1));
 }
 
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {

@@ -13,6 +13,7 @@
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
+#include "support/unit_square.h"
 
 namespace vkrt {
 namespace {
@@ -20,63 +21,17 @@ namespace {
 using test::bvhFor;
 using test::Gpu;
 
-// A texture of width x height texels given as RGBA8 words (red in the lowest byte).
-Texture textureOf(int width, int height, const std::vector<uint32_t>& texels) {
-    Texture texture;
-    texture.width = width;
-    texture.height = height;
-    texture.nearest = true;
-    for (uint32_t t : texels) {
-        for (int c = 0; c < 4; ++c) texture.rgba.push_back(static_cast<uint8_t>(t >> (8 * c)));
-    }
-    return texture;
-}
-
-// The unit square at z = 0 facing +z, texture coordinates equal to (x, 1 - y) (glTF: v runs down the image).
-void addUnitSquare(Scene& scene, uint32_t material) {
-    addFlatQuad(scene, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, material);
-    for (size_t i = scene.triangles.size() - 2; i < scene.triangles.size(); ++i) {
-        const Triangle& t = scene.triangles[i];
-        for (int k = 0; k < 3; ++k) {
-            const glm::vec3 v = k == 0 ? t.v0 : k == 1 ? t.v1 : t.v2;
-            scene.shading[i].uv[k] = glm::vec2(v.x, 1.0f - v.y);
-        }
-    }
-}
-
-// An orthographic camera that sees exactly the unit square.
-Camera squareCamera() {
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.5, 0.5, 1.0};
-    camera.forward = {0.0, 0.0, -1.0};
-    camera.right = {1.0, 0.0, 0.0};
-    camera.up = {0.0, 1.0, 0.0};
-    camera.xmag = camera.ymag = 0.5;
-    return camera;
-}
-
-// Lit by ambient radiance 1 alone: a Lambertian dielectric shows its albedo (plus F0 where the lobe is not
-// traced).
-RenderSettings ambientOnly(int size) {
-    RenderSettings settings;
-    settings.width = settings.height = size;
-    settings.samplesPerPixel = 4;
-    settings.ambient = glm::dvec3(1.0);
-    settings.background = glm::dvec3(0.25);
-    return settings;
-}
+using test::addUnitSquare;
+using test::ambientOnly;
+using test::squareCamera;
+using test::textureOf;
 
 // The unit square in `scene` (which holds its textures and lights) with `material`, rendered on both devices.
 class GpuMaterials : public Gpu {
   protected:
-    static test::RenderPair renderSquare(Scene scene, const Material& material,
+    static test::RenderPair renderSquare(const Scene& scene, const Material& material,
                                          const RenderSettings& settings) {
-        scene.materials.push_back(material);
-        addUnitSquare(scene, static_cast<uint32_t>(scene.materials.size()) - 1);
-        finalizeScene(scene);
-        const FlatBvh bvh = bvhFor(scene);
-        return test::renderGpuAndCpu(context(), scene, bvh, squareCamera(), settings, test::shaderCacheDir());
+        return test::renderUnitSquare(context(), scene, material, settings);
     }
 };
 

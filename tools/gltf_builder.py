@@ -52,6 +52,10 @@ class GltfBuilder:
         payload = struct.pack("<%dI" % len(indices), *indices)
         return self._accessor(self._view(payload, 34963), 5125, len(indices), "SCALAR")
 
+    def vec4_accessor(self, vectors):
+        payload = b"".join(struct.pack("<4f", *v) for v in vectors)
+        return self._accessor(self._view(payload, 34962), 5126, len(vectors), "VEC4")
+
     def vec2_accessor(self, vectors):
         payload = b"".join(struct.pack("<2f", *v) for v in vectors)
         return self._accessor(self._view(payload, 34962), 5126, len(vectors), "VEC2")
@@ -92,10 +96,21 @@ class GltfBuilder:
     def material(self, name, base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0, emission=None,
                  emission_strength=None, transmission=None, ior=None, thickness=None,
                  attenuation_color=None, attenuation_distance=None, base_color_texture=None,
-                 metallic_roughness_texture=None, specular=None, specular_color=None):
+                 metallic_roughness_texture=None, specular=None, specular_color=None, normal_texture=None,
+                 normal_scale=None, alpha=1.0, alpha_mode=None, alpha_cutoff=None, double_sided=None):
         """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
-            "baseColorFactor": list(base_color) + [1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}
+            "baseColorFactor": list(base_color) + [alpha], "metallicFactor": metallic, "roughnessFactor": roughness}}
+        if normal_texture is not None:
+            material["normalTexture"] = dict(normal_texture)
+            if normal_scale is not None:
+                material["normalTexture"]["scale"] = normal_scale
+        if alpha_mode is not None:
+            material["alphaMode"] = alpha_mode
+        if alpha_cutoff is not None:
+            material["alphaCutoff"] = alpha_cutoff
+        if double_sided is not None:
+            material["doubleSided"] = double_sided
         if base_color_texture is not None:
             material["pbrMetallicRoughness"]["baseColorTexture"] = base_color_texture
         if metallic_roughness_texture is not None:
@@ -129,7 +144,7 @@ class GltfBuilder:
 
     def mesh(self, name, primitives):
         """primitives: list of (positions, normals or None, indices, material[, texture coordinates or None[,
-        vertex colours (RGB) or None[, second texture coordinates]]])."""
+        vertex colours (RGB) or None[, second texture coordinates or None[, tangents (XYZW)]]]])."""
         out = []
         for positions, normals, indices, material, *extra in primitives:
             attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
@@ -139,8 +154,10 @@ class GltfBuilder:
                 attributes["TEXCOORD_0"] = self.vec2_accessor(extra[0])
             if len(extra) > 1 and extra[1] is not None:
                 attributes["COLOR_0"] = self.vec3_accessor(extra[1])
-            if len(extra) > 2:
+            if len(extra) > 2 and extra[2] is not None:
                 attributes["TEXCOORD_1"] = self.vec2_accessor(extra[2])
+            if len(extra) > 3:
+                attributes["TANGENT"] = self.vec4_accessor(extra[3])
             out.append({"attributes": attributes, "indices": self.index_accessor(indices), "material": material})
         self.gltf["meshes"].append({"name": name, "primitives": out})
         return len(self.gltf["meshes"]) - 1

@@ -30,6 +30,11 @@ roughness) and a base colour texture, under a directional and a point light; in 
 spheres with KHR_materials_specular factors 1, 0 (purely Lambertian) and 1 tinted red, and a tile whose
 vertex colours (COLOR_0) blend red, green, blue and white under a checker read through TEXCOORD_1.
 
+surfaces.gltf: normal maps and alpha: two panels of domes that exist only in their normal texture (one with
+tangents derived from its texture coordinates, one a mirrored instance with TANGENT given: both look alike),
+a MASK screen whose holes let the sun through onto the floor, and a BLEND pane of alpha 0.35 in front of a
+sphere, under a low sun and a point light.
+
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
@@ -326,6 +331,80 @@ def textures():
     g.write(os.path.join(OUTPUT, "textures.gltf"))
 
 
+
+def dome_normals(size, cells):
+    """A normal texture of cells x cells domes (hemispheres of radius 0.8 of a cell's half width), +Y up in
+    the image as glTF's normal textures have it."""
+    texels = []
+    for row in range(size):
+        for col in range(size):
+            x = ((col + 0.5) * cells / size) % 1.0 * 2.0 - 1.0
+            y = -(((row + 0.5) * cells / size) % 1.0 * 2.0 - 1.0)  # up in the image
+            r2 = x * x + y * y
+            n = [x / 0.8, y / 0.8, math.sqrt(0.64 - r2) / 0.8] if r2 < 0.64 else [0.0, 0.0, 1.0]
+            texels.append(tuple(round((c + 1.0) * 0.5 * 255.0) for c in n) + (255,))
+    return texels
+
+
+def surfaces():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (120, 125, 135, 255),
+                                          (120, 125, 135, 255), (235, 235, 235, 255)], nearest=True)
+    floor_material = g.material("floor", base_color=(1.0, 1.0, 1.0),
+                                base_color_texture=g.texture_info(checker, scale=[10.0, 10.0]))
+    floor = quad([[-5.0, 0.0, -5.0], [5.0, 0.0, -5.0], [5.0, 0.0, 5.0], [-5.0, 0.0, 5.0]], [0.0, 1.0, 0.0])
+    uvs = [[(p[0] + 5.0) / 10.0, (p[2] + 5.0) / 10.0] for p in floor[0]]
+    g.node("floor", mesh=g.mesh("floor", [(floor[0], None, floor[1], floor_material, uvs)]))
+
+    # Two panels of domes standing at the back, facing +z: texture coordinates u along +x, v down the panel.
+    domes = g.texture("domes", 64, 64, dome_normals(64, 4))
+    bumps = g.material("bumps", base_color=(0.85, 0.55, 0.3), roughness=0.45,
+                       normal_texture=g.texture_info(domes))
+    panel = [[0.0, 0.0, 0.0], [1.6, 0.0, 0.0], [1.6, 1.6, 0.0], [0.0, 1.6, 0.0]]
+    panel_uvs = [[p[0] / 1.6, 1.0 - p[1] / 1.6] for p in panel]
+    normals = [[0.0, 0.0, 1.0]] * 4
+    indices = [0, 1, 2, 0, 2, 3]
+    derived = g.mesh("panel, tangents derived", [(panel, normals, indices, bumps, panel_uvs)])
+    g.node("panel, tangents derived", mesh=derived, translation=[-2.4, 0.0, -1.5])
+    given = g.mesh("panel, TANGENT", [(panel, normals, indices, bumps, panel_uvs, None, None,
+                                       [[1.0, 0.0, 0.0, 1.0]] * 4)])
+    # Mirrored in x: the node's transform flips the frame's handedness, which the loader must follow.
+    g.node("panel, TANGENT, mirrored", mesh=given, translation=[0.8, 0.0, -1.5], scale=[-1.0, 1.0, 1.0])
+
+    # A screen with round holes (alpha 0 inside circles, MASK) casting a dotted shadow.
+    holes = []
+    for row in range(32):
+        for col in range(32):
+            x, y = (col % 8) - 3.5, (row % 8) - 3.5
+            holes.append((70, 130, 180, 0 if x * x + y * y < 7.0 else 255))
+    screen_material = g.material("screen", base_color=(1.0, 1.0, 1.0), alpha_mode="MASK", alpha_cutoff=0.5,
+                                 base_color_texture=g.texture_info(g.texture("holes", 32, 32, holes, nearest=True)),
+                                 double_sided=True)
+    # Turned to face the sun, which comes from the right: its shadow falls on the floor in view.
+    screen = [[1.6, 0.0, 0.9], [2.8, 0.0, -0.3], [2.8, 1.2, -0.3], [1.6, 1.2, 0.9]]
+    screen_uvs = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+    facing = [[0.7071, 0.0, 0.7071]] * 4
+    g.node("screen", mesh=g.mesh("screen", [(screen, facing, indices, screen_material, screen_uvs)]))
+
+    # A translucent pane (BLEND, alpha 0.35) in front of a sphere.
+    pane_material = g.material("pane", base_color=(0.2, 0.5, 0.9), alpha=0.35, alpha_mode="BLEND",
+                               roughness=0.3, double_sided=True)
+    pane = quad([[-0.9, 0.0, 1.0], [0.3, 0.0, 1.0], [0.3, 1.1, 1.0], [-0.9, 1.1, 1.0]], [0.0, 0.0, 1.0])
+    g.node("pane", mesh=g.mesh("pane", [(pane[0], None, pane[1], pane_material)]))
+    red = g.material("red", base_color=(0.8, 0.15, 0.1), roughness=0.4)
+    g.sphere("ball", [-0.3, 0.45, 0.3], 0.45, red)
+
+    sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.96, 0.9], "intensity": 2.5})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.8, -0.5, -0.3]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    lamp = g.light({"type": "point", "name": "lamp", "color": [0.9, 0.95, 1.0], "intensity": 12.0})
+    g.node("lamp", translation=[-2.5, 2.5, 2.5], extensions={"KHR_lights_punctual": {"light": lamp}})
+    eye, target = [0.0, 2.2, 5.0], [0.0, 0.6, -0.3]
+    camera = g.perspective_camera("surfaces-camera", math.radians(45.0), aspect_ratio=1.6)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "surfaces.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -338,3 +417,4 @@ if __name__ == "__main__":
     glossy()
     motion_blur()
     textures()
+    surfaces()

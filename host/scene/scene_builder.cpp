@@ -59,6 +59,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
         scene.shading[kept] = scene.shading[i];
         if (!scene.vertexColors.empty()) scene.vertexColors[kept] = scene.vertexColors[i];
         if (!scene.uv1.empty()) scene.uv1[kept] = scene.uv1[i];
+        if (!scene.tangents.empty()) scene.tangents[kept] = scene.tangents[i];
         for (size_t k = 0; k < segments; ++k)
             scene.trianglePoses[kept * segments + k] = scene.trianglePoses[i * segments + k];
         ++kept;
@@ -68,6 +69,7 @@ size_t removeDuplicateTriangles(Scene& scene) {
     scene.shading.resize(kept);
     if (!scene.vertexColors.empty()) scene.vertexColors.resize(kept);
     if (!scene.uv1.empty()) scene.uv1.resize(kept);
+    if (!scene.tangents.empty()) scene.tangents.resize(kept);
     scene.trianglePoses.resize(kept * segments);
     return removed;
 }
@@ -89,6 +91,7 @@ void finalizeScene(Scene& scene) {
     // Triangles added after the last coloured one are white.
     if (!scene.vertexColors.empty()) scene.vertexColors.resize(scene.triangles.size(), kVertexColorWhite);
     if (!scene.uv1.empty()) scene.uv1.resize(scene.triangles.size(), {});
+    if (!scene.tangents.empty()) scene.tangents.resize(scene.triangles.size(), {});
     if (const size_t removed = removeDuplicateTriangles(scene); removed > 0) {
         scene.warnings.push_back(std::to_string(removed) + " duplicate triangle(s) removed");
     }

@@ -25,13 +25,15 @@ TriangleDerivatives derivatives(const std::array<glm::dvec3, 3>& p, const std::a
     return result;
 }
 
-// The tangent frame at a point with unit normal n from accumulated dP/du and dP/dv.
+// The tangent frame at a point with unit normal n from accumulated dP/du and dP/dv. A normal texture's +Y is up
+// in the image, and glTF's v grows downwards (its origin is the image's top-left corner), so the bitangent
+// points along -dP/dv: w is the sign that makes w * cross(n, tangent) agree with it.
 glm::vec4 orthogonalFrame(const glm::dvec3& n, const glm::dvec3& dpdu, const glm::dvec3& dpdv) {
     const glm::dvec3 t = dpdu - n * glm::dot(n, dpdu);
     const double length = glm::length(t);
     if (!(length > 1e-20 * glm::length(dpdu)) || !std::isfinite(length)) return glm::vec4(0.0f);
     const glm::dvec3 tangent = t / length;
-    const double w = glm::dot(glm::cross(n, tangent), dpdv) < 0.0 ? -1.0 : 1.0;
+    const double w = glm::dot(glm::cross(n, tangent), -dpdv) < 0.0 ? -1.0 : 1.0;
     return glm::vec4(glm::dvec4(tangent, w));
 }
 

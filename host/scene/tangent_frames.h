@@ -13,7 +13,7 @@ namespace vkrt {
 // Per-vertex tangents of a smooth mesh (4 floats per vertex: the unit tangent, then the bitangent's sign w,
 // bitangent = w * cross(normal, tangent)). Each triangle's dP/du and dP/dv are accumulated at its corners,
 // weighted by the corner's angle, then the tangent is made orthogonal to the vertex normal (Gram-Schmidt);
-// w says whether dP/dv agrees with cross(normal, tangent). This is the core of MikkTSpace (Mikkelsen, "Simulation
+// w says whether -dP/dv (the image's up: glTF's v grows downwards) agrees with cross(normal, tangent). This is the core of MikkTSpace (Mikkelsen, "Simulation
 // of Wrinkled Surfaces Revisited", 2008) without its splitting of vertices whose triangles' frames disagree
 // (mirrored UV seams that share vertices): such vertices get an averaged frame. A vertex whose texture
 // coordinates give no direction gets zero, which leaves its normal unperturbed.

@@ -1,0 +1,200 @@
+// What a surface's normal texture and alpha do, with known answers, on the GPU and the CPU reference alike:
+// a normal map turns the shading normal by the angle its texel encodes, in the tangent frame and with its
+// scale; alpha MASK cuts holes that camera rays and shadow rays pass, and alpha BLEND covers the fraction
+// alpha of a point, for camera rays and for shadow rays.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu/scene_features.h"
+#include "scene/scene_builder.h"
+#include "support/gpu_fixture.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
+#include "support/unit_square.h"
+
+namespace vkrt {
+namespace {
+
+using test::ambientOnly;
+using test::Gpu;
+using test::textureOf;
+
+// One RGBA8 texel encoding the unit tangent-space normal n (each component c stored as (c + 1) / 2), and
+// the normal the renderers decode from it.
+uint32_t normalTexel(const glm::dvec3& n) {
+    uint32_t texel = 0xff000000u;
+    for (int c = 0; c < 3; ++c) texel |= static_cast<uint32_t>(std::lround((n[c] + 1.0) * 0.5 * 255.0)) << (8 * c);
+    return texel;
+}
+glm::dvec3 decodedNormal(uint32_t texel) {
+    glm::dvec3 n;
+    for (int c = 0; c < 3; ++c) n[c] = ((texel >> (8 * c)) & 0xffu) / 255.0 * 2.0 - 1.0;
+    return n;
+}
+
+// A Lambertian material (no specular reflection) of grey albedo `albedo`.
+Material lambertian(float albedo) {
+    Material m;
+    m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
+    m.metallic = 0.0f;
+    m.specularFactor = 0.0f;
+    return m;
+}
+
+// A directional light of illuminance `illuminance` arriving from direction `toLight`.
+PunctualLight sunFrom(const glm::dvec3& toLight, float illuminance) {
+    PunctualLight sun;
+    sun.type = LightType::Directional;
+    sun.direction = -toLight;
+    sun.intensity = illuminance;
+    return sun;
+}
+
+RenderSettings litOnly(int size) {
+    RenderSettings settings = ambientOnly(size);
+    settings.ambient = glm::dvec3(0.0);
+    settings.background = glm::dvec3(0.0);
+    return settings;
+}
+
+// The mean of an image's red channel.
+double meanRed(const Image& image) {
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) sum += image.at(x, y).x;
+    }
+    return sum / (static_cast<double>(image.width) * image.height);
+}
+
+class GpuSurfaces : public Gpu {};
+
+TEST_F(GpuSurfaces, NormalMapTurnsTheShadingNormal) {
+    // The unit square (texture coordinates (x, 1 - y)) has the tangent frame T = +x, bitangent w cross(n, T) =
+    // w (+y). Its normal texture's one texel tilts the normal by 40 degrees towards the bitangent. Under a sun
+    // from toLight, a Lambertian surface shows albedo / pi * E * dot(n', toLight), where n' is the decoded
+    // normal in the frame, its x and y scaled by the normal scale and normalised; w = -1 mirrors the tilt,
+    // scale 0 removes it.
+    const double tilt = 40.0 * M_PI / 180.0;
+    const uint32_t texel = normalTexel({0.0, std::sin(tilt), std::cos(tilt)});
+    const glm::dvec3 toLight = glm::normalize(glm::dvec3(0.2, 0.8, 1.0));
+    const double albedo = 0.7, illuminance = 3.0;
+    struct Case {
+        float w, scale;
+    };
+    for (const Case c : {Case{1.0f, 1.0f}, Case{-1.0f, 1.0f}, Case{1.0f, 0.5f}, Case{1.0f, 0.0f}}) {
+        SCOPED_TRACE(testing::Message() << "w " << c.w << ", scale " << c.scale);
+        Scene scene;
+        scene.textures.push_back(textureOf(1, 1, {texel}));
+        scene.lights.push_back(sunFrom(toLight, static_cast<float>(illuminance)));
+        Material material = lambertian(static_cast<float>(albedo));
+        material.normalTexture.texture = 0;
+        material.normalScale = c.scale;
+        const glm::vec4 tangent(1.0f, 0.0f, 0.0f, c.w);
+        scene.tangents.assign(2, {tangent, tangent, tangent});
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, litOnly(16));
+        const glm::dvec3 t = decodedNormal(texel) * glm::dvec3(c.scale, c.scale, 1.0);
+        const glm::dvec3 mapped = glm::normalize(glm::dvec3(t.x, c.w * t.y, t.z));
+        const double expected = albedo / M_PI * illuminance * glm::dot(mapped, toLight);
+        for (const Image* image : {&gpu.image, &cpu.image}) EXPECT_NEAR(image->at(8, 8).x, expected, 2e-6);
+    }
+}
+
+TEST_F(GpuSurfaces, AlphaMaskCutsHoles) {
+    // A texture whose left texel has alpha 200/255 and right texel 100/255: with cutoff 0.5 the left half is
+    // the surface (albedo 1 under ambient 1) and the right half a hole showing the background (0.25); raising
+    // the cutoff above 200/255 leaves nothing; OPAQUE ignores alpha.
+    struct Case {
+        AlphaMode mode;
+        float cutoff;
+        double left, right;
+    };
+    for (const Case c : {Case{AlphaMode::Mask, 0.5f, 1.0, 0.25}, Case{AlphaMode::Mask, 0.8f, 0.25, 0.25},
+                         Case{AlphaMode::Opaque, 0.5f, 1.0, 1.0}}) {
+        SCOPED_TRACE(testing::Message() << "cutoff " << c.cutoff);
+        Scene scene;
+        scene.textures.push_back(textureOf(2, 1, {0xc8ffffffu, 0x64ffffffu}));
+        Material material = lambertian(1.0f);
+        material.baseColorTexture.texture = 0;
+        material.alphaMode = c.mode;
+        material.alphaCutoff = c.cutoff;
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(16));
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_NEAR(image->at(3, 8).x, c.left, 1e-6);
+            EXPECT_NEAR(image->at(12, 8).x, c.right, 1e-6);
+        }
+    }
+}
+
+TEST_F(GpuSurfaces, AlphaBlendCoversTheFractionAlpha) {
+    // A surface of alpha 0.3 in front of the background: each camera ray goes through with probability 0.7, so
+    // the image converges to 0.3 * 1 + 0.7 * 0.25. Both devices draw the same numbers: the images agree.
+    Scene scene;
+    Material material = lambertian(1.0f);
+    material.baseColor.a = 0.3f;
+    material.alphaMode = AlphaMode::Blend;
+    RenderSettings settings = ambientOnly(32);
+    settings.samplesPerPixel = 64;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, settings);
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        EXPECT_NEAR(meanRed(*image), 0.3 + 0.7 * 0.25, 0.005);
+        // Every pixel is a mix: the decisions are stratified over each pixel's samples.
+        EXPECT_NEAR(image->at(5, 9).x, 0.475, 0.03);
+    }
+    test::expectMatchesReference(gpu.image, cpu.image, "alpha-blend");
+}
+
+TEST_F(GpuSurfaces, ShadowRaysPassAlphaHoles) {
+    // A floor (the unit square, albedo 0.5) lit by a sun at 45 degrees; a blocker at height 0.5, out of the
+    // camera's view (x from 1.2 to 3), casts its shadow on the floor's strip x > 0.7. The shadowed floor gets
+    // 1 - coverage of the light: all of it through a MASK hole (alpha 0.4, cutoff 0.5), 0.6 of it through
+    // BLEND alpha 0.4, none through an opaque blocker.
+    const glm::dvec3 toLight = glm::normalize(glm::dvec3(1.0, 0.0, 1.0));
+    const double albedo = 0.5, illuminance = 2.0;
+    const double lit = albedo / M_PI * illuminance * toLight.z;
+    struct Case {
+        AlphaMode mode;
+        double passes;
+    };
+    for (const Case c : {Case{AlphaMode::Mask, 1.0}, Case{AlphaMode::Blend, 0.6}, Case{AlphaMode::Opaque, 0.0}}) {
+        SCOPED_TRACE(testing::Message() << "alpha mode " << static_cast<int>(c.mode));
+        Scene scene;
+        scene.lights.push_back(sunFrom(toLight, static_cast<float>(illuminance)));
+        Material blocker = lambertian(1.0f);
+        blocker.baseColor.a = 0.4f;
+        blocker.alphaMode = c.mode;
+        blocker.doubleSided = true;
+        scene.materials.push_back(blocker);
+        addFlatQuad(scene, {1.2f, -1.0f, 0.5f}, {3.0f, -1.0f, 0.5f}, {3.0f, 2.0f, 0.5f}, {1.2f, 2.0f, 0.5f}, 0);
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lambertian(static_cast<float>(albedo)),
+                                                       litOnly(20));
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_NEAR(image->at(4, 10).x, lit, 1e-6);               // x = 0.225: in the sun
+            EXPECT_NEAR(image->at(17, 10).x, c.passes * lit, 1e-6);  // x = 0.875: behind the blocker
+        }
+    }
+}
+
+TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
+    // Alpha is compiled in only where some surface can have a hole; normal maps only where a normal-mapped
+    // material meets a tangent frame.
+    Scene scene;
+    Material material = lambertian(1.0f);
+    material.alphaMode = AlphaMode::Blend;  // alpha 1 everywhere: no holes
+    scene.materials.push_back(material);
+    test::addUnitSquare(scene, 0);
+    finalizeScene(scene);
+    EXPECT_FALSE(detectFeatures(scene).alpha);
+    scene.materials[0].alphaMode = AlphaMode::Mask;
+    scene.materials[0].baseColor.a = 0.25f;  // below the cutoff: all hole
+    EXPECT_TRUE(detectFeatures(scene).alpha);
+    scene.materials[0].normalTexture.texture = 0;
+    scene.textures.push_back(textureOf(1, 1, {normalTexel({0.0, 0.0, 1.0})}));
+    EXPECT_FALSE(detectFeatures(scene).normalMaps);  // no triangle has a tangent frame
+    scene.tangents.assign(2, {});
+    EXPECT_TRUE(detectFeatures(scene).normalMaps);
+}
+
+}  // namespace
+}  // namespace vkrt
