@@ -71,6 +71,8 @@ SurfaceMaterial device_material(uint index) {
     s.alphaMode = m.alphaMode;
     s.alpha = m.alpha;
     s.alphaCutoff = m.alphaCutoff;
+    s.transmissionTexture = m.transmissionTexture;
+    s.unlit = m.unlit != 0u;
     return s;
 }
 

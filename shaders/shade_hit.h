@@ -240,6 +240,12 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.transmits = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv);
+#ifdef VKRT_HAS_UNLIT
+    if (material.unlit) {  // KHR_materials_unlit: the base colour, from either side, and nothing else
+        result.radiance = inputs.albedo;
+        return result;
+    }
+#endif
 #ifdef VKRT_HAS_NORMAL_MAPS
     HitPoint mapped = hit;
     if (material.normalTexture >= 0) mapped.normal = normalMapped(hit.normal, hit.tangent, inputs.tangentNormal);

@@ -87,6 +87,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_TEXCOORD1
 #define VKRT_HAS_NORMAL_MAPS
 #define VKRT_HAS_ALPHA
+#define VKRT_HAS_UNLIT
 
 #else  // GLSL
 

@@ -43,6 +43,8 @@ struct SurfaceMaterial {
     uint alphaMode;                // VKRT_ALPHA_*
     real alpha;                    // the base colour factor's alpha
     real alphaCutoff;              // VKRT_ALPHA_MASK: alpha below it is a hole
+    int transmissionTexture;       // texture binding: red multiplies transmission
+    bool unlit;                    // KHR_materials_unlit: the base colour is the radiance
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -55,6 +57,7 @@ struct MaterialSample {
     real occlusion;       // how much of the ambient light reaches the point
     real3 tangentNormal;  // the normal texture's normal in the tangent frame, x and y scaled; (0, 0, 1): none
     real coverage;        // how much of the point the surface covers (alphaMode)
+    real transmission;    // KHR_materials_transmission's factor
 };
 
 // How much of a point a surface whose base colour has alpha `alpha` there covers.
@@ -75,6 +78,7 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.occlusion = 1.0;
     s.tangentNormal = real3(0.0, 0.0, 1.0);
     s.coverage = coverageOf(material, material.alpha);
+    s.transmission = material.transmission;
     return s;
 }
 
@@ -85,7 +89,8 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
 #define VKRT_SLOT_SPECULAR 3
 #define VKRT_SLOT_SPECULAR_COLOR 4
 #define VKRT_SLOT_NORMAL 5
-#define VKRT_MATERIAL_SLOTS 6
+#define VKRT_SLOT_TRANSMISSION 6
+#define VKRT_MATERIAL_SLOTS 7
 
 VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_BASE_COLOR) return m.baseColorTexture;
@@ -93,7 +98,8 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_OCCLUSION) return m.occlusionTexture;
     if (slot == VKRT_SLOT_SPECULAR) return m.specularTexture;
     if (slot == VKRT_SLOT_SPECULAR_COLOR) return m.specularColorTexture;
-    return m.normalTexture;
+    if (slot == VKRT_SLOT_NORMAL) return m.normalTexture;
+    return m.transmissionTexture;
 }
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates). The texture
@@ -126,6 +132,8 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
             s.specular *= texel.w;
         } else if (slot == VKRT_SLOT_SPECULAR_COLOR) {
             s.specularColor *= real3(texel.x, texel.y, texel.z);
+        } else if (slot == VKRT_SLOT_TRANSMISSION) {
+            s.transmission *= texel.x;
         } else {
             // glTF: (2 texel - 1) * (scale, scale, 1), normalised where the frame is applied.
             s.tangentNormal = (2.0 * real3(texel.x, texel.y, texel.z) - 1.0) *
@@ -186,8 +194,8 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.albedo = inputs.albedo;
     s.metallic = inputs.metallic;
     s.ior = material.ior;
-    s.transmission = (1.0 - s.metallic) * material.transmission;
-    s.diffuse = inputs.albedo * (1.0 - s.metallic) * (1.0 - material.transmission);
+    s.transmission = (1.0 - s.metallic) * inputs.transmission;
+    s.diffuse = inputs.albedo * (1.0 - s.metallic) * (1.0 - inputs.transmission);
     s.specularWeight = inputs.specular;
     s.specularTint = inputs.specularColor;
     const real3 dielectricF0Tinted = min(dielectricF0(material.ior) * inputs.specularColor, real3(1.0)) * inputs.specular;
@@ -216,7 +224,7 @@ VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real 
 // The fraction of light a surface lets through a shadow ray: all of it where the surface is missing (alpha),
 // and where it covers the point, what its transmission lets through (shadow rays do not refract).
 VKRT_FN real3 shadowTint(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
-    const real3 transmitted = (1.0 - inputs.metallic) * material.transmission * inputs.albedo;
+    const real3 transmitted = (1.0 - inputs.metallic) * inputs.transmission * inputs.albedo;
     return (1.0 - inputs.coverage) + inputs.coverage * transmitted;
 }
 

@@ -1,7 +1,8 @@
-// What a surface's normal texture and alpha do, with known answers, on the GPU and the CPU reference alike:
-// a normal map turns the shading normal by the angle its texel encodes, in the tangent frame and with its
-// scale; alpha MASK cuts holes that camera rays and shadow rays pass, and alpha BLEND covers the fraction
-// alpha of a point, for camera rays and for shadow rays.
+// What a surface's normal texture, alpha, unlit and transmission texture do, with known answers, on the GPU
+// and the CPU reference alike: a normal map turns the shading normal by the angle its texel encodes, in the
+// tangent frame and with its scale; alpha MASK cuts holes that camera rays and shadow rays pass, and alpha
+// BLEND covers the fraction alpha of a point, for camera rays and for shadow rays; an unlit material shows its
+// base colour; the transmission texture's red multiplies the transmission factor.
 #include <cmath>
 #include <vector>
 
@@ -173,6 +174,43 @@ TEST_F(GpuSurfaces, ShadowRaysPassAlphaHoles) {
             EXPECT_NEAR(image->at(4, 10).x, lit, 1e-6);               // x = 0.225: in the sun
             EXPECT_NEAR(image->at(17, 10).x, c.passes * lit, 1e-6);  // x = 0.875: behind the blocker
         }
+    }
+}
+
+TEST_F(GpuSurfaces, UnlitShowsItsBaseColour) {
+    // KHR_materials_unlit: the base colour times its texture is the radiance, whatever the lights and the
+    // ambient term; the second texel of the texture halves it.
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 1, {0xffffffffu, 0xff808080u}));
+    scene.lights.push_back(sunFrom(glm::normalize(glm::dvec3(0.3, 0.2, 1.0)), 5.0f));
+    Material material = lambertian(1.0f);
+    material.baseColor = glm::vec4(0.3f, 0.6f, 0.9f, 1.0f);
+    material.baseColorTexture.texture = 0;
+    material.unlit = true;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(16));
+    const double half = std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4);  // sRGB 128, decoded
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        EXPECT_NEAR(image->at(3, 8).x, 0.3, 1e-6);
+        EXPECT_NEAR(image->at(3, 8).y, 0.6, 1e-6);
+        EXPECT_NEAR(image->at(3, 8).z, 0.9, 1e-6);
+        EXPECT_NEAR(image->at(12, 8).z, 0.9 * half, 1e-6);
+    }
+}
+
+TEST_F(GpuSurfaces, TransmissionTextureMultipliesTheFactor) {
+    // A thin-walled surface of index 1 (no reflection), transmission factor 1 under a texture whose red is 0
+    // on the left and 1 on the right: the left is an opaque white Lambertian surface (ambient 1 shows 1), the
+    // right lets the background (0.25) straight through.
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 1, {0xff000000u, 0xff0000ffu}));
+    Material material = lambertian(1.0f);
+    material.ior = 1.0f;
+    material.transmission = 1.0f;
+    material.transmissionTexture.texture = 0;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(16));
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        EXPECT_NEAR(image->at(3, 8).x, 1.0, 1e-6);
+        EXPECT_NEAR(image->at(12, 8).x, 0.25, 1e-6);
     }
 }
 

@@ -97,7 +97,8 @@ class GltfBuilder:
                  emission_strength=None, transmission=None, ior=None, thickness=None,
                  attenuation_color=None, attenuation_distance=None, base_color_texture=None,
                  metallic_roughness_texture=None, specular=None, specular_color=None, normal_texture=None,
-                 normal_scale=None, alpha=1.0, alpha_mode=None, alpha_cutoff=None, double_sided=None):
+                 normal_scale=None, alpha=1.0, alpha_mode=None, alpha_cutoff=None, double_sided=None,
+                 transmission_texture=None, unlit=False):
         """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
             "baseColorFactor": list(base_color) + [alpha], "metallicFactor": metallic, "roughnessFactor": roughness}}
@@ -122,6 +123,10 @@ class GltfBuilder:
             extensions["KHR_materials_emissive_strength"] = {"emissiveStrength": emission_strength}
         if transmission is not None:
             extensions["KHR_materials_transmission"] = {"transmissionFactor": transmission}
+            if transmission_texture is not None:
+                extensions["KHR_materials_transmission"]["transmissionTexture"] = transmission_texture
+        if unlit:
+            extensions["KHR_materials_unlit"] = {}
         if specular is not None or specular_color is not None:
             extensions["KHR_materials_specular"] = {}
             if specular is not None:

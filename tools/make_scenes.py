@@ -32,8 +32,9 @@ vertex colours (COLOR_0) blend red, green, blue and white under a checker read t
 
 surfaces.gltf: normal maps and alpha: two panels of domes that exist only in their normal texture (one with
 tangents derived from its texture coordinates, one a mirrored instance with TANGENT given: both look alike),
-a MASK screen whose holes let the sun through onto the floor, and a BLEND pane of alpha 0.35 in front of a
-sphere, under a low sun and a point light.
+a MASK screen whose holes let the sun through onto the floor, a BLEND pane of alpha 0.35 in front of a
+sphere, an unlit sign (KHR_materials_unlit) and a window striped by its transmission texture, under a low sun
+and a point light.
 
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
@@ -393,6 +394,21 @@ def surfaces():
     g.node("pane", mesh=g.mesh("pane", [(pane[0], None, pane[1], pane_material)]))
     red = g.material("red", base_color=(0.8, 0.15, 0.1), roughness=0.4)
     g.sphere("ball", [-0.3, 0.45, 0.3], 0.45, red)
+
+    # An unlit sign (KHR_materials_unlit: its colours, lit by nothing) and a window whose transmission
+    # texture makes clear and frosted-white stripes.
+    bands = g.texture("bands", 4, 1, [(230, 60, 50, 255), (240, 200, 40, 255), (60, 170, 90, 255),
+                                      (60, 110, 220, 255)], nearest=True)
+    sign_material = g.material("unlit sign", base_color=(1.0, 1.0, 1.0), unlit=True,
+                               base_color_texture=g.texture_info(bands))
+    sign = [[-2.7, 0.0, 0.9], [-1.7, 0.0, 0.9], [-1.7, 0.5, 0.9], [-2.7, 0.5, 0.9]]
+    sign_uvs = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+    g.node("sign", mesh=g.mesh("sign", [(sign, normals, indices, sign_material, sign_uvs)]))
+    stripes = g.texture("stripes", 8, 1, [(255 * (k % 2), 0, 0, 255) for k in range(8)], nearest=True)
+    window_material = g.material("striped window", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0,
+                                 transmission_texture=g.texture_info(stripes), double_sided=True)
+    window = [[0.7, 0.0, 1.5], [1.5, 0.0, 1.5], [1.5, 0.9, 1.5], [0.7, 0.9, 1.5]]
+    g.node("window", mesh=g.mesh("window", [(window, normals, indices, window_material, sign_uvs)]))
 
     sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.96, 0.9], "intensity": 2.5})
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.8, -0.5, -0.3]),

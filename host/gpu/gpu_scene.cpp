@@ -99,6 +99,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.alphaMode = data.features.alpha ? s.alphaMode : VKRT_ALPHA_OPAQUE;
         g.alpha = static_cast<float>(s.alpha);
         g.alphaCutoff = static_cast<float>(s.alphaCutoff);
+        g.transmissionTexture = data.features.textures ? s.transmissionTexture : -1;
+        g.unlit = s.unlit ? 1u : 0u;
         data.materials.push_back(g);
     }
 

@@ -25,6 +25,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::texCoords1, "texcoord1", "VKRT_HAS_TEXCOORD1"},
     {&SceneFeatures::normalMaps, "normal_maps", "VKRT_HAS_NORMAL_MAPS"},
     {&SceneFeatures::alpha, "alpha", "VKRT_HAS_ALPHA"},
+    {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -81,6 +82,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
             // The second texture coordinate set: read by a slot, and given by some mesh.
             features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }
+        features.unlit |= material.unlit;
         features.normalMaps |= material.normalTexture.used() && !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.
         features.alpha |= material.partlyCovered() ||

@@ -23,6 +23,7 @@ struct SceneFeatures {
     bool texCoords1 = false;    // some texture slot reads TEXCOORD_1, and some mesh has it
     bool normalMaps = false;    // a material has a normal texture, and some triangle a tangent frame
     bool alpha = false;         // a material's alpha (MASK or BLEND) can leave holes
+    bool unlit = false;         // a material is KHR_materials_unlit
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();

@@ -128,6 +128,8 @@ struct Material {
     AlphaMode alphaMode = AlphaMode::Opaque;
     float alphaCutoff = 0.5f;   // MASK: alpha below it is a hole
     float transmission = 0.0f;
+    TextureSlot transmissionTexture;  // linear, red multiplies `transmission`
+    bool unlit = false;               // KHR_materials_unlit: shows its base colour, lit by nothing
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
     glm::vec3 attenuationColor{1.0f};
@@ -136,9 +138,9 @@ struct Material {
 
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     // Every texture slot.
-    std::array<const TextureSlot*, 7> textureSlots() const {
-        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture,     &occlusionTexture,
-                &specularTexture,  &specularColorTexture,     &normalTexture};
+    std::array<const TextureSlot*, 8> textureSlots() const {
+        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture, &occlusionTexture,
+                &specularTexture,  &specularColorTexture,     &normalTexture,   &transmissionTexture};
     }
     // Some of the surface may be missing: alpha MASK or BLEND, with an alpha that can fall below the cutoff
     // (MASK) or 1 (BLEND) through the factor or the texture. COLOR_0's alpha multiplies it as well

@@ -65,6 +65,8 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
                                                     : VKRT_ALPHA_OPAQUE;
     s.alpha = m.baseColor.a;
     s.alphaCutoff = m.alphaCutoff;
+    s.transmissionTexture = bind(m.transmissionTexture, false, bindings);
+    s.unlit = m.unlit;
     return s;
 }
 

@@ -1,0 +1,49 @@
+#include "scene/gltf_material_extensions.h"
+
+#include <algorithm>
+
+#include <tiny_gltf.h>
+
+#include "scene/gltf_texture_slots.h"
+
+namespace vkrt {
+
+// KHR_materials_specular: the dielectric's specular reflection, scaled and tinted.
+void readSpecular(GltfContext& context, const tinygltf::ExtensionMap& extensions, const std::string& where,
+                  Material& material) {
+    const auto it = extensions.find("KHR_materials_specular");
+    if (it == extensions.end()) return;
+    const std::string extWhere = where + " KHR_materials_specular";
+    const tinygltf::Value& value = it->second;
+    if (!value.IsObject()) context.fail(extWhere + " must be a JSON object");
+    material.specularFactor =
+        static_cast<float>(std::clamp(jsonNumber(context, value, "specularFactor", 1.0, extWhere), 0.0, 1.0));
+    material.specularColor = glm::max(
+        jsonVector3(context, value, "specularColorFactor", glm::vec3(1.0f), extWhere), glm::vec3(0.0f));
+    if (value.Has("specularTexture"))
+        material.specularTexture =
+            textureSlot(context, value.Get("specularTexture"), extWhere + " specularTexture");
+    if (value.Has("specularColorTexture")) {
+        material.specularColorTexture =
+            textureSlot(context, value.Get("specularColorTexture"), extWhere + " specularColorTexture");
+    }
+}
+
+void readExtensionTextures(GltfContext& context, const tinygltf::ExtensionMap& extensions,
+                           const std::string& where, Material& material) {
+    if (const auto it = extensions.find("KHR_materials_transmission");
+        it != extensions.end() && it->second.Has("transmissionTexture")) {
+        material.transmissionTexture = textureSlot(context, it->second.Get("transmissionTexture"),
+                                                   where + " KHR_materials_transmission transmissionTexture");
+    }
+    if (const auto it = extensions.find("KHR_materials_volume");
+        it != extensions.end() && it->second.Has("thicknessTexture")) {
+        textureSlot(context, it->second.Get("thicknessTexture"), where + " KHR_materials_volume thicknessTexture");
+    }
+}
+
+void readUnlit(const tinygltf::ExtensionMap& extensions, Material& material) {
+    material.unlit = extensions.count("KHR_materials_unlit") > 0;
+}
+
+}  // namespace vkrt

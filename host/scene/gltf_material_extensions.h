@@ -1,0 +1,29 @@
+// The KHR_materials_* extensions that carry textures: each reads its factors and texture slots into a
+// Material (gltf_extensions.cpp reads those with factors alone).
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "scene/gltf_context.h"
+#include "scene/scene.h"
+
+namespace tinygltf {
+class Value;
+}  // namespace tinygltf
+
+namespace vkrt {
+
+// KHR_materials_specular: the dielectric's specular reflection, scaled and tinted.
+void readSpecular(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions, const std::string& where,
+                  Material& material);
+
+// KHR_materials_transmission's texture and KHR_materials_volume's (thicknessTexture: checked, and unused,
+// because a ray tracer measures the distance through the real geometry; docs/materials.md).
+void readExtensionTextures(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
+                           const std::string& where, Material& material);
+
+// KHR_materials_unlit.
+void readUnlit(const std::map<std::string, tinygltf::Value>& extensions, Material& material);
+
+}  // namespace vkrt

@@ -1,0 +1,24 @@
+// A glTF material's references to textures (textureInfo objects) as Scene texture slots.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "scene/gltf_context.h"
+#include "scene/scene.h"
+
+namespace tinygltf {
+class Value;
+}  // namespace tinygltf
+
+namespace vkrt {
+
+// A material's texture slot: the texture, its texture coordinate set and its KHR_texture_transform (an empty
+// slot for index -1). A texture that does not exist, or whose image is missing, fails.
+TextureSlot textureSlot(GltfContext& context, int index, int texCoord, const std::map<std::string, tinygltf::Value>& extensions,
+                        const std::string& where);
+
+// The same from a textureInfo object inside an extension (tinygltf leaves those as JSON values).
+TextureSlot textureSlot(GltfContext& context, const tinygltf::Value& info, const std::string& where);
+
+}  // namespace vkrt
