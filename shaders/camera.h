@@ -34,6 +34,14 @@ struct CameraRay {
     real3 direction;
 };
 
+// A camera ray's cone (Akenine-Moller et al., Ray Tracing Gems ch. 20): its width where it starts and how
+// fast it widens (the spread angle), one pixel across: a perspective camera's rays start as points and
+// spread by a pixel's angle; an orthographic camera's keep a pixel's width.
+VKRT_FN real2 cameraCone(VKRT_IN(CameraFrame) camera) {
+    if (camera.projection == VKRT_PROJECTION_ORTHOGRAPHIC) return real2(2.0 * camera.ymag / camera.height, 0.0);
+    return real2(0.0, 2.0 * camera.tanHalfFov / camera.height);
+}
+
 // The inverse CDF of the tent filter of radius 1 on [-1, 1].
 VKRT_FN real tentInverse(real u) { return u < 0.5 ? sqrt(2.0 * u) - 1.0 : 1.0 - sqrt(2.0 - 2.0 * u); }
 

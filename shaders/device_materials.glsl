@@ -5,6 +5,7 @@
 #define VKRT_DEVICE_MATERIALS_GLSL
 
 #include "optics.h"
+#include "texture_density.h"
 
 uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
 
@@ -29,6 +30,19 @@ vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
     const GpuShading s = params.shading.shading[primitive];
     return barycentric(vec2(s.normalU0.w, s.v012.x), vec2(s.normalU1.w, s.v012.y), vec2(s.normalU2.w, s.v012.z), hitUv);
 }
+
+#ifdef VKRT_HAS_MIPMAPS
+// Texture coordinates of set `set` per world unit on `primitive` (texture_sampling.h).
+float device_textureDensity(uint primitive, vec2 hitUv, uint set) {
+    const GpuPrimitive p = primitiveAt(primitive);
+#ifdef VKRT_HAS_SPHERES
+    if (p.kind == VKRT_PRIMITIVE_SPHERE) return sphereTextureDensity(p.v1.x, hitUv.y);
+#endif
+    return triangleTextureDensity(p.v0, p.v1, p.v2, device_textureCoordinates(primitive, vec2(0.0), set),
+                                  device_textureCoordinates(primitive, vec2(1.0, 0.0), set),
+                                  device_textureCoordinates(primitive, vec2(0.0, 1.0), set));
+}
+#endif
 #endif
 
 #ifdef VKRT_HAS_VERTEX_COLORS

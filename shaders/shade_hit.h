@@ -50,6 +50,8 @@ struct RayState {
     uint exclude;      // the primitive the ray leaves (VKRT_NO_PRIMITIVE: none)
     real arrivalPdf;   // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
     uvec2 media;       // the volumes the ray is inside (media.h)
+    real coneWidth;    // the ray's cone (camera.h's cameraCone): its width at the origin
+    real coneSpread;   // and its spread angle
 };
 
 // Where a ray met a surface, as the device computed it in its own precision.
@@ -101,7 +103,29 @@ VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint 
     ray.exclude = exclude;
     ray.arrivalPdf = arrivalPdf;
     ray.media = media;
+    ray.coneWidth = 0.0;
+    ray.coneSpread = 0.0;
     return ray;
+}
+
+// The ray `ray` continued from a hit where its cone is `width` wide: the cone goes on with the same spread
+// (surfaces are taken as flat: curvature and roughness do not widen it).
+VKRT_FN RayState withCone(RayState ray, real width, real spread) {
+    ray.coneWidth = width;
+    ray.coneSpread = spread;
+    return ray;
+}
+
+// The width of `ray`'s cone at `position`.
+VKRT_FN real coneWidthAt(VKRT_IN(RayState) ray, real3 position) {
+    return ray.coneWidth + ray.coneSpread * length(position - ray.origin);
+}
+
+// The footprint a texture lookup filters over (texture_sampling.h's sampleBinding) where `ray` meets a surface
+// of unit normal `normal` at `position`: the cone's width, stretched by the obliquity as an isotropic filter
+// can: the circle with the area of the elliptical footprint, width / sqrt(|cos|).
+VKRT_FN real textureFootprint(VKRT_IN(RayState) ray, real3 position, real3 normal) {
+    return coneWidthAt(ray, position) / sqrt(max(abs(dot(normal, ray.direction)), 1e-4));
 }
 
 VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint axis) {
@@ -111,19 +135,20 @@ VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint ax
 // The most surfaces with holes (alpha) a ray passes through; the next one it meets stops it as if covered.
 #define VKRT_MAX_ALPHA_LAYERS 64u
 
-// Whether the ray of ray-tree node `node` that met `primitive` at hitUv goes on through it: where the surface's
+// Whether `ray`, which met a surface at `hit`, goes on through it: where the surface's
 // alpha leaves a hole (MASK), or with probability 1 - alpha (BLEND, an unbiased estimate of partial coverage).
 // `layer` counts the surfaces it has passed so far.
 VKRT_DEVICE_TEMPLATE
-VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, uint layer, uint primitive,
-                           real2 hitUv) {
-    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(primitive));
+VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, uint layer,
+                           VKRT_IN(HitPoint) hit) {
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     if (material.alphaMode == VKRT_ALPHA_OPAQUE || layer >= VKRT_MAX_ALPHA_LAYERS) return false;
-    const real coverage = coverageAt(VKRT_DEVICE_ARG material, primitive, hitUv);
+    const real coverage = coverageAt(VKRT_DEVICE_ARG material, hit.primitive, hit.uv,
+                                     textureFootprint(ray, hit.position, hit.geometricNormal));
     if (coverage >= 1.0) return false;
     if (coverage <= 0.0) return true;
     return real(vkrtLayered(context.seed, context.pixel, context.sampleIndex,
-                            vkrtNodeDimension(node, VKRT_DIM_COVERAGE), layer)) >= coverage;
+                            vkrtNodeDimension(ray.node, VKRT_DIM_COVERAGE), layer)) >= coverage;
 }
 
 // The index of refraction of the innermost volume, 1 (air) outside every volume.
@@ -212,10 +237,10 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
                                                                   exclude, light.primitive);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
             real3 irradiance =
-                textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv) *
+                textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv, 0.0) *
                 cosLight / (distance2 * light.pdfArea);
 #ifdef VKRT_HAS_ALPHA
-            irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv);  // an emitter's holes
+            irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv, 0.0);  // an emitter's holes
 #endif
             // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
             real weight = 1.0;
@@ -239,7 +264,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.reflects = false;
     result.transmits = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
-    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv);
+    const real footprint = textureFootprint(ray, hit.position, hit.geometricNormal);
+    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint);
 #ifdef VKRT_HAS_UNLIT
     if (material.unlit) {  // KHR_materials_unlit: the base colour, from either side, and nothing else
         result.radiance = inputs.albedo;
@@ -271,7 +297,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         }
 #endif
         local += emissionWeight *
-                 textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv);
+                 textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv, footprint);
     }
 
     const SurfaceResponse surface = surfaceResponse(material, inputs);
@@ -324,8 +350,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
-        result.reflection = rayState(frame.viewerSide, reflected, pathThroughput * reflectWeight, 2u * ray.node + 1u,
-                                     ray.depth + 1, frame.excludeOnViewerSide, reflectPdf, ray.media);
+        result.reflection = withCone(rayState(frame.viewerSide, reflected, pathThroughput * reflectWeight,
+                                              2u * ray.node + 1u, ray.depth + 1, frame.excludeOnViewerSide, reflectPdf,
+                                              ray.media),
+                                     coneWidthAt(ray, hit.position), ray.coneSpread);
     }
 
 #ifdef VKRT_HAS_TRANSMISSION
@@ -343,9 +371,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (passes && maxComponent(pathThroughput * transmitWeight) >= context.minThroughput) {
         result.transmits = true;
         result.transmissionWeight = transmitWeight;
-        result.transmission = rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),
-                                       direction, pathThroughput * transmitWeight, 2u * ray.node + 2u,
-                                       ray.depth + 1, frame.excludeBeyond, 0.0, beyond);
+        result.transmission = withCone(rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),
+                                                direction, pathThroughput * transmitWeight, 2u * ray.node + 2u,
+                                                ray.depth + 1, frame.excludeBeyond, 0.0, beyond),
+                                       coneWidthAt(ray, hit.position), ray.coneSpread);
     }
 #endif
     return result;

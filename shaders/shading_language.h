@@ -88,6 +88,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_NORMAL_MAPS
 #define VKRT_HAS_ALPHA
 #define VKRT_HAS_UNLIT
+#define VKRT_HAS_MIPMAPS
 
 #else  // GLSL
 

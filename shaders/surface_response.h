@@ -102,12 +102,13 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     return m.transmissionTexture;
 }
 
-// The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates). The texture
+// The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
+// filtered over `footprint` (sampleBinding). The texture
 // slots are read in a loop around one lookup: every inlined bilinear lookup costs code and registers in the
 // whole kernel (on lavapipe, five separate lookup sites made textured scenes twice as slow).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
-                                      real2 hitUv) {
+                                      real2 hitUv, real footprint) {
     MaterialSample s = untexturedSample(material, material.baseColor);
     real alpha = material.alpha;
 #ifdef VKRT_HAS_VERTEX_COLORS
@@ -119,7 +120,7 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
     for (int slot = 0; slot < VKRT_MATERIAL_SLOTS; ++slot) {
         const int binding = materialTexture(material, slot);
         if (binding < 0) continue;
-        const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv);
+        const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv, footprint);
         if (slot == VKRT_SLOT_BASE_COLOR) {
             s.albedo *= real3(texel.x, texel.y, texel.z);
             alpha *= texel.w;
@@ -147,7 +148,8 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
 
 // The coverage alone at a hit (sampleMaterial's, reading only what alpha depends on).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv) {
+VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv,
+                        real footprint) {
     if (material.alphaMode == VKRT_ALPHA_OPAQUE) return 1.0;
     real alpha = material.alpha;
 #ifdef VKRT_HAS_VERTEX_COLORS
@@ -155,7 +157,7 @@ VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uin
 #endif
 #ifdef VKRT_HAS_TEXTURES
     if (material.baseColorTexture >= 0)
-        alpha *= sampleBinding(VKRT_DEVICE_ARG material.baseColorTexture, primitive, hitUv).w;
+        alpha *= sampleBinding(VKRT_DEVICE_ARG material.baseColorTexture, primitive, hitUv, footprint).w;
 #endif
     return coverageOf(material, alpha);
 }

@@ -1,17 +1,26 @@
-// Texture lookups: wrap modes, sRGB decoding and bilinear or nearest filtering of RGBA8 texels. A texture is
-// described by its GpuTexture (shared.h); the device returns the packed texel at an index
-// (VKRT_DEVICE(texel)), red in the lowest byte.
+// Texture lookups: wrap modes, sRGB decoding, bilinear or nearest filtering of RGBA8 texels, and mipmap levels
+// chosen by ray cones. A texture is described by its GpuTexture (shared.h); the device returns the packed texel
+// at an index (VKRT_DEVICE(texel)), red in the lowest byte.
 #ifndef VKRT_TEXTURE_SAMPLING_H
 #define VKRT_TEXTURE_SAMPLING_H
 
 #include "shading_language.h"
 #include "shared.h"
+#include "texture_density.h"
 
 #define VKRT_WRAP_REPEAT 0u
 #define VKRT_WRAP_CLAMP 1u
 #define VKRT_WRAP_MIRROR 2u
-// GpuTexture::flags: wrap S in bits 0-1, wrap T in bits 2-3 (VKRT_WRAP_*), bit 4 nearest filtering.
+// GpuTexture::flags: wrap S in bits 0-1, wrap T in bits 2-3 (VKRT_WRAP_*), bit 4 nearest magnification, bit 5
+// nearest minification (within a level), bits 6-7 the mipmap mode, bits 8-12 the number of levels (level 0
+// and its mipmaps, stored one after the other from firstTexel).
 #define VKRT_TEXTURE_NEAREST 16u
+#define VKRT_TEXTURE_MIN_NEAREST 32u
+#define VKRT_MIPMAP_SHIFT 6u
+#define VKRT_MIPMAP_NONE 0u     // minified textures read level 0
+#define VKRT_MIPMAP_NEAREST 1u  // the nearest level
+#define VKRT_MIPMAP_LINEAR 2u   // the two nearest levels, blended
+#define VKRT_LEVELS_SHIFT 8u
 // GpuTextureBinding::flags: the texels are sRGB-encoded colours (else linear data).
 #define VKRT_BINDING_SRGB 1u
 // GpuTextureBinding::flags: the binding reads the second texture coordinate set (TEXCOORD_1).
@@ -66,15 +75,24 @@ VKRT_FN real4 textureTexel(VKRT_DEVICE_PARAM GpuTexture texture, int x, int y, b
     return decodeTexel(VKRT_DEVICE(texel)(texture.firstTexel + row * texture.width + column), srgb);
 }
 
-// Linear RGBA at texture coordinate `uv` (glTF: origin at the top-left of the image). Texel centres sit at
-// half-integer positions; bilinear unless the sampler asks for nearest.
-VKRT_DEVICE_TEMPLATE
-VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool srgb) {
-    if (texture.width == 0u || texture.height == 0u) return real4(1.0);  // no image: the factor alone
-    const real x = uv.x * real(texture.width) - 0.5, y = uv.y * real(texture.height) - 0.5;
-    if ((texture.flags & VKRT_TEXTURE_NEAREST) != 0u) {
-        return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)), srgb);
+// Mipmap level `level` of `texture`, as a texture of its own: each level half the size of the one before
+// (rounded down, at least 1), stored after it.
+VKRT_FN GpuTexture textureLevel(GpuTexture texture, int level) {
+    GpuTexture result = texture;
+    for (int l = 0; l < level; ++l) {
+        result.firstTexel += result.width * result.height;
+        result.width = result.width > 1u ? result.width / 2u : 1u;
+        result.height = result.height > 1u ? result.height / 2u : 1u;
     }
+    return result;
+}
+
+// Linear RGBA of one level at texture coordinate `uv` (glTF: origin at the top-left of the image). Texel
+// centres sit at half-integer positions; bilinear, or the nearest texel.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 filterLevel(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool srgb, bool nearest) {
+    const real x = uv.x * real(texture.width) - 0.5, y = uv.y * real(texture.height) - 0.5;
+    if (nearest) return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)), srgb);
     const real x0 = floor(x), y0 = floor(y);
     const real fx = x - x0, fy = y - y0;
     const int ix = int(x0), iy = int(y0);
@@ -84,25 +102,71 @@ VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool
            fx * fy * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy + 1, srgb);
 }
 
+// Linear RGBA at `uv` seen with level of detail `lod` (log2 of the texels one sample covers across): at
+// most 0 the texture is magnified (the magnification filter on level 0), above it minified (the minification
+// filter on the level or the two levels the mipmap mode picks, as OpenGL samples them).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool srgb, real lod) {
+    if (texture.width == 0u || texture.height == 0u) return real4(1.0);  // no image: the factor alone
+    bool nearest = (texture.flags & VKRT_TEXTURE_NEAREST) != 0u;
+    int level = 0;
+    real blend = 0.0;  // the weight of level + 1
+#ifdef VKRT_HAS_MIPMAPS
+    if (lod > 0.0) {
+        nearest = (texture.flags & VKRT_TEXTURE_MIN_NEAREST) != 0u;
+        const uint mode = (texture.flags >> VKRT_MIPMAP_SHIFT) & 3u;
+        const real deepest = real(int((texture.flags >> VKRT_LEVELS_SHIFT) & 31u) - 1);
+        if (mode == VKRT_MIPMAP_NEAREST) {
+            level = int(min(floor(lod + 0.5), deepest));
+        } else if (mode == VKRT_MIPMAP_LINEAR) {
+            const real clamped = min(lod, deepest);
+            level = int(floor(clamped));
+            blend = clamped - real(level);
+        }
+    }
+#endif
+    // One lookup site for both levels: every inlined filter costs code and registers in the whole kernel.
+    real4 result = real4(0.0);
+    for (int k = 0; k < 2; ++k) {
+        const real weight = k == 0 ? 1.0 - blend : blend;
+        if (weight > 0.0) {
+            result += weight * filterLevel(VKRT_DEVICE_ARG textureLevel(texture, level + k), uv, srgb, nearest);
+        }
+    }
+    return result;
+}
+
 // A material's texture binding (a GpuTextureBinding) at a hit: the device maps the hit's coordinates
 // (barycentrics on triangles, texture coordinates on spheres) to the primitive's texture coordinates, which the
-// binding transforms.
+// binding transforms. `footprint` is the width, in world units, of the surface one sample covers there (ray
+// cones; 0: none, the finest level); the level of detail is its width in texels (Akenine-Moller et al.,
+// "Texture Level of Detail Strategies for Real-Time Ray Tracing", Ray Tracing Gems, ch. 20, 2019): log2 of
+// footprint x texture coordinates per world unit x texels per texture coordinate (the transform's scale
+// included).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real4 sampleBinding(VKRT_DEVICE_PARAM int binding, uint primitive, real2 hitUv) {
+VKRT_FN real4 sampleBinding(VKRT_DEVICE_PARAM int binding, uint primitive, real2 hitUv, real footprint) {
     VKRT_IN(GpuTextureBinding) b = VKRT_DEVICE(textureBinding)(binding);
-    return sampleTexture(VKRT_DEVICE_ARG VKRT_DEVICE(textureInfo)(b.texture),
-                         transformUv(b, VKRT_DEVICE(textureCoordinates)(primitive, hitUv,
-                                                                         (b.flags & VKRT_BINDING_TEXCOORD1) != 0u ? 1u : 0u)),
-                         (b.flags & VKRT_BINDING_SRGB) != 0u);
+    const GpuTexture texture = VKRT_DEVICE(textureInfo)(b.texture);
+    const uint set = (b.flags & VKRT_BINDING_TEXCOORD1) != 0u ? 1u : 0u;
+    real lod = 0.0;
+#ifdef VKRT_HAS_MIPMAPS
+    if (footprint > 0.0) {
+        const real scale = abs(real(b.row0.x) * real(b.row1.y) - real(b.row0.y) * real(b.row1.x));
+        lod = log2(footprint * VKRT_DEVICE(textureDensity)(primitive, hitUv, set) *
+                   sqrt(scale * real(texture.width) * real(texture.height)));
+    }
+#endif
+    return sampleTexture(VKRT_DEVICE_ARG texture, transformUv(b, VKRT_DEVICE(textureCoordinates)(primitive, hitUv, set)),
+                         (b.flags & VKRT_BINDING_SRGB) != 0u, lod);
 }
 #endif
 
-// A colour factor times its texture binding (-1: none) at a hit.
+// A colour factor times its texture binding (-1: none) at a hit seen with `footprint` (sampleBinding).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real3 textured(VKRT_DEVICE_PARAM real3 factor, int binding, uint primitive, real2 hitUv) {
+VKRT_FN real3 textured(VKRT_DEVICE_PARAM real3 factor, int binding, uint primitive, real2 hitUv, real footprint) {
 #ifdef VKRT_HAS_TEXTURES
     if (binding >= 0) {
-        const real4 color = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv);
+        const real4 color = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv, footprint);
         return factor * real3(color.x, color.y, color.z);
     }
 #endif

@@ -46,6 +46,10 @@ struct RayTask {
 #ifdef VKRT_HAS_VOLUMES
     uvec2 media;
 #endif
+#ifdef VKRT_HAS_MIPMAPS
+    float coneWidth;
+    float coneSpread;
+#endif
 };
 
 RayTask taskOf(RayState ray) {
@@ -60,6 +64,10 @@ RayTask taskOf(RayState ray) {
 #ifdef VKRT_HAS_VOLUMES
     task.media = ray.media;
 #endif
+#ifdef VKRT_HAS_MIPMAPS
+    task.coneWidth = ray.coneWidth;
+    task.coneSpread = ray.coneSpread;
+#endif
     return task;
 }
 
@@ -69,8 +77,13 @@ RayState stateOf(RayTask task) {
 #else
     const uvec2 media = emptyMedia();
 #endif
-    return rayState(task.origin, task.direction, task.throughput, task.node, task.depth, task.exclude,
-                    task.arrivalPdf, media);
+    const RayState ray = rayState(task.origin, task.direction, task.throughput, task.node, task.depth, task.exclude,
+                                  task.arrivalPdf, media);
+#ifdef VKRT_HAS_MIPMAPS
+    return withCone(ray, task.coneWidth, task.coneSpread);
+#else
+    return ray;
+#endif
 }
 
 CameraFrame cameraFrame() {
@@ -150,7 +163,7 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
     float tMin = 0.0;
     for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
         point = hitPointOf(ray, hit);
-        if (!passesThrough(context, ray.node, layer, point.primitive, point.uv)) return true;
+        if (!passesThrough(context, ray, layer, point)) return true;
         exclude = point.sphere ? VKRT_NO_PRIMITIVE : point.primitive;
         tMin = hit.t;
     }
@@ -164,11 +177,12 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 
 // Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
 // rays it traces in `secondaryRays`.
-vec3 traceRayTree(CameraRay primary, ShadingContext context, inout uint secondaryRays) {
+vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = taskOf(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0,
-                                    emptyMedia()));
+    stack[size++] = taskOf(withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE,
+                                             0.0, emptyMedia()),
+                                    cone.x, cone.y));
     vec3 radiance = vec3(0.0);
     while (size > 0) {
         const RayState ray = stateOf(stack[--size]);
@@ -202,6 +216,7 @@ void main() {
     const uint pixel = xy.y * width + xy.x;
     const uint seed = params.seed;
     const CameraFrame camera = cameraFrame();
+    const vec2 cone = cameraCone(camera);
     ShadingContext context;
     context.ambient = params.ambient;
     context.minThroughput = params.minThroughput;
@@ -226,7 +241,7 @@ void main() {
                                             vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
         ++primaryRays;
         vkrtWalksComplete = true;
-        const vec3 value = traceRayTree(primary, context, secondaryRays);
+        const vec3 value = traceRayTree(primary, cone, context, secondaryRays);
         // A sample whose BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
         if (vkrtWalksComplete && allFinite(value)) {
             precise const vec4 corrected = vec4(value, 1.0) - sumLost;

@@ -3,6 +3,7 @@
 // tangent frame and with its scale; alpha MASK cuts holes that camera rays and shadow rays pass, and alpha
 // BLEND covers the fraction alpha of a point, for camera rays and for shadow rays; an unlit material shows its
 // base colour; the transmission texture's red multiplies the transmission factor.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -212,6 +213,79 @@ TEST_F(GpuSurfaces, TransmissionTextureMultipliesTheFactor) {
         EXPECT_NEAR(image->at(3, 8).x, 1.0, 1e-6);
         EXPECT_NEAR(image->at(12, 8).x, 0.25, 1e-6);
     }
+}
+
+// A 64x64 texture of black and white squares `block` texels wide.
+Texture checkerTexture(int block) {
+    std::vector<uint32_t> texels;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) texels.push_back(((x / block + y / block) % 2 == 0) ? 0xffffffffu : 0xff000000u);
+    }
+    return textureOf(64, 64, texels);
+}
+
+TEST_F(GpuSurfaces, RayConesPickTheMipmapLevel) {
+    // The unit square seen head-on by an orthographic camera of n x n pixels: each camera ray's cone is
+    // 1/n wide, the square has one texture coordinate per world unit, so a 64-texel texture is seen at level
+    // of detail log2(64 / n). Squares of 4 texels are single texels at level 2 and grey (sRGB 188: the mean
+    // of black and white as linear light, encoded) at level 3: 16 pixels show the checker exactly, 8 pixels
+    // grey, with the nearest level and texel (NEAREST_MIPMAP_NEAREST). A one-texel checker without mipmaps
+    // (NEAREST) aliases: 4 jittered samples per pixel give pixels far from grey.
+    const double grey = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
+    Material material = lambertian(1.0f);
+    material.ior = 1.0f;  // no specular: the albedo alone under ambient 1
+    material.baseColorTexture.texture = 0;
+    Scene scene;
+    scene.textures.push_back(checkerTexture(4));
+    scene.textures[0].minNearest = true;
+    scene.textures[0].mipmaps = MipmapMode::Nearest;
+    for (const int size : {16, 8}) {
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(size));
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            for (int y = 0; y < size; ++y) {
+                for (int x = 0; x < size; ++x) {
+                    const double expected = size == 16 ? ((x + y) % 2 == 0 ? 1.0 : 0.0) : grey;
+                    ASSERT_NEAR(image->at(x, y).x, expected, 1e-5) << size << " pixels, at " << x << ", " << y;
+                }
+            }
+        }
+    }
+    scene.textures[0] = checkerTexture(1);
+    scene.textures[0].minNearest = true;
+    scene.textures[0].mipmaps = MipmapMode::None;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(16));
+    int far = 0;
+    for (int y = 0; y < 16; ++y) {
+        for (int x = 0; x < 16; ++x) far += std::abs(cpu.image.at(x, y).x - 0.5) > 0.2 ? 1 : 0;
+    }
+    EXPECT_GT(far, 32);
+    test::expectMatchesReference(gpu.image, cpu.image, "no-mipmaps");
+}
+
+TEST_F(GpuSurfaces, TrilinearFilteringBlendsLevels) {
+    // Between levels: at 12 pixels the level of detail is log2(64 / 12) = 2.415, so LINEAR_MIPMAP_LINEAR
+    // blends level 2 (the checker of single texels, bilinear) with level 3 (uniform grey): the image's mean
+    // stays the checker's mean, and no pixel reaches black or white. Both devices agree.
+    Material material = lambertian(1.0f);
+    material.ior = 1.0f;
+    material.baseColorTexture.texture = 0;
+    Scene scene;
+    scene.textures.push_back(checkerTexture(4));
+    scene.textures[0].nearest = false;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, ambientOnly(12));
+    double sum = 0.0, lowest = 1.0, highest = 0.0;
+    for (int y = 0; y < 12; ++y) {
+        for (int x = 0; x < 12; ++x) {
+            const double value = cpu.image.at(x, y).x;
+            sum += value;
+            lowest = std::min(lowest, value);
+            highest = std::max(highest, value);
+        }
+    }
+    EXPECT_NEAR(sum / 144.0, 0.5, 0.03);
+    EXPECT_GT(lowest, 0.05);
+    EXPECT_LT(highest, 0.95);
+    test::expectMatchesReference(gpu.image, cpu.image, "trilinear");
 }
 
 TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {

@@ -74,8 +74,9 @@ class GltfBuilder:
                chunk(b"IDAT", zlib.compress(rows, 0)) + chunk(b"IEND", b""))
         self.gltf.setdefault("images", []).append(
             {"name": name, "bufferView": self._view(png, None), "mimeType": "image/png"})
-        filter_ = 9728 if nearest else 9729  # NEAREST or LINEAR
-        self.gltf.setdefault("samplers", []).append({"magFilter": filter_, "minFilter": filter_})
+        # Magnified: NEAREST or LINEAR; minified: the same within the two nearest mipmap levels, blended.
+        mag_filter, min_filter = (9728, 9986) if nearest else (9729, 9987)
+        self.gltf.setdefault("samplers", []).append({"magFilter": mag_filter, "minFilter": min_filter})
         self.gltf.setdefault("textures", []).append(
             {"name": name, "source": len(self.gltf["images"]) - 1, "sampler": len(self.gltf["samplers"]) - 1})
         return len(self.gltf["textures"]) - 1

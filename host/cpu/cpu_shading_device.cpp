@@ -24,6 +24,17 @@ glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 h
     return shading::barycentric(glm::dvec2(s.uv[0]), glm::dvec2(s.uv[1]), glm::dvec2(s.uv[2]), hitUv);
 }
 
+double CpuShadingDevice::textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
+    if (data_.scene.isSphere(primitive)) {
+        return shading::sphereTextureDensity(data_.scene.sphereAt(primitive, time_).radius, hitUv.y);
+    }
+    const Triangle t = data_.scene.triangleAt(primitive, time_);
+    return shading::triangleTextureDensity(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2),
+                                           textureCoordinates(primitive, glm::dvec2(0.0), set),
+                                           textureCoordinates(primitive, glm::dvec2(1.0, 0.0), set),
+                                           textureCoordinates(primitive, glm::dvec2(0.0, 1.0), set));
+}
+
 glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) const {
     const Scene& scene = data_.scene;
     if (scene.vertexColors.empty() || scene.isSphere(primitive)) return glm::dvec4(1.0);
@@ -75,7 +86,7 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
     auto cross = [&](uint32_t primitive, glm::dvec2 hitUv) {
         const shading::SurfaceMaterial& material = data_.materials[scene.materialOf(primitive)];
-        result *= shading::shadowTint(material, shading::sampleMaterial(*this, material, primitive, hitUv));
+        result *= shading::shadowTint(material, shading::sampleMaterial(*this, material, primitive, hitUv, 0.0));
     };
     traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
         if (primitive == excludeA || primitive == excludeB) return false;

@@ -43,6 +43,7 @@ class CpuShadingDevice {
     uint32_t texel(uint32_t index) const { return data_.textures.texels[index]; }
     glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
     glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
+    double textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }

@@ -109,7 +109,7 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
          closestHitBeyond(scene_, bvh_, line, tMin, std::numeric_limits<double>::infinity(), exclude, hit, time);
          ++layer) {
         point = hitPointOf(line, hit, time);
-        if (!shading::passesThrough(device, context, ray.node, layer, point.primitive, point.uv)) return true;
+        if (!shading::passesThrough(device, context, ray, layer, point)) return true;
         exclude = point.sphere ? kNoPrimitive : point.primitive;
         tMin = hit.t;
     }
@@ -143,8 +143,11 @@ glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shadi
 
 glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample,
                                        RayCounters& counters) const {
-    return radiance(shading::rayState(ray.origin, ray.direction, glm::dvec3(1.0), 0, 0, kNoPrimitive, 0.0,
-                                      shading::emptyMedia()),
+    // A camera ray, with the camera's ray cone (texture levels of detail).
+    const glm::dvec2 cone = shading::cameraCone(camera_);
+    return radiance(shading::withCone(shading::rayState(ray.origin, ray.direction, glm::dvec3(1.0), 0, 0,
+                                                        kNoPrimitive, 0.0, shading::emptyMedia()),
+                                      cone.x, cone.y),
                     shadingContext(pixel, sample), shutterTime(pixel, sample), counters);
 }
 

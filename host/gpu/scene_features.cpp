@@ -26,6 +26,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::normalMaps, "normal_maps", "VKRT_HAS_NORMAL_MAPS"},
     {&SceneFeatures::alpha, "alpha", "VKRT_HAS_ALPHA"},
     {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
+    {&SceneFeatures::mipmaps, "mipmaps", "VKRT_HAS_MIPMAPS"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -79,6 +80,11 @@ SceneFeatures detectFeatures(const Scene& scene) {
             // An emissive texture matters only on an emissive material.
             if (!slot->used() || (slot == &material.emissiveTexture && !material.emissive())) continue;
             features.textures = true;
+            // Ray cones pick levels of detail where a minified texture reads other texels than level 0
+            // magnified would: it has mipmaps, or another filter.
+            const Texture& texture = scene.textures[slot->texture];
+            features.mipmaps |= (texture.mipmaps != MipmapMode::None && (texture.width > 1 || texture.height > 1)) ||
+                                texture.minNearest != texture.nearest;
             // The second texture coordinate set: read by a slot, and given by some mesh.
             features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }

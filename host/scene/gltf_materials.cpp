@@ -19,6 +19,32 @@ WrapMode wrapMode(int mode) {
     return WrapMode::Repeat;
 }
 
+// glTF's minFilter: nearest or bilinear within a level, and no, the nearest or blended mipmap levels. Absent,
+// trilinear filtering.
+void readMinFilter(int minFilter, Texture& texture) {
+    switch (minFilter) {
+        case TINYGLTF_TEXTURE_FILTER_NEAREST:
+            texture.minNearest = true;
+            texture.mipmaps = MipmapMode::None;
+            break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR:
+            texture.mipmaps = MipmapMode::None;
+            break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+            texture.minNearest = true;
+            texture.mipmaps = MipmapMode::Nearest;
+            break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+            texture.mipmaps = MipmapMode::Nearest;
+            break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+            texture.minNearest = true;
+            break;
+        default:  // LINEAR_MIPMAP_LINEAR or absent
+            break;
+    }
+}
+
 // Expand the image's 1 to 4 channels of 8 or 16 bits to 8-bit RGBA.
 void decodeImage(const GltfContext& context, const tinygltf::Image& image, int imageIndex, Texture& texture) {
     if (image.image.empty() || image.width <= 0 || image.height <= 0 || image.component < 1 ||
@@ -87,6 +113,7 @@ void convertTextures(GltfContext& context) {
             texture.wrapS = wrapMode(sampler.wrapS);
             texture.wrapT = wrapMode(sampler.wrapT);
             texture.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+            readMinFilter(sampler.minFilter, texture);
         }
         context.scene.textures.push_back(std::move(texture));
     }

@@ -82,6 +82,10 @@ enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
 
 enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
+// How a minified texture picks among its mipmap levels (glTF's minFilter *_MIPMAP_NEAREST, *_MIPMAP_LINEAR,
+// or NEAREST / LINEAR: no mipmaps).
+enum class MipmapMode : uint8_t { None, Nearest, Linear };
+
 // An 8-bit RGBA texture as stored in the file (base colour textures are sRGB-encoded).
 struct Texture {
     int width = 0;
@@ -89,7 +93,9 @@ struct Texture {
     std::vector<uint8_t> rgba;
     WrapMode wrapS = WrapMode::Repeat;
     WrapMode wrapT = WrapMode::Repeat;
-    bool nearest = false;  // magnification filter NEAREST; otherwise bilinear
+    bool nearest = false;     // magnification filter NEAREST; otherwise bilinear
+    bool minNearest = false;  // minification filter NEAREST (within a level); otherwise bilinear
+    MipmapMode mipmaps = MipmapMode::Linear;  // glTF leaves the default to the renderer: trilinear
     std::string name;
 };
 

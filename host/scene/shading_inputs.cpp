@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/mipmaps.h"
 #include "texture_sampling.h"
 
 namespace vkrt {
@@ -103,16 +104,38 @@ shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
 }
 
 PackedTextures packTextures(const Scene& scene) {
+    // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
+    std::vector<bool> srgb(scene.textures.size(), false);
+    for (const Material& m : scene.materials) {
+        for (const TextureSlot* slot : {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture}) {
+            if (slot->used()) srgb[slot->texture] = true;
+        }
+    }
     PackedTextures packed;
-    for (const Texture& t : scene.textures) {
+    auto append = [&](const std::vector<uint8_t>& rgba) {
+        for (size_t p = 0; p * 4 < rgba.size(); ++p) {
+            packed.texels.push_back(rgba[4 * p] | (rgba[4 * p + 1] << 8) | (rgba[4 * p + 2] << 16) |
+                                    (static_cast<uint32_t>(rgba[4 * p + 3]) << 24));
+        }
+    };
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& t = scene.textures[i];
+        // Level 0, then the mipmaps, one after the other (texture_sampling.h finds level l's first texel).
+        const std::vector<TextureLevel> mipmaps =
+            t.mipmaps == MipmapMode::None || t.rgba.empty() ? std::vector<TextureLevel>{}
+                                                             : mipmapChain(t, srgb[i]);
+        const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
+                                    : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
+                                                                       : VKRT_MIPMAP_NONE;
+        const uint32_t levels = 1u + static_cast<uint32_t>(mipmaps.size());
         packed.textures.push_back(
             {static_cast<uint32_t>(packed.texels.size()), static_cast<uint32_t>(t.width),
              static_cast<uint32_t>(t.height),
-             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u)});
-        for (size_t p = 0; p * 4 < t.rgba.size(); ++p) {
-            packed.texels.push_back(t.rgba[4 * p] | (t.rgba[4 * p + 1] << 8) | (t.rgba[4 * p + 2] << 16) |
-                                    (static_cast<uint32_t>(t.rgba[4 * p + 3]) << 24));
-        }
+             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
+                 (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
+                 (levels << VKRT_LEVELS_SHIFT)});
+        append(t.rgba);
+        for (const TextureLevel& level : mipmaps) append(level.rgba);
     }
     return packed;
 }

@@ -177,7 +177,7 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         texture.width = VKRT_CASE_TEXTURE_WIDTH;
         texture.height = VKRT_CASE_TEXTURE_HEIGHT;
         texture.flags = fc.integer & 31u;
-        r0 = sampleTexture(VKRT_DEVICE_ARG texture, real2(a.x, a.y), (fc.integer & 32u) == 0u);  // bit 5: linear
+        r0 = sampleTexture(VKRT_DEVICE_ARG texture, real2(a.x, a.y), (fc.integer & 32u) == 0u, 0.0);  // bit 5: linear
         r1 = real4(srgbToLinear(a.z), real(wrapTexel(int(b.x), int(b.y), uint(b.z))), 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_CAMERA) {
         CameraFrame camera;
@@ -202,7 +202,7 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         r0 = real4(offset.x, offset.y, disk.x, disk.y);
         r1 = real4(tentInverse(a.z), 0.0, 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_BINDING) {
-        r0 = sampleBinding(VKRT_DEVICE_ARG int(fc.integer), 0u, real2(a.x, a.y));
+        r0 = sampleBinding(VKRT_DEVICE_ARG int(fc.integer), 0u, real2(a.x, a.y), 0.0);
         GpuTextureBinding binding;
         binding.row0 = vec3(fc.b.x, fc.b.y, fc.b.z);
         binding.row1 = vec3(fc.c.x, fc.c.y, fc.c.z);

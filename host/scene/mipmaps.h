@@ -1,0 +1,24 @@
+// Mipmap chains of 8-bit RGBA textures: each level half the size of the one before (rounded down, at least
+// one texel), down to 1x1, every texel the mean of the 2x2 texels above it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace vkrt {
+
+struct TextureLevel {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+};
+
+// The levels below `texture` itself (level 0), smallest last. Colours that are sRGB-encoded (`srgb`) are
+// averaged as linear light and encoded again, so a minified checker of black and white keeps the brightness
+// of its mean; alpha and linear data are averaged as stored. Odd sizes drop their last row or column's
+// second half (a box filter on the even part), as OpenGL's glGenerateMipmap may.
+std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb);
+
+}  // namespace vkrt
