@@ -87,6 +87,12 @@ SurfaceMaterial device_material(uint index) {
     s.alphaCutoff = m.alphaCutoff;
     s.transmissionTexture = m.transmissionTexture;
     s.unlit = m.unlit != 0u;
+    s.clearcoat = m.clearcoat;
+    s.clearcoatRoughness = m.clearcoatRoughness;
+    s.clearcoatTexture = m.clearcoatTexture;
+    s.clearcoatRoughnessTexture = m.clearcoatRoughnessTexture;
+    s.clearcoatNormalTexture = m.clearcoatNormalTexture;
+    s.clearcoatNormalScale = m.clearcoatNormalScale;
     return s;
 }
 

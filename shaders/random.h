@@ -39,6 +39,10 @@ using uint = uint32_t;
 // The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
 #define VKRT_DIM_LOBE_U 48u
 #define VKRT_DIM_LOBE_V 49u
+// The clear coat's lobe (KHR_materials_clearcoat): its microfacet normal, and whether the reflection follows it.
+#define VKRT_DIM_COAT_U 56u
+#define VKRT_DIM_COAT_V 57u
+#define VKRT_DIM_COAT_PICK 58u
 // Whether a ray goes on through the holes of alpha-blended surfaces (the node's last pair).
 #define VKRT_DIM_COVERAGE 62u
 

@@ -74,6 +74,7 @@ struct ShadingFrame {
     real3 toViewer;         // back along the arriving ray
     real3 geometricNormal;  // on the viewer's side
     real3 normal;           // the shading normal, on the viewer's side (the geometric one where it faced away)
+    real3 coatNormal;       // the clear coat's, likewise (KHR_materials_clearcoat; else the shading normal)
     bool frontFace;         // the viewer is outside (in front of) the surface
     real3 viewerSide;       // where rays to the viewer's side start (shadow rays, reflections)
     uint primitive;
@@ -185,12 +186,19 @@ VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_
     frame.geometricNormal = frame.frontFace ? hit.geometricNormal : -hit.geometricNormal;
     frame.normal = frame.frontFace ? hit.normal : -hit.normal;
     if (!(dot(frame.normal, frame.toViewer) > 0.0)) frame.normal = frame.geometricNormal;  // faces away: the true one
+    frame.coatNormal = frame.normal;
     frame.viewerSide = VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, frame.geometricNormal);
     // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far side);
     // a ray leaving a sphere's outside cannot meet the sphere again.
     frame.excludeOnViewerSide = hit.sphere && !frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
     frame.excludeBeyond = hit.sphere && frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
     return frame;
+}
+
+// A front-side normal `front` turned to the viewer's side of `frame`, or the geometric normal where it faces away.
+VKRT_FN real3 viewerSideNormal(VKRT_IN(ShadingFrame) frame, real3 front) {
+    const real3 n = frame.frontFace ? front : -front;
+    return dot(n, frame.toViewer) > 0.0 ? n : frame.geometricNormal;
 }
 
 // Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
@@ -213,7 +221,8 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         }
         const real3 visible =
             VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE);
-        sum += reflectedLight(surface, normal, toViewer, arrival.toLight, arrival.irradiance * visible, 1.0);
+        sum += reflectedLight(surface, normal, frame.coatNormal, toViewer, arrival.toLight,
+                              arrival.irradiance * visible, 1.0);
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
@@ -246,9 +255,10 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             real weight = 1.0;
             if (lobeSampled && context.multipleImportanceSampling) {
                 weight = powerHeuristic(real(context.lightSamples), light.pdfArea * distance2 / cosLight,
-                                        lobePdf(surface, normal, toViewer, toLight));
+                                        lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
             }
-            areaSum += reflectedLight(surface, normal, toViewer, toLight, irradiance * visible, weight);
+            areaSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight, irradiance * visible,
+                                      weight);
         }
         sum += areaSum / real(context.lightSamples);
     }
@@ -275,9 +285,17 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #ifdef VKRT_HAS_NORMAL_MAPS
     HitPoint mapped = hit;
     if (material.normalTexture >= 0) mapped.normal = normalMapped(hit.normal, hit.tangent, inputs.tangentNormal);
-    const ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, mapped);
+    ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, mapped);
 #else
-    const ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, hit);
+    ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, hit);
+#endif
+#ifdef VKRT_HAS_CLEARCOAT
+    // The coat follows the surface's own normal, or its own normal texture, not the base's normal texture.
+    real3 coatFront = hit.normal;
+#ifdef VKRT_HAS_NORMAL_MAPS
+    if (material.clearcoatNormalTexture >= 0) coatFront = normalMapped(hit.normal, hit.tangent, inputs.coatTangentNormal);
+#endif
+    frame.coatNormal = viewerSideNormal(frame, coatFront);
 #endif
     const real3 toViewer = frame.toViewer, normal = frame.normal, geometricNormal = frame.geometricNormal;
 
@@ -302,14 +320,22 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
     const SurfaceResponse surface = surfaceResponse(material, inputs);
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
-    // material's occlusion lets it.
-    local += inputs.occlusion * context.ambient *
-             (surface.diffuse + (surface.traced ? real3(0.0) : surface.specular));
+    // material's occlusion lets it; a coat lets through what it does not reflect, and reflects its share where
+    // it is not traced.
+    real3 ambientReflectance = surface.diffuse + (surface.traced ? real3(0.0) : surface.specular);
+#ifdef VKRT_HAS_CLEARCOAT
+    const real coatThrough = coatTransmittance(surface, dot(frame.coatNormal, toViewer));
+    if (surface.clearcoat > 0.0) {
+        ambientReflectance = ambientReflectance * coatThrough +
+                             (surface.coatTraced ? 0.0 : surface.clearcoat * coatFresnel(dot(frame.coatNormal, toViewer)));
+    }
+#endif
+    local += inputs.occlusion * context.ambient * ambientReflectance;
     const bool continues = ray.depth < context.maxDepth;
-    const bool lobeSampled = surface.traced && !surface.mirror && continues;
+    const bool lobeSampled = continues && ((surface.traced && !surface.mirror) || (surface.coatTraced && !surface.coatMirror));
     local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled);
     result.radiance = local;
-    if (!continues || !surface.traced) return result;
+    if (!continues || !(surface.traced || surface.coatTraced)) return result;
 
     // A volume is entered through its front face and left through its back face, from the medium the ray is in
     // into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the same from both sides.
@@ -338,7 +364,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
     // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
-    const real3 reflected = reflectAbout(toViewer, microNormal);
+    real3 reflected = reflectAbout(toViewer, microNormal);
     real3 reflectWeight = fresnelAt(surface, cosMicro, eta);
     real reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
     if (!surface.mirror) {
@@ -347,6 +373,42 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
         reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
     }
+#ifdef VKRT_HAS_CLEARCOAT
+    // With a coat, the reflection follows the coat's lobe with probability coatPick, else the base's, seen
+    // through the coat; either weight is divided by its probability, and the density is that of both.
+    if (surface.clearcoat > 0.0) {
+        const real pick = coatPick(surface);
+        const bool coatChosen =
+            pick >= 1.0 || (pick > 0.0 && stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_PICK), 0u) < pick);
+        bool delta = surface.mirror;
+        if (coatChosen) {
+            const real3 coatNormal = frame.coatNormal;
+            const real cosCoat = dot(coatNormal, toViewer);
+            real3 coatMicro = coatNormal;
+            if (!surface.coatMirror) {
+                real3 tangent, bitangent;
+                orthonormalBasis(coatNormal, tangent, bitangent);
+                const uint coatLobe = vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U);
+                const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), cosCoat),
+                                                       surface.coatAlpha, stratified(context, coatLobe, 0u),
+                                                       stratified(context, coatLobe, 1u));
+                coatMicro = normalize(m.x * tangent + m.y * bitangent + m.z * coatNormal);
+            }
+            reflected = reflectAbout(toViewer, coatMicro);
+            real weight = surface.clearcoat * coatFresnel(dot(coatMicro, toViewer)) / pick;
+            if (!surface.coatMirror) {
+                const real cosIn = dot(coatNormal, reflected);
+                const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
+                weight *= above ? ggxG2(cosCoat, cosIn, surface.coatAlpha) / ggxG1(cosCoat, surface.coatAlpha) : 0.0;
+            }
+            reflectWeight = real3(weight);
+            delta = surface.coatMirror;
+        } else {
+            reflectWeight *= coatThrough / (1.0 - pick);
+        }
+        reflectPdf = delta ? 0.0 : lobePdf(surface, normal, frame.coatNormal, toViewer, reflected);
+    }
+#endif
     if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
@@ -360,6 +422,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
     real3 transmitWeight = surface.transmission * (real3(1.0) - dielectricReflectance(surface, cosMicro, eta)) *
                            surface.albedo;
+#ifdef VKRT_HAS_CLEARCOAT
+    if (surface.clearcoat > 0.0) transmitWeight *= coatThrough;
+#endif
     real3 direction = ray.direction;
     bool passes = maxComponent(transmitWeight) > 0.0;
     if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);

@@ -109,7 +109,7 @@ struct GpuShading {
     vec4 v012;
 };
 
-// A material, 144 bytes. See docs/materials.md for what each value means.
+// A material, 160 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
     vec3 baseColor;
     float metallic;
@@ -137,8 +137,12 @@ struct GpuMaterial {
     float alphaCutoff;   // VKRT_ALPHA_MASK: alpha below it is a hole
     int transmissionTexture;  // texture binding, -1: none
     uint unlit;               // 1: KHR_materials_unlit
-    uint unused1;
-    uint unused2;
+    float clearcoat;          // KHR_materials_clearcoat
+    float clearcoatRoughness;
+    int clearcoatTexture;            // texture bindings, -1: none
+    int clearcoatRoughnessTexture;
+    int clearcoatNormalTexture;
+    float clearcoatNormalScale;
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
@@ -334,7 +338,7 @@ static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
-static_assert(sizeof(GpuMaterial) == 144 && offsetof(GpuMaterial, transmissionTexture) == 128 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
+static_assert(sizeof(GpuMaterial) == 160 && offsetof(GpuMaterial, clearcoatTexture) == 144 && offsetof(GpuMaterial, transmissionTexture) == 128 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
               offsetof(GpuMaterial, specularColor) == 96 && offsetof(GpuMaterial, specularFactor) == 108);
 static_assert(offsetof(GpuMaterial, normalTexture) == 112 && offsetof(GpuMaterial, alphaCutoff) == 124);
 static_assert(sizeof(GpuTangents) == 48);

@@ -45,6 +45,12 @@ struct SurfaceMaterial {
     real alphaCutoff;              // VKRT_ALPHA_MASK: alpha below it is a hole
     int transmissionTexture;       // texture binding: red multiplies transmission
     bool unlit;                    // KHR_materials_unlit: the base colour is the radiance
+    real clearcoat;                // KHR_materials_clearcoat: how much of the surface the coat covers
+    real clearcoatRoughness;
+    int clearcoatTexture;           // texture binding: red multiplies clearcoat
+    int clearcoatRoughnessTexture;  // texture binding: green multiplies clearcoatRoughness
+    int clearcoatNormalTexture;     // texture binding: the coat's tangent-space normal
+    real clearcoatNormalScale;
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -58,6 +64,9 @@ struct MaterialSample {
     real3 tangentNormal;  // the normal texture's normal in the tangent frame, x and y scaled; (0, 0, 1): none
     real coverage;        // how much of the point the surface covers (alphaMode)
     real transmission;    // KHR_materials_transmission's factor
+    real clearcoat;       // KHR_materials_clearcoat's factor, roughness and normal (as tangentNormal)
+    real clearcoatRoughness;
+    real3 coatTangentNormal;
 };
 
 // How much of a point a surface whose base colour has alpha `alpha` there covers.
@@ -79,6 +88,9 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.tangentNormal = real3(0.0, 0.0, 1.0);
     s.coverage = coverageOf(material, material.alpha);
     s.transmission = material.transmission;
+    s.clearcoat = material.clearcoat;
+    s.clearcoatRoughness = material.clearcoatRoughness;
+    s.coatTangentNormal = real3(0.0, 0.0, 1.0);
     return s;
 }
 
@@ -90,7 +102,10 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
 #define VKRT_SLOT_SPECULAR_COLOR 4
 #define VKRT_SLOT_NORMAL 5
 #define VKRT_SLOT_TRANSMISSION 6
-#define VKRT_MATERIAL_SLOTS 7
+#define VKRT_SLOT_CLEARCOAT 7
+#define VKRT_SLOT_CLEARCOAT_ROUGHNESS 8
+#define VKRT_SLOT_CLEARCOAT_NORMAL 9
+#define VKRT_MATERIAL_SLOTS 10
 
 VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_BASE_COLOR) return m.baseColorTexture;
@@ -99,7 +114,10 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_SPECULAR) return m.specularTexture;
     if (slot == VKRT_SLOT_SPECULAR_COLOR) return m.specularColorTexture;
     if (slot == VKRT_SLOT_NORMAL) return m.normalTexture;
-    return m.transmissionTexture;
+    if (slot == VKRT_SLOT_TRANSMISSION) return m.transmissionTexture;
+    if (slot == VKRT_SLOT_CLEARCOAT) return m.clearcoatTexture;
+    if (slot == VKRT_SLOT_CLEARCOAT_ROUGHNESS) return m.clearcoatRoughnessTexture;
+    return m.clearcoatNormalTexture;
 }
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
@@ -135,10 +153,19 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
             s.specularColor *= real3(texel.x, texel.y, texel.z);
         } else if (slot == VKRT_SLOT_TRANSMISSION) {
             s.transmission *= texel.x;
+        } else if (slot == VKRT_SLOT_CLEARCOAT) {
+            s.clearcoat *= texel.x;
+        } else if (slot == VKRT_SLOT_CLEARCOAT_ROUGHNESS) {
+            s.clearcoatRoughness *= texel.y;
         } else {
             // glTF: (2 texel - 1) * (scale, scale, 1), normalised where the frame is applied.
-            s.tangentNormal = (2.0 * real3(texel.x, texel.y, texel.z) - 1.0) *
-                              real3(material.normalScale, material.normalScale, 1.0);
+            const real scale = slot == VKRT_SLOT_NORMAL ? material.normalScale : material.clearcoatNormalScale;
+            const real3 mapped = (2.0 * real3(texel.x, texel.y, texel.z) - 1.0) * real3(scale, scale, 1.0);
+            if (slot == VKRT_SLOT_NORMAL) {
+                s.tangentNormal = mapped;
+            } else {
+                s.coatTangentNormal = mapped;
+            }
         }
     }
 #endif
@@ -189,6 +216,10 @@ struct SurfaceResponse {
     real ior;
     real specularWeight;  // KHR_materials_specular: the dielectric's reflection scale
     real3 specularTint;   // and its tint at normal incidence
+    real clearcoat;       // KHR_materials_clearcoat: the coat's weight (0: none)
+    real coatAlpha;       // its GGX width
+    bool coatMirror;      // its lobe is a delta
+    bool coatTraced;      // its lobe is traced (roughness < 1)
 };
 
 VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
@@ -208,7 +239,41 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene. A dielectric
     // without specular reflection (KHR_materials_specular factor 0) has no lobe to trace.
     s.traced = s.metallic > 0.0 || s.transmission > 0.0 || (inputs.roughness < 1.0 && inputs.specular > 0.0);
+    s.clearcoat = inputs.clearcoat;
+    s.coatAlpha = ggxAlpha(inputs.clearcoatRoughness);
+    s.coatMirror = inputs.clearcoatRoughness < VKRT_MIRROR_ROUGHNESS;
+    s.coatTraced = inputs.clearcoat > 0.0 && inputs.clearcoatRoughness < 1.0;
     return s;
+}
+
+// KHR_materials_clearcoat's coat: a dielectric of index 1.5 whose Fresnel term the extension defines by
+// Schlick's approximation with F0 = 0.04.
+#define VKRT_CLEARCOAT_F0 0.04
+
+VKRT_FN real coatFresnel(real cosTheta) {
+    return VKRT_CLEARCOAT_F0 + (1.0 - VKRT_CLEARCOAT_F0) * pow(1.0 - clamp(cosTheta, 0.0, 1.0), 5.0);
+}
+
+// The fraction of the light leaving the base towards a viewer at cosine cosView from the coat's normal that
+// the coat lets through: 1 - clearcoat F(cosView), as the extension layers it.
+VKRT_FN real coatTransmittance(VKRT_IN(SurfaceResponse) s, real cosView) {
+    return 1.0 - s.clearcoat * coatFresnel(cosView);
+}
+
+// The coat's specular lobe for light from `toLight` (its weight included), about the coat's normal; zero for a
+// mirror coat (as specularBrdf).
+VKRT_FN real coatBrdf(VKRT_IN(SurfaceResponse) s, real3 coatNormal, real3 toViewer, real3 toLight) {
+    const real cosOut = dot(coatNormal, toViewer), cosIn = dot(coatNormal, toLight);
+    if (!(s.clearcoat > 0.0) || s.coatMirror || cosOut <= 0.0 || cosIn <= 0.0) return 0.0;
+    const real3 halfway = normalize(toViewer + toLight);
+    return s.clearcoat * coatFresnel(dot(toViewer, halfway)) * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
+           ggxG2(cosOut, cosIn, s.coatAlpha) / (4.0 * cosOut * cosIn);
+}
+
+// The probability with which the reflection continuation follows the coat's lobe rather than the base's.
+VKRT_FN real coatPick(VKRT_IN(SurfaceResponse) s) {
+    if (!s.coatTraced) return 0.0;
+    return s.traced ? 0.5 : 1.0;
 }
 
 // The dielectric part's reflectance at a microfacet seen at cosine cosH, eta relative across the interface:
@@ -245,19 +310,34 @@ VKRT_FN real3 specularBrdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toVie
            ggxG2(cosOut, cosIn, s.alpha) / (4.0 * cosOut * cosIn);
 }
 
-// Density with which the traced lobe would have chosen `toLight` (0 when it is not traced).
-VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight) {
-    if (!s.traced || s.mirror) return 0.0;
+// Density with which the traced lobes would have chosen `toLight` (0 when none is traced): the base's, and the
+// coat's (about `coatNormal`) with the probability coatPick gives it.
+VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer, real3 toLight) {
     const real3 halfway = normalize(toViewer + toLight);
-    return ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
+    const real pick = coatPick(s);
+    real pdf = 0.0;
+    if (s.traced && !s.mirror) pdf = (1.0 - pick) * ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
+    if (s.coatTraced && !s.coatMirror) {
+        pdf += pick * ggxReflectionPdf(dot(coatNormal, toViewer), dot(coatNormal, halfway), s.coatAlpha);
+    }
+    return pdf;
 }
 
 // Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
-// viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling).
-VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight, real3 irradiance,
-                             real specularWeight) {
+// viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling),
+// under the coat, if any, which adds its own lobe (weighted alike) about `coatNormal`.
+VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
+                             real3 toLight, real3 irradiance, real specularWeight) {
     const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
-    return brdf * irradiance * dot(normal, toLight);
+    real3 reflected = brdf * irradiance * dot(normal, toLight);
+#ifdef VKRT_HAS_CLEARCOAT
+    if (s.clearcoat > 0.0) {
+        reflected = reflected * coatTransmittance(s, dot(coatNormal, toViewer)) +
+                    specularWeight * coatBrdf(s, coatNormal, toViewer, toLight) * irradiance *
+                        max(dot(coatNormal, toLight), 0.0);
+    }
+#endif
+    return reflected;
 }
 
 VKRT_SHADING_END

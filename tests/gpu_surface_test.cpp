@@ -2,7 +2,8 @@
 // and the CPU reference alike: a normal map turns the shading normal by the angle its texel encodes, in the
 // tangent frame and with its scale; alpha MASK cuts holes that camera rays and shadow rays pass, and alpha
 // BLEND covers the fraction alpha of a point, for camera rays and for shadow rays; an unlit material shows its
-// base colour; the transmission texture's red multiplies the transmission factor.
+// base colour; the transmission texture's red multiplies the transmission factor; a clear coat dims the base by
+// its Fresnel reflectance and reflects that much; ray cones pick mipmap levels.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -212,6 +213,39 @@ TEST_F(GpuSurfaces, TransmissionTextureMultipliesTheFactor) {
     for (const Image* image : {&gpu.image, &cpu.image}) {
         EXPECT_NEAR(image->at(3, 8).x, 1.0, 1e-6);
         EXPECT_NEAR(image->at(12, 8).x, 0.25, 1e-6);
+    }
+}
+
+TEST_F(GpuSurfaces, ClearcoatDimsTheBaseAndReflects) {
+    // A mirror-smooth coat (F0 0.04) of weight c over a Lambertian base, seen head-on: under a sun from
+    // toLight, the base shows albedo / pi * E * cos scaled by 1 - c F(1) = 1 - 0.04 c (a delta lobe reflects no
+    // sun); over a black base with a white background and nothing else, the coat's mirror shows 0.04 c. The
+    // coat texture's red halves c on the right.
+    const glm::dvec3 toLight = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
+    const double albedo = 0.6, illuminance = 2.0, coat = 0.8;
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 1, {0xffffffffu, 0xff000080u}));
+    Material material = lambertian(static_cast<float>(albedo));
+    material.clearcoat = static_cast<float>(coat);
+    material.clearcoatTexture.texture = 0;
+    const double half = 128.0 / 255.0;
+    {
+        Scene lit = scene;
+        lit.lights.push_back(sunFrom(toLight, static_cast<float>(illuminance)));
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), lit, material, litOnly(16));
+        const double base = albedo / M_PI * illuminance * toLight.z;
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_NEAR(image->at(3, 8).x, base * (1.0 - 0.04 * coat), 1e-6);
+            EXPECT_NEAR(image->at(12, 8).x, base * (1.0 - 0.04 * coat * half), 1e-6);
+        }
+    }
+    material.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    RenderSettings settings = litOnly(16);
+    settings.background = glm::dvec3(1.0);
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, settings);
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        EXPECT_NEAR(image->at(3, 8).x, 0.04 * coat, 1e-6);
+        EXPECT_NEAR(image->at(12, 8).x, 0.04 * coat * half, 1e-6);
     }
 }
 

@@ -198,7 +198,7 @@ TEST(WhittedModel, LambertPartAndMirrorLobe) {
         surfaceResponse(untextured(mirror), untexturedSample(untextured(mirror), glm::dvec3(1.0)));
     EXPECT_TRUE(m.mirror && m.traced);
     EXPECT_EQ(specularBrdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), glm::dvec3(0.0));
-    EXPECT_EQ(lobePdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), 0.0);
+    EXPECT_EQ(lobePdf(m, {0, 0, 1}, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), 0.0);
 }
 
 }  // namespace

@@ -101,6 +101,12 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.alphaCutoff = static_cast<float>(s.alphaCutoff);
         g.transmissionTexture = data.features.textures ? s.transmissionTexture : -1;
         g.unlit = s.unlit ? 1u : 0u;
+        g.clearcoat = data.features.clearcoat ? static_cast<float>(s.clearcoat) : 0.0f;
+        g.clearcoatRoughness = static_cast<float>(s.clearcoatRoughness);
+        g.clearcoatTexture = data.features.textures ? s.clearcoatTexture : -1;
+        g.clearcoatRoughnessTexture = data.features.textures ? s.clearcoatRoughnessTexture : -1;
+        g.clearcoatNormalTexture = data.features.textures && data.features.normalMaps ? s.clearcoatNormalTexture : -1;
+        g.clearcoatNormalScale = static_cast<float>(s.clearcoatNormalScale);
         data.materials.push_back(g);
     }
 

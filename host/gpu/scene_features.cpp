@@ -27,6 +27,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::alpha, "alpha", "VKRT_HAS_ALPHA"},
     {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
     {&SceneFeatures::mipmaps, "mipmaps", "VKRT_HAS_MIPMAPS"},
+    {&SceneFeatures::clearcoat, "clearcoat", "VKRT_HAS_CLEARCOAT"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -89,7 +90,9 @@ SceneFeatures detectFeatures(const Scene& scene) {
             features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }
         features.unlit |= material.unlit;
-        features.normalMaps |= material.normalTexture.used() && !scene.tangents.empty();
+        features.clearcoat |= material.clearcoat > 0.0f;
+        features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
+                               !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.
         features.alpha |= material.partlyCovered() ||
                           (material.alphaMode != AlphaMode::Opaque && !scene.vertexColors.empty());

@@ -42,6 +42,31 @@ void readExtensionTextures(GltfContext& context, const tinygltf::ExtensionMap& e
     }
 }
 
+void readClearcoat(GltfContext& context, const tinygltf::ExtensionMap& extensions, const std::string& where,
+                   Material& material) {
+    const auto it = extensions.find("KHR_materials_clearcoat");
+    if (it == extensions.end()) return;
+    const std::string extWhere = where + " KHR_materials_clearcoat";
+    const tinygltf::Value& value = it->second;
+    if (!value.IsObject()) context.fail(extWhere + " must be a JSON object");
+    material.clearcoat =
+        static_cast<float>(std::clamp(jsonNumber(context, value, "clearcoatFactor", 0.0, extWhere), 0.0, 1.0));
+    material.clearcoatRoughness = static_cast<float>(
+        std::clamp(jsonNumber(context, value, "clearcoatRoughnessFactor", 0.0, extWhere), 0.0, 1.0));
+    if (value.Has("clearcoatTexture"))
+        material.clearcoatTexture = textureSlot(context, value.Get("clearcoatTexture"), extWhere + " clearcoatTexture");
+    if (value.Has("clearcoatRoughnessTexture")) {
+        material.clearcoatRoughnessTexture =
+            textureSlot(context, value.Get("clearcoatRoughnessTexture"), extWhere + " clearcoatRoughnessTexture");
+    }
+    if (value.Has("clearcoatNormalTexture")) {
+        const tinygltf::Value& info = value.Get("clearcoatNormalTexture");
+        material.clearcoatNormalTexture = textureSlot(context, info, extWhere + " clearcoatNormalTexture");
+        material.clearcoatNormalScale =
+            static_cast<float>(jsonNumber(context, info, "scale", 1.0, extWhere + " clearcoatNormalTexture"));
+    }
+}
+
 void readUnlit(const tinygltf::ExtensionMap& extensions, Material& material) {
     material.unlit = extensions.count("KHR_materials_unlit") > 0;
 }

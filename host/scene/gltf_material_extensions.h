@@ -23,6 +23,10 @@ void readSpecular(GltfContext& context, const std::map<std::string, tinygltf::Va
 void readExtensionTextures(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
                            const std::string& where, Material& material);
 
+// KHR_materials_clearcoat: the coat's factor, roughness and normal, each with its texture.
+void readClearcoat(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
+                   const std::string& where, Material& material);
+
 // KHR_materials_unlit.
 void readUnlit(const std::map<std::string, tinygltf::Value>& extensions, Material& material);
 

@@ -143,7 +143,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
 }
 
 void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {
-    const TextureSlot& normalTexture = context_.scene.materials[decoded.material].normalTexture;
+    const TextureSlot& normalTexture = context_.scene.materials[decoded.material].tangentFrameSlot();
     decoded.normalMapped = normalTexture.used();
     // Without normals the triangles are flat and the file's tangents are ignored (glTF 2.0, 3.7.2.1):
     // place() derives one frame per face.
@@ -185,7 +185,7 @@ std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& pri
                                                      const std::array<uint32_t, 3>& face,
                                                      const glm::vec3& geometric) {
     const std::vector<float>& uvs =
-        context_.scene.materials[primitive.material].normalTexture.texCoord == 1 ? primitive.uvs1 : primitive.uvs;
+        context_.scene.materials[primitive.material].tangentFrameSlot().texCoord == 1 ? primitive.uvs1 : primitive.uvs;
     if (uvs.empty()) return {};
     std::array<glm::dvec2, 3> uv;
     for (int k = 0; k < 3; ++k) uv[k] = glm::dvec2(uvs[2 * face[k]], uvs[2 * face[k] + 1]);

@@ -136,6 +136,14 @@ struct Material {
     float transmission = 0.0f;
     TextureSlot transmissionTexture;  // linear, red multiplies `transmission`
     bool unlit = false;               // KHR_materials_unlit: shows its base colour, lit by nothing
+    // KHR_materials_clearcoat: a clear dielectric coat (index 1.5) over the material, with its own roughness and
+    // normal texture.
+    float clearcoat = 0.0f;
+    TextureSlot clearcoatTexture;  // linear, red multiplies `clearcoat`
+    float clearcoatRoughness = 0.0f;
+    TextureSlot clearcoatRoughnessTexture;  // linear, green multiplies `clearcoatRoughness`
+    TextureSlot clearcoatNormalTexture;     // linear, tangent space, as normalTexture
+    float clearcoatNormalScale = 1.0f;
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
     glm::vec3 attenuationColor{1.0f};
@@ -144,9 +152,11 @@ struct Material {
 
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     // Every texture slot.
-    std::array<const TextureSlot*, 8> textureSlots() const {
-        return {&baseColorTexture, &metallicRoughnessTexture, &emissiveTexture, &occlusionTexture,
-                &specularTexture,  &specularColorTexture,     &normalTexture,   &transmissionTexture};
+    std::array<const TextureSlot*, 11> textureSlots() const {
+        return {&baseColorTexture,    &metallicRoughnessTexture, &emissiveTexture,
+                &occlusionTexture,    &specularTexture,          &specularColorTexture,
+                &normalTexture,       &transmissionTexture,      &clearcoatTexture,
+                &clearcoatRoughnessTexture, &clearcoatNormalTexture};
     }
     // Some of the surface may be missing: alpha MASK or BLEND, with an alpha that can fall below the cutoff
     // (MASK) or 1 (BLEND) through the factor or the texture. COLOR_0's alpha multiplies it as well
@@ -156,6 +166,11 @@ struct Material {
         return baseColorTexture.used() || baseColor.a < (alphaMode == AlphaMode::Mask ? alphaCutoff : 1.0f);
     }
     bool hasVolume() const { return thickness > 0.0f; }
+    // The normal texture whose texture coordinates define the tangent frames (the coat's normal texture follows
+    // the same frames).
+    const TextureSlot& tangentFrameSlot() const {
+        return normalTexture.used() ? normalTexture : clearcoatNormalTexture;
+    }
 };
 
 enum class LightType : uint8_t { Point, Spot, Directional };

@@ -68,6 +68,12 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.alphaCutoff = m.alphaCutoff;
     s.transmissionTexture = bind(m.transmissionTexture, false, bindings);
     s.unlit = m.unlit;
+    s.clearcoat = m.clearcoat;
+    s.clearcoatRoughness = m.clearcoatRoughness;
+    s.clearcoatTexture = bind(m.clearcoatTexture, false, bindings);
+    s.clearcoatRoughnessTexture = bind(m.clearcoatRoughnessTexture, false, bindings);
+    s.clearcoatNormalTexture = bind(m.clearcoatNormalTexture, false, bindings);
+    s.clearcoatNormalScale = m.clearcoatNormalScale;
     return s;
 }
 

@@ -112,15 +112,28 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.specularColor = real3(0.9, 1.0, 0.7);
         material.specularTexture = -1;
         material.specularColorTexture = -1;
+        material.normalTexture = -1;
+        material.normalScale = 1.0;
+        material.alphaMode = VKRT_ALPHA_OPAQUE;
+        material.alpha = 1.0;
+        material.alphaCutoff = 0.5;
+        material.transmissionTexture = -1;
+        material.unlit = false;
+        material.clearcoat = 0.5 * c.w;  // a coat on the cases with a specular factor
+        material.clearcoatRoughness = b.w;
+        material.clearcoatTexture = -1;
+        material.clearcoatRoughnessTexture = -1;
+        material.clearcoatNormalTexture = -1;
+        material.clearcoatNormalScale = 1.0;
         const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {
             const real3 brdf = specularBrdf(s, normal, toViewer, toLight);
-            r0 = real4(brdf.x, brdf.y, brdf.z, lobePdf(s, normal, toViewer, toLight));
+            r0 = real4(brdf.x, brdf.y, brdf.z, lobePdf(s, normal, normal, toViewer, toLight));
             const real3 fresnel = fresnelAt(s, d.w, c.y);
             r1 = real4(fresnel.x, fresnel.y, fresnel.z, s.alpha);
         } else {
-            const real3 light = reflectedLight(s, normal, toViewer, toLight, xyz(b), c.z);
+            const real3 light = reflectedLight(s, normal, normal, toViewer, toLight, xyz(b), c.z);
             r0 = real4(light.x, light.y, light.z, s.transmission);
             r1 = real4(s.diffuse.x, s.specular.x, s.specular.y, (s.mirror ? 1.0 : 0.0) + (s.traced ? 2.0 : 0.0));
         }

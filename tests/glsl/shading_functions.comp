@@ -7,6 +7,7 @@
 
 #define VKRT_HAS_TEXTURES
 #define VKRT_HAS_DEPTH_OF_FIELD
+#define VKRT_HAS_CLEARCOAT
 #include "shared.h"
 #include "shading_language.h"
 
