@@ -56,6 +56,10 @@ vec4 device_vertexColor(uint primitive, vec2 hitUv) {
 }
 #endif
 
+#ifdef VKRT_HAS_SHEEN
+float device_sheenTable(uint entry) { return params.sheenTable.values[entry]; }
+#endif
+
 #include "surface_response.h"
 
 SurfaceMaterial device_material(uint index) {
@@ -93,6 +97,10 @@ SurfaceMaterial device_material(uint index) {
     s.clearcoatRoughnessTexture = m.clearcoatRoughnessTexture;
     s.clearcoatNormalTexture = m.clearcoatNormalTexture;
     s.clearcoatNormalScale = m.clearcoatNormalScale;
+    s.sheenColor = m.sheenColor;
+    s.sheenRoughness = m.sheenRoughness;
+    s.sheenColorTexture = m.sheenColorTexture;
+    s.sheenRoughnessTexture = m.sheenRoughnessTexture;
     return s;
 }
 

@@ -318,11 +318,19 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                  textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv, footprint);
     }
 
+#ifdef VKRT_HAS_SHEEN
+    const SurfaceResponse surface =
+        withSheen(VKRT_DEVICE_ARG surfaceResponse(material, inputs), inputs.sheenRoughness, dot(normal, toViewer));
+#else
     const SurfaceResponse surface = surfaceResponse(material, inputs);
+#endif
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
     // material's occlusion lets it; a coat lets through what it does not reflect, and reflects its share where
     // it is not traced.
     real3 ambientReflectance = surface.diffuse + (surface.traced ? real3(0.0) : surface.specular);
+#ifdef VKRT_HAS_SHEEN
+    ambientReflectance = ambientReflectance * surface.sheenScaling + surface.sheenColor * surface.sheenAlbedo;
+#endif
 #ifdef VKRT_HAS_CLEARCOAT
     const real coatThrough = coatTransmittance(surface, dot(frame.coatNormal, toViewer));
     if (surface.clearcoat > 0.0) {
@@ -373,6 +381,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
         reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
     }
+#ifdef VKRT_HAS_SHEEN
+    reflectWeight *= surface.sheenScaling;  // the layers below the sheen
+#endif
 #ifdef VKRT_HAS_CLEARCOAT
     // With a coat, the reflection follows the coat's lobe with probability coatPick, else the base's, seen
     // through the coat; either weight is divided by its probability, and the density is that of both.
@@ -422,6 +433,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
     real3 transmitWeight = surface.transmission * (real3(1.0) - dielectricReflectance(surface, cosMicro, eta)) *
                            surface.albedo;
+#ifdef VKRT_HAS_SHEEN
+    transmitWeight *= surface.sheenScaling;
+#endif
 #ifdef VKRT_HAS_CLEARCOAT
     if (surface.clearcoat > 0.0) transmitWeight *= coatThrough;
 #endif

@@ -90,6 +90,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_UNLIT
 #define VKRT_HAS_MIPMAPS
 #define VKRT_HAS_CLEARCOAT
+#define VKRT_HAS_SHEEN
 
 #else  // GLSL
 

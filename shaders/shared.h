@@ -109,7 +109,7 @@ struct GpuShading {
     vec4 v012;
 };
 
-// A material, 160 bytes. See docs/materials.md for what each value means.
+// A material, 192 bytes. See docs/materials.md for what each value means.
 struct GpuMaterial {
     vec3 baseColor;
     float metallic;
@@ -143,6 +143,12 @@ struct GpuMaterial {
     int clearcoatRoughnessTexture;
     int clearcoatNormalTexture;
     float clearcoatNormalScale;
+    vec3 sheenColor;  // KHR_materials_sheen
+    float sheenRoughness;
+    int sheenColorTexture;      // texture bindings, -1: none
+    int sheenRoughnessTexture;
+    uint unused1;
+    uint unused2;
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix
@@ -251,6 +257,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Te
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TangentBuffer {
     GpuTangents tangents[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer FloatBuffer {
+    float values[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexelBuffer {
     uint texels[];
 };
@@ -308,7 +317,7 @@ struct SceneParams {
     VKRT_ADDRESS(VertexColorBuffer, vertexColors);  // with VKRT_HAS_VERTEX_COLORS, leaf order
     VKRT_ADDRESS(TexCoord1Buffer, texCoords1);      // with VKRT_HAS_TEXCOORD1, leaf order
     VKRT_ADDRESS(TangentBuffer, tangents);          // with VKRT_HAS_NORMAL_MAPS, leaf order
-    uvec2 unused1;                                  // the struct's size stays a multiple of 16 bytes
+    VKRT_ADDRESS(FloatBuffer, sheenTable);          // with VKRT_HAS_SHEEN: sheen.h's albedo table
 };
 
 // Per dispatch: which samples of which rows.
@@ -338,7 +347,7 @@ static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);
-static_assert(sizeof(GpuMaterial) == 160 && offsetof(GpuMaterial, clearcoatTexture) == 144 && offsetof(GpuMaterial, transmissionTexture) == 128 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
+static_assert(sizeof(GpuMaterial) == 192 && offsetof(GpuMaterial, sheenColor) == 160 && offsetof(GpuMaterial, clearcoatTexture) == 144 && offsetof(GpuMaterial, transmissionTexture) == 128 && offsetof(GpuMaterial, occlusionStrength) == 80 &&
               offsetof(GpuMaterial, specularColor) == 96 && offsetof(GpuMaterial, specularFactor) == 108);
 static_assert(offsetof(GpuMaterial, normalTexture) == 112 && offsetof(GpuMaterial, alphaCutoff) == 124);
 static_assert(sizeof(GpuTangents) == 48);

@@ -8,6 +8,7 @@
 #include "microfacet.h"
 #include "optics.h"
 #include "shading_language.h"
+#include "sheen.h"
 #include "texture_sampling.h"
 
 // SurfaceMaterial::alphaMode: glTF's alphaMode.
@@ -51,6 +52,10 @@ struct SurfaceMaterial {
     int clearcoatRoughnessTexture;  // texture binding: green multiplies clearcoatRoughness
     int clearcoatNormalTexture;     // texture binding: the coat's tangent-space normal
     real clearcoatNormalScale;
+    real3 sheenColor;               // KHR_materials_sheen (black: none)
+    real sheenRoughness;
+    int sheenColorTexture;          // texture binding (sRGB): multiplies sheenColor
+    int sheenRoughnessTexture;      // texture binding: alpha multiplies sheenRoughness
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -67,6 +72,8 @@ struct MaterialSample {
     real clearcoat;       // KHR_materials_clearcoat's factor, roughness and normal (as tangentNormal)
     real clearcoatRoughness;
     real3 coatTangentNormal;
+    real3 sheenColor;     // KHR_materials_sheen's colour and roughness
+    real sheenRoughness;
 };
 
 // How much of a point a surface whose base colour has alpha `alpha` there covers.
@@ -91,6 +98,8 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.clearcoat = material.clearcoat;
     s.clearcoatRoughness = material.clearcoatRoughness;
     s.coatTangentNormal = real3(0.0, 0.0, 1.0);
+    s.sheenColor = material.sheenColor;
+    s.sheenRoughness = material.sheenRoughness;
     return s;
 }
 
@@ -105,7 +114,9 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
 #define VKRT_SLOT_CLEARCOAT 7
 #define VKRT_SLOT_CLEARCOAT_ROUGHNESS 8
 #define VKRT_SLOT_CLEARCOAT_NORMAL 9
-#define VKRT_MATERIAL_SLOTS 10
+#define VKRT_SLOT_SHEEN_COLOR 10
+#define VKRT_SLOT_SHEEN_ROUGHNESS 11
+#define VKRT_MATERIAL_SLOTS 12
 
 VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_BASE_COLOR) return m.baseColorTexture;
@@ -117,7 +128,9 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_TRANSMISSION) return m.transmissionTexture;
     if (slot == VKRT_SLOT_CLEARCOAT) return m.clearcoatTexture;
     if (slot == VKRT_SLOT_CLEARCOAT_ROUGHNESS) return m.clearcoatRoughnessTexture;
-    return m.clearcoatNormalTexture;
+    if (slot == VKRT_SLOT_CLEARCOAT_NORMAL) return m.clearcoatNormalTexture;
+    if (slot == VKRT_SLOT_SHEEN_COLOR) return m.sheenColorTexture;
+    return m.sheenRoughnessTexture;
 }
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
@@ -157,6 +170,10 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
             s.clearcoat *= texel.x;
         } else if (slot == VKRT_SLOT_CLEARCOAT_ROUGHNESS) {
             s.clearcoatRoughness *= texel.y;
+        } else if (slot == VKRT_SLOT_SHEEN_COLOR) {
+            s.sheenColor *= real3(texel.x, texel.y, texel.z);
+        } else if (slot == VKRT_SLOT_SHEEN_ROUGHNESS) {
+            s.sheenRoughness *= texel.w;
         } else {
             // glTF: (2 texel - 1) * (scale, scale, 1), normalised where the frame is applied.
             const real scale = slot == VKRT_SLOT_NORMAL ? material.normalScale : material.clearcoatNormalScale;
@@ -220,6 +237,10 @@ struct SurfaceResponse {
     real coatAlpha;       // its GGX width
     bool coatMirror;      // its lobe is a delta
     bool coatTraced;      // its lobe is traced (roughness < 1)
+    real3 sheenColor;     // KHR_materials_sheen's colour (black: none)
+    real sheenAlpha;      // its Charlie width
+    real sheenScaling;    // what the sheen lets through to the layers below: 1 - max(sheenColor) E(mu_view)
+    real sheenAlbedo;     // E(mu_view): the sheen's directional albedo towards the viewer
 };
 
 VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
@@ -243,8 +264,24 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.coatAlpha = ggxAlpha(inputs.clearcoatRoughness);
     s.coatMirror = inputs.clearcoatRoughness < VKRT_MIRROR_ROUGHNESS;
     s.coatTraced = inputs.clearcoat > 0.0 && inputs.clearcoatRoughness < 1.0;
+    s.sheenColor = inputs.sheenColor;
+    s.sheenAlpha = sheenAlpha(inputs.sheenRoughness);
+    s.sheenScaling = 1.0;  // withSheen() sets these two where the viewer is known
+    s.sheenAlbedo = 0.0;
     return s;
 }
+
+#ifdef VKRT_HAS_SHEEN
+// The sheen's albedo towards a viewer at cosine cosView, and the scaling of the layers below it.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN SurfaceResponse withSheen(VKRT_DEVICE_PARAM SurfaceResponse s, real sheenRoughness, real cosView) {
+    if (maxComponent(s.sheenColor) > 0.0) {
+        s.sheenAlbedo = sheenAlbedo(VKRT_DEVICE_ARG cosView, sheenRoughness);
+        s.sheenScaling = 1.0 - maxComponent(s.sheenColor) * s.sheenAlbedo;
+    }
+    return s;
+}
+#endif
 
 // KHR_materials_clearcoat's coat: a dielectric of index 1.5 whose Fresnel term the extension defines by
 // Schlick's approximation with F0 = 0.04.
@@ -325,11 +362,18 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
 
 // Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
 // viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling),
-// under the coat, if any, which adds its own lobe (weighted alike) about `coatNormal`.
+// under the sheen, if any, which scales them and adds its own lobe, and the coat, if any, which adds its own
+// lobe (weighted alike) about `coatNormal`.
 VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
                              real3 toLight, real3 irradiance, real specularWeight) {
     const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
     real3 reflected = brdf * irradiance * dot(normal, toLight);
+#ifdef VKRT_HAS_SHEEN
+    if (maxComponent(s.sheenColor) > 0.0) {
+        reflected = reflected * s.sheenScaling +
+                    s.sheenColor * sheenLobe(normal, toViewer, toLight, s.sheenAlpha) * irradiance * dot(normal, toLight);
+    }
+#endif
 #ifdef VKRT_HAS_CLEARCOAT
     if (s.clearcoat > 0.0) {
         reflected = reflected * coatTransmittance(s, dot(coatNormal, toViewer)) +

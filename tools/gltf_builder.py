@@ -99,7 +99,8 @@ class GltfBuilder:
                  attenuation_color=None, attenuation_distance=None, base_color_texture=None,
                  metallic_roughness_texture=None, specular=None, specular_color=None, normal_texture=None,
                  normal_scale=None, alpha=1.0, alpha_mode=None, alpha_cutoff=None, double_sided=None,
-                 transmission_texture=None, unlit=False, clearcoat=None, clearcoat_roughness=None):
+                 transmission_texture=None, unlit=False, clearcoat=None, clearcoat_roughness=None,
+                 sheen_color=None, sheen_roughness=None):
         """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
             "baseColorFactor": list(base_color) + [alpha], "metallicFactor": metallic, "roughnessFactor": roughness}}
@@ -128,6 +129,10 @@ class GltfBuilder:
                 extensions["KHR_materials_transmission"]["transmissionTexture"] = transmission_texture
         if unlit:
             extensions["KHR_materials_unlit"] = {}
+        if sheen_color is not None:
+            extensions["KHR_materials_sheen"] = {"sheenColorFactor": list(sheen_color)}
+            if sheen_roughness is not None:
+                extensions["KHR_materials_sheen"]["sheenRoughnessFactor"] = sheen_roughness
         if clearcoat is not None:
             extensions["KHR_materials_clearcoat"] = {"clearcoatFactor": clearcoat}
             if clearcoat_roughness is not None:

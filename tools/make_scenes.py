@@ -33,7 +33,7 @@ vertex colours (COLOR_0) blend red, green, blue and white under a checker read t
 surfaces.gltf: normal maps and alpha: two panels of domes that exist only in their normal texture (one with
 tangents derived from its texture coordinates, one a mirrored instance with TANGENT given: both look alike),
 a MASK screen whose holes let the sun through onto the floor, a BLEND pane of alpha 0.35 in front of a
-sphere of red paint under a clear coat (KHR_materials_clearcoat), an unlit sign (KHR_materials_unlit) and a window striped by its transmission texture, under a low sun
+sphere of red paint under a clear coat (KHR_materials_clearcoat), a velvet ball (KHR_materials_sheen), an unlit sign (KHR_materials_unlit) and a window striped by its transmission texture, under a low sun
 and a point light.
 
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
@@ -395,6 +395,9 @@ def surfaces():
     red = g.material("red paint, clear coat", base_color=(0.8, 0.15, 0.1), roughness=0.6, clearcoat=1.0,
                      clearcoat_roughness=0.05)
     g.sphere("ball", [-0.3, 0.45, 0.3], 0.45, red)
+    velvet = g.material("velvet", base_color=(0.06, 0.02, 0.12), roughness=1.0, sheen_color=(0.85, 0.55, 1.0),
+                        sheen_roughness=0.5)
+    g.sphere("velvet ball", [-1.0, 0.3, 2.0], 0.3, velvet)
 
     # An unlit sign (KHR_materials_unlit: its colours, lit by nothing) and a window whose transmission
     # texture makes clear and frosted-white stripes.

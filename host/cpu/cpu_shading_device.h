@@ -11,6 +11,7 @@
 #include "common/render_settings.h"
 #include "scene/light_table.h"
 #include "scene/scene.h"
+#include "scene/sheen_table.h"
 #include "scene/shading_inputs.h"
 #include "shade_hit.h"
 
@@ -44,6 +45,7 @@ class CpuShadingDevice {
     glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
     glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
     double textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
+    double sheenTable(uint32_t entry) const { return sheenAlbedoTable()[entry]; }
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }

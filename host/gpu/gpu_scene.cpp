@@ -6,6 +6,7 @@
 
 #include "camera.h"
 #include "scene/light_table.h"
+#include "scene/sheen_table.h"
 #include "scene/shading_inputs.h"
 
 namespace vkrt {
@@ -107,6 +108,10 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.clearcoatRoughnessTexture = data.features.textures ? s.clearcoatRoughnessTexture : -1;
         g.clearcoatNormalTexture = data.features.textures && data.features.normalMaps ? s.clearcoatNormalTexture : -1;
         g.clearcoatNormalScale = static_cast<float>(s.clearcoatNormalScale);
+        g.sheenColor = data.features.sheen ? glm::vec3(s.sheenColor) : glm::vec3(0.0f);
+        g.sheenRoughness = static_cast<float>(s.sheenRoughness);
+        g.sheenColorTexture = data.features.textures ? s.sheenColorTexture : -1;
+        g.sheenRoughnessTexture = data.features.textures ? s.sheenRoughnessTexture : -1;
         data.materials.push_back(g);
     }
 
@@ -138,13 +143,14 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
                                    static_cast<float>(lights.pick[i])});
     }
     data.areaLightPower = lights.totalPower;
+    if (data.features.sheen) data.sheenTable = sheenAlbedoTable();
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }
 
 GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
-    buffers_.reserve(12);
+    buffers_.reserve(16);
     auto upload = [&](const auto& values) -> uint64_t {
         if (values.empty()) return 0;
         buffers_.emplace_back(context, values);
@@ -165,6 +171,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.vertexColors = upload(data.vertexColors);
     addresses_.texCoords1 = upload(data.texCoords1);
     addresses_.tangents = upload(data.tangents);
+    addresses_.sheenTable = upload(data.sheenTable);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -181,6 +188,7 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.vertexColors = addresses_.vertexColors;
     params.texCoords1 = addresses_.texCoords1;
     params.tangents = addresses_.tangents;
+    params.sheenTable = addresses_.sheenTable;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

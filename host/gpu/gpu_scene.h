@@ -21,6 +21,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuVertexColors> vertexColors;  // only with vertex colours, leaf order
     std::vector<gpu::GpuTexCoords1> texCoords1;      // only with TEXCOORD_1, leaf order
     std::vector<gpu::GpuTangents> tangents;          // only with normal maps, leaf order
+    std::vector<float> sheenTable;                   // only with sheen (sheen.h)
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures

@@ -28,6 +28,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
     {&SceneFeatures::mipmaps, "mipmaps", "VKRT_HAS_MIPMAPS"},
     {&SceneFeatures::clearcoat, "clearcoat", "VKRT_HAS_CLEARCOAT"},
+    {&SceneFeatures::sheen, "sheen", "VKRT_HAS_SHEEN"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -91,6 +92,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         }
         features.unlit |= material.unlit;
         features.clearcoat |= material.clearcoat > 0.0f;
+        features.sheen |= material.hasSheen();
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.

@@ -25,6 +25,7 @@ struct SceneFeatures {
     bool alpha = false;         // a material's alpha (MASK or BLEND) can leave holes
     bool unlit = false;         // a material is KHR_materials_unlit
     bool clearcoat = false;     // a material has KHR_materials_clearcoat
+    bool sheen = false;         // a material has KHR_materials_sheen
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).

@@ -67,6 +67,25 @@ void readClearcoat(GltfContext& context, const tinygltf::ExtensionMap& extension
     }
 }
 
+void readSheen(GltfContext& context, const tinygltf::ExtensionMap& extensions, const std::string& where,
+               Material& material) {
+    const auto it = extensions.find("KHR_materials_sheen");
+    if (it == extensions.end()) return;
+    const std::string extWhere = where + " KHR_materials_sheen";
+    const tinygltf::Value& value = it->second;
+    if (!value.IsObject()) context.fail(extWhere + " must be a JSON object");
+    material.sheenColor = glm::clamp(jsonVector3(context, value, "sheenColorFactor", glm::vec3(0.0f), extWhere),
+                                     glm::vec3(0.0f), glm::vec3(1.0f));
+    material.sheenRoughness =
+        static_cast<float>(std::clamp(jsonNumber(context, value, "sheenRoughnessFactor", 0.0, extWhere), 0.0, 1.0));
+    if (value.Has("sheenColorTexture"))
+        material.sheenColorTexture = textureSlot(context, value.Get("sheenColorTexture"), extWhere + " sheenColorTexture");
+    if (value.Has("sheenRoughnessTexture")) {
+        material.sheenRoughnessTexture =
+            textureSlot(context, value.Get("sheenRoughnessTexture"), extWhere + " sheenRoughnessTexture");
+    }
+}
+
 void readUnlit(const tinygltf::ExtensionMap& extensions, Material& material) {
     material.unlit = extensions.count("KHR_materials_unlit") > 0;
 }

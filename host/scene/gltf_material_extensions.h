@@ -27,6 +27,10 @@ void readExtensionTextures(GltfContext& context, const std::map<std::string, tin
 void readClearcoat(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
                    const std::string& where, Material& material);
 
+// KHR_materials_sheen: the sheen colour and roughness with their textures.
+void readSheen(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
+               const std::string& where, Material& material);
+
 // KHR_materials_unlit.
 void readUnlit(const std::map<std::string, tinygltf::Value>& extensions, Material& material);
 

@@ -163,6 +163,7 @@ void convertMaterials(GltfContext& context) {
         readExtensionTextures(context, m.extensions, where, material);
         readUnlit(m.extensions, material);
         readClearcoat(context, m.extensions, where, material);
+        readSheen(context, m.extensions, where, material);
         material.emissiveTexture = textureSlot(context, m.emissiveTexture.index, m.emissiveTexture.texCoord,
                                                m.emissiveTexture.extensions, where + " emissive texture");
         material.occlusionTexture =

@@ -144,6 +144,11 @@ struct Material {
     TextureSlot clearcoatRoughnessTexture;  // linear, green multiplies `clearcoatRoughness`
     TextureSlot clearcoatNormalTexture;     // linear, tangent space, as normalTexture
     float clearcoatNormalScale = 1.0f;
+    // KHR_materials_sheen: a layer of fibres reflecting sheenColor at grazing angles.
+    glm::vec3 sheenColor{0.0f};
+    TextureSlot sheenColorTexture;  // sRGB, multiplies sheenColor
+    float sheenRoughness = 0.0f;
+    TextureSlot sheenRoughnessTexture;  // linear, alpha multiplies sheenRoughness
     float ior = 1.5f;
     float thickness = 0.0f;  // KHR_materials_volume; 0 means thin-walled
     glm::vec3 attenuationColor{1.0f};
@@ -152,12 +157,14 @@ struct Material {
 
     bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     // Every texture slot.
-    std::array<const TextureSlot*, 11> textureSlots() const {
-        return {&baseColorTexture,    &metallicRoughnessTexture, &emissiveTexture,
-                &occlusionTexture,    &specularTexture,          &specularColorTexture,
-                &normalTexture,       &transmissionTexture,      &clearcoatTexture,
-                &clearcoatRoughnessTexture, &clearcoatNormalTexture};
+    std::array<const TextureSlot*, 13> textureSlots() const {
+        return {&baseColorTexture,          &metallicRoughnessTexture, &emissiveTexture,
+                &occlusionTexture,          &specularTexture,          &specularColorTexture,
+                &normalTexture,             &transmissionTexture,      &clearcoatTexture,
+                &clearcoatRoughnessTexture, &clearcoatNormalTexture,   &sheenColorTexture,
+                &sheenRoughnessTexture};
     }
+    bool hasSheen() const { return sheenColor.x > 0.0f || sheenColor.y > 0.0f || sheenColor.z > 0.0f; }
     // Some of the surface may be missing: alpha MASK or BLEND, with an alpha that can fall below the cutoff
     // (MASK) or 1 (BLEND) through the factor or the texture. COLOR_0's alpha multiplies it as well
     // (SceneFeatures counts that).

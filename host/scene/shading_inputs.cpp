@@ -74,6 +74,10 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.clearcoatRoughnessTexture = bind(m.clearcoatRoughnessTexture, false, bindings);
     s.clearcoatNormalTexture = bind(m.clearcoatNormalTexture, false, bindings);
     s.clearcoatNormalScale = m.clearcoatNormalScale;
+    s.sheenColor = glm::dvec3(m.sheenColor);
+    s.sheenRoughness = m.sheenRoughness;
+    s.sheenColorTexture = bind(m.sheenColorTexture, true, bindings);
+    s.sheenRoughnessTexture = bind(m.sheenRoughnessTexture, false, bindings);
     return s;
 }
 
@@ -113,7 +117,8 @@ PackedTextures packTextures(const Scene& scene) {
     // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
     std::vector<bool> srgb(scene.textures.size(), false);
     for (const Material& m : scene.materials) {
-        for (const TextureSlot* slot : {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture}) {
+        for (const TextureSlot* slot :
+             {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture, &m.sheenColorTexture}) {
             if (slot->used()) srgb[slot->texture] = true;
         }
     }

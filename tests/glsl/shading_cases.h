@@ -125,6 +125,10 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.clearcoatRoughnessTexture = -1;
         material.clearcoatNormalTexture = -1;
         material.clearcoatNormalScale = 1.0;
+        material.sheenColor = real3(0.0);  // sheen reads a table: tests/gpu_surface_test.cpp covers it
+        material.sheenRoughness = 0.0;
+        material.sheenColorTexture = -1;
+        material.sheenRoughnessTexture = -1;
         const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {

@@ -1,0 +1,12 @@
+// The directional albedo table of KHR_materials_sheen's lobe (shaders/sheen.h), computed once in double
+// precision and read by both renderers.
+#pragma once
+
+#include <vector>
+
+namespace vkrt {
+
+// VKRT_SHEEN_TABLE_SIZE^2 entries, laid out as sheen.h's sheenAlbedo reads them.
+const std::vector<float>& sheenAlbedoTable();
+
+}  // namespace vkrt
