@@ -68,6 +68,8 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_DEVICE_TEMPLATE template <typename Device>
 #define VKRT_DEVICE_PARAM const Device &device,
 #define VKRT_DEVICE_ARG device,
+#define VKRT_DEVICE_PARAM_ONLY const Device &device
+#define VKRT_DEVICE_ARG_ONLY device
 #define VKRT_DEVICE(name) device.name
 #define VKRT_SHADING_BEGIN namespace vkrt::shading {
 #define VKRT_SHADING_END }
@@ -85,6 +87,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_VERTEX_COLORS
 #define VKRT_HAS_TEXCOORD1
+#define VKRT_HAS_ENVIRONMENT
 
 #else  // GLSL
 
@@ -100,6 +103,8 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_DEVICE_TEMPLATE
 #define VKRT_DEVICE_PARAM
 #define VKRT_DEVICE_ARG
+#define VKRT_DEVICE_PARAM_ONLY
+#define VKRT_DEVICE_ARG_ONLY
 #define VKRT_DEVICE(name) device_##name
 #define VKRT_SHADING_BEGIN
 #define VKRT_SHADING_END

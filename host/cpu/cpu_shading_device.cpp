@@ -12,6 +12,7 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
     for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m, bindings));
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
+    if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
 }
 
 glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {

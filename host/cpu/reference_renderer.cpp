@@ -42,6 +42,7 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, doubl
 shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32_t sample) const {
     shading::ShadingContext context;
     context.ambient = settings_.ambient;
+    context.background = settings_.background;
     context.minThroughput = settings_.minThroughput;
     context.maxDepth = settings_.maxDepth;
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);
@@ -94,7 +95,7 @@ glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shadi
         closestHit(scene_, bvh_, line, std::numeric_limits<double>::infinity(), ray.exclude, hit, time);
     const glm::dvec3 absorbed =
         shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
-    if (!found) return absorbed * settings_.background;
+    if (!found) return absorbed * shading::escapedRadiance(device, context, ray);
 
     // The shared shading step; its continuation rays are traced by recursion.
     const shading::ShadedHit shaded =

@@ -23,6 +23,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
     {&SceneFeatures::texCoords1, "texcoord1", "VKRT_HAS_TEXCOORD1"},
+    {&SceneFeatures::environment, "environment", "VKRT_HAS_ENVIRONMENT"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -85,6 +86,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     }
     features.punctualLights = !scene.lights.empty();
     features.areaLights = !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
+    features.environment = scene.environment.present();
     return features;
 }
 

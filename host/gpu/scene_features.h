@@ -21,6 +21,7 @@ struct SceneFeatures {
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
     bool vertexColors = false;  // COLOR_0 multiplies base colours
     bool texCoords1 = false;    // some texture slot reads TEXCOORD_1, and some mesh has it
+    bool environment = false;   // an environment map lights the scene (--environment)
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();
