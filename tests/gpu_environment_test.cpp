@@ -5,6 +5,7 @@
 // sampling keeps the mean, the GPU matches the reference on scenes/environment.gltf, and scenes without an
 // environment get neither its code nor its buffers.
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -114,6 +115,7 @@ TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
                 }
             }
         }
+        std::printf("%s: sphere of albedo 0.6 shows %.5f\n", device, sum / count);
         EXPECT_NEAR(sum / count, 0.6, 0.6 * 0.03) << device;
     }
 }
@@ -134,6 +136,8 @@ TEST_F(Gpu, PlaneUnderAPolarCapShowsRLSinSquaredT) {
     for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
         const char* device = image == &pair.gpu.image ? "gpu" : "cpu";
         const PixelStatistics s = statisticsOf(*image, 0);
+        std::printf("%s: mean %.5f (r L sin^2 t = %.5f), per-pixel noise %.2f%%\n", device, s.mean, expected,
+                    100.0 * s.relativeDeviation);
         EXPECT_NEAR(s.mean, expected, 0.03 * expected) << device;
         EXPECT_LT(s.relativeDeviation, 0.10) << device << ": importance sampling finds the cap";
     }
@@ -175,6 +179,7 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
         test::renderGpuAndCpu(context(), scene, bvh, camera, darkSettings(16, 64), test::shaderCacheDir());
     for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
         const char* device = image == &pair.gpu.image ? "gpu" : "cpu";
+        std::printf("%s: red %.5f against %.5f by brute force\n", device, statisticsOf(*image, 0).mean, expected.x);
         for (int c = 0; c < 3; ++c) {
             EXPECT_NEAR(statisticsOf(*image, c).mean, expected[c], 0.03 * expected[c]) << device << " channel " << c;
         }
@@ -183,15 +188,17 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
 
 TEST_F(Gpu, MultipleImportanceSamplingKeepsTheMeanUnderAnEnvironment) {
     // Glossy gold spheres under a map with a bright patch: light samples alone (--no-mis) and light samples
-    // weighed against traced lobe rays must agree; a wrong weight on either side double counts or loses light.
+    // weighed against traced lobe rays must agree; a wrong weight on either side double counts or loses light
+    // (with weight 1 on escaped lobe rays the two differ by a quarter). The lobes are rough enough (0.35,
+    // 0.6) for light samples alone to converge at 256 spp (at roughness 0.15 they still fall 2% short).
     Scene scene;
-    for (float roughness : {0.15f, 0.4f}) {
+    for (float roughness : {0.35f, 0.6f}) {
         Material gold;
         gold.baseColor = glm::vec4(1.0f, 0.8f, 0.4f, 1.0f);
         gold.metallic = 1.0f;
         gold.roughness = roughness;
         scene.materials.push_back(gold);
-        scene.spheres.push_back({glm::vec3(roughness < 0.2f ? -1.1f : 1.1f, 0.0f, 0.0f), 1.0f,
+        scene.spheres.push_back({glm::vec3(roughness < 0.5f ? -1.1f : 1.1f, 0.0f, 0.0f), 1.0f,
                                  static_cast<uint32_t>(scene.materials.size() - 1)});
     }
     scene.environment = mapOf(
@@ -200,13 +207,15 @@ TEST_F(Gpu, MultipleImportanceSamplingKeepsTheMeanUnderAnEnvironment) {
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
     const Camera camera = orthographic({0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 2.2);
-    RenderSettings settings = darkSettings(32, 64);
+    RenderSettings settings = darkSettings(32, 256);
     settings.lightSamples = 2;
     const test::RenderPair mis = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
     settings.multipleImportanceSampling = false;
     const test::RenderPair lightsOnly =
         test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
     const double reference = statisticsOf(lightsOnly.cpu.image, 0).mean;
+    std::printf("light samples alone %.5f, with MIS: cpu %.5f, gpu %.5f\n", reference,
+                statisticsOf(mis.cpu.image, 0).mean, statisticsOf(mis.gpu.image, 0).mean);
     EXPECT_NEAR(statisticsOf(mis.cpu.image, 0).mean, reference, 0.02 * reference) << "cpu";
     EXPECT_NEAR(statisticsOf(mis.gpu.image, 0).mean, reference, 0.02 * reference) << "gpu";
     EXPECT_NEAR(statisticsOf(lightsOnly.gpu.image, 0).mean, reference, 0.02 * reference) << "gpu, no MIS";

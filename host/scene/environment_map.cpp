@@ -26,7 +26,7 @@ double toCdf(double* weights, size_t count) {
 EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height, std::vector<glm::vec3> texels,
                                   double rotationDegrees, double strength) {
     if (width <= 0 || height <= 0 || texels.size() != static_cast<size_t>(width) * height) {
-        throw SceneError(path + ": the environment map is empty");
+        throw SceneError(path + ": the environment map is empty or incomplete");
     }
     for (size_t i = 0; i < texels.size(); ++i) {
         const glm::vec3& t = texels[i];
@@ -38,15 +38,13 @@ EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height
             }
         }
     }
-    EnvironmentMap map;
-    map.path = path;
-    map.width = width;
-    map.height = height;
-    map.rotationDegrees = rotationDegrees;
-    map.strength = strength;
-    map.radiance = std::move(texels);
-    for (glm::vec3& t : map.radiance) t *= static_cast<float>(strength);
-    return map;
+    for (glm::vec3& t : texels) t *= static_cast<float>(strength);
+    return {.path = path,
+            .width = width,
+            .height = height,
+            .radiance = std::move(texels),
+            .rotationDegrees = rotationDegrees,
+            .strength = strength};
 }
 
 EnvironmentDistribution EnvironmentDistribution::build(const EnvironmentMap& map) {
