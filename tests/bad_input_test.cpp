@@ -334,19 +334,20 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
         std::string options;
         std::string expected;
     };
-    for (const Case& c : {Case{"--environment '" + (folder / "missing.hdr").string() + "'", "missing.hdr: cannot open"},
-                          Case{"--environment '" + (folder / "sky.png").string() + "'", "use .hdr or .exr"},
-                          Case{"--environment '" + (folder / "text.hdr").string() + "'", "text.hdr: cannot read"},
-                          Case{"--environment '" + (folder / "picture.hdr").string() + "'", "not a Radiance HDR"},
-                          Case{"--environment '" + (folder / "negative.exr").string() + "'",
-                               "texel (1, 0) of the environment map is negative"},
-                          Case{"--environment '" + (folder / "nan.exr").string() + "'", "is not finite"},
-                          Case{"--environment-strength -1", "must not be negative"},
-                          Case{"--environment-rotation inf", "is not finite"}}) {
+    for (const Case& c :
+         {Case{"--environment '" + (folder / "missing.hdr").string() + "'", "missing.hdr: cannot open"},
+          Case{"--environment '" + (folder / "sky.png").string() + "'", "use .hdr or .exr"},
+          Case{"--environment '" + (folder / "text.hdr").string() + "'", "text.hdr: cannot read"},
+          Case{"--environment '" + (folder / "picture.hdr").string() + "'", "not a Radiance HDR"},
+          Case{"--environment '" + (folder / "negative.exr").string() + "'",
+               "texel (1, 0) of the environment map is negative"},
+          Case{"--environment '" + (folder / "nan.exr").string() + "'", "is not finite"},
+          Case{"--environment-strength -1", "must not be negative"},
+          Case{"--environment-rotation inf", "is not finite"}}) {
         SCOPED_TRACE(c.options);
         const auto output = folder / "out.png";
-        const test::CommandResult result =
-            test::runVkrt("--scene " + scene + " " + c.options + " --out '" + output.string() + "' --width 8");
+        const test::CommandResult result = test::runVkrt("--scene " + scene + " " + c.options + " --out '" +
+                                                         output.string() + "' --width 8");
         EXPECT_EQ(result.exitCode, 2) << result.output;
         EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;

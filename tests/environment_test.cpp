@@ -36,11 +36,11 @@ TEST(Environment, AxesSeeTheTexelsOfBlendersConvention) {
     const EnvironmentMap map = namedTexels(63, 31, 0.0);
     const EnvironmentTables tables(map);
     // u = 0.5 + atan2(z, x) / 2 pi, v = acos(y) / pi (top row +Y).
-    EXPECT_EQ(texelSeen(tables, {0, 1, 0}).y, 0);    // zenith: the top row
-    EXPECT_EQ(texelSeen(tables, {0, -1, 0}).y, 30);  // nadir: the bottom row
-    EXPECT_EQ(texelSeen(tables, {1, 0, 0}), glm::ivec2(31, 15));   // +X: the centre
-    EXPECT_EQ(texelSeen(tables, {0, 0, -1}), glm::ivec2(15, 15));  // -Z: u = 0.25
-    EXPECT_EQ(texelSeen(tables, {0, 0, 1}), glm::ivec2(47, 15));   // +Z: u = 0.75
+    EXPECT_EQ(texelSeen(tables, {0, 1, 0}).y, 0);                     // zenith: the top row
+    EXPECT_EQ(texelSeen(tables, {0, -1, 0}).y, 30);                   // nadir: the bottom row
+    EXPECT_EQ(texelSeen(tables, {1, 0, 0}), glm::ivec2(31, 15));      // +X: the centre
+    EXPECT_EQ(texelSeen(tables, {0, 0, -1}), glm::ivec2(15, 15));     // -Z: u = 0.25
+    EXPECT_EQ(texelSeen(tables, {0, 0, 1}), glm::ivec2(47, 15));      // +Z: u = 0.75
     EXPECT_EQ(texelSeen(tables, {-1, 0, -1e-3}), glm::ivec2(0, 15));  // -X: the seam, just left of it
     EXPECT_EQ(texelSeen(tables, {-1, 0, 1e-3}), glm::ivec2(62, 15));  // and just right of it
     EXPECT_EQ(texelSeen(tables, {0, 1, -1e-3}).y, 0);
@@ -75,7 +75,8 @@ TEST(Environment, DensityIntegratesToOneOverTheSphere) {
         const double theta = M_PI * (i + 0.5) / thetaSteps;
         for (int j = 0; j < phiSteps; ++j) {
             const double phi = 2.0 * M_PI * (j + 0.5) / phiSteps;
-            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
+                               std::sin(theta) * std::sin(phi));
             integral += shading::environmentPdf(tables, d) * std::sin(theta) * (M_PI / thetaSteps) *
                         (2.0 * M_PI / phiSteps);
         }
@@ -104,7 +105,8 @@ TEST(Environment, TexelsAreDrawnByLuminanceTimesSinTheta) {
     double total = 0.0;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            expected[y * width + x] = shading::luminance(glm::dvec3(x + 1, y + 1, 1)) * std::sin(M_PI * (y + 0.5) / height);
+            expected[y * width + x] =
+                shading::luminance(glm::dvec3(x + 1, y + 1, 1)) * std::sin(M_PI * (y + 0.5) / height);
             total += expected[y * width + x];
         }
     }

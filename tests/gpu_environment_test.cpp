@@ -1,9 +1,9 @@
 // The environment light (--environment) on the GPU and the CPU reference alike, against closed forms: a
-// Lambertian sphere in a uniform environment shows its albedo; an upward plane under a polar cap of half-angle
-// t and radiance L shows r L sin^2 t, with per-pixel noise under 10% at 16 spp; a tilted plane under a turned
-// map with one bright region shows the irradiance integrated by brute force. Also: multiple importance
-// sampling keeps the mean, the GPU matches the reference on scenes/environment.gltf, and scenes without an
-// environment get neither its code nor its buffers.
+// Lambertian sphere in a uniform environment shows its albedo; an upward plane under a polar cap of
+// half-angle t and radiance L shows r L sin^2 t, with per-pixel noise under 10% at 16 spp; a tilted plane
+// under a turned map with one bright region shows the irradiance integrated by brute force. Also: multiple
+// importance sampling keeps the mean, the GPU matches the reference on scenes/environment.gltf, and scenes
+// without an environment get neither its code nor its buffers.
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -58,7 +58,8 @@ Camera orthographic(glm::dvec3 position, glm::dvec3 forward, glm::dvec3 up, doub
 // A square of half-size `half` through the origin facing `normal`.
 void addPlane(Scene& scene, glm::dvec3 normal, double half, uint32_t material) {
     const glm::dvec3 n = glm::normalize(normal);
-    const glm::dvec3 a = glm::normalize(glm::cross(n, std::abs(n.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0)));
+    const glm::dvec3 a =
+        glm::normalize(glm::cross(n, std::abs(n.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0)));
     const glm::dvec3 b = glm::cross(n, a);
     auto corner = [&](double s, double t) { return glm::vec3(half * (s * a + t * b)); };
     addFlatQuad(scene, corner(-1, -1), corner(-1, 1), corner(1, 1), corner(1, -1), material);
@@ -105,7 +106,8 @@ TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
         int count = 0;
         for (int y = 0; y < size; ++y) {
             for (int x = 0; x < size; ++x) {
-                const double px = 1.25 * (2.0 * (x + 0.5) / size - 1.0), py = 1.25 * (2.0 * (y + 0.5) / size - 1.0);
+                const double px = 1.25 * (2.0 * (x + 0.5) / size - 1.0),
+                             py = 1.25 * (2.0 * (y + 0.5) / size - 1.0);
                 const double r = std::hypot(px, py);
                 if (r > 1.2) {
                     EXPECT_EQ(image->at(x, y), glm::vec3(1.0f)) << device << ": rays that miss see the map";
@@ -152,7 +154,9 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
     addPlane(scene, normal, 1000.0, 0);
     scene.environment = mapOf(
         32, 16,
-        [](int x, int y) { return x >= 20 && x <= 22 && y >= 4 && y <= 5 ? glm::vec3(30, 20, 10) : glm::vec3(0.2f); },
+        [](int x, int y) {
+            return x >= 20 && x <= 22 && y >= 4 && y <= 5 ? glm::vec3(30, 20, 10) : glm::vec3(0.2f);
+        },
         70.0);
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
@@ -165,7 +169,8 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
         const double theta = M_PI * (i + 0.5) / thetaSteps;
         for (int j = 0; j < phiSteps; ++j) {
             const double phi = 2.0 * M_PI * (j + 0.5) / phiSteps;
-            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
+                               std::sin(theta) * std::sin(phi));
             const double cosine = glm::dot(d, normal);
             if (cosine > 0.0) {
                 irradiance += shading::environmentRadiance(tables, d) * cosine * std::sin(theta) *
@@ -179,9 +184,11 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
         test::renderGpuAndCpu(context(), scene, bvh, camera, darkSettings(16, 64), test::shaderCacheDir());
     for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
         const char* device = image == &pair.gpu.image ? "gpu" : "cpu";
-        std::printf("%s: red %.5f against %.5f by brute force\n", device, statisticsOf(*image, 0).mean, expected.x);
+        std::printf("%s: red %.5f against %.5f by brute force\n", device, statisticsOf(*image, 0).mean,
+                    expected.x);
         for (int c = 0; c < 3; ++c) {
-            EXPECT_NEAR(statisticsOf(*image, c).mean, expected[c], 0.03 * expected[c]) << device << " channel " << c;
+            EXPECT_NEAR(statisticsOf(*image, c).mean, expected[c], 0.03 * expected[c])
+                << device << " channel " << c;
         }
     }
 }
@@ -202,14 +209,18 @@ TEST_F(Gpu, MultipleImportanceSamplingKeepsTheMeanUnderAnEnvironment) {
                                  static_cast<uint32_t>(scene.materials.size() - 1)});
     }
     scene.environment = mapOf(
-        32, 16, [](int x, int y) { return x >= 12 && x <= 14 && y >= 3 && y <= 5 ? glm::vec3(40.0f) : glm::vec3(0.3f); },
+        32, 16,
+        [](int x, int y) {
+            return x >= 12 && x <= 14 && y >= 3 && y <= 5 ? glm::vec3(40.0f) : glm::vec3(0.3f);
+        },
         20.0);
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
     const Camera camera = orthographic({0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 2.2);
     RenderSettings settings = darkSettings(32, 256);
     settings.lightSamples = 2;
-    const test::RenderPair mis = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    const test::RenderPair mis =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
     settings.multipleImportanceSampling = false;
     const test::RenderPair lightsOnly =
         test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());

@@ -19,8 +19,8 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
-#include "support/test_paths.h"
 #include "scene/environment_map.h"
+#include "support/test_paths.h"
 #include "texture_sampling.h"
 
 #include "glsl/shading_cases.h"
@@ -231,7 +231,8 @@ std::vector<FunctionCase> makeCases() {
     // Environment samples across the marginal and conditional tables, and directions away from texel edges.
     for (float u1 : {0.03f, 0.3f, 0.62f, 0.97f}) {
         for (float u2 : {0.01f, 0.45f, 0.88f}) {
-            cases.push_back(makeCase(VKRT_CASE_ENVIRONMENT, 0, {u1, u2, 0, 0}, direction(0.4 + 2.1 * u1, 6.0 * u2)));
+            cases.push_back(
+                makeCase(VKRT_CASE_ENVIRONMENT, 0, {u1, u2, 0, 0}, direction(0.4 + 2.1 * u1, 6.0 * u2)));
         }
     }
     for (glm::vec4 n : {glm::vec4(0, 0, 1, 0), glm::vec4(0, 0, -1, 0), glm::vec4(1, 2, 3, 0),

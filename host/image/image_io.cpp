@@ -143,7 +143,8 @@ Image readRadianceImage(const std::string& path) {
     }
     // stb_image would also decode an 8-bit image under this name, guessing its gamma: only true HDR passes.
     if (!stbi_is_hdr(path.c_str())) {
-        throw ImageError(path + (std::filesystem::exists(path) ? ": not a Radiance HDR file" : ": cannot open"));
+        throw ImageError(path +
+                         (std::filesystem::exists(path) ? ": not a Radiance HDR file" : ": cannot open"));
     }
     int width = 0, height = 0, channels = 0;
     float* rgb = stbi_loadf(path.c_str(), &width, &height, &channels, 3);

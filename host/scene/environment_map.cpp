@@ -23,8 +23,8 @@ double toCdf(double* weights, size_t count) {
 
 }  // namespace
 
-EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height, std::vector<glm::vec3> texels,
-                                  double rotationDegrees, double strength) {
+EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height,
+                                  std::vector<glm::vec3> texels, double rotationDegrees, double strength) {
     if (width <= 0 || height <= 0 || texels.size() != static_cast<size_t>(width) * height) {
         throw SceneError(path + ": the environment map is empty or incomplete");
     }

@@ -25,8 +25,8 @@ struct EnvironmentMap {
 
 // The map from decoded texels (linear RGB, rows top to bottom), scaled by `strength`. Throws SceneError
 // naming `path` when the image is empty or a texel is negative or not finite.
-EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height, std::vector<glm::vec3> texels,
-                                  double rotationDegrees, double strength);
+EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height,
+                                  std::vector<glm::vec3> texels, double rotationDegrees, double strength);
 
 // The piecewise-constant 2D distribution over the map's texels, proportional to luminance x sin(theta) at
 // each row's centre (pbrt-v4, PiecewiseConstant2D): cumulative tables that end at exactly 1. A row, or a
