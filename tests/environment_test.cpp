@@ -11,6 +11,7 @@
 #include "random.h"
 #include "scene/environment_map.h"
 #include "scene/scene_error.h"
+#include "support/sphere_quadrature.h"
 
 namespace vkrt {
 namespace {
@@ -67,20 +68,10 @@ TEST(Environment, RotationTurnsTheMapAboutY) {
 TEST(Environment, DensityIntegratesToOneOverTheSphere) {
     const EnvironmentMap map = namedTexels(16, 8, 30.0);
     const EnvironmentTables tables(map);
-    // Midpoint rule in (theta, phi) with the solid-angle element sin(theta) dtheta dphi: independent of the
-    // Jacobian the density divides by. 20 x 20 cells per texel.
-    const int thetaSteps = 160, phiSteps = 320;
-    double integral = 0.0;
-    for (int i = 0; i < thetaSteps; ++i) {
-        const double theta = M_PI * (i + 0.5) / thetaSteps;
-        for (int j = 0; j < phiSteps; ++j) {
-            const double phi = 2.0 * M_PI * (j + 0.5) / phiSteps;
-            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
-                               std::sin(theta) * std::sin(phi));
-            integral += shading::environmentPdf(tables, d) * std::sin(theta) * (M_PI / thetaSteps) *
-                        (2.0 * M_PI / phiSteps);
-        }
-    }
+    // 20 x 20 cells per texel, by the solid-angle element: independent of the Jacobian the density divides
+    // by.
+    const double integral = test::integrateOverSphere(
+        160, 320, [&](const glm::dvec3& d) { return shading::environmentPdf(tables, d); });
     EXPECT_NEAR(integral, 1.0, 1e-3);
 }
 

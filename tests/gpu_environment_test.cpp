@@ -17,6 +17,7 @@
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
+#include "support/sphere_quadrature.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
@@ -163,21 +164,9 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
     // The irradiance by brute force: the midpoint rule over the sphere, 32 x 32 cells per texel, through the
     // same nearest lookup.
     const EnvironmentTables tables(scene.environment);
-    glm::dvec3 irradiance(0.0);
-    const int thetaSteps = 16 * 32, phiSteps = 32 * 32;
-    for (int i = 0; i < thetaSteps; ++i) {
-        const double theta = M_PI * (i + 0.5) / thetaSteps;
-        for (int j = 0; j < phiSteps; ++j) {
-            const double phi = 2.0 * M_PI * (j + 0.5) / phiSteps;
-            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
-                               std::sin(theta) * std::sin(phi));
-            const double cosine = glm::dot(d, normal);
-            if (cosine > 0.0) {
-                irradiance += shading::environmentRadiance(tables, d) * cosine * std::sin(theta) *
-                              (M_PI / thetaSteps) * (2.0 * M_PI / phiSteps);
-            }
-        }
-    }
+    const glm::dvec3 irradiance = test::integrateOverSphere(16 * 32, 32 * 32, [&](const glm::dvec3& d) {
+        return shading::environmentRadiance(tables, d) * std::max(0.0, glm::dot(d, normal));
+    });
     const glm::dvec3 expected = albedo / M_PI * irradiance;
     const Camera camera = orthographic(5.0 * normal, -normal, {0, 1, 0}, 1.0);
     const test::RenderPair pair =
