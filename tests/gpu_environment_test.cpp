@@ -1,9 +1,10 @@
-// The environment light (--environment) on the GPU and the CPU reference alike, against closed forms: a
-// Lambertian sphere in a uniform environment shows its albedo; an upward plane under a polar cap of
-// half-angle t and radiance L shows r L sin^2 t, with per-pixel noise under 10% at 16 spp; a tilted plane
-// under a turned map with one bright region shows the irradiance integrated by brute force. Also: multiple
-// importance sampling keeps the mean, the GPU matches the reference on scenes/environment.gltf, and scenes
-// without an environment get neither its code nor its buffers.
+// The environment light (--environment) on the GPU and the CPU reference alike: camera rays along the six
+// axes see the texels the mapping convention names; against closed forms, a Lambertian sphere in a uniform
+// environment shows its albedo, an upward plane under a polar cap of half-angle t and radiance L shows
+// r L sin^2 t with per-pixel noise under 10% at 16 spp, and a tilted plane under a turned map with one bright
+// region shows the irradiance integrated by brute force. Also: multiple importance sampling keeps the mean,
+// the GPU matches the reference on scenes/environment.gltf, and scenes without an environment get neither
+// its code nor its buffers.
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -88,6 +89,41 @@ PixelStatistics statisticsOf(const Image& image, int c) {
     }
     const double n = static_cast<double>(image.pixels.size()), mean = sum / n;
     return {mean, std::sqrt(std::max(0.0, squares / n - mean * mean)) / mean};
+}
+
+TEST_F(Gpu, CameraRaysAlongTheAxesSeeTheTexelsOfTheConvention) {
+    // An empty scene under a map whose texel (x, y) has radiance (x + 1, y + 1, 1), turned by 90 degrees;
+    // orthographic cameras look along the six axes, so every pixel sees the texel of that one direction
+    // (docs/environment.md: u = 0.5 + atan2(z, x) / 2 pi, v = acos(y) / pi, looked up at R_y(-90) d).
+    Scene scene;
+    std::vector<glm::vec3> texels;
+    for (int y = 0; y < 31; ++y) {
+        for (int x = 0; x < 63; ++x) texels.push_back(glm::vec3(x + 1, y + 1, 1.0f));
+    }
+    scene.environment = makeEnvironmentMap("named", 63, 31, texels, 90.0, 1.0);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    struct Axis {
+        const char* name;
+        glm::dvec3 forward, up;
+        glm::ivec2 texel;  // x (-1: not checked), y
+    };
+    // Turned by 90 degrees: +X sees what the map holds at +Z (u = 0.75), -Z what it holds at +X (the centre).
+    for (const Axis& axis :
+         {Axis{"+X", {1, 0, 0}, {0, 1, 0}, {47, 15}}, Axis{"-Z", {0, 0, -1}, {0, 1, 0}, {31, 15}},
+          Axis{"-X", {-1, 0, 0}, {0, 1, 0}, {15, 15}}, Axis{"+Z", {0, 0, 1}, {0, 1, 0}, {-1, 15}},
+          Axis{"+Y", {0, 1, 0}, {0, 0, 1}, {-1, 0}}, Axis{"-Y", {0, -1, 0}, {0, 0, 1}, {-1, 30}}}) {
+        const Camera camera = orthographic({0, 0, 0}, axis.forward, axis.up, 1.0);
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context(), scene, bvh, camera, darkSettings(2, 1), test::shaderCacheDir());
+        for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
+            const glm::vec3 seen = image->at(1, 1);
+            // +Z looks at the seam (u = 0 or 1) and the poles at every column: only the row is checked there.
+            const char* device = image == &pair.gpu.image ? "gpu" : "cpu";
+            if (axis.texel.x >= 0) EXPECT_EQ(seen.x, float(axis.texel.x + 1)) << device << " " << axis.name;
+            EXPECT_EQ(seen.y, float(axis.texel.y + 1)) << device << " " << axis.name;
+        }
+    }
 }
 
 TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
