@@ -44,7 +44,9 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
                                                        : kUnlitSceneAmbient;
     settings.ambient = request.ambient.value_or(glm::dvec3(ambient));
     if (!lit && !scene.environment.present() && !request.ambient) {
-        setup.warnings.push_back("the scene has no lights; an ambient radiance of 1 lights it");
+        setup.warnings.push_back(
+            "the scene has no lights; an ambient radiance of 1 lights it (--environment FILE lights it with "
+            "a map)");
     }
     return setup;
 }
