@@ -91,4 +91,21 @@ float device_lightSolidAnglePdf(uint primitive, vec3 from, vec3 point, float cos
 }
 #endif
 
+#ifdef VKRT_HAS_ENVIRONMENT
+// The environment map's tables (shaders/environment.h).
+bool device_hasEnvironment() { return params.environmentWidth > 0u; }
+
+uvec2 device_environmentSize() { return uvec2(params.environmentWidth, params.environmentHeight); }
+
+vec2 device_environmentRotation() { return vec2(params.environmentCosRotation, params.environmentSinRotation); }
+
+vec3 device_environmentTexel(uint i) { return params.environmentTexels.texels[i].radiance; }
+
+float device_environmentRowCdf(uint y) { return params.environmentRows.rowCdf[y]; }
+
+float device_environmentColumnCdf(uint i) { return params.environmentTexels.texels[i].columnCdf; }
+
+#include "environment.h"
+#endif
+
 #endif

@@ -29,12 +29,12 @@ using uint = uint32_t;
 #define VKRT_DIM_TIME 4u  // shutter time (motion blur), shared by the whole ray tree of a sample
 #define VKRT_DIM_NODE_BASE 5u
 #define VKRT_DIMS_PER_NODE 64u
-// Area-light sample k of a node (up to VKRT_MAX_LIGHT_SAMPLES) uses dimensions 3k (which light), 3k + 1
-// and 3k + 2 (where on it).
+// Light sample k of a node (up to VKRT_MAX_LIGHT_SAMPLES) uses dimensions 3k (which area light), 3k + 1 (where
+// on it: both axes of the stratified pair) and 3k + 2 (the environment's direction: both axes).
 #define VKRT_MAX_LIGHT_SAMPLES 16u
 #define VKRT_DIM_LIGHT_PICK 0u
 #define VKRT_DIM_LIGHT_U 1u
-#define VKRT_DIM_LIGHT_V 2u
+#define VKRT_DIM_LIGHT_ENVIRONMENT 2u
 #define VKRT_DIM_LIGHT(k, which) (3u * (k) + (which))
 // The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
 #define VKRT_DIM_LOBE_U 48u

@@ -5,8 +5,9 @@
 // continuation rays (reflection and transmission through one sampled microfacet normal) with their weights.
 // What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials (material, materialOf),
 // textures (textureInfo, texel, textureCoordinates), lights (punctualLightCount, punctualLight, hasAreaLights,
-// sampleAreaLight, lightSolidAnglePdf), shadow rays (shadowTransmittance) and what depends on its precision:
-// the ray offset (offsetOrigin) and how far short of a light point a shadow ray stops (shadowRayLength).
+// sampleAreaLight, lightSolidAnglePdf), the environment (hasEnvironment and the tables environment.h reads),
+// shadow rays (shadowTransmittance) and what depends on its precision: the ray offset (offsetOrigin) and how
+// far short of a light point a shadow ray stops (shadowRayLength).
 #ifndef VKRT_SHADE_HIT_H
 #define VKRT_SHADE_HIT_H
 
@@ -19,6 +20,9 @@
 #include "shading_language.h"
 #include "surface_response.h"
 #include "texture_sampling.h"
+#ifdef VKRT_HAS_ENVIRONMENT
+#include "environment.h"  // after the device's environment functions (GLSL: device_lights.glsl)
+#endif
 
 VKRT_SHADING_BEGIN
 
@@ -31,6 +35,7 @@ using ::vkrt::vkrtStratified;
 // What stays fixed for every ray of one camera sample.
 struct ShadingContext {
     real3 ambient;       // Whitted's ambient radiance, lighting the diffuse albedo
+    real3 background;    // the radiance of rays that leave the scene, when there is no environment
     real minThroughput;  // branches weighted less than this are cut
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
     uint lightSamples;   // area-light samples per shading point
@@ -263,7 +268,51 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         sum += areaSum / real(context.lightSamples);
     }
 #endif
+#ifdef VKRT_HAS_ENVIRONMENT
+    if (VKRT_DEVICE(hasEnvironment)()) {
+        // `lightSamples` directions drawn from the environment map, each with a shadow ray to infinity.
+        real3 environmentSum = real3(0.0);
+        for (uint k = 0u; k < context.lightSamples; ++k) {
+            const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_ENVIRONMENT));
+            const EnvironmentSample light = sampleEnvironment(VKRT_DEVICE_ARG stratified(context, dimension, 0u),
+                                                              stratified(context, dimension, 1u));
+            const real3 toLight = light.direction;
+            if (!(light.pdf > 0.0) || dot(normal, toLight) <= 0.0 || dot(geometricNormal, toLight) <= 0.0) continue;
+            const real3 visible =
+                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE);
+            // Weighed against the traced lobe by the power heuristic, as the area lights are.
+            real weight = 1.0;
+            if (lobeSampled && context.multipleImportanceSampling) {
+                weight = powerHeuristic(real(context.lightSamples), light.pdf,
+                                        lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
+            }
+            environmentSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight,
+                                             light.radiance * visible / light.pdf, weight);
+        }
+        sum += environmentSum / real(context.lightSamples);
+    }
+#endif
     return sum;
+}
+
+// Radiance reaching `ray` from beyond the scene: the environment, weighed against light sampling when a
+// glossy lobe chose the ray (as emission is in shadeHit), else the constant background.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 escapedRadiance(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray) {
+#ifdef VKRT_HAS_ENVIRONMENT
+    if (VKRT_DEVICE(hasEnvironment)()) {
+        real weight = 1.0;
+        if (ray.arrivalPdf > 0.0) {
+            weight = context.multipleImportanceSampling
+                         ? powerHeuristic(1.0, ray.arrivalPdf,
+                                          real(context.lightSamples) *
+                                              environmentPdf(VKRT_DEVICE_ARG ray.direction))
+                         : 0.0;
+        }
+        return weight > 0.0 ? weight * environmentRadiance(VKRT_DEVICE_ARG ray.direction) : real3(0.0);
+    }
+#endif
+    return context.background;
 }
 
 // The shading step at `hit` of `ray`, whose weight including absorption on the way is `pathThroughput`.

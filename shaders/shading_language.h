@@ -68,6 +68,8 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_DEVICE_TEMPLATE template <typename Device>
 #define VKRT_DEVICE_PARAM const Device &device,
 #define VKRT_DEVICE_ARG device,
+#define VKRT_DEVICE_PARAM_ONLY const Device &device
+#define VKRT_DEVICE_ARG_ONLY device
 #define VKRT_DEVICE(name) device.name
 #define VKRT_SHADING_BEGIN namespace vkrt::shading {
 #define VKRT_SHADING_END }
@@ -90,6 +92,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_UNLIT
 #define VKRT_HAS_MIPMAPS
 #define VKRT_HAS_CLEARCOAT
+#define VKRT_HAS_ENVIRONMENT
 #define VKRT_HAS_SHEEN
 
 #else  // GLSL
@@ -106,6 +109,8 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_DEVICE_TEMPLATE
 #define VKRT_DEVICE_PARAM
 #define VKRT_DEVICE_ARG
+#define VKRT_DEVICE_PARAM_ONLY
+#define VKRT_DEVICE_ARG_ONLY
 #define VKRT_DEVICE(name) device_##name
 #define VKRT_SHADING_BEGIN
 #define VKRT_SHADING_END

@@ -208,6 +208,13 @@ struct GpuCamera {
     uint unused1;
 };
 
+// A texel of the environment map (shaders/environment.h), 16 bytes: its radiance (strength included) and
+// the cumulative probability of the texels of its row up to and including it (the row's conditional table).
+struct GpuEnvironmentTexel {
+    vec3 radiance;
+    float columnCdf;
+};
+
 // A ray for the ray-casting kernel (shaders/raycast.comp), 32 bytes.
 struct GpuRay {
     vec3 origin;
@@ -269,6 +276,12 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Li
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer AreaLightBuffer {
     GpuAreaLight areaLights[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EnvironmentTexelBuffer {
+    GpuEnvironmentTexel texels[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EnvironmentRowBuffer {
+    float rowCdf[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer AccumulationBuffer {
     vec4 pixels[];
 };
@@ -317,6 +330,12 @@ struct SceneParams {
     VKRT_ADDRESS(VertexColorBuffer, vertexColors);  // with VKRT_HAS_VERTEX_COLORS, leaf order
     VKRT_ADDRESS(TexCoord1Buffer, texCoords1);      // with VKRT_HAS_TEXCOORD1, leaf order
     VKRT_ADDRESS(TangentBuffer, tangents);          // with VKRT_HAS_NORMAL_MAPS, leaf order
+    VKRT_ADDRESS(EnvironmentTexelBuffer, environmentTexels);  // with VKRT_HAS_ENVIRONMENT: width x height
+    VKRT_ADDRESS(EnvironmentRowBuffer, environmentRows);      // the marginal table over rows (height)
+    uint environmentWidth;  // 0: no environment (rays that leave the scene see `background`)
+    uint environmentHeight;
+    float environmentCosRotation;  // the map's rotation about +Y
+    float environmentSinRotation;
     VKRT_ADDRESS(FloatBuffer, sheenTable);          // with VKRT_HAS_SHEEN: sheen.h's albedo table
 };
 
@@ -366,7 +385,11 @@ static_assert(offsetof(SceneParams, motion) == 160 + 10 * 8);
 static_assert(offsetof(SceneParams, textureBindings) == 160 + 11 * 8);
 static_assert(offsetof(SceneParams, vertexColors) == 160 + 12 * 8);
 static_assert(offsetof(SceneParams, tangents) == 160 + 14 * 8);
-static_assert(sizeof(SceneParams) == 288);
+static_assert(offsetof(SceneParams, environmentTexels) == 160 + 15 * 8);
+static_assert(offsetof(SceneParams, environmentWidth) == 160 + 17 * 8);
+static_assert(offsetof(SceneParams, sheenTable) == 312);
+static_assert(sizeof(SceneParams) == 320);
+static_assert(sizeof(GpuEnvironmentTexel) == 16 && offsetof(GpuEnvironmentTexel, columnCdf) == 12);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 16);
 }  // namespace vkrt::gpu

@@ -7,7 +7,7 @@
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
 // VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD, VKRT_HAS_VERTEX_COLORS, VKRT_HAS_TEXCOORD1, VKRT_HAS_NORMAL_MAPS,
-// VKRT_HAS_ALPHA.
+// VKRT_HAS_ALPHA, VKRT_HAS_ENVIRONMENT.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
@@ -191,7 +191,7 @@ vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout ui
         const bool found = traceVisible(ray, context, hit, point);
         const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
         if (!found) {
-            radiance += weight * params.background;
+            radiance += weight * escapedRadiance(context, ray);
             continue;
         }
         const ShadedHit shaded = shadeHit(context, ray, point, weight);
@@ -219,6 +219,7 @@ void main() {
     const vec2 cone = cameraCone(camera);
     ShadingContext context;
     context.ambient = params.ambient;
+    context.background = params.background;
     context.minThroughput = params.minThroughput;
     context.maxDepth = int(params.maxDepth);
     context.lightSamples = params.lightSamples;

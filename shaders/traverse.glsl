@@ -40,7 +40,7 @@ float searchLimit(Hit hit, float tMax, const int mode) {
 bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 #if defined(VKRT_HAS_TRANSMISSION) || defined(VKRT_HAS_ALPHA)
     const SurfaceMaterial material = device_material(device_materialOf(primitive));
-    transmittance *= shadowTint(material, sampleMaterial(material, primitive, vec2(u, v), 0.0));
+    transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0));
     if (maxComponent(transmittance) > 0.0) return false;
 #endif
     transmittance = vec3(0.0);  // opaque

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "image/image_io.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
 #include "support/run_command.h"
@@ -314,6 +315,44 @@ TEST(BadInput, CommandExitsWithCodeTwoAndWritesNothing) {
     // Nothing half-written is left behind either.
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {
         EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    }
+}
+
+TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
+    const auto folder = test::temporaryFolder();
+    // Maps vkrt cannot use: missing, of another format, not really HDR, and with texels that are not
+    // radiance (written as EXR, which holds any float).
+    test::writeText(folder / "text.hdr", "#?RADIANCE\nnot really\n");
+    test::writeText(folder / "picture.hdr", std::string("\x89PNG\r\n\x1a\n", 8));
+    Image negative(2, 1), notFinite(2, 1);
+    negative.at(1, 0) = glm::vec3(0.5f, -1.0f, 0.5f);
+    notFinite.at(0, 0) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+    writeImage(negative, (folder / "negative.exr").string());
+    writeImage(notFinite, (folder / "nan.exr").string());
+    const std::string scene = "'" + (test::sourceDir() / "scenes/environment.gltf").string() + "'";
+    struct Case {
+        std::string options;
+        std::string expected;
+    };
+    for (const Case& c :
+         {Case{"--environment '" + (folder / "missing.hdr").string() + "'", "missing.hdr: cannot open"},
+          Case{"--environment '" + (folder / "sky.png").string() + "'", "use .hdr or .exr"},
+          Case{"--environment '" + (folder / "text.hdr").string() + "'", "text.hdr: cannot read"},
+          Case{"--environment '" + (folder / "picture.hdr").string() + "'", "not a Radiance HDR"},
+          Case{"--environment '" + (folder / "negative.exr").string() + "'",
+               "texel (1, 0) of the environment map is negative"},
+          Case{"--environment '" + (folder / "nan.exr").string() + "'", "is not finite"},
+          Case{"--environment-strength -1", "must not be negative"},
+          Case{"--environment-rotation inf", "is not finite"}}) {
+        SCOPED_TRACE(c.options);
+        const auto output = folder / "out.png";
+        const test::CommandResult result = test::runVkrt("--scene " + scene + " " + c.options + " --out '" +
+                                                         output.string() + "' --width 8");
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_NE(result.output.find(c.expected), std::string::npos) << result.output;
+        EXPECT_FALSE(std::filesystem::exists(output));
     }
 }
 

@@ -149,6 +149,33 @@ TEST(Cli, RendersEveryFormatAndWritesStats) {
     }
 }
 
+TEST(Cli, EnvironmentLightsTheSceneAndIsRecordedInTheStats) {
+    const auto folder = test::temporaryFolder();
+    // The sky map as .hdr, and the same radiance as .exr (written through vkrt's own EXR writer).
+    const std::string hdr = (test::sourceDir() / "scenes/sky.hdr").string();
+    const auto exr = folder / "sky.exr";
+    writeImage(readRadianceImage(hdr), exr.string());
+    for (const std::string& map : {hdr, exr.string()}) {
+        const auto stats = folder / "stats.json";
+        const auto result = test::runVkrt("--scene " + quoted(test::sourceDir() / "scenes/environment.gltf") +
+                                          " --device cpu --width 16 --spp 1 --environment " +
+                                          quoted(std::filesystem::path(map)) +
+                                          " --environment-rotation 30 --environment-strength 2 --out " +
+                                          quoted(folder / "e.pfm") + " --stats " + quoted(stats));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        EXPECT_EQ(result.output.find("no lights"), std::string::npos) << "the environment lights the scene";
+        std::ifstream file(stats);
+        const nlohmann::json json = nlohmann::json::parse(file);
+        EXPECT_EQ(json["environment"], (nlohmann::json{{"file", map},
+                                                       {"width", 64},
+                                                       {"height", 32},
+                                                       {"rotation_degrees", 30.0},
+                                                       {"strength", 2.0}}));
+        // Rays that leave the scene at the top of the picture see the sky, not the black background.
+        EXPECT_GT(readImage((folder / "e.pfm").string()).at(8, 0).z, 0.5f);
+    }
+}
+
 TEST(Cli, HeightFollowsTheCameraAspectRatio) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "c.pfm";

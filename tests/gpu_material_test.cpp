@@ -165,7 +165,9 @@ TEST_F(GpuMaterials, OcclusionTextureDimsOnlyTheAmbientTerm) {
                     << "strength " << strength << (ambient ? ", ambient" : ", light")
                     << (device ? ", CPU" : ", GPU");
             }
-            if (ambient) EXPECT_NEAR(images[0][1].at(8, 8).x, 0.8 * occlusion, 1e-5);
+            if (ambient) {
+                EXPECT_NEAR(images[0][1].at(8, 8).x, 0.8 * occlusion, 1e-5);
+            }
         }
     }
 }

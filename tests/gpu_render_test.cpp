@@ -37,7 +37,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 17u);
+    EXPECT_EQ(full.features().defines().size(), 18u);
     for (const std::string& define : lean.defines()) {
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY") << define;
     }
@@ -49,7 +49,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     };
     for (const char* function :
          {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom", "sphereRoots", "concentricDisk",
-          "device_vertexColor"}) {
+          "device_vertexColor", "sampleEnvironment", "environmentPdf"}) {
         EXPECT_TRUE(names(full.spirv(), function)) << function;
         EXPECT_FALSE(names(lean.spirv(), function))
             << function << " is compiled in but the scene does not need it";

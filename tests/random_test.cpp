@@ -118,7 +118,7 @@ TEST(Random, RayTreeNodesOwnDisjointDimensions) {
     EXPECT_GT(vkrtNodeDimension(0, 0), VKRT_DIM_PIXEL_Y);
     EXPECT_EQ(vkrtNodeDimension(1, 0), vkrtNodeDimension(0, VKRT_DIMS_PER_NODE - 1) + 1);
     // Every light sample's dimensions fit in a node's.
-    EXPECT_LT(VKRT_DIM_LIGHT(VKRT_MAX_LIGHT_SAMPLES - 1, VKRT_DIM_LIGHT_V), VKRT_DIMS_PER_NODE);
+    EXPECT_LT(VKRT_DIM_LIGHT(VKRT_MAX_LIGHT_SAMPLES - 1, VKRT_DIM_LIGHT_ENVIRONMENT), VKRT_DIMS_PER_NODE);
     // The deepest node of a depth-24 tree (2^25 - 2) still fits in 32 bits.
     EXPECT_GT(vkrtNodeDimension((1u << 25) - 2, VKRT_DIMS_PER_NODE - 1), vkrtNodeDimension((1u << 24), 0));
 }

@@ -53,6 +53,17 @@ TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {
     EXPECT_TRUE(setup.warnings.empty());
 }
 
+TEST(RenderPolicy, EnvironmentLightsTheSceneWithoutAmbient) {
+    Scene scene = darkSquare();
+    scene.environment = makeEnvironmentMap("sky.hdr", 2, 1, {glm::vec3(1.0f), glm::vec3(2.0f)}, 0.0, 1.0);
+    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    EXPECT_EQ(setup.settings.ambient, glm::dvec3(kEnvironmentAmbient));
+    EXPECT_TRUE(setup.warnings.empty());
+    RenderRequest request;
+    request.ambient = glm::dvec3(0.1);
+    EXPECT_EQ(resolveRender(request, scene).settings.ambient, glm::dvec3(0.1));
+}
+
 void expectLit(const Scene& scene, const char* by) {
     EXPECT_TRUE(sceneHasLights(scene)) << by;
     const RenderSetup setup = resolveRender(RenderRequest{}, scene);

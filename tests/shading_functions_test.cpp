@@ -4,6 +4,7 @@
 // tests (optics_test.cpp, reference_renderer_test.cpp) check the C++ evaluation; this test carries them over
 // to the code the GPU runs.
 #include <array>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
+#include "scene/environment_map.h"
 #include "support/test_paths.h"
 #include "texture_sampling.h"
 
@@ -45,12 +47,25 @@ const char* const kFunctionNames[VKRT_CASE_COUNT] = {"fresnel (dielectric, Schli
                                                      "orthonormal basis",
                                                      "rotation, max component",
                                                      "reflected light, diffuse and F0",
-                                                     "texture bindings, KHR_texture_transform"};
+                                                     "texture bindings, KHR_texture_transform",
+                                                     "environment sampling, lookup and pdf"};
 
-// The CPU's texel fetch for texture_sampling.h.
+// The CPU's texel fetch for texture_sampling.h, and the test environment map in the same words.
 struct TexelDevice {
     const std::vector<uint32_t>* texels;
     uint32_t texel(uint32_t index) const { return (*texels)[index]; }
+    double environmentWord(uint32_t i) const {
+        return std::bit_cast<float>((*texels)[VKRT_CASE_ENVIRONMENT_FIRST + i]);
+    }
+    glm::uvec2 environmentSize() const { return {VKRT_CASE_ENVIRONMENT_WIDTH, VKRT_CASE_ENVIRONMENT_HEIGHT}; }
+    glm::dvec2 environmentRotation() const { return {VKRT_CASE_ENVIRONMENT_COS, VKRT_CASE_ENVIRONMENT_SIN}; }
+    glm::dvec3 environmentTexel(uint32_t i) const {
+        return {environmentWord(4 * i), environmentWord(4 * i + 1), environmentWord(4 * i + 2)};
+    }
+    double environmentColumnCdf(uint32_t i) const { return environmentWord(4 * i + 3); }
+    double environmentRowCdf(uint32_t y) const {
+        return environmentWord(4 * VKRT_CASE_ENVIRONMENT_WIDTH * VKRT_CASE_ENVIRONMENT_HEIGHT + y);
+    }
     gpu::GpuTexture textureInfo(int) const {
         return {0, VKRT_CASE_TEXTURE_WIDTH, VKRT_CASE_TEXTURE_HEIGHT, VKRT_WRAP_REPEAT};
     }
@@ -215,6 +230,13 @@ std::vector<FunctionCase> makeCases() {
             cases.push_back(makeCase(VKRT_CASE_FILTER, filter, {u.x, u.y, u.x, 0}));
         }
     }
+    // Environment samples across the marginal and conditional tables, and directions away from texel edges.
+    for (float u1 : {0.03f, 0.3f, 0.62f, 0.97f}) {
+        for (float u2 : {0.01f, 0.45f, 0.88f}) {
+            cases.push_back(
+                makeCase(VKRT_CASE_ENVIRONMENT, 0, {u1, u2, 0, 0}, direction(0.4 + 2.1 * u1, 6.0 * u2)));
+        }
+    }
     for (glm::vec4 n : {glm::vec4(0, 0, 1, 0), glm::vec4(0, 0, -1, 0), glm::vec4(1, 2, 3, 0),
                         glm::vec4(0.3f, -0.2f, -0.9f, 0), glm::vec4(1, 0, 1e-4f, 0)}) {
         cases.push_back(makeCase(VKRT_CASE_BASIS, 0, n));
@@ -224,13 +246,28 @@ std::vector<FunctionCase> makeCases() {
     return cases;
 }
 
-// The test texture's texels: sRGB bytes that vary by position.
+// The test texture's texels: sRGB bytes that vary by position; then the test environment map, whose texel
+// (x, y) has radiance (x + 1, y + 1, 1), with its tables, as float bits.
 std::vector<uint32_t> testTexels() {
     std::vector<uint32_t> texels;
     for (uint32_t i = 0; i < VKRT_CASE_TEXTURE_WIDTH * VKRT_CASE_TEXTURE_HEIGHT; ++i) {
         texels.push_back((i * 37u % 256u) | ((255u - i * 20u) << 8) | ((i * 91u % 256u) << 16) |
                          (200u << 24));
     }
+    texels.resize(VKRT_CASE_ENVIRONMENT_FIRST, 0u);
+    const int width = VKRT_CASE_ENVIRONMENT_WIDTH, height = VKRT_CASE_ENVIRONMENT_HEIGHT;
+    std::vector<glm::vec3> radiance;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) radiance.push_back(glm::vec3(x + 1, y + 1, 1.0f));
+    }
+    const EnvironmentMap map = makeEnvironmentMap("test", width, height, radiance, 30.0, 1.0);
+    const EnvironmentDistribution tables = EnvironmentDistribution::build(map);
+    auto word = [&](double value) { texels.push_back(std::bit_cast<uint32_t>(static_cast<float>(value))); };
+    for (size_t i = 0; i < map.radiance.size(); ++i) {
+        for (int c = 0; c < 3; ++c) word(map.radiance[i][c]);
+        word(tables.columnCdf[i]);
+    }
+    for (double cdf : tables.rowCdf) word(cdf);
     return texels;
 }
 
@@ -276,6 +313,13 @@ std::array<Tolerance, 8> tolerances(const FunctionCase& fc) {
         }
         case VKRT_CASE_MEDIA:
             t.fill({0.0, 0.0});  // integers: exact
+            break;
+        case VKRT_CASE_ENVIRONMENT:
+            // Directions through sin and cos (2^-11 absolute allowed; lavapipe: 5e-5), densities through
+            // sin(theta) likewise, relative to it; which texel is seen: exact.
+            t[0] = t[1] = t[2] = {2e-4, 0.0};
+            t[3] = t[5] = t[6] = {0.0, 1e-3};
+            t[4] = t[7] = {0.0, 0.0};
             break;
         default:
             break;

@@ -24,6 +24,11 @@ motion-blur.gltf: motion blur: over a checkerboard, a cube sliding at 1.5 units/
 degrees/s (glTF LINEAR animations) and a ball that jumps (STEP) during the half-second shutter given in the
 scene's extras.
 
+environment.gltf and sky.hdr: a scene without lights of its own, for --environment: a Lambertian white, a
+rough gold and a mirror sphere and a glass sphere on a grey floor; sky.hdr is a small (64 x 32)
+equirectangular Radiance map (top row the zenith, +Y) with a blue gradient sky, a brown ground and a sun
+of 2 x 2 texels 34 degrees above the horizon, between +X and +Z (docs/environment.md).
+
 textures.gltf: textures and their transforms: a floor whose 2x2 checker KHR_texture_transform scales by 12
 and turns by 20 degrees, and analytic spheres banded by a metallic-roughness texture (blue: metal, green:
 roughness) and a base colour texture, under a directional and a point light; in front, three glossy white
@@ -425,6 +430,62 @@ def surfaces():
     g.write(os.path.join(OUTPUT, "surfaces.gltf"))
 
 
+def radiance_hdr(path, width, height, texel):
+    """Writes an RGBE Radiance .hdr of texel(x, y) -> (r, g, b), rows top to bottom, with run-length
+    scanlines of literal runs (the format stb_image and Blender read)."""
+    def rgbe(colour):
+        m = max(colour)
+        if m < 1e-32:
+            return (0, 0, 0, 0)
+        mantissa, exponent = math.frexp(m)
+        scale = mantissa * 256.0 / m
+        return tuple(int(c * scale) for c in colour) + (exponent + 128,)
+
+    data = bytearray(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (height, width))
+    for y in range(height):
+        row = [rgbe(texel(x, y)) for x in range(width)]
+        data += bytes((2, 2, width >> 8, width & 255))
+        for channel in range(4):
+            values = [texel_bytes[channel] for texel_bytes in row]
+            for start in range(0, width, 128):
+                chunk = values[start:start + 128]
+                data += bytes((len(chunk),)) + bytes(chunk)
+    with open(path, "wb") as file:
+        file.write(bytes(data))
+
+
+def sky_texel(x, y, width=64, height=32):
+    """The sky of sky.hdr: radiance at texel (x, y)."""
+    elevation = math.pi / 2.0 - math.pi * (y + 0.5) / height
+    if 38 <= x <= 39 and 9 <= y <= 10:  # the sun: u 0.61, 34 degrees up (direction (0.64, 0.56, 0.53))
+        return (100.0, 92.0, 80.0)
+    if elevation < 0.0:
+        return (0.3, 0.24, 0.18)
+    t = math.sin(elevation)  # 0 at the horizon, 1 at the zenith
+    horizon, zenith = (1.0, 1.05, 1.1), (0.25, 0.45, 1.0)
+    return tuple(round(h + (z - h) * t, 4) for h, z in zip(horizon, zenith))
+
+
+def environment():
+    radiance_hdr(os.path.join(OUTPUT, "sky.hdr"), 64, 32, sky_texel)
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.5, 0.5, 0.5))
+    white = g.material("white", base_color=(0.8, 0.8, 0.8))
+    gold = g.material("gold", base_color=(1.0, 0.78, 0.34), metallic=1.0, roughness=0.3)
+    mirror = g.material("mirror", base_color=(0.95, 0.95, 0.95), metallic=1.0, roughness=0.0)
+    glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
+                       thickness=1.0)
+    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
+                 [0.0, 1.0, 0.0])
+    g.node("floor", mesh=g.mesh("floor", [(floor[0], None, floor[1], floor_material)]))
+    for k, material in enumerate((white, gold, mirror, glass)):
+        g.sphere("sphere %d" % k, [-2.4 + 1.6 * k, 0.7, 0.0], 0.7, material)
+    eye, target = [0.0, 2.2, 6.5], [0.0, 0.6, 0.0]
+    camera = g.perspective_camera("environment-camera", math.radians(40.0), aspect_ratio=1.6)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "environment.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -438,3 +499,4 @@ if __name__ == "__main__":
     motion_blur()
     textures()
     surfaces()
+    environment()

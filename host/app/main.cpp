@@ -31,6 +31,18 @@ constexpr int kExitBadInput = 2;
 // A reference made for a report without --reference has this many times the samples of the render.
 constexpr int kReferenceSampleFactor = 16;
 
+// The --environment map, decoded and checked; a file that cannot be used is bad input (exit code 2).
+EnvironmentMap loadEnvironment(const Options& options) {
+    Image image;
+    try {
+        image = readRadianceImage(options.environmentPath);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--environment: ") + e.what());
+    }
+    return makeEnvironmentMap(options.environmentPath, image.width, image.height, std::move(image.pixels),
+                              options.environmentRotation, options.environmentStrength);
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -40,6 +52,7 @@ int run(Options options) {
     LoadOptions loadOptions;
     loadOptions.shutter = options.shutter;
     Scene scene = loadGltf(options.scenePath, loadOptions);
+    if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
     RunReport report;
     report.loadMs = millisecondsSince(loadStart);
     if (!options.quiet) {
@@ -157,6 +170,9 @@ int run(Options options) {
     report.triangles = scene.triangles.size();
     for (const Texture& texture : scene.textures) report.textureBytes += texture.rgba.size();
     report.settings = settings;
+    if (const EnvironmentMap& e = scene.environment; e.present()) {
+        report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};
+    }
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (convergence && !options.reportPath.empty()) {

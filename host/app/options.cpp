@@ -202,11 +202,28 @@ struct CommandLine {
         app.add_option("--ambient", ambient, "ambient radiance")
             ->type_name("R[,G,B]")
             ->check(kColor)
-            ->default_str("0.05; 1 when the scene has no lights");
-        app.add_option("--background", background, "radiance of rays that leave the scene")
+            ->default_str("0.05; 1 when the scene has no lights; 0 with --environment");
+        app.add_option("--background", background,
+                       "radiance of rays that leave the scene (without --environment)")
             ->type_name("R[,G,B]")
             ->check(kColor)
             ->default_str("0");
+        app.add_option("--environment", options.environmentPath,
+                       "equirectangular radiance map (.hdr or .exr, top row the zenith +Y) around the scene: "
+                       "seen by rays that leave it, importance sampled as a light; the ambient default "
+                       "becomes 0")
+            ->type_name("FILE");
+        app.add_option("--environment-rotation", options.environmentRotation,
+                       "turn the environment about +Y (right-handed: +Z towards +X)")
+            ->type_name("DEGREES")
+            ->check(kFinite)
+            ->capture_default_str();
+        app.add_option("--environment-strength", options.environmentStrength,
+                       "multiplies the environment's radiance")
+            ->type_name("S")
+            ->check(kFinite)
+            ->check(kNotNegative)
+            ->capture_default_str();
         app.add_option(
                "--tonemap", toneMap,
                "PNG tone mapping: pbr-neutral (Khronos PBR Neutral, the glTF Sample Viewer's default: base "

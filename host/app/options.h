@@ -35,6 +35,9 @@ struct Options {
     ToneMap toneMap = kDefaultToneMap;  // PNG only
     bool quiet = false;
     bool help = false;
+    std::string environmentPath;       // --environment: equirectangular .hdr or .exr; empty: none
+    double environmentRotation = 0.0;  // degrees about +Y
+    double environmentStrength = 1.0;
     RenderRequest request;  // settings, camera and lens as asked; resolveRender() fills in the rest
 };
 

@@ -36,11 +36,17 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
             std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
     }
 
-    // Ambient light: a little in a lit scene; in a dark one, enough to see it by.
+    // Ambient light: none under an environment (it lights the scene); a little in a lit scene; in a dark one,
+    // enough to see it by.
     const bool lit = sceneHasLights(scene);
-    settings.ambient = request.ambient.value_or(glm::dvec3(lit ? kLitSceneAmbient : kUnlitSceneAmbient));
-    if (!lit && !request.ambient) {
-        setup.warnings.push_back("the scene has no lights; an ambient radiance of 1 lights it");
+    const double ambient = scene.environment.present() ? kEnvironmentAmbient
+                           : lit                       ? kLitSceneAmbient
+                                                       : kUnlitSceneAmbient;
+    settings.ambient = request.ambient.value_or(glm::dvec3(ambient));
+    if (!lit && !scene.environment.present() && !request.ambient) {
+        setup.warnings.push_back(
+            "the scene has no lights; an ambient radiance of 1 lights it (--environment FILE lights it with "
+            "a map)");
     }
     return setup;
 }

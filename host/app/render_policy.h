@@ -20,7 +20,8 @@ struct RenderRequest {
     RenderSettings settings;
     // Unset: settings.width / the camera's aspect ratio when the file gives one, else settings.height.
     std::optional<int> height;
-    // Unset: 0.05 in a lit scene; 1, with a warning, in a scene without lights.
+    // Unset: 0 under an environment (it lights the scene instead); 0.05 in a lit scene; 1, with a warning,
+    // in a scene without lights.
     std::optional<glm::dvec3> ambient;
     int camera = 0;                       // the file's camera in node order (0: the framing camera if none)
     std::optional<double> aperture;       // thin-lens radius; unset: the camera's
@@ -37,6 +38,8 @@ struct RenderSetup {
 // Ambient radiance of a lit scene, and of a scene without lights (where it is the only light).
 inline constexpr double kLitSceneAmbient = 0.05;
 inline constexpr double kUnlitSceneAmbient = 1.0;
+// Under an environment map, which lights every surface itself.
+inline constexpr double kEnvironmentAmbient = 0.0;
 
 // Punctual lights, emissive triangles and emissive spheres light a scene.
 bool sceneHasLights(const Scene& scene);

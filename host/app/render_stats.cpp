@@ -34,6 +34,14 @@ nlohmann::json toJson(const RunReport& r) {
         {"mrays_per_s", seconds > 0.0 ? static_cast<double>(r.rays.total()) / seconds / 1e6 : 0.0},
         {"nonfinite_samples", r.rays.nonFiniteSamples},
     };
+    if (r.environment) {
+        const RunReport::Environment& e = *r.environment;
+        json["environment"] = {{"file", e.file},
+                               {"width", e.width},
+                               {"height", e.height},
+                               {"rotation_degrees", e.rotationDegrees},
+                               {"strength", e.strength}};
+    }
     if (r.gpu) {
         const RunReport::Gpu& g = *r.gpu;
         json["device_name"] = g.deviceName;

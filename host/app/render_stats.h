@@ -19,6 +19,15 @@ struct RunReport {
     size_t triangles = 0;
     size_t textureBytes = 0;  // texels of the scene's textures (RGBA8), as both renderers hold them
     RenderSettings settings;
+    // The --environment map; absent without one.
+    struct Environment {
+        std::string file;
+        int width = 0;
+        int height = 0;
+        double rotationDegrees = 0.0;
+        double strength = 1.0;
+    };
+    std::optional<Environment> environment;
     BvhStats bvh;
     double loadMs = 0.0;
     double renderMs = 0.0;

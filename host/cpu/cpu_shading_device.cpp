@@ -12,6 +12,7 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
     for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m, bindings));
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
+    if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
 }
 
 glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
@@ -86,7 +87,7 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
     auto cross = [&](uint32_t primitive, glm::dvec2 hitUv) {
         const shading::SurfaceMaterial& material = data_.materials[scene.materialOf(primitive)];
-        result *= shading::shadowTint(material, shading::sampleMaterial(*this, material, primitive, hitUv, 0.0));
+        result *= shading::shadowTint(shading::sampleMaterial(*this, material, primitive, hitUv, 0.0));
     };
     traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
         if (primitive == excludeA || primitive == excludeB) return false;

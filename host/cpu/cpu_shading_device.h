@@ -9,6 +9,7 @@
 
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
+#include "scene/environment_map.h"
 #include "scene/light_table.h"
 #include "scene/scene.h"
 #include "scene/sheen_table.h"
@@ -28,6 +29,7 @@ struct CpuShadingScene {
     std::vector<shading::PunctualLightParams> punctualLights;
     PackedTextures textures;
     LightTable lights;
+    EnvironmentTables environment;
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.
@@ -54,6 +56,14 @@ class CpuShadingDevice {
     shading::LightPoint sampleAreaLight(double pick, double u, double v, const glm::dvec3& from) const;
     double lightSolidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
                               double cosLight) const;
+
+    // The environment map (host/scene/environment_map.h).
+    bool hasEnvironment() const { return data_.environment.hasEnvironment(); }
+    glm::uvec2 environmentSize() const { return data_.environment.environmentSize(); }
+    glm::dvec2 environmentRotation() const { return data_.environment.environmentRotation(); }
+    glm::dvec3 environmentTexel(uint32_t i) const { return data_.environment.environmentTexel(i); }
+    double environmentRowCdf(uint32_t y) const { return data_.environment.environmentRowCdf(y); }
+    double environmentColumnCdf(uint32_t i) const { return data_.environment.environmentColumnCdf(i); }
 
     // The fraction of light passing from `origin` to distance tMax along `direction`: 0 behind an opaque
     // surface, the product of the tints of transmissive ones (shadow rays do not refract).

@@ -42,6 +42,7 @@ Ray ReferenceRenderer::cameraRay(double filmX, double filmY, double lensU, doubl
 shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32_t sample) const {
     shading::ShadingContext context;
     context.ambient = settings_.ambient;
+    context.background = settings_.background;
     context.minThroughput = settings_.minThroughput;
     context.maxDepth = settings_.maxDepth;
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);
@@ -119,13 +120,12 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
 glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shading::ShadingContext& context,
                                        double time, RayCounters& counters) const {
     const CpuShadingDevice device(shadingScene_, time, counters);
-    const Ray line{ray.origin, ray.direction};
     SurfaceHit hit;
     shading::HitPoint point;
     const bool found = visibleHit(device, context, ray, time, hit, point);
     const glm::dvec3 absorbed =
         shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
-    if (!found) return absorbed * settings_.background;
+    if (!found) return absorbed * shading::escapedRadiance(device, context, ray);
 
     // The shared shading step; its continuation rays are traced by recursion.
     const shading::ShadedHit shaded = shading::shadeHit(device, context, ray, point, ray.throughput * absorbed);

@@ -143,6 +143,15 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
                                    static_cast<float>(lights.pick[i])});
     }
     data.areaLightPower = lights.totalPower;
+    if (data.features.environment && scene.environment.present()) {
+        const EnvironmentDistribution distribution = EnvironmentDistribution::build(scene.environment);
+        for (size_t i = 0; i < scene.environment.radiance.size(); ++i) {
+            data.environmentTexels.push_back(
+                {scene.environment.radiance[i], static_cast<float>(distribution.columnCdf[i])});
+        }
+        for (double cdf : distribution.rowCdf) data.environmentRows.push_back(static_cast<float>(cdf));
+        data.environment = environmentMapInfo(scene.environment);
+    }
     if (data.features.sheen) data.sheenTable = sheenAlbedoTable();
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     if (!features) data.features.areaLights = !data.areaLights.empty();
@@ -171,6 +180,8 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.vertexColors = upload(data.vertexColors);
     addresses_.texCoords1 = upload(data.texCoords1);
     addresses_.tangents = upload(data.tangents);
+    addresses_.environmentTexels = upload(data.environmentTexels);
+    addresses_.environmentRows = upload(data.environmentRows);
     addresses_.sheenTable = upload(data.sheenTable);
 }
 
@@ -188,6 +199,8 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.vertexColors = addresses_.vertexColors;
     params.texCoords1 = addresses_.texCoords1;
     params.tangents = addresses_.tangents;
+    params.environmentTexels = addresses_.environmentTexels;
+    params.environmentRows = addresses_.environmentRows;
     params.sheenTable = addresses_.sheenTable;
 }
 
@@ -231,6 +244,10 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.areaLightPower = static_cast<float>(data.areaLightPower);
     p.multipleImportanceSampling = settings.multipleImportanceSampling ? 1u : 0u;
     p.motionSegments = static_cast<uint32_t>(data.motionSegments);
+    p.environmentWidth = data.environment.width;
+    p.environmentHeight = data.environment.height;
+    p.environmentCosRotation = static_cast<float>(data.environment.cosRotation);
+    p.environmentSinRotation = static_cast<float>(data.environment.sinRotation);
     return p;
 }
 

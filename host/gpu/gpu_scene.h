@@ -28,6 +28,9 @@ struct GpuSceneData {
     std::vector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
+    std::vector<gpu::GpuEnvironmentTexel> environmentTexels;  // only with an environment
+    std::vector<float> environmentRows;                       // its marginal table over rows
+    shading::EnvironmentMapInfo environment{};                // width 0: none
     std::vector<gpu::GpuPrimitive> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
     int motionSegments = 0;
     double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling

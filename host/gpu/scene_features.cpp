@@ -28,6 +28,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
     {&SceneFeatures::mipmaps, "mipmaps", "VKRT_HAS_MIPMAPS"},
     {&SceneFeatures::clearcoat, "clearcoat", "VKRT_HAS_CLEARCOAT"},
+    {&SceneFeatures::environment, "environment", "VKRT_HAS_ENVIRONMENT"},
     {&SceneFeatures::sheen, "sheen", "VKRT_HAS_SHEEN"},
 };
 
@@ -104,6 +105,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     }
     features.punctualLights = !scene.lights.empty();
     features.areaLights = !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
+    features.environment = scene.environment.present();
     return features;
 }
 

@@ -27,6 +27,7 @@ struct SceneFeatures {
     bool clearcoat = false;     // a material has KHR_materials_clearcoat
     bool sheen = false;         // a material has KHR_materials_sheen
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
+    bool environment = false;   // an environment map lights the scene (--environment)
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();

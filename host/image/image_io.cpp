@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <stb_image.h>
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
@@ -132,6 +133,28 @@ Image readImage(const std::string& path) {
     if (format == ImageFormat::Pfm) return readPfm(path);
     if (format == ImageFormat::Exr) return readExr(path);
     throw ImageError(path + ": reading PNG is not supported (references must be linear: .exr or .pfm)");
+}
+
+Image readRadianceImage(const std::string& path) {
+    const std::string extension = lowerExtension(path);
+    if (extension == ".exr") return readExr(path);
+    if (extension != ".hdr") {
+        throw ImageError(path + ": unknown radiance map format '" + extension + "' (use .hdr or .exr)");
+    }
+    // stb_image would also decode an 8-bit image under this name, guessing its gamma: only true HDR passes.
+    if (!stbi_is_hdr(path.c_str())) {
+        throw ImageError(path +
+                         (std::filesystem::exists(path) ? ": not a Radiance HDR file" : ": cannot open"));
+    }
+    int width = 0, height = 0, channels = 0;
+    float* rgb = stbi_loadf(path.c_str(), &width, &height, &channels, 3);
+    if (!rgb) throw ImageError(path + ": cannot read Radiance HDR: " + stbi_failure_reason());
+    Image image(width, height);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        image.pixels[i] = glm::vec3(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+    }
+    stbi_image_free(rgb);
+    return image;
 }
 
 }  // namespace vkrt

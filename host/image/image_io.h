@@ -28,6 +28,10 @@ void writeImage(const Image& image, const std::string& path, double exposure = 0
 // Reads PFM and EXR (for references and tests).
 Image readImage(const std::string& path);
 
+// Reads a linear radiance map for lighting: Radiance .hdr (stb_image) or OpenEXR (tinyexr). Throws
+// ImageError naming the file for any other extension or an unreadable file.
+Image readRadianceImage(const std::string& path);
+
 // A display value in [0, 1] to an 8-bit sRGB value (the sRGB transfer curve).
 unsigned char toSrgb8(double display);
 

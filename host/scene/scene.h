@@ -14,6 +14,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/environment_map.h"
+
 namespace vkrt {
 
 struct Aabb {
@@ -257,6 +259,8 @@ struct Scene {
     std::vector<uint32_t> emissiveSpheres;    // indices into `spheres` whose material emits
     std::vector<std::string> warnings;
     Aabb bounds;
+    // The environment light (--environment), not part of the glTF file; absent unless one is given.
+    EnvironmentMap environment;
 
     // Primitives are the triangles, then the spheres.
     uint32_t primitiveCount() const { return static_cast<uint32_t>(triangles.size() + spheres.size()); }

@@ -7,6 +7,7 @@
 
 #include "area_light.h"
 #include "camera.h"
+#include "environment.h"
 #include "media.h"
 #include "microfacet.h"
 #include "optics.h"
@@ -34,7 +35,8 @@
 #define VKRT_CASE_ROTATE 15u
 #define VKRT_CASE_SURFACE_LIGHT 16u
 #define VKRT_CASE_BINDING 17u
-#define VKRT_CASE_COUNT 18u
+#define VKRT_CASE_ENVIRONMENT 18u
+#define VKRT_CASE_COUNT 19u
 
 // The test texture: 4 x 3 texels at the start of the texel buffer. Texture bindings 0 and 1 (the devices'
 // textureBinding) bind it as sRGB unchanged, and as linear data under a KHR_texture_transform.
@@ -44,6 +46,15 @@
 #define VKRT_CASE_BINDING1_ROW1 vec3(1.9, 1.4, -0.2)
 #define VKRT_CASE_TEXTURE_WIDTH 4u
 #define VKRT_CASE_TEXTURE_HEIGHT 3u
+
+// The test environment map: 8 x 4 texels turned by 30 degrees, in the texel buffer after the test texture
+// (from word VKRT_CASE_ENVIRONMENT_FIRST): per texel four floats (radiance, the row's cumulative probability),
+// then the marginal table, one float per row (the devices' environment* functions).
+#define VKRT_CASE_ENVIRONMENT_WIDTH 8u
+#define VKRT_CASE_ENVIRONMENT_HEIGHT 4u
+#define VKRT_CASE_ENVIRONMENT_FIRST 16u
+#define VKRT_CASE_ENVIRONMENT_COS 0.8660254037844387
+#define VKRT_CASE_ENVIRONMENT_SIN 0.5
 
 #ifdef __cplusplus
 namespace vkrt::shading {
@@ -227,6 +238,14 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         binding.flags = 0u;
         const real2 uv = transformUv(binding, real2(a.x, a.y));
         r1 = real4(uv.x, uv.y, 0.0, 0.0);
+    } else if (fc.function == VKRT_CASE_ENVIRONMENT) {
+        // A sample for (a.x, a.y), and the radiance and density of direction b.
+        const EnvironmentSample s = sampleEnvironment(VKRT_DEVICE_ARG a.x, a.y);
+        r0 = real4(s.direction.x, s.direction.y, s.direction.z, s.pdf);
+        const real3 d = normalize(xyz(b));
+        const real3 radiance = environmentRadiance(VKRT_DEVICE_ARG d);
+        r1 = real4(radiance.x + 10.0 * radiance.y, environmentPdf(VKRT_DEVICE_ARG d),
+                   environmentPdf(VKRT_DEVICE_ARG s.direction), s.radiance.x + 10.0 * s.radiance.y);
     } else if (fc.function == VKRT_CASE_BASIS) {
         real3 b1, b2;
         orthonormalBasis(normalize(xyz(a)), b1, b2);

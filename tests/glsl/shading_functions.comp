@@ -8,6 +8,7 @@
 #define VKRT_HAS_TEXTURES
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_CLEARCOAT
+#define VKRT_HAS_ENVIRONMENT
 #include "shared.h"
 #include "shading_language.h"
 
@@ -21,6 +22,11 @@ uint device_texel(uint index);
 GpuTexture device_textureInfo(int index);
 GpuTextureBinding device_textureBinding(int index);
 vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set);
+uvec2 device_environmentSize();
+vec2 device_environmentRotation();
+vec3 device_environmentTexel(uint i);
+float device_environmentRowCdf(uint y);
+float device_environmentColumnCdf(uint i);
 
 #include "shading_cases.h"
 
@@ -33,6 +39,16 @@ GpuTextureBinding device_textureBinding(int index) {
     return GpuTextureBinding(VKRT_CASE_BINDING1_ROW0, 0, VKRT_CASE_BINDING1_ROW1, 0u);
 }
 vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) { return hitUv; }
+uvec2 device_environmentSize() { return uvec2(VKRT_CASE_ENVIRONMENT_WIDTH, VKRT_CASE_ENVIRONMENT_HEIGHT); }
+vec2 device_environmentRotation() { return vec2(VKRT_CASE_ENVIRONMENT_COS, VKRT_CASE_ENVIRONMENT_SIN); }
+float environmentWord(uint i) { return uintBitsToFloat(texels[VKRT_CASE_ENVIRONMENT_FIRST + i]); }
+vec3 device_environmentTexel(uint i) {
+    return vec3(environmentWord(4u * i), environmentWord(4u * i + 1u), environmentWord(4u * i + 2u));
+}
+float device_environmentColumnCdf(uint i) { return environmentWord(4u * i + 3u); }
+float device_environmentRowCdf(uint y) {
+    return environmentWord(4u * VKRT_CASE_ENVIRONMENT_WIDTH * VKRT_CASE_ENVIRONMENT_HEIGHT + y);
+}
 
 layout(std430, binding = 0) readonly buffer Cases { FunctionCase cases[]; };
 layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };
