@@ -101,6 +101,7 @@ SurfaceMaterial device_material(uint index) {
     s.sheenRoughness = m.sheenRoughness;
     s.sheenColorTexture = m.sheenColorTexture;
     s.sheenRoughnessTexture = m.sheenRoughnessTexture;
+    s.textureSlots = m.textureSlots;
     return s;
 }
 

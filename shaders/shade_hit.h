@@ -331,20 +331,18 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         return result;
     }
 #endif
-#ifdef VKRT_HAS_NORMAL_MAPS
-    HitPoint mapped = hit;
-    if (material.normalTexture >= 0) mapped.normal = normalMapped(hit.normal, hit.tangent, inputs.tangentNormal);
-    ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, mapped);
-#else
     ShadingFrame frame = shadingFrame(VKRT_DEVICE_ARG ray, hit);
-#endif
-#ifdef VKRT_HAS_CLEARCOAT
-    // The coat follows the surface's own normal, or its own normal texture, not the base's normal texture.
-    real3 coatFront = hit.normal;
+    // The normal textures turn the shading normal, and the coat's normal (which otherwise stays the surface's
+    // own: the base's normal texture lies below the coat).
 #ifdef VKRT_HAS_NORMAL_MAPS
-    if (material.clearcoatNormalTexture >= 0) coatFront = normalMapped(hit.normal, hit.tangent, inputs.coatTangentNormal);
+    if (material.normalTexture >= 0) {
+        frame.normal = viewerSideNormal(frame, normalMapped(hit.normal, hit.tangent, inputs.tangentNormal));
+    }
+#ifdef VKRT_HAS_CLEARCOAT
+    if (material.clearcoatNormalTexture >= 0) {
+        frame.coatNormal = viewerSideNormal(frame, normalMapped(hit.normal, hit.tangent, inputs.coatTangentNormal));
+    }
 #endif
-    frame.coatNormal = viewerSideNormal(frame, coatFront);
 #endif
     const real3 toViewer = frame.toViewer, normal = frame.normal, geometricNormal = frame.geometricNormal;
 
@@ -367,11 +365,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                  textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv, footprint);
     }
 
+    SurfaceResponse surface = surfaceResponse(material, inputs);
 #ifdef VKRT_HAS_SHEEN
-    const SurfaceResponse surface =
-        withSheen(VKRT_DEVICE_ARG surfaceResponse(material, inputs), inputs.sheenRoughness, dot(normal, toViewer));
-#else
-    const SurfaceResponse surface = surfaceResponse(material, inputs);
+    if (maxComponent(surface.sheenColor) > 0.0) addSheen(VKRT_DEVICE_ARG surface, inputs.sheenRoughness, dot(normal, toViewer));
 #endif
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
     // material's occlusion lets it; a coat lets through what it does not reflect, and reflects its share where

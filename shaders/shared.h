@@ -147,8 +147,8 @@ struct GpuMaterial {
     float sheenRoughness;
     int sheenColorTexture;      // texture bindings, -1: none
     int sheenRoughnessTexture;
+    uint textureSlots;  // bit k: texture slot k (surface_response.h's VKRT_SLOT_*) has a binding
     uint unused1;
-    uint unused2;
 };
 
 // A material's use of a texture, 32 bytes: KHR_texture_transform as the two rows of a 2x3 matrix

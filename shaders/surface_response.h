@@ -56,6 +56,7 @@ struct SurfaceMaterial {
     real sheenRoughness;
     int sheenColorTexture;          // texture binding (sRGB): multiplies sheenColor
     int sheenRoughnessTexture;      // texture binding: alpha multiplies sheenRoughness
+    uint textureSlots;              // bit k: slot k (VKRT_SLOT_*) has a binding (materialTextureSlots)
 };
 
 // A material's inputs at one point: each factor times its texture.
@@ -133,6 +134,15 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     return m.sheenRoughnessTexture;
 }
 
+// Which of the material's slots have a texture binding, one bit per slot: sampleMaterial visits only those.
+VKRT_FN uint materialTextureSlots(VKRT_IN(SurfaceMaterial) m) {
+    uint slots = 0u;
+    for (int slot = 0; slot < VKRT_MATERIAL_SLOTS; ++slot) {
+        if (materialTexture(m, slot) >= 0) slots |= 1u << uint(slot);
+    }
+    return slots;
+}
+
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
 // filtered over `footprint` (sampleBinding). The texture
 // slots are read in a loop around one lookup: every inlined bilinear lookup costs code and registers in the
@@ -148,9 +158,9 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
     alpha *= vertexColor.w;
 #endif
 #ifdef VKRT_HAS_TEXTURES
-    for (int slot = 0; slot < VKRT_MATERIAL_SLOTS; ++slot) {
+    for (int slot = 0; material.textureSlots != 0u && slot < VKRT_MATERIAL_SLOTS; ++slot) {
+        if ((material.textureSlots & (1u << uint(slot))) == 0u) continue;
         const int binding = materialTexture(material, slot);
-        if (binding < 0) continue;
         const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv, footprint);
         if (slot == VKRT_SLOT_BASE_COLOR) {
             s.albedo *= real3(texel.x, texel.y, texel.z);
@@ -266,7 +276,7 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.coatTraced = inputs.clearcoat > 0.0 && inputs.clearcoatRoughness < 1.0;
     s.sheenColor = inputs.sheenColor;
     s.sheenAlpha = sheenAlpha(inputs.sheenRoughness);
-    s.sheenScaling = 1.0;  // withSheen() sets these two where the viewer is known
+    s.sheenScaling = 1.0;  // addSheen() sets these two where the viewer is known
     s.sheenAlbedo = 0.0;
     return s;
 }
@@ -274,12 +284,9 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
 #ifdef VKRT_HAS_SHEEN
 // The sheen's albedo towards a viewer at cosine cosView, and the scaling of the layers below it.
 VKRT_DEVICE_TEMPLATE
-VKRT_FN SurfaceResponse withSheen(VKRT_DEVICE_PARAM SurfaceResponse s, real sheenRoughness, real cosView) {
-    if (maxComponent(s.sheenColor) > 0.0) {
-        s.sheenAlbedo = sheenAlbedo(VKRT_DEVICE_ARG cosView, sheenRoughness);
-        s.sheenScaling = 1.0 - maxComponent(s.sheenColor) * s.sheenAlbedo;
-    }
-    return s;
+VKRT_FN void addSheen(VKRT_DEVICE_PARAM VKRT_INOUT(SurfaceResponse) s, real sheenRoughness, real cosView) {
+    s.sheenAlbedo = sheenAlbedo(VKRT_DEVICE_ARG cosView, sheenRoughness);
+    s.sheenScaling = 1.0 - maxComponent(s.sheenColor) * s.sheenAlbedo;
 }
 #endif
 
@@ -294,7 +301,7 @@ VKRT_FN real coatFresnel(real cosTheta) {
 // The fraction of the light leaving the base towards a viewer at cosine cosView from the coat's normal that
 // the coat lets through: 1 - clearcoat F(cosView), as the extension layers it.
 VKRT_FN real coatTransmittance(VKRT_IN(SurfaceResponse) s, real cosView) {
-    return 1.0 - s.clearcoat * coatFresnel(cosView);
+    return s.clearcoat > 0.0 ? 1.0 - s.clearcoat * coatFresnel(cosView) : 1.0;
 }
 
 // The coat's specular lobe for light from `toLight` (its weight included), about the coat's normal; zero for a

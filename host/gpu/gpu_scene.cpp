@@ -11,6 +11,67 @@
 
 namespace vkrt {
 
+namespace {
+
+// A material as the shader specialised to `features` reads it: what the shader leaves out is switched off
+// (textures, normal maps, holes, coats and sheen), so the texture slots it loops over are the ones it has.
+void specialise(shading::SurfaceMaterial& s, const SceneFeatures& features) {
+    if (!features.textures) {
+        s.baseColorTexture = s.emissiveTexture = s.metallicRoughnessTexture = s.occlusionTexture = -1;
+        s.specularTexture = s.specularColorTexture = s.transmissionTexture = -1;
+        s.clearcoatTexture = s.clearcoatRoughnessTexture = s.sheenColorTexture = s.sheenRoughnessTexture = -1;
+    }
+    if (!features.textures || !features.normalMaps) s.normalTexture = s.clearcoatNormalTexture = -1;
+    if (!features.alpha) s.alphaMode = VKRT_ALPHA_OPAQUE;  // no holes anywhere: every surface is opaque
+    if (!features.clearcoat) s.clearcoat = 0.0;
+    if (!features.sheen) s.sheenColor = glm::dvec3(0.0);
+    s.textureSlots = shading::materialTextureSlots(s);
+}
+
+gpu::GpuMaterial gpuMaterial(const shading::SurfaceMaterial& s, float thickness) {
+    gpu::GpuMaterial g{};
+    g.baseColor = glm::vec3(s.baseColor);
+    g.metallic = static_cast<float>(s.metallic);
+    g.emission = glm::vec3(s.emission);
+    g.roughness = static_cast<float>(s.roughness);
+    g.attenuationColor = glm::vec3(s.attenuationColor);
+    g.attenuationDistance = static_cast<float>(s.attenuationDistance);
+    g.transmission = static_cast<float>(s.transmission);
+    g.ior = static_cast<float>(s.ior);
+    g.thickness = thickness;
+    g.doubleSided = s.doubleSided ? 1u : 0u;
+    g.baseColorTexture = s.baseColorTexture;
+    g.emissiveTexture = s.emissiveTexture;
+    g.metallicRoughnessTexture = s.metallicRoughnessTexture;
+    g.occlusionTexture = s.occlusionTexture;
+    g.occlusionStrength = static_cast<float>(s.occlusionStrength);
+    g.specularTexture = s.specularTexture;
+    g.specularColorTexture = s.specularColorTexture;
+    g.specularColor = glm::vec3(s.specularColor);
+    g.specularFactor = static_cast<float>(s.specularFactor);
+    g.normalTexture = s.normalTexture;
+    g.normalScale = static_cast<float>(s.normalScale);
+    g.alphaMode = s.alphaMode;
+    g.alpha = static_cast<float>(s.alpha);
+    g.alphaCutoff = static_cast<float>(s.alphaCutoff);
+    g.transmissionTexture = s.transmissionTexture;
+    g.unlit = s.unlit ? 1u : 0u;
+    g.clearcoat = static_cast<float>(s.clearcoat);
+    g.clearcoatRoughness = static_cast<float>(s.clearcoatRoughness);
+    g.clearcoatTexture = s.clearcoatTexture;
+    g.clearcoatRoughnessTexture = s.clearcoatRoughnessTexture;
+    g.clearcoatNormalTexture = s.clearcoatNormalTexture;
+    g.clearcoatNormalScale = static_cast<float>(s.clearcoatNormalScale);
+    g.sheenColor = glm::vec3(s.sheenColor);
+    g.sheenRoughness = static_cast<float>(s.sheenRoughness);
+    g.sheenColorTexture = s.sheenColorTexture;
+    g.sheenRoughnessTexture = s.sheenRoughnessTexture;
+    g.textureSlots = s.textureSlots;
+    return g;
+}
+
+}  // namespace
+
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
     GpuSceneData data;
     data.features = features ? *features : detectFeatures(scene);
@@ -73,46 +134,9 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     for (const Material& m : scene.materials) {
-        const shading::SurfaceMaterial s = surfaceMaterial(m, data.textureBindings);
-        gpu::GpuMaterial g{};
-        g.baseColor = glm::vec3(s.baseColor);
-        g.metallic = static_cast<float>(s.metallic);
-        g.emission = glm::vec3(s.emission);
-        g.roughness = static_cast<float>(s.roughness);
-        g.attenuationColor = glm::vec3(s.attenuationColor);
-        g.attenuationDistance = static_cast<float>(s.attenuationDistance);
-        g.transmission = static_cast<float>(s.transmission);
-        g.ior = static_cast<float>(s.ior);
-        g.thickness = m.thickness;
-        g.doubleSided = s.doubleSided ? 1u : 0u;
-        g.baseColorTexture = data.features.textures ? s.baseColorTexture : -1;
-        g.emissiveTexture = data.features.textures ? s.emissiveTexture : -1;
-        g.metallicRoughnessTexture = data.features.textures ? s.metallicRoughnessTexture : -1;
-        g.occlusionTexture = data.features.textures ? s.occlusionTexture : -1;
-        g.occlusionStrength = static_cast<float>(s.occlusionStrength);
-        g.specularTexture = data.features.textures ? s.specularTexture : -1;
-        g.specularColorTexture = data.features.textures ? s.specularColorTexture : -1;
-        g.specularColor = glm::vec3(s.specularColor);
-        g.specularFactor = static_cast<float>(s.specularFactor);
-        g.normalTexture = data.features.textures && data.features.normalMaps ? s.normalTexture : -1;
-        g.normalScale = static_cast<float>(s.normalScale);
-        // Without holes anywhere (SceneFeatures::alpha), every surface is opaque to the shader.
-        g.alphaMode = data.features.alpha ? s.alphaMode : VKRT_ALPHA_OPAQUE;
-        g.alpha = static_cast<float>(s.alpha);
-        g.alphaCutoff = static_cast<float>(s.alphaCutoff);
-        g.transmissionTexture = data.features.textures ? s.transmissionTexture : -1;
-        g.unlit = s.unlit ? 1u : 0u;
-        g.clearcoat = data.features.clearcoat ? static_cast<float>(s.clearcoat) : 0.0f;
-        g.clearcoatRoughness = static_cast<float>(s.clearcoatRoughness);
-        g.clearcoatTexture = data.features.textures ? s.clearcoatTexture : -1;
-        g.clearcoatRoughnessTexture = data.features.textures ? s.clearcoatRoughnessTexture : -1;
-        g.clearcoatNormalTexture = data.features.textures && data.features.normalMaps ? s.clearcoatNormalTexture : -1;
-        g.clearcoatNormalScale = static_cast<float>(s.clearcoatNormalScale);
-        g.sheenColor = data.features.sheen ? glm::vec3(s.sheenColor) : glm::vec3(0.0f);
-        g.sheenRoughness = static_cast<float>(s.sheenRoughness);
-        g.sheenColorTexture = data.features.textures ? s.sheenColorTexture : -1;
-        g.sheenRoughnessTexture = data.features.textures ? s.sheenRoughnessTexture : -1;
-        data.materials.push_back(g);
+        shading::SurfaceMaterial s = surfaceMaterial(m, data.textureBindings);
+        specialise(s, data.features);
+        data.materials.push_back(gpuMaterial(s, m.thickness));
     }
 
     if (data.features.textures) {

@@ -78,6 +78,7 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.sheenRoughness = m.sheenRoughness;
     s.sheenColorTexture = bind(m.sheenColorTexture, true, bindings);
     s.sheenRoughnessTexture = bind(m.sheenRoughnessTexture, false, bindings);
+    s.textureSlots = shading::materialTextureSlots(s);
     return s;
 }
 

@@ -140,6 +140,7 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         material.sheenRoughness = 0.0;
         material.sheenColorTexture = -1;
         material.sheenRoughnessTexture = -1;
+        material.textureSlots = 0u;
         const SurfaceResponse s = surfaceResponse(material, untexturedSample(material, xyz(a)));
         const real3 normal = real3(0.0, 0.0, 1.0), toViewer = normalize(xyz(d)), toLight = normalize(xyz(e));
         if (fc.function == VKRT_CASE_SURFACE) {
