@@ -36,6 +36,7 @@ using ::vkrt::vkrtStratified;
 struct ShadingContext {
     real3 ambient;       // Whitted's ambient radiance, lighting the diffuse albedo
     real3 background;    // the radiance of rays that leave the scene, when there is no environment
+    bool environmentBackdrop;  // camera rays that leave the scene see the environment (else the background)
     real minThroughput;  // branches weighted less than this are cut
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
     uint lightSamples;   // area-light samples per shading point
@@ -296,11 +297,12 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
 }
 
 // Radiance reaching `ray` from beyond the scene: the environment, weighed against light sampling when a
-// glossy lobe chose the ray (as emission is in shadeHit), else the constant background.
+// glossy lobe chose the ray (as emission is in shadeHit), else the constant background. An environment that
+// only lights the scene (the neutral default) is not seen by camera rays: they see the background.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 escapedRadiance(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray) {
 #ifdef VKRT_HAS_ENVIRONMENT
-    if (VKRT_DEVICE(hasEnvironment)()) {
+    if (VKRT_DEVICE(hasEnvironment)() && (ray.depth > 0 || context.environmentBackdrop)) {
         real weight = 1.0;
         if (ray.arrivalPdf > 0.0) {
             weight = context.multipleImportanceSampling

@@ -314,7 +314,7 @@ struct SceneParams {
     float areaLightPower;   // the area lights' total power (luminance x area)
     uint multipleImportanceSampling;  // 1: on, 0: off
     uint motionSegments;  // motion blur: equal segments of the shutter (0: nothing moves)
-    uint unused0;
+    uint environmentBackdrop;  // 1: camera rays that leave the scene see the environment; 0: the background
     VKRT_ADDRESS(NodeBuffer, nodes);
     VKRT_ADDRESS(PrimitiveBuffer, primitives);
     VKRT_ADDRESS(ShadingBuffer, shading);

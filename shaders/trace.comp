@@ -220,6 +220,7 @@ void main() {
     ShadingContext context;
     context.ambient = params.ambient;
     context.background = params.background;
+    context.environmentBackdrop = params.environmentBackdrop != 0u;
     context.minThroughput = params.minThroughput;
     context.maxDepth = int(params.maxDepth);
     context.lightSamples = params.lightSamples;

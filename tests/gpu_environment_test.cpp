@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "app/render_policy.h"
+
 #include "gpu/gpu_scene.h"
 #include "image/image_io.h"
 #include "scene/scene_builder.h"
@@ -158,6 +160,41 @@ TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
         }
         std::printf("%s: sphere of albedo 0.6 shows %.5f\n", device, sum / count);
         EXPECT_NEAR(sum / count, 0.6, 0.6 * 0.03) << device;
+    }
+}
+
+TEST_F(Gpu, TheNeutralEnvironmentLightsAndIsSeenOnlyInReflections) {
+    // A scene without lights gets the neutral environment (uniform radiance 1): a Lambertian sphere of albedo
+    // 0.6 shows 0.6, a white mirror sphere reflects 1, and camera rays that miss see the background (0.25),
+    // not the environment.
+    for (const bool mirror : {false, true}) {
+        Scene scene;
+        Material material = lambert(0.6f);
+        if (mirror) {
+            material.baseColor = glm::vec4(1.0f);
+            material.metallic = 1.0f;
+            material.roughness = 0.0f;
+        }
+        scene.materials.push_back(material);
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        finalizeScene(scene);
+        ASSERT_TRUE(addNeutralEnvironment(RenderRequest{}, scene));
+        const FlatBvh bvh = bvhFor(scene);
+        const Camera camera = orthographic({0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 1.25);
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context(), scene, bvh, camera, darkSettings(16, 16), test::shaderCacheDir());
+        for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
+            EXPECT_EQ(image->at(0, 0), glm::vec3(0.25f)) << "rays that miss see the background";
+            if (mirror) {
+                EXPECT_NEAR(image->at(8, 8).x, 1.0, 1e-6);
+                continue;
+            }
+            double sum = 0.0;  // the 6 x 6 pixels around the centre (16 samples each are noisy alone)
+            for (int y = 5; y < 11; ++y) {
+                for (int x = 5; x < 11; ++x) sum += image->at(x, y).x;
+            }
+            EXPECT_NEAR(sum / 36.0, 0.6, 0.6 * 0.03);
+        }
     }
 }
 

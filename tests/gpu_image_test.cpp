@@ -37,15 +37,17 @@ class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
 TEST_P(GpuImage, MatchesCpuReference) {
     const SceneCase& c = GetParam();
     if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal()) GTEST_SKIP();
-    const Scene scene = loadGltf(c.path);
+    Scene scene = loadGltf(c.path);
     const FlatBvh bvh = bvhFor(scene);
-    // The settings and camera the command would choose (the ambient term of scenes without lights included).
+    // The settings, camera and lighting the command would choose (the neutral environment of scenes without
+    // lights included).
     RenderRequest request;
     request.settings.width = c.width;
     request.height = c.height;
     request.settings.samplesPerPixel = c.spp;
     request.settings.seed = 7;
     request.settings.background = glm::dvec3(0.2, 0.3, 0.4);
+    addNeutralEnvironment(request, scene);
     const RenderSetup setup = resolveRender(request, scene);
     const RenderSettings& settings = setup.settings;
     const Camera& camera = setup.camera;

@@ -45,6 +45,28 @@ TEST(RenderPolicy, SceneWithoutLightsGetsAmbientOneAndAWarning) {
     EXPECT_NE(setup.warnings[0].find("no lights"), std::string::npos) << setup.warnings[0];
 }
 
+TEST(RenderPolicy, SceneWithoutLightsGetsTheNeutralEnvironment) {
+    // What the command does: a scene without lights, environment or ambient gets a uniform map of radiance 1
+    // and no ambient term, with a warning; lights, a map or an asked ambient keep it out.
+    Scene scene = darkSquare();
+    ASSERT_TRUE(addNeutralEnvironment(RenderRequest{}, scene));
+    ASSERT_TRUE(scene.environment.present());
+    EXPECT_TRUE(scene.environment.neutral);
+    for (const glm::vec3& texel : scene.environment.radiance) EXPECT_EQ(texel, glm::vec3(kNeutralEnvironmentRadiance));
+    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    EXPECT_EQ(setup.settings.ambient, glm::dvec3(kEnvironmentAmbient));
+    ASSERT_EQ(setup.warnings.size(), 1u);
+    EXPECT_NE(setup.warnings[0].find("neutral environment"), std::string::npos) << setup.warnings[0];
+    EXPECT_FALSE(addNeutralEnvironment(RenderRequest{}, scene));  // it has one now
+    RenderRequest ambient;
+    ambient.ambient = glm::dvec3(0.5);
+    Scene asked = darkSquare();
+    EXPECT_FALSE(addNeutralEnvironment(ambient, asked));
+    Scene lit = darkSquare();
+    lit.lights.push_back(PunctualLight{});
+    EXPECT_FALSE(addNeutralEnvironment(RenderRequest{}, lit));
+}
+
 TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {
     RenderRequest request;
     request.ambient = glm::dvec3(0.0, 0.25, 0.5);

@@ -53,6 +53,7 @@ int run(Options options) {
     loadOptions.shutter = options.shutter;
     Scene scene = loadGltf(options.scenePath, loadOptions);
     if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
+    addNeutralEnvironment(options.request, scene);
     RunReport report;
     report.loadMs = millisecondsSince(loadStart);
     if (!options.quiet) {

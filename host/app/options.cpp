@@ -199,10 +199,12 @@ struct CommandLine {
             ->check(kInteger)
             ->check(CLI::Range(0, 1 << 20))
             ->capture_default_str();
-        app.add_option("--ambient", ambient, "ambient radiance")
+        app.add_option("--ambient", ambient,
+                       "ambient radiance (a scene without lights, given neither this nor --environment, is lit "
+                       "by a neutral environment of radiance 1 instead)")
             ->type_name("R[,G,B]")
             ->check(kColor)
-            ->default_str("0.05; 1 when the scene has no lights; 0 with --environment");
+            ->default_str("0.05; 0 under an environment");
         app.add_option("--background", background,
                        "radiance of rays that leave the scene (without --environment)")
             ->type_name("R[,G,B]")

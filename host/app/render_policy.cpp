@@ -11,6 +11,17 @@ bool sceneHasLights(const Scene& scene) {
     return !scene.lights.empty() || !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
 }
 
+bool addNeutralEnvironment(const RenderRequest& request, Scene& scene) {
+    if (sceneHasLights(scene) || scene.environment.present() || request.ambient) return false;
+    constexpr int kWidth = 16, kHeight = 8;
+    scene.environment = makeEnvironmentMap(
+        "neutral", kWidth, kHeight,
+        std::vector<glm::vec3>(kWidth * kHeight, glm::vec3(static_cast<float>(kNeutralEnvironmentRadiance))), 0.0,
+        1.0);
+    scene.environment.neutral = true;
+    return true;
+}
+
 RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     RenderSetup setup;
     RenderSettings& settings = setup.settings;
@@ -43,7 +54,11 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
                            : lit                       ? kLitSceneAmbient
                                                        : kUnlitSceneAmbient;
     settings.ambient = request.ambient.value_or(glm::dvec3(ambient));
-    if (!lit && !scene.environment.present() && !request.ambient) {
+    if (scene.environment.neutral) {
+        setup.warnings.push_back(
+            "the scene has no lights; a neutral environment (uniform radiance 1) lights it (--environment FILE "
+            "or --ambient R,G,B light it otherwise)");
+    } else if (!lit && !scene.environment.present() && !request.ambient) {
         setup.warnings.push_back(
             "the scene has no lights; an ambient radiance of 1 lights it (--environment FILE lights it with "
             "a map)");

@@ -41,6 +41,14 @@ inline constexpr double kUnlitSceneAmbient = 1.0;
 // Under an environment map, which lights every surface itself.
 inline constexpr double kEnvironmentAmbient = 0.0;
 
+// The neutral environment: uniform radiance from every direction, as a 16 x 8 map.
+inline constexpr double kNeutralEnvironmentRadiance = 1.0;
+
+// A scene that has no lights of its own and was given neither an environment nor an ambient radiance is lit
+// by the neutral environment (with shadows and reflections, where the Whitted ambient term has neither): adds
+// it to `scene` and returns true; else leaves `scene` as it is. Call it before resolveRender.
+bool addNeutralEnvironment(const RenderRequest& request, Scene& scene);
+
 // Punctual lights, emissive triangles and emissive spheres light a scene.
 bool sceneHasLights(const Scene& scene);
 

@@ -43,6 +43,7 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     shading::ShadingContext context;
     context.ambient = settings_.ambient;
     context.background = settings_.background;
+    context.environmentBackdrop = !scene_.environment.neutral;
     context.minThroughput = settings_.minThroughput;
     context.maxDepth = settings_.maxDepth;
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);

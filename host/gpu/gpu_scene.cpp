@@ -178,6 +178,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
     if (data.features.sheen) data.sheenTable = sheenAlbedoTable();
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
+    data.environmentBackdrop = !scene.environment.neutral;
     if (!features) data.features.areaLights = !data.areaLights.empty();
     return data;
 }
@@ -268,6 +269,7 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.areaLightPower = static_cast<float>(data.areaLightPower);
     p.multipleImportanceSampling = settings.multipleImportanceSampling ? 1u : 0u;
     p.motionSegments = static_cast<uint32_t>(data.motionSegments);
+    p.environmentBackdrop = data.environmentBackdrop ? 1u : 0u;
     p.environmentWidth = data.environment.width;
     p.environmentHeight = data.environment.height;
     p.environmentCosRotation = static_cast<float>(data.environment.cosRotation);

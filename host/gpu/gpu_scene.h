@@ -31,6 +31,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuEnvironmentTexel> environmentTexels;  // only with an environment
     std::vector<float> environmentRows;                       // its marginal table over rows
     shading::EnvironmentMapInfo environment{};                // width 0: none
+    bool environmentBackdrop = true;  // camera rays see the environment (not the neutral default)
     std::vector<gpu::GpuPrimitive> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
     int motionSegments = 0;
     double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling

@@ -19,6 +19,7 @@ struct EnvironmentMap {
     std::vector<glm::vec3> radiance;
     double rotationDegrees = 0.0;  // about +Y, right-handed
     double strength = 1.0;
+    bool neutral = false;  // the render policy's default for scenes without lights (app/render_policy.h)
 
     bool present() const { return width > 0; }
 };
