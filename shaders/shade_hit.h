@@ -158,6 +158,17 @@ VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                             vkrtNodeDimension(ray.node, VKRT_DIM_COVERAGE), layer)) >= coverage;
 }
 
+// A GGX microfacet normal of width `alpha` about `normal` visible from `toViewer` (Heitz 2018), drawn with the
+// stratified pair at `dimension`.
+VKRT_FN real3 visibleMicroNormal(VKRT_IN(ShadingContext) context, uint dimension, real3 normal, real3 toViewer,
+                                 real alpha) {
+    real3 tangent, bitangent;
+    orthonormalBasis(normal, tangent, bitangent);
+    const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), dot(normal, toViewer)),
+                                           alpha, stratified(context, dimension, 0u), stratified(context, dimension, 1u));
+    return normalize(m.x * tangent + m.y * bitangent + m.z * normal);
+}
+
 // The index of refraction of the innermost volume, 1 (air) outside every volume.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real mediumIor(VKRT_DEVICE_PARAM uvec2 media) {
@@ -406,16 +417,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #endif
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
-    real3 microNormal = normal;
-    if (!surface.mirror) {
-        real3 tangent, bitangent;
-        orthonormalBasis(normal, tangent, bitangent);
-        const uint lobe = vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U);
-        const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), cosOut),
-                                               surface.alpha, stratified(context, lobe, 0u),
-                                               stratified(context, lobe, 1u));
-        microNormal = normalize(m.x * tangent + m.y * bitangent + m.z * normal);
-    }
+    const real3 microNormal = surface.mirror ? normal
+                                             : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U),
+                                                                  normal, toViewer, surface.alpha);
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
     // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
@@ -442,16 +446,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         if (coatChosen) {
             const real3 coatNormal = frame.coatNormal;
             const real cosCoat = dot(coatNormal, toViewer);
-            real3 coatMicro = coatNormal;
-            if (!surface.coatMirror) {
-                real3 tangent, bitangent;
-                orthonormalBasis(coatNormal, tangent, bitangent);
-                const uint coatLobe = vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U);
-                const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), cosCoat),
-                                                       surface.coatAlpha, stratified(context, coatLobe, 0u),
-                                                       stratified(context, coatLobe, 1u));
-                coatMicro = normalize(m.x * tangent + m.y * bitangent + m.z * coatNormal);
-            }
+            const real3 coatMicro =
+                surface.coatMirror ? coatNormal
+                                   : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
+                                                        toViewer, surface.coatAlpha);
             reflected = reflectAbout(toViewer, coatMicro);
             real weight = surface.clearcoat * coatFresnel(dot(coatMicro, toViewer)) / pick;
             if (!surface.coatMirror) {

@@ -22,6 +22,7 @@
 #include "support/render_both.h"
 #include "support/sphere_quadrature.h"
 #include "support/test_paths.h"
+#include "support/unit_square.h"
 
 namespace vkrt {
 namespace {
@@ -36,15 +37,6 @@ EnvironmentMap mapOf(int width, int height, const std::function<glm::vec3(int, i
         for (int x = 0; x < width; ++x) texels.push_back(texel(x, y));
     }
     return makeEnvironmentMap("test", width, height, texels, rotationDegrees, 1.0);
-}
-
-// Exactly Lambertian (index 1: no specular reflectance).
-Material lambert(float albedo) {
-    Material m;
-    m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
-    m.metallic = 0.0f;
-    m.ior = 1.0f;
-    return m;
 }
 
 // An orthographic camera at `position` looking along `forward`, seeing a square of half-size `half`.
@@ -132,7 +124,7 @@ TEST_F(Gpu, CameraRaysAlongTheAxesSeeTheTexelsOfTheConvention) {
 
 TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
     Scene scene;
-    scene.materials.push_back(lambert(0.6f));
+    scene.materials.push_back(test::lambertian(0.6f));
     scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
     scene.environment = mapOf(16, 8, [](int, int) { return glm::vec3(1.0f); });
     finalizeScene(scene);
@@ -169,7 +161,7 @@ TEST_F(Gpu, TheNeutralEnvironmentLightsAndIsSeenOnlyInReflections) {
     // not the environment.
     for (const bool mirror : {false, true}) {
         Scene scene;
-        Material material = lambert(0.6f);
+        Material material = test::lambertian(0.6f);
         if (mirror) {
             material.baseColor = glm::vec4(1.0f);
             material.metallic = 1.0f;
@@ -202,7 +194,7 @@ TEST_F(Gpu, PlaneUnderAPolarCapShowsRLSinSquaredT) {
     // The top row of 32 is a cap of half-angle t = 180 / 32 = 5.625 degrees about +Y.
     const double radiance = 50.0, albedo = 0.5, t = M_PI / 32.0;
     Scene scene;
-    scene.materials.push_back(lambert(static_cast<float>(albedo)));
+    scene.materials.push_back(test::lambertian(static_cast<float>(albedo)));
     addPlane(scene, {0, 1, 0}, 1000.0, 0);
     scene.environment = mapOf(64, 32, [&](int, int y) { return glm::vec3(y == 0 ? float(radiance) : 0.0f); });
     finalizeScene(scene);
@@ -225,7 +217,7 @@ TEST_F(Gpu, TiltedPlaneMatchesBruteForceIrradianceOfATurnedMap) {
     // A dim sky with one bright patch, turned by 70 degrees; the plane tilts towards +X and +Z.
     Scene scene;
     const double albedo = 0.7;
-    scene.materials.push_back(lambert(static_cast<float>(albedo)));
+    scene.materials.push_back(test::lambertian(static_cast<float>(albedo)));
     const glm::dvec3 normal = glm::normalize(glm::dvec3(0.6, 1.0, 0.3));
     addPlane(scene, normal, 1000.0, 0);
     scene.environment = mapOf(

@@ -24,6 +24,7 @@ namespace vkrt {
 namespace {
 
 using test::ambientOnly;
+using test::lambertian;
 using test::Gpu;
 using test::textureOf;
 
@@ -38,15 +39,6 @@ glm::dvec3 decodedNormal(uint32_t texel) {
     glm::dvec3 n;
     for (int c = 0; c < 3; ++c) n[c] = ((texel >> (8 * c)) & 0xffu) / 255.0 * 2.0 - 1.0;
     return n;
-}
-
-// A Lambertian material (no specular reflection) of grey albedo `albedo`.
-Material lambertian(float albedo) {
-    Material m;
-    m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
-    m.metallic = 0.0f;
-    m.specularFactor = 0.0f;
-    return m;
 }
 
 // A directional light of illuminance `illuminance` arriving from direction `toLight`.

@@ -16,6 +16,14 @@ Texture textureOf(int width, int height, const std::vector<uint32_t>& texels) {
     return texture;
 }
 
+Material lambertian(float albedo) {
+    Material m;
+    m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
+    m.metallic = 0.0f;
+    m.specularFactor = 0.0f;
+    return m;
+}
+
 void addUnitSquare(Scene& scene, uint32_t material) {
     addFlatQuad(scene, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, material);
     for (size_t i = scene.triangles.size() - 2; i < scene.triangles.size(); ++i) {

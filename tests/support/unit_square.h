@@ -14,6 +14,9 @@ namespace vkrt::test {
 // A texture of width x height texels given as RGBA8 words (red in the lowest byte), nearest filtering.
 Texture textureOf(int width, int height, const std::vector<uint32_t>& texels);
 
+// An exactly Lambertian material of grey albedo `albedo`: no metal, no specular reflection.
+Material lambertian(float albedo);
+
 // The unit square at z = 0 facing +z, texture coordinates equal to (x, 1 - y) (glTF: v runs down the image).
 void addUnitSquare(Scene& scene, uint32_t material);
 
