@@ -10,10 +10,12 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "gpu/scene_features.h"
 #include "scene/scene_builder.h"
 #include "scene/sheen_table.h"
+#include "scene/tangent_frames.h"
 #include "sheen.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
@@ -99,6 +101,37 @@ TEST_F(GpuSurfaces, NormalMapTurnsTheShadingNormal) {
     }
 }
 
+TEST_F(GpuSurfaces, NormalMapTiltedBy60DegreesHalvesTheRadiance) {
+    // Under a head-on sun, a normal texture that tilts the normal by 60 degrees (about the tangent, as
+    // encoded in 8 bits) halves the Lambertian radiance, with the tangent frames given and with the frames
+    // derived from the square's texture coordinates (tangent_frames.h), which must be the same frame.
+    const double tilt = 60.0 * M_PI / 180.0;
+    const uint32_t texel = normalTexel({std::sin(tilt), 0.0, std::cos(tilt)});
+    const double albedo = 0.8, illuminance = 2.0, flat = albedo / M_PI * illuminance;
+    // The square's corners (0,0), (1,0), (1,1), (0,1) with texture coordinates (x, 1 - y) and normal +z.
+    const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const std::vector<float> normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::vector<float> uvs = {0, 1, 1, 1, 1, 0, 0, 0};
+    const std::vector<float> derived = vertexTangents(positions, normals, uvs, {{0, 1, 2}, {0, 2, 3}});
+    const glm::vec4 given(1.0f, 0.0f, 0.0f, 1.0f);
+    for (const bool derive : {false, true}) {
+        SCOPED_TRACE(derive ? "derived tangents" : "given tangents");
+        Scene scene;
+        scene.textures.push_back(textureOf(1, 1, {texel}));
+        scene.lights.push_back(sunFrom({0.0, 0.0, 1.0}, static_cast<float>(illuminance)));
+        Material material = lambertian(static_cast<float>(albedo));
+        material.normalTexture.texture = 0;
+        auto frame = [&](int v) { return derive ? glm::make_vec4(&derived[4 * v]) : given; };
+        scene.tangents = {{frame(0), frame(1), frame(2)}, {frame(0), frame(2), frame(3)}};
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, material, litOnly(8));
+        const double cosine = glm::normalize(decodedNormal(texel)).z;  // 0.5, to the texel's 8 bits
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            EXPECT_NEAR(image->at(4, 4).x, flat * cosine, 2e-6);
+            EXPECT_NEAR(image->at(4, 4).x / flat, 0.5, 0.01);
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, AlphaMaskCutsHoles) {
     // A texture whose left texel has alpha 200/255 and right texel 100/255: with cutoff 0.5 the left half is
     // the surface (albedo 1 under ambient 1) and the right half a hole showing the background (0.25); raising
@@ -141,6 +174,32 @@ TEST_F(GpuSurfaces, AlphaBlendCoversTheFractionAlpha) {
         EXPECT_NEAR(image->at(5, 9).x, 0.475, 0.03);
     }
     test::expectMatchesReference(gpu.image, cpu.image, "alpha-blend");
+}
+
+TEST_F(GpuSurfaces, BlackBlendQuadBeforeAnEmitterLetsThroughOneMinusAlpha) {
+    // A black quad of alpha 0.25 (BLEND) in front of an emitter of radiance 1, nothing else: camera rays pass
+    // it with probability 0.75, so the image converges to 0.75; a MASK cut-out (alpha below the cutoff) shows
+    // the emitter behind it whole.
+    for (const AlphaMode mode : {AlphaMode::Blend, AlphaMode::Mask}) {
+        Scene scene;
+        Material lamp = lambertian(0.0f);
+        lamp.emission = glm::vec3(1.0f);
+        scene.materials.push_back(lamp);
+        addFlatQuad(scene, {-1.0f, -1.0f, -0.5f}, {2.0f, -1.0f, -0.5f}, {2.0f, 2.0f, -0.5f}, {-1.0f, 2.0f, -0.5f}, 0);
+        Material black = lambertian(0.0f);
+        black.baseColor.a = 0.25f;
+        black.alphaMode = mode;
+        RenderSettings settings = litOnly(16);
+        settings.samplesPerPixel = 64;
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, black, settings);
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            if (mode == AlphaMode::Mask) {
+                EXPECT_NEAR(image->at(8, 8).x, 1.0, 1e-6);
+            } else {
+                EXPECT_NEAR(meanRed(*image), 0.75, 0.005);
+            }
+        }
+    }
 }
 
 TEST_F(GpuSurfaces, ShadowRaysPassAlphaHoles) {
