@@ -308,7 +308,8 @@ TEST(Cli, ToneMapAppliesToPngOnly) {
     EXPECT_EQ(render("clamp", "clamp.pfm"), render("aces", "aces.pfm"));
 }
 
-// The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture.
+// The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,
+// each with its mipmaps down to 1x1 (1; 8, 4, 2 and 1; 2 and 1 texels).
 TEST(Cli, StatsReportTextureMemory) {
     const auto folder = test::temporaryFolder();
     const auto stats = folder / "stats.json";
@@ -317,7 +318,7 @@ TEST(Cli, StatsReportTextureMemory) {
                                       quoted(folder / "t.pfm") + " --stats " + quoted(stats));
     ASSERT_EQ(result.exitCode, 0) << result.output;
     std::ifstream file(stats);
-    EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], (2 * 2 + 16 + 4) * 4);
+    EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], ((2 * 2 + 1) + (16 + 8 + 4 + 2 + 1) + (4 + 2 + 1)) * 4);
 }
 
 }  // namespace vkrt

@@ -433,7 +433,8 @@ TEST_F(GpuSurfaces, TrilinearFilteringBlendsLevels) {
 
 TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     // Alpha is compiled in only where some surface can have a hole; normal maps only where a normal-mapped
-    // material meets a tangent frame.
+    // material meets a tangent frame; levels of detail only where a texture has levels or another filter
+    // when minified; unlit, clear coat and sheen where a material has them.
     Scene scene;
     Material material = lambertian(1.0f);
     material.alphaMode = AlphaMode::Blend;  // alpha 1 everywhere: no holes
@@ -449,6 +450,23 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     EXPECT_FALSE(detectFeatures(scene).normalMaps);  // no triangle has a tangent frame
     scene.tangents.assign(2, {});
     EXPECT_TRUE(detectFeatures(scene).normalMaps);
+    // The 1x1 normal texture has no level below it and one filter: no level of detail to choose.
+    EXPECT_FALSE(detectFeatures(scene).mipmaps);
+    scene.textures[0] = textureOf(2, 2, std::vector<uint32_t>(4, normalTexel({0.0, 0.0, 1.0})));
+    EXPECT_TRUE(detectFeatures(scene).mipmaps);
+    scene.textures[0].mipmaps = MipmapMode::None;
+    scene.textures[0].minNearest = true;  // nearest either way, no mipmaps
+    EXPECT_FALSE(detectFeatures(scene).mipmaps);
+    scene.textures[0].minNearest = false;  // magnified nearest, minified bilinear
+    EXPECT_TRUE(detectFeatures(scene).mipmaps);
+    // Unlit, coat and sheen each switch on their own code.
+    const SceneFeatures before = detectFeatures(scene);
+    EXPECT_FALSE(before.unlit || before.clearcoat || before.sheen);
+    scene.materials[0].unlit = true;
+    scene.materials[0].clearcoat = 0.5f;
+    scene.materials[0].sheenColor = glm::vec3(0.2f);
+    const SceneFeatures after = detectFeatures(scene);
+    EXPECT_TRUE(after.unlit && after.clearcoat && after.sheen);
 }
 
 }  // namespace

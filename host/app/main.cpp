@@ -169,7 +169,7 @@ int run(Options options) {
     report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
     report.camera = camera.name;
     report.triangles = scene.triangles.size();
-    for (const Texture& texture : scene.textures) report.textureBytes += texture.rgba.size();
+    report.textureBytes = packedTextureBytes(scene);
     report.settings = settings;
     if (const EnvironmentMap& e = scene.environment; e.present()) {
         report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};

@@ -17,7 +17,7 @@ struct RunReport {
     std::string device;
     std::string camera;
     size_t triangles = 0;
-    size_t textureBytes = 0;  // texels of the scene's textures (RGBA8), as both renderers hold them
+    size_t textureBytes = 0;  // texels of the scene's textures (RGBA8) and their mipmaps, as both renderers hold them
     RenderSettings settings;
     // The --environment map; absent without one.
     struct Environment {

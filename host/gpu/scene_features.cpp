@@ -86,8 +86,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
             // Ray cones pick levels of detail where a minified texture reads other texels than level 0
             // magnified would: it has mipmaps, or another filter.
             const Texture& texture = scene.textures[slot->texture];
-            features.mipmaps |= (texture.mipmaps != MipmapMode::None && (texture.width > 1 || texture.height > 1)) ||
-                                texture.minNearest != texture.nearest;
+            features.mipmaps |= (texture.width > 1 || texture.height > 1) &&
+                                (texture.mipmaps != MipmapMode::None || texture.minNearest != texture.nearest);
             // The second texture coordinate set: read by a slot, and given by some mesh.
             features.texCoords1 |= slot->texCoord == 1 && !scene.uv1.empty();
         }

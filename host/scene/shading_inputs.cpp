@@ -114,6 +114,22 @@ shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
     return frame;
 }
 
+size_t packedTextureBytes(const Scene& scene) {
+    size_t texels = 0;
+    for (const Texture& t : scene.textures) {
+        if (t.rgba.empty()) continue;
+        int width = t.width, height = t.height;
+        texels += static_cast<size_t>(width) * height;
+        // The levels mipmapChain makes: halved, rounded down, at least 1, down to 1 x 1.
+        while (t.mipmaps != MipmapMode::None && (width > 1 || height > 1)) {
+            width = std::max(1, width / 2);
+            height = std::max(1, height / 2);
+            texels += static_cast<size_t>(width) * height;
+        }
+    }
+    return texels * 4;
+}
+
 PackedTextures packTextures(const Scene& scene) {
     // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
     std::vector<bool> srgb(scene.textures.size(), false);

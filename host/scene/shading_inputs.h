@@ -33,4 +33,7 @@ struct PackedTextures {
 
 PackedTextures packTextures(const Scene& scene);
 
+// The bytes packTextures' texels take: every texture's RGBA8 texels with its mipmap levels.
+size_t packedTextureBytes(const Scene& scene);
+
 }  // namespace vkrt
