@@ -68,7 +68,8 @@ VKRT_FN EnvironmentMapInfo environmentMapInfo(VKRT_DEVICE_PARAM_ONLY) {
 // A world direction's place (u, v) on the map, both in [0, 1].
 VKRT_FN real2 environmentUv(VKRT_IN(EnvironmentMapInfo) map, real3 direction) {
     const real3 d = rotateAboutY(normalize(direction), map.cosRotation, map.sinRotation, true);
-    const real u = 0.5 + atan(d.z, d.x) / (2.0 * VKRT_PI);
+    // At the poles the longitude is undefined (and GLSL's atan(0, 0) too): u is 0.5 there.
+    const real u = d.x == 0.0 && d.z == 0.0 ? 0.5 : 0.5 + atan(d.z, d.x) / (2.0 * VKRT_PI);
     const real v = acos(clamp(d.y, -1.0, 1.0)) / VKRT_PI;
     return real2(u, v);
 }

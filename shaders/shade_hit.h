@@ -123,16 +123,25 @@ VKRT_FN RayState withCone(RayState ray, real width, real spread) {
     return ray;
 }
 
-// The width of `ray`'s cone at `position`.
+// The width of `ray`'s cone at `position` (0 in shaders where no texture has levels of detail: cones are not
+// followed there).
 VKRT_FN real coneWidthAt(VKRT_IN(RayState) ray, real3 position) {
+#ifdef VKRT_HAS_MIPMAPS
     return ray.coneWidth + ray.coneSpread * length(position - ray.origin);
+#else
+    return 0.0;
+#endif
 }
 
 // The footprint a texture lookup filters over (texture_sampling.h's sampleBinding) where `ray` meets a surface
 // of unit normal `normal` at `position`: the cone's width, stretched by the obliquity as an isotropic filter
 // can: the circle with the area of the elliptical footprint, width / sqrt(|cos|).
 VKRT_FN real textureFootprint(VKRT_IN(RayState) ray, real3 position, real3 normal) {
+#ifdef VKRT_HAS_MIPMAPS
     return coneWidthAt(ray, position) / sqrt(max(abs(dot(normal, ray.direction)), 1e-4));
+#else
+    return 0.0;
+#endif
 }
 
 VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint axis) {
@@ -268,6 +277,9 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
 #ifdef VKRT_HAS_ALPHA
             irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv, 0.0);  // an emitter's holes
 #endif
+#ifdef VKRT_HAS_CLEARCOAT
+            irradiance *= coatedEmission(emitter.clearcoat, abs(dot(light.normal, toLight)));
+#endif
             // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
             real weight = 1.0;
             if (lobeSampled && context.multipleImportanceSampling) {
@@ -374,8 +386,12 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
             }
         }
 #endif
-        local += emissionWeight *
-                 textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv, footprint);
+        real3 emitted = textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv,
+                                 footprint);
+#ifdef VKRT_HAS_CLEARCOAT
+        emitted *= coatedEmission(material.clearcoat, abs(dot(geometricNormal, ray.direction)));
+#endif
+        local += emissionWeight * emitted;
     }
 
     SurfaceResponse surface = surfaceResponse(material, inputs);
@@ -451,7 +467,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                    : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
                                                         toViewer, surface.coatAlpha);
             reflected = reflectAbout(toViewer, coatMicro);
-            real weight = surface.clearcoat * coatFresnel(dot(coatMicro, toViewer)) / pick;
+            real weight = surface.clearcoat * coatFresnel(cosCoat) / pick;
             if (!surface.coatMirror) {
                 const real cosIn = dot(coatNormal, reflected);
                 const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;

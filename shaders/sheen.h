@@ -40,6 +40,7 @@ VKRT_FN real charlieLogLambdaFit(real x, real alpha) {
 
 // Smith's Lambda of the Charlie distribution, fitted below cos theta = 0.5 and mirrored above it.
 VKRT_FN real charlieLambda(real cosTheta, real alpha) {
+    cosTheta = clamp(cosTheta, 0.0, 1.0);  // rounding can take a cosine just past 1 (pow of a negative)
     if (cosTheta < 0.5) return exp(charlieLogLambdaFit(cosTheta, alpha));
     return exp(2.0 * charlieLogLambdaFit(0.5, alpha) - charlieLogLambdaFit(1.0 - cosTheta, alpha));
 }

@@ -210,8 +210,12 @@ VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uin
     alpha *= VKRT_DEVICE(vertexColor)(primitive, hitUv).w;
 #endif
 #ifdef VKRT_HAS_TEXTURES
-    if (material.baseColorTexture >= 0)
-        alpha *= sampleBinding(VKRT_DEVICE_ARG material.baseColorTexture, primitive, hitUv, footprint).w;
+    // A MASK cut-out is tested at the finest level: thresholding mip-averaged alpha would shrink it with
+    // distance, and its shadow (shadow rays read level 0) would no longer match it.
+    if (material.baseColorTexture >= 0) {
+        alpha *= sampleBinding(VKRT_DEVICE_ARG material.baseColorTexture, primitive, hitUv,
+                               material.alphaMode == VKRT_ALPHA_MASK ? 0.0 : footprint).w;
+    }
 #endif
     return coverageOf(material, alpha);
 }
@@ -305,13 +309,21 @@ VKRT_FN real coatTransmittance(VKRT_IN(SurfaceResponse) s, real cosView) {
 }
 
 // The coat's specular lobe for light from `toLight` (its weight included), about the coat's normal; zero for a
-// mirror coat (as specularBrdf).
+// mirror coat (as specularBrdf). Its Fresnel term is taken at the viewer, F(Nc . V), as the extension layers
+// it (so that what the coat reflects is what it takes from the layers below).
 VKRT_FN real coatBrdf(VKRT_IN(SurfaceResponse) s, real3 coatNormal, real3 toViewer, real3 toLight) {
     const real cosOut = dot(coatNormal, toViewer), cosIn = dot(coatNormal, toLight);
     if (!(s.clearcoat > 0.0) || s.coatMirror || cosOut <= 0.0 || cosIn <= 0.0) return 0.0;
     const real3 halfway = normalize(toViewer + toLight);
-    return s.clearcoat * coatFresnel(dot(toViewer, halfway)) * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
+    return s.clearcoat * coatFresnel(cosOut) * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
            ggxG2(cosOut, cosIn, s.coatAlpha) / (4.0 * cosOut * cosIn);
+}
+
+// What an emissive surface under a coat (factor `clearcoat`) sends out at cosine cosTheta from its normal:
+// 1 - clearcoat F(cosTheta) of its emission (KHR_materials_clearcoat, "Emission"). Both ways of finding an
+// emitter (hits and light samples) use the geometric normal and the factor, so they estimate the same light.
+VKRT_FN real coatedEmission(real clearcoat, real cosTheta) {
+    return clearcoat > 0.0 ? 1.0 - clearcoat * coatFresnel(cosTheta) : 1.0;
 }
 
 // The probability with which the reflection continuation follows the coat's lobe rather than the base's.
@@ -373,7 +385,8 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
 // lobe (weighted alike) about `coatNormal`.
 VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
                              real3 toLight, real3 irradiance, real specularWeight) {
-    const real3 brdf = s.diffuse / VKRT_PI + specularWeight * specularBrdf(s, normal, toViewer, toLight);
+    // A lobe that is not traced is reached by light samples alone: full weight.
+    const real3 brdf = s.diffuse / VKRT_PI + (s.traced ? specularWeight : 1.0) * specularBrdf(s, normal, toViewer, toLight);
     real3 reflected = brdf * irradiance * dot(normal, toLight);
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(s.sheenColor) > 0.0) {
@@ -384,7 +397,7 @@ VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coa
 #ifdef VKRT_HAS_CLEARCOAT
     if (s.clearcoat > 0.0) {
         reflected = reflected * coatTransmittance(s, dot(coatNormal, toViewer)) +
-                    specularWeight * coatBrdf(s, coatNormal, toViewer, toLight) * irradiance *
+                    (s.coatTraced ? specularWeight : 1.0) * coatBrdf(s, coatNormal, toViewer, toLight) * irradiance *
                         max(dot(coatNormal, toLight), 0.0);
     }
 #endif

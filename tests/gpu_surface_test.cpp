@@ -358,6 +358,16 @@ TEST_F(GpuSurfaces, SheenReflectsItsAlbedoAndConservesEnergy) {
     for (const Image* image : {&gpu.image, &cpu.image}) EXPECT_NEAR(image->at(4, 4).x, 1.0, 1e-5);
 }
 
+TEST_F(GpuSurfaces, ClearcoatDimsEmission) {
+    // KHR_materials_clearcoat ("Emission"): an emitter of radiance 1 under a coat of weight 0.5, seen head-on,
+    // sends out 1 - 0.5 F(1) = 0.98 (black base, black background, nothing else).
+    Material material = lambertian(0.0f);
+    material.emission = glm::vec3(1.0f);
+    material.clearcoat = 0.5f;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), Scene{}, material, litOnly(8));
+    for (const Image* image : {&gpu.image, &cpu.image}) EXPECT_NEAR(image->at(4, 4).x, 1.0 - 0.5 * 0.04, 1e-6);
+}
+
 // A 64x64 texture of black and white squares `block` texels wide.
 Texture checkerTexture(int block) {
     std::vector<uint32_t> texels;

@@ -99,7 +99,9 @@ SceneFeatures detectFeatures(const Scene& scene) {
         // COLOR_0's alpha multiplies the base colour's.
         features.alpha |= material.partlyCovered() ||
                           (material.alphaMode != AlphaMode::Opaque && !scene.vertexColors.empty());
-        const bool transmits = material.transmission > 0.0f && material.metallic < 1.0f;
+        // A metallic-roughness texture can lower a metallic factor of 1: such a material may transmit too.
+        const bool transmits = material.transmission > 0.0f &&
+                               (material.metallic < 1.0f || material.metallicRoughnessTexture.used());
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
     }
