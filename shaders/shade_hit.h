@@ -227,6 +227,13 @@ VKRT_FN real3 viewerSideNormal(VKRT_IN(ShadingFrame) frame, real3 front) {
     return dot(n, frame.toViewer) > 0.0 ? n : frame.geometricNormal;
 }
 
+// Whether light from `toLight` can reach the viewer's side of the surface and one of its lobes: above the
+// geometric surface, and above the shading normal or the coat's (a normal texture can tilt them apart).
+VKRT_FN bool facesLight(VKRT_IN(ShadingFrame) frame, real3 toLight) {
+    return dot(frame.geometricNormal, toLight) > 0.0 &&
+           (dot(frame.normal, toLight) > 0.0 || dot(frame.coatNormal, toLight) > 0.0);
+}
+
 // Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
 // emissive primitive chosen by power, reflected towards the viewer by `surface`; `node` is the ray-tree node
 // whose random dimensions the light samples use. `lobeSampled`: the glossy lobe is also traced (MIS).
@@ -234,14 +241,14 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
                           VKRT_IN(SurfaceResponse) surface, bool lobeSampled) {
     const real3 point = frame.position, origin = frame.viewerSide, normal = frame.normal;
-    const real3 geometricNormal = frame.geometricNormal, toViewer = frame.toViewer;
+    const real3 toViewer = frame.toViewer;
     const uint exclude = frame.excludeOnViewerSide;
     real3 sum = real3(0.0);
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
     const uint punctualLights = VKRT_DEVICE(punctualLightCount)();
     for (uint i = 0u; i < punctualLights; ++i) {
         const LightArrival arrival = arriveFrom(VKRT_DEVICE(punctualLight)(i), point);
-        if (dot(normal, arrival.toLight) <= 0.0 || dot(geometricNormal, arrival.toLight) <= 0.0 ||
+        if (!facesLight(frame, arrival.toLight) ||
             maxComponent(arrival.irradiance) <= 0.0) {
             continue;
         }
@@ -267,7 +274,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
             real cosLight = -dot(light.normal, toLight);
             if (emitter.doubleSided) cosLight = abs(cosLight);
-            if (!(cosLight > 0.0) || dot(normal, toLight) <= 0.0 || dot(geometricNormal, toLight) <= 0.0) continue;
+            if (!(cosLight > 0.0) || !facesLight(frame, toLight)) continue;
             const real3 visible = VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance),
                                                                   exclude, light.primitive);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
@@ -301,7 +308,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const EnvironmentSample light = sampleEnvironment(VKRT_DEVICE_ARG stratified(context, dimension, 0u),
                                                               stratified(context, dimension, 1u));
             const real3 toLight = light.direction;
-            if (!(light.pdf > 0.0) || dot(normal, toLight) <= 0.0 || dot(geometricNormal, toLight) <= 0.0) continue;
+            if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) continue;
             const real3 visible =
                 VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE);
             // Weighed against the traced lobe by the power heuristic, as the area lights are.

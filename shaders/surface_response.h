@@ -387,7 +387,7 @@ VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coa
                              real3 toLight, real3 irradiance, real specularWeight) {
     // A lobe that is not traced is reached by light samples alone: full weight.
     const real3 brdf = s.diffuse / VKRT_PI + (s.traced ? specularWeight : 1.0) * specularBrdf(s, normal, toViewer, toLight);
-    real3 reflected = brdf * irradiance * dot(normal, toLight);
+    real3 reflected = brdf * irradiance * max(dot(normal, toLight), 0.0);  // 0 where only the coat faces it
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(s.sheenColor) > 0.0) {
         reflected = reflected * s.sheenScaling +

@@ -8,6 +8,7 @@
 
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
+#include "scene/mipmaps.h"
 #include "scene/scene_error.h"
 #include "scene/tangent_frames.h"
 #include "support/temporary_folder.h"
@@ -187,6 +188,31 @@ TEST(TangentFrames, MirroredTextureCoordinatesFlipTheHandedness) {
     EXPECT_EQ(faceTangent({glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)},
                           {glm::dvec2(0, 1), glm::dvec2(1, 1), glm::dvec2(0, 0)}, glm::dvec3(0, 0, 1)),
               glm::vec4(1, 0, 0, 1));
+}
+
+TEST(Mipmaps, EveryTexelCountsAndColoursAverageAsLight) {
+    // A 3x1 row of linear data (0, 255, 0) halves to one texel of their mean, 85: the odd texel is not
+    // dropped. A 2x2 black-and-white checker of sRGB colours halves to 188, the sRGB code of linear 0.5;
+    // its alpha (255 everywhere) stays 255. Levels go down to 1x1.
+    Texture row;
+    row.width = 3;
+    row.height = 1;
+    row.rgba = {0, 0, 0, 0, 255, 255, 255, 255, 0, 0, 0, 0};
+    const std::vector<TextureLevel> rowLevels = mipmapChain(row, false);
+    ASSERT_EQ(rowLevels.size(), 1u);
+    EXPECT_EQ(rowLevels[0].width, 1);
+    EXPECT_EQ(rowLevels[0].rgba[0], 85);
+    EXPECT_EQ(rowLevels[0].rgba[3], 85);
+    Texture checker;
+    checker.width = checker.height = 2;
+    checker.rgba = {255, 255, 255, 255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255, 255};
+    const std::vector<TextureLevel> levels = mipmapChain(checker, true);
+    ASSERT_EQ(levels.size(), 1u);
+    EXPECT_EQ(levels[0].rgba[0], 188);
+    EXPECT_EQ(levels[0].rgba[3], 255);
+    checker.width = 4;
+    checker.height = 1;
+    EXPECT_EQ(mipmapChain(checker, true).size(), 2u);  // 2x1, then 1x1
 }
 
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {

@@ -17,8 +17,8 @@ struct TextureLevel {
 
 // The levels below `texture` itself (level 0), smallest last. Colours that are sRGB-encoded (`srgb`) are
 // averaged as linear light and encoded again, so a minified checker of black and white keeps the brightness
-// of its mean; alpha and linear data are averaged as stored. Odd sizes drop their last row or column's
-// second half (a box filter on the even part), as OpenGL's glGenerateMipmap may.
+// of its mean; alpha and linear data are averaged as stored. An odd size is halved by a box a little wider than
+// 2 texels with fractional weights, so every texel of the level above counts equally.
 std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb);
 
 }  // namespace vkrt
