@@ -50,6 +50,10 @@ VKRT_FN real srgbToLinear(real encoded) {
     return encoded <= 0.04045 ? encoded / 12.92 : pow((encoded + 0.055) / 1.055, 2.4);
 }
 
+VKRT_FN real linearToSrgb(real linear) {
+    return linear <= 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
 // An RGBA8 texel (red in the lowest byte) as RGB and alpha in [0, 1]; sRGB-encoded colour channels are
 // decoded to linear (alpha and linear data are stored as they are).
 VKRT_FN real4 decodeTexel(uint bits, bool srgb) {

@@ -13,6 +13,9 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m, bindings));
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
     if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
+    // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
+    if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.hasSheen(); }))
+        sheenTable = &sheenAlbedoTable();
 }
 
 glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {

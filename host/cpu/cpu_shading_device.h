@@ -30,6 +30,7 @@ struct CpuShadingScene {
     PackedTextures textures;
     LightTable lights;
     EnvironmentTables environment;
+    const std::vector<float>* sheenTable = nullptr;  // with a sheen material (sheen.h)
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.
@@ -47,7 +48,7 @@ class CpuShadingDevice {
     glm::dvec2 textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
     glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
     double textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
-    double sheenTable(uint32_t entry) const { return sheenAlbedoTable()[entry]; }
+    double sheenTable(uint32_t entry) const { return (*data_.sheenTable)[entry]; }
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include "texture_sampling.h"
+
 namespace vkrt {
 namespace {
 
@@ -12,18 +14,14 @@ namespace {
 const std::array<double, 256>& srgbDecodeTable() {
     static const std::array<double, 256> table = [] {
         std::array<double, 256> t{};
-        for (int i = 0; i < 256; ++i) {
-            const double c = i / 255.0;
-            t[i] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-        }
+        for (int i = 0; i < 256; ++i) t[i] = shading::srgbToLinear(i / 255.0);
         return t;
     }();
     return table;
 }
 
 uint8_t srgbEncode(double linear) {
-    const double c = linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-    return static_cast<uint8_t>(std::clamp(std::lround(c * 255.0), 0L, 255L));
+    return static_cast<uint8_t>(std::clamp(std::lround(shading::linearToSrgb(linear) * 255.0), 0L, 255L));
 }
 
 // The source texels a destination texel covers along one axis when `from` texels become `to`: a box of
