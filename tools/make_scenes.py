@@ -7,8 +7,9 @@ light and the two blocks in millimetres, and the camera (position 278 273 -800 l
 length 35 mm on a 25 x 25 mm film). The published data gives reflectance spectra; the RGB values used here
 are the ones commonly used by renderers (for example Benedikt Bitterli's "Rendering Resources" Cornell box
 and the pbrt-v4 and Mitsuba scene ports): white 0.725 0.71 0.68, red 0.63 0.065 0.05, green 0.14 0.45
-0.091, and the light's radiance 17 12 4. The published light sits in the ceiling plane (y = 548.8), so
-the ceiling is built with a hole where the light is, rather than moving the light.
+0.091, and the light's radiance 17 12 4. Every surface is purely Lambertian, as the data defines it
+(KHR_materials_specular with specularFactor 0). The published light sits in the ceiling plane (y = 548.8),
+so the ceiling is built with a hole where the light is, rather than moving the light.
 
 whitted.gltf: in the spirit of Whitted's 1980 picture: a mirror sphere and a glass sphere (analytic, the
 VKRT_sphere extension of docs/vkrt_sphere.md) over a red and yellow checkerboard, lit by one point light.
@@ -60,11 +61,13 @@ SCENES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))
 
 def cornell():
     g = GltfBuilder("vkrt tools/make_scenes.py (Cornell Box Data, Cornell University PCG)")
-    white = g.material("white", base_color=(0.725, 0.71, 0.68))
-    red = g.material("red", base_color=(0.63, 0.065, 0.05))
-    green = g.material("green", base_color=(0.14, 0.45, 0.091))
+    # The Cornell data defines every surface as a diffuse (Lambertian) reflector: KHR_materials_specular with
+    # factor 0 takes away the dielectric's specular layer, which vkrt then shades as pure Lambert.
+    white = g.material("white", base_color=(0.725, 0.71, 0.68), specular=0.0)
+    red = g.material("red", base_color=(0.63, 0.065, 0.05), specular=0.0)
+    green = g.material("green", base_color=(0.14, 0.45, 0.091), specular=0.0)
     light = g.material("light", base_color=(0.78, 0.78, 0.78), emission=(1.0, 12.0 / 17.0, 4.0 / 17.0),
-                       emission_strength=17.0)
+                       emission_strength=17.0, specular=0.0)
 
     inside = [278.0, 274.4, 279.6]  # the middle of the box; walls face it
 
