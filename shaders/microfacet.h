@@ -65,6 +65,24 @@ VKRT_FN real ggxReflectionPdf(real cosOut, real cosH, real alpha) {
     return ggxG1(cosOut, alpha) * ggxD(cosH, alpha) / (4.0 * cosOut);
 }
 
+// A direction about the z axis with density cos(theta) / pi (a Lambertian lobe), from the stratified pair
+// (u1, u2) by Shirley and Chiu's concentric map of the square onto the disk, which keeps strata compact.
+VKRT_FN real3 sampleCosineHemisphere(real u1, real u2) {
+    const real a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
+    real r = 0.0, phi = 0.0;
+    if (a != 0.0 || b != 0.0) {
+        if (abs(a) > abs(b)) {
+            r = a;
+            phi = 0.25 * VKRT_PI * (b / a);
+        } else {
+            r = b;
+            phi = 0.5 * VKRT_PI - 0.25 * VKRT_PI * (a / b);
+        }
+    }
+    const real x = r * cos(phi), y = r * sin(phi);
+    return real3(x, y, sqrt(max(0.0, 1.0 - x * x - y * y)));
+}
+
 VKRT_SHADING_END
 
 #endif  // VKRT_MICROFACET_H

@@ -19,9 +19,10 @@ using uint = uint32_t;
 #define VKRT_FUNC
 #endif
 
-// Dimensions: the pixel jitter uses the first two, the lens the next two, the shutter time one; each node of
-// the ray tree (the camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission
-// child 2k + 2) owns VKRT_DIMS_PER_NODE consecutive dimensions after those.
+// Dimensions: the pixel jitter uses the first two, the lens the next two, the shutter time one; each node
+// owns VKRT_DIMS_PER_NODE consecutive dimensions after those. Whitted's ray tree numbers its nodes as a binary
+// heap (the camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission child
+// 2k + 2); a path's bounce d is node d.
 #define VKRT_DIM_PIXEL_X 0u
 #define VKRT_DIM_PIXEL_Y 1u
 #define VKRT_DIM_LENS_U 2u
@@ -39,6 +40,11 @@ using uint = uint32_t;
 // The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
 #define VKRT_DIM_LOBE_U 48u
 #define VKRT_DIM_LOBE_V 49u
+// The path integrator's continuation through the untraced lobes (a cosine-distributed direction), and its
+// choice of continuation (axis 0) and Russian roulette (axis 1).
+#define VKRT_DIM_SCATTER_U 50u
+#define VKRT_DIM_SCATTER_V 51u
+#define VKRT_DIM_PATH_BRANCH 52u
 // The clear coat's lobe (KHR_materials_clearcoat): its microfacet normal, and whether the reflection follows it.
 #define VKRT_DIM_COAT_U 56u
 #define VKRT_DIM_COAT_V 57u

@@ -1,8 +1,10 @@
-// One shading step of vkrt's distributed Whitted ray tracer, shared by both integrator loops (the GPU's
-// explicit stack of pending rays in trace.comp, the CPU reference's recursion in
-// host/cpu/reference_renderer.cpp): at a hit, the light leaving towards the viewer from the hit itself
-// (emission, the ambient term, direct light from punctual and area lights with shadow rays) and up to two
-// continuation rays (reflection and transmission through one sampled microfacet normal) with their weights.
+// One shading step of vkrt's two integrators, shared by both devices' loops (trace.comp on the GPU,
+// host/cpu/reference_renderer.cpp on the CPU): at a hit, the light leaving towards the viewer from the hit
+// itself (emission, Whitted's ambient term, direct light from punctual and area lights and the environment with
+// shadow rays) and the continuation rays with their weights: reflection and transmission through one sampled
+// microfacet normal, which distributed Whitted ray tracing follows both of, and for the path integrator a
+// third, the lobes that are not traced (diffuse, sheen, a matte specular lobe or coat) sampled by the cosine;
+// continuePath picks one of the three for the path's next bounce.
 // What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials (material, materialOf),
 // textures (textureInfo, texel, textureCoordinates), lights (punctualLightCount, punctualLight, hasAreaLights,
 // sampleAreaLight, lightSolidAnglePdf), the environment (hasEnvironment and the tables environment.h reads),
@@ -36,6 +38,7 @@ using ::vkrt::vkrtStratified;
 struct ShadingContext {
     real3 ambient;       // Whitted's ambient radiance, lighting the diffuse albedo
     real3 background;    // the radiance of rays that leave the scene, when there is no environment
+    bool paths;          // the path integrator (else distributed Whitted ray tracing)
     bool environmentBackdrop;  // camera rays that leave the scene see the environment (else the background)
     real minThroughput;  // branches weighted less than this are cut
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
@@ -51,7 +54,7 @@ struct RayState {
     real3 origin;
     real3 direction;
     real3 throughput;  // the weight of this branch of the tree so far
-    uint node;         // ray-tree node: the children of k are 2k + 1 (reflection) and 2k + 2 (transmission)
+    uint node;         // whose random dimensions the ray's hit draws (childNode)
     int depth;
     uint exclude;      // the primitive the ray leaves (VKRT_NO_PRIMITIVE: none)
     real arrivalPdf;   // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
@@ -97,7 +100,17 @@ struct ShadedHit {
     bool transmits;
     real3 transmissionWeight;
     RayState transmission;
+    bool scatters;  // paths: the untraced lobes' continuation, sampled by the cosine
+    real3 scatterWeight;
+    RayState scattered;
 };
+
+// The random-number node of a continuation of `ray` (`branch` 1: reflection, 2: transmission, 3: the untraced
+// lobes): Whitted's ray tree numbers its nodes as a binary heap (the children of k are 2k + 1 and 2k + 2); a
+// path has one node per bounce.
+VKRT_FN uint childNode(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, uint branch) {
+    return context.paths ? ray.node + 1u : 2u * ray.node + branch;
+}
 
 VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint node, int depth, uint exclude,
                           real arrivalPdf, uvec2 media) {
@@ -234,12 +247,19 @@ VKRT_FN bool facesLight(VKRT_IN(ShadingFrame) frame, real3 toLight) {
            (dot(frame.normal, toLight) > 0.0 || dot(frame.coatNormal, toLight) > 0.0);
 }
 
+// The density with which the untraced lobes' continuation (cosine-distributed about `normal`) would have chosen
+// `toLight`.
+VKRT_FN real cosinePdf(real3 normal, real3 toLight) {
+    return max(dot(normal, toLight), 0.0) / VKRT_PI;
+}
+
 // Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
 // emissive primitive chosen by power, reflected towards the viewer by `surface`; `node` is the ray-tree node
-// whose random dimensions the light samples use. `lobeSampled`: the glossy lobe is also traced (MIS).
+// whose random dimensions the light samples use. `lobeSampled`: the glossy lobe is also traced;
+// `untracedSampled`: so are the other lobes (paths); light samples weigh each against them by the power heuristic.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
-                          VKRT_IN(SurfaceResponse) surface, bool lobeSampled) {
+                          VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled) {
     const real3 point = frame.position, origin = frame.viewerSide, normal = frame.normal;
     const real3 toViewer = frame.toViewer;
     const uint exclude = frame.excludeOnViewerSide;
@@ -255,7 +275,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         const real3 visible =
             VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE);
         sum += reflectedLight(surface, normal, frame.coatNormal, toViewer, arrival.toLight,
-                              arrival.irradiance * visible, 1.0);
+                              arrival.irradiance * visible, 1.0, 1.0);
     }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
@@ -287,14 +307,20 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
 #ifdef VKRT_HAS_CLEARCOAT
             irradiance *= coatedEmission(emitter.clearcoat, abs(dot(light.normal, toLight)));
 #endif
-            // The specular part is also reached by traced lobe rays: weigh the two by the power heuristic.
-            real weight = 1.0;
-            if (lobeSampled && context.multipleImportanceSampling) {
-                weight = powerHeuristic(real(context.lightSamples), light.pdfArea * distance2 / cosLight,
-                                        lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
+            // The lobes are also reached by the rays they trace: weigh the two by the power heuristic.
+            const real lightPdf = light.pdfArea * distance2 / cosLight;
+            real weight = 1.0, untracedWeight = 1.0;
+            if (context.multipleImportanceSampling) {
+                if (lobeSampled) {
+                    weight = powerHeuristic(real(context.lightSamples), lightPdf,
+                                            lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
+                }
+                if (untracedSampled) {
+                    untracedWeight = powerHeuristic(real(context.lightSamples), lightPdf, cosinePdf(normal, toLight));
+                }
             }
             areaSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight, irradiance * visible,
-                                      weight);
+                                      weight, untracedWeight);
         }
         sum += areaSum / real(context.lightSamples);
     }
@@ -311,14 +337,19 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) continue;
             const real3 visible =
                 VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE);
-            // Weighed against the traced lobe by the power heuristic, as the area lights are.
-            real weight = 1.0;
-            if (lobeSampled && context.multipleImportanceSampling) {
-                weight = powerHeuristic(real(context.lightSamples), light.pdf,
-                                        lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
+            // Weighed against the traced lobes by the power heuristic, as the area lights are.
+            real weight = 1.0, untracedWeight = 1.0;
+            if (context.multipleImportanceSampling) {
+                if (lobeSampled) {
+                    weight = powerHeuristic(real(context.lightSamples), light.pdf,
+                                            lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
+                }
+                if (untracedSampled) {
+                    untracedWeight = powerHeuristic(real(context.lightSamples), light.pdf, cosinePdf(normal, toLight));
+                }
             }
             environmentSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight,
-                                             light.radiance * visible / light.pdf, weight);
+                                             light.radiance * visible / light.pdf, weight, untracedWeight);
         }
         sum += environmentSum / real(context.lightSamples);
     }
@@ -354,6 +385,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     ShadedHit result;
     result.reflects = false;
     result.transmits = false;
+    result.scatters = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     const real footprint = textureFootprint(ray, hit.position, hit.geometricNormal);
     const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint);
@@ -419,11 +451,37 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                              (surface.coatTraced ? 0.0 : surface.clearcoat * coatFresnel(dot(frame.coatNormal, toViewer)));
     }
 #endif
-    local += inputs.occlusion * context.ambient * ambientReflectance;
+    if (!context.paths) local += inputs.occlusion * context.ambient * ambientReflectance;  // Whitted's alone
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = continues && ((surface.traced && !surface.mirror) || (surface.coatTraced && !surface.coatMirror));
-    local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled);
+    const bool untracedSampled = continues && context.paths;
+    local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled, untracedSampled);
     result.radiance = local;
+    // Whitted cuts branches that would add little; a path goes on until Russian roulette ends it (continuePath).
+    const real cut = context.paths ? 0.0 : context.minThroughput;
+
+    // The path's continuation through the untraced lobes: a direction with density cos / pi about the shading
+    // normal, weighted by what those lobes reflect from it over that density.
+    if (untracedSampled) {
+        const uint dimension = vkrtNodeDimension(ray.node, VKRT_DIM_SCATTER_U);
+        const real3 lobeLocal = sampleCosineHemisphere(stratified(context, dimension, 0u), stratified(context, dimension, 1u));
+        real3 tangent, bitangent;
+        orthonormalBasis(normal, tangent, bitangent);
+        const real3 direction = normalize(lobeLocal.x * tangent + lobeLocal.y * bitangent + lobeLocal.z * normal);
+        const real pdf = cosinePdf(normal, direction);
+        if (pdf > 0.0 && dot(geometricNormal, direction) > 0.0) {
+            const real3 weight = reflectedLight(surface, normal, frame.coatNormal, toViewer, direction,
+                                                real3(1.0 / pdf), 0.0, 1.0);
+            if (maxComponent(weight) > 0.0) {
+                result.scatters = true;
+                result.scatterWeight = weight;
+                result.scattered = withCone(rayState(frame.viewerSide, direction, pathThroughput * weight,
+                                                     childNode(context, ray, 3u), ray.depth + 1,
+                                                     frame.excludeOnViewerSide, pdf, ray.media),
+                                            coneWidthAt(ray, hit.position), ray.coneSpread);
+            }
+        }
+    }
     if (!continues || !(surface.traced || surface.coatTraced)) return result;
 
     // A volume is entered through its front face and left through its back face, from the medium the ray is in
@@ -488,11 +546,11 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         reflectPdf = delta ? 0.0 : lobePdf(surface, normal, frame.coatNormal, toViewer, reflected);
     }
 #endif
-    if (maxComponent(pathThroughput * reflectWeight) >= context.minThroughput) {
+    if (maxComponent(pathThroughput * reflectWeight) >= cut) {
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
         result.reflection = withCone(rayState(frame.viewerSide, reflected, pathThroughput * reflectWeight,
-                                              2u * ray.node + 1u, ray.depth + 1, frame.excludeOnViewerSide, reflectPdf,
+                                              childNode(context, ray, 1u), ray.depth + 1, frame.excludeOnViewerSide, reflectPdf,
                                               ray.media),
                                      coneWidthAt(ray, hit.position), ray.coneSpread);
     }
@@ -515,16 +573,51 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
         if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
     }
-    if (passes && maxComponent(pathThroughput * transmitWeight) >= context.minThroughput) {
+    if (passes && maxComponent(pathThroughput * transmitWeight) >= cut) {
         result.transmits = true;
         result.transmissionWeight = transmitWeight;
         result.transmission = withCone(rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),
-                                                direction, pathThroughput * transmitWeight, 2u * ray.node + 2u,
+                                                direction, pathThroughput * transmitWeight, childNode(context, ray, 2u),
                                                 ray.depth + 1, frame.excludeBeyond, 0.0, beyond),
                                        coneWidthAt(ray, hit.position), ray.coneSpread);
     }
 #endif
     return result;
+}
+
+// Paths start Russian roulette after this many bounces.
+#define VKRT_ROULETTE_DEPTH 3
+
+// The path's next ray after the shading step `shaded` at the hit of `ray`: one of its continuations, picked with
+// probability proportional to its weight (the largest component), its throughput divided by that probability,
+// so the one ray estimates the sum of all three without bias; past VKRT_ROULETTE_DEPTH bounces it survives
+// Russian roulette with probability min(1, throughput) and is divided by that too. False when the path ends.
+VKRT_FN bool continuePath(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, VKRT_IN(ShadedHit) shaded,
+                          VKRT_OUT(RayState) next) {
+    const real reflect = shaded.reflects ? maxComponent(shaded.reflectionWeight) : 0.0;
+    const real transmit = shaded.transmits ? maxComponent(shaded.transmissionWeight) : 0.0;
+    const real scatter = shaded.scatters ? maxComponent(shaded.scatterWeight) : 0.0;
+    const real total = reflect + transmit + scatter;
+    if (!(total > 0.0)) return false;
+    const real u = stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 0u) * total;
+    real probability;
+    if (u < scatter) {
+        next = shaded.scattered;
+        probability = scatter / total;
+    } else if (u < scatter + reflect || transmit <= 0.0) {
+        next = shaded.reflection;
+        probability = reflect / total;
+    } else {
+        next = shaded.transmission;
+        probability = transmit / total;
+    }
+    next.throughput = next.throughput / probability;
+    if (next.depth > VKRT_ROULETTE_DEPTH) {
+        const real survival = min(1.0, maxComponent(next.throughput));
+        if (!(stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 1u) < survival)) return false;
+        next.throughput = next.throughput / survival;
+    }
+    return true;
 }
 
 VKRT_SHADING_END

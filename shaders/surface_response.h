@@ -380,25 +380,27 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
 }
 
 // Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
-// viewer: Lambert plus the specular lobe, the latter weighted `specularWeight` (multiple importance sampling),
-// under the sheen, if any, which scales them and adds its own lobe, and the coat, if any, which adds its own
-// lobe (weighted alike) about `coatNormal`.
+// viewer: Lambert plus the specular lobe, under the sheen, if any, which scales them and adds its own lobe, and
+// the coat, if any, which adds its own lobe about `coatNormal`. The traced lobes are weighted `tracedWeight`,
+// the others (diffuse, sheen, a specular lobe or coat that is not traced) `untracedWeight`: the multiple
+// importance sampling weights of a light sample against the strategies that also reach each lobe.
 VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
-                             real3 toLight, real3 irradiance, real specularWeight) {
-    // A lobe that is not traced is reached by light samples alone: full weight.
-    const real3 brdf = s.diffuse / VKRT_PI + (s.traced ? specularWeight : 1.0) * specularBrdf(s, normal, toViewer, toLight);
+                             real3 toLight, real3 irradiance, real tracedWeight, real untracedWeight) {
+    const real3 brdf = untracedWeight * s.diffuse / VKRT_PI +
+                       (s.traced ? tracedWeight : untracedWeight) * specularBrdf(s, normal, toViewer, toLight);
     real3 reflected = brdf * irradiance * max(dot(normal, toLight), 0.0);  // 0 where only the coat faces it
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(s.sheenColor) > 0.0) {
-        reflected = reflected * s.sheenScaling +
-                    s.sheenColor * sheenLobe(normal, toViewer, toLight, s.sheenAlpha) * irradiance * dot(normal, toLight);
+        reflected = reflected * s.sheenScaling + untracedWeight * s.sheenColor *
+                                                     sheenLobe(normal, toViewer, toLight, s.sheenAlpha) * irradiance *
+                                                     max(dot(normal, toLight), 0.0);
     }
 #endif
 #ifdef VKRT_HAS_CLEARCOAT
     if (s.clearcoat > 0.0) {
         reflected = reflected * coatTransmittance(s, dot(coatNormal, toViewer)) +
-                    (s.coatTraced ? specularWeight : 1.0) * coatBrdf(s, coatNormal, toViewer, toLight) * irradiance *
-                        max(dot(coatNormal, toLight), 0.0);
+                    (s.coatTraced ? tracedWeight : untracedWeight) * coatBrdf(s, coatNormal, toViewer, toLight) *
+                        irradiance * max(dot(coatNormal, toLight), 0.0);
     }
 #endif
     return reflected;

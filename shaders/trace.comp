@@ -1,8 +1,8 @@
 #version 460
-// vkrt's tracing kernel: per pixel, stratified samples, each a Whitted ray tree walked with an explicit stack
-// of pending rays; the BVH walk uses its own fixed stack. The shading step at every hit is the one the CPU
-// reference runs (shade_hit.h), drawing the same random numbers; this file holds the GPU's own loop and its
-// single-precision hit points.
+// vkrt's tracing kernel: per pixel, stratified samples, each a path (VKRT_PATHS: one ray state carried
+// through a loop of bounces) or a Whitted ray tree (walked with an explicit stack of pending rays); the BVH walk
+// uses its own fixed stack. The shading step at every hit is the one the CPU reference runs (shade_hit.h),
+// drawing the same random numbers; this file holds the GPU's own loops and its single-precision hit points.
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
@@ -33,6 +33,7 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 #define VKRT_PIXEL_FILTER VKRT_FILTER_BOX
 #endif
 
+#ifndef VKRT_PATHS
 // One pending branch of the ray tree (a RayState). Every member costs a scatter and a gather per push and pop
 // on lavapipe, so the volume stack exists only in shaders for scenes with volumes.
 struct RayTask {
@@ -85,6 +86,7 @@ RayState stateOf(RayTask task) {
     return ray;
 #endif
 }
+#endif  // !VKRT_PATHS
 
 CameraFrame cameraFrame() {
     const GpuCamera c = params.camera;
@@ -175,6 +177,33 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 #endif
 }
 
+#ifdef VKRT_PATHS
+// Radiance arriving along one camera ray by a path: one ray per bounce, continued by continuePath. Counts the
+// bounces in `secondaryRays`.
+vec3 tracePath(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
+    RayState ray = withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0,
+                                     emptyMedia()),
+                            cone.x, cone.y);
+    vec3 radiance = vec3(0.0);
+    for (;;) {
+        Hit hit;
+        HitPoint point;
+        const bool found = traceVisible(ray, context, hit, point);
+        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
+        if (!found) {
+            radiance += weight * escapedRadiance(context, ray);
+            break;
+        }
+        const ShadedHit shaded = shadeHit(context, ray, point, weight);
+        radiance += weight * shaded.radiance;
+        RayState next;
+        if (!continuePath(context, ray, shaded, next)) break;
+        ray = next;
+        ++secondaryRays;
+    }
+    return radiance;
+}
+#else
 // Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
 // rays it traces in `secondaryRays`.
 vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
@@ -208,6 +237,7 @@ vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout ui
     }
     return radiance;
 }
+#endif
 
 void main() {
     const uint width = params.width;
@@ -220,6 +250,11 @@ void main() {
     ShadingContext context;
     context.ambient = params.ambient;
     context.background = params.background;
+#ifdef VKRT_PATHS
+    context.paths = true;
+#else
+    context.paths = false;
+#endif
     context.environmentBackdrop = params.environmentBackdrop != 0u;
     context.minThroughput = params.minThroughput;
     context.maxDepth = int(params.maxDepth);
@@ -243,7 +278,11 @@ void main() {
                                             vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
         ++primaryRays;
         vkrtWalksComplete = true;
+#ifdef VKRT_PATHS
+        const vec3 value = tracePath(primary, cone, context, secondaryRays);
+#else
         const vec3 value = traceRayTree(primary, cone, context, secondaryRays);
+#endif
         // A sample whose BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
         if (vkrtWalksComplete && allFinite(value)) {
             precise const vec4 corrected = vec4(value, 1.0) - sumLost;

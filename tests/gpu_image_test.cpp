@@ -1,6 +1,7 @@
 // GPU images against the CPU reference with the same seed, under the validation layer: every scene in
-// scenes/ and several third-party ones, and the variants of light sampling (without multiple importance
-// sampling, several light samples with a Gaussian pixel filter).
+// scenes/ and several third-party ones with the path integrator (the default), the own scenes with Whitted's
+// too, and the variants of light sampling (without multiple importance sampling, several light samples with a
+// Gaussian pixel filter).
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -25,11 +26,12 @@ using test::Gpu;
 struct SceneCase {
     std::string path;
     int width, height, spp;
+    Integrator integrator = Integrator::Path;
 };
 
 void PrintTo(const SceneCase& c, std::ostream* out) {
     *out << std::filesystem::path(c.path).filename().string() << " " << c.width << "x" << c.height << " "
-         << c.spp << " spp";
+         << c.spp << " spp, " << integratorName(c.integrator);
 }
 
 class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
@@ -47,13 +49,15 @@ TEST_P(GpuImage, MatchesCpuReference) {
     request.settings.samplesPerPixel = c.spp;
     request.settings.seed = 7;
     request.settings.background = glm::dvec3(0.2, 0.3, 0.4);
+    request.integrator = c.integrator;
     addNeutralEnvironment(request, scene);
     const RenderSetup setup = resolveRender(request, scene);
     const RenderSettings& settings = setup.settings;
     const Camera& camera = setup.camera;
     const auto [gpu, cpu] =
         test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
-    expectMatchesReference(gpu.image, cpu.image, std::filesystem::path(c.path).stem().string());
+    expectMatchesReference(gpu.image, cpu.image,
+                           std::filesystem::path(c.path).stem().string() + "-" + integratorName(c.integrator));
     EXPECT_EQ(gpu.rays.primary, cpu.rays.primary);
     EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
                 0.002 * cpu.rays.shadow + 2);
@@ -75,6 +79,15 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{own("lights.gltf"), 80, 60, 4}, SceneCase{own("dof.gltf"), 64, 48, 4},
                       SceneCase{own("glossy.gltf"), 80, 50, 4}, SceneCase{own("motion-blur.gltf"), 80, 60, 4},
                       SceneCase{own("textures.gltf"), 80, 50, 4}, SceneCase{own("surfaces.gltf"), 80, 50, 4},
+                      SceneCase{own("environment.gltf"), 80, 50, 4},
+                      SceneCase{own("cornell.gltf"), 64, 64, 4, Integrator::Whitted},
+                      SceneCase{own("whitted.gltf"), 80, 60, 4, Integrator::Whitted},
+                      SceneCase{own("lights.gltf"), 80, 60, 4, Integrator::Whitted},
+                      SceneCase{own("dof.gltf"), 64, 48, 4, Integrator::Whitted},
+                      SceneCase{own("glossy.gltf"), 80, 50, 4, Integrator::Whitted},
+                      SceneCase{own("motion-blur.gltf"), 80, 60, 4, Integrator::Whitted},
+                      SceneCase{own("textures.gltf"), 80, 50, 4, Integrator::Whitted},
+                      SceneCase{own("surfaces.gltf"), 80, 50, 4, Integrator::Whitted},
                       SceneCase{real("khronos-NormalTangentTest/glTF/NormalTangentTest.gltf"), 48, 48, 2},
                       SceneCase{real("khronos-Duck/glTF-Binary/Duck.glb"), 48, 48, 2},
                       SceneCase{real("khronos-AttenuationTest/AttenuationTest.glb"), 64, 48, 2},
@@ -84,7 +97,8 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{real("khronos-Avocado/glTF/Avocado.gltf"), 48, 48, 2},
                       SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48, 2}),
     [](const ::testing::TestParamInfo<SceneCase>& info) {
-        std::string name = std::filesystem::path(info.param.path).stem().string();
+        std::string name = std::filesystem::path(info.param.path).stem().string() +
+                           (info.param.integrator == Integrator::Whitted ? "Whitted" : "");
         name.erase(std::remove_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }),
                    name.end());
         return name;

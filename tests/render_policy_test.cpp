@@ -1,5 +1,5 @@
-// The render policy: which scenes count as lit, the ambient default, the image height, the camera and its
-// focus.
+// The render policy: the integrator and its depth, which scenes count as lit, Whitted's ambient default, the
+// image height, the camera and its focus.
 #include <gtest/gtest.h>
 
 #include "app/render_policy.h"
@@ -28,6 +28,13 @@ uint32_t addEmissiveMaterial(Scene& scene) {
 }
 
 // A camera 5 units in front of the square, looking at it.
+// A request for Whitted's integrator, whose ambient term the policy chooses.
+RenderRequest whitted() {
+    RenderRequest request;
+    request.integrator = Integrator::Whitted;
+    return request;
+}
+
 Camera cameraInFront(double aspectRatio) {
     Camera camera;
     camera.name = "front";
@@ -39,7 +46,7 @@ Camera cameraInFront(double aspectRatio) {
 TEST(RenderPolicy, SceneWithoutLightsGetsAmbientOneAndAWarning) {
     const Scene scene = darkSquare();
     EXPECT_FALSE(sceneHasLights(scene));
-    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    const RenderSetup setup = resolveRender(whitted(), scene);
     EXPECT_EQ(setup.settings.ambient, glm::dvec3(kUnlitSceneAmbient));
     ASSERT_EQ(setup.warnings.size(), 1u);
     EXPECT_NE(setup.warnings[0].find("no lights"), std::string::npos) << setup.warnings[0];
@@ -58,7 +65,7 @@ TEST(RenderPolicy, SceneWithoutLightsGetsTheNeutralEnvironment) {
     ASSERT_EQ(setup.warnings.size(), 1u);
     EXPECT_NE(setup.warnings[0].find("neutral environment"), std::string::npos) << setup.warnings[0];
     EXPECT_FALSE(addNeutralEnvironment(RenderRequest{}, scene));  // it has one now
-    RenderRequest ambient;
+    RenderRequest ambient = whitted();
     ambient.ambient = glm::dvec3(0.5);
     Scene asked = darkSquare();
     EXPECT_FALSE(addNeutralEnvironment(ambient, asked));
@@ -67,8 +74,52 @@ TEST(RenderPolicy, SceneWithoutLightsGetsTheNeutralEnvironment) {
     EXPECT_FALSE(addNeutralEnvironment(RenderRequest{}, lit));
 }
 
-TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {
+TEST(RenderPolicy, PathsAreTheDefaultWithoutAnAmbientTerm) {
+    // Paths by default, 64 bounces deep, and no ambient term (it is Whitted's); Whitted goes 8 deep, at most
+    // VKRT_MAX_RAY_DEPTH; either depth can be asked.
+    Scene scene = darkSquare();
+    scene.lights.push_back(PunctualLight{});
+    const RenderSetup paths = resolveRender(RenderRequest{}, scene);
+    EXPECT_EQ(paths.settings.integrator, Integrator::Path);
+    EXPECT_EQ(paths.settings.maxDepth, kDefaultPathDepth);
+    EXPECT_EQ(paths.settings.ambient, glm::dvec3(0.0));
+    EXPECT_TRUE(paths.warnings.empty());
+    const RenderSetup classic = resolveRender(whitted(), scene);
+    EXPECT_EQ(classic.settings.integrator, Integrator::Whitted);
+    EXPECT_EQ(classic.settings.maxDepth, kDefaultWhittedDepth);
+    RenderRequest deep;
+    deep.maxDepth = kMaxPathDepth;
+    EXPECT_EQ(resolveRender(deep, scene).settings.maxDepth, kMaxPathDepth);
+    deep.integrator = Integrator::Whitted;
+    EXPECT_THROW(resolveRender(deep, scene), SceneError);
+    deep.maxDepth = 24;
+    EXPECT_EQ(resolveRender(deep, scene).settings.maxDepth, 24);
+}
+
+TEST(RenderPolicy, PathsTakeAnAskedAmbientAsAUniformEnvironment) {
+    // For paths, --ambient R,G,B lights the scene as a uniform environment of that radiance would (camera rays
+    // still see the background), lit or not; a map given wins.
+    for (const bool lit : {false, true}) {
+        Scene scene = darkSquare();
+        if (lit) scene.lights.push_back(PunctualLight{});
+        RenderRequest request;
+        request.ambient = glm::dvec3(0.0, 0.25, 0.5);
+        ASSERT_TRUE(addNeutralEnvironment(request, scene));
+        EXPECT_TRUE(scene.environment.neutral);
+        for (const glm::vec3& texel : scene.environment.radiance) EXPECT_EQ(texel, glm::vec3(0.0f, 0.25f, 0.5f));
+        const RenderSetup setup = resolveRender(request, scene);
+        EXPECT_EQ(setup.settings.ambient, glm::dvec3(0.0));
+        EXPECT_TRUE(setup.warnings.empty());
+    }
+    Scene mapped = darkSquare();
+    mapped.environment = makeEnvironmentMap("sky.hdr", 2, 1, {glm::vec3(1.0f), glm::vec3(2.0f)}, 0.0, 1.0);
     RenderRequest request;
+    request.ambient = glm::dvec3(0.5);
+    EXPECT_FALSE(addNeutralEnvironment(request, mapped));
+}
+
+TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {
+    RenderRequest request = whitted();
     request.ambient = glm::dvec3(0.0, 0.25, 0.5);
     const RenderSetup setup = resolveRender(request, darkSquare());
     EXPECT_EQ(setup.settings.ambient, glm::dvec3(0.0, 0.25, 0.5));
@@ -81,14 +132,14 @@ TEST(RenderPolicy, EnvironmentLightsTheSceneWithoutAmbient) {
     const RenderSetup setup = resolveRender(RenderRequest{}, scene);
     EXPECT_EQ(setup.settings.ambient, glm::dvec3(kEnvironmentAmbient));
     EXPECT_TRUE(setup.warnings.empty());
-    RenderRequest request;
+    RenderRequest request = whitted();
     request.ambient = glm::dvec3(0.1);
     EXPECT_EQ(resolveRender(request, scene).settings.ambient, glm::dvec3(0.1));
 }
 
 void expectLit(const Scene& scene, const char* by) {
     EXPECT_TRUE(sceneHasLights(scene)) << by;
-    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    const RenderSetup setup = resolveRender(whitted(), scene);
     EXPECT_EQ(setup.settings.ambient, glm::dvec3(kLitSceneAmbient)) << by;
     EXPECT_TRUE(setup.warnings.empty()) << by;
 }

@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Error against run time for vkrt's scenes: renders a reference with the CPU reference renderer (the
-double-precision oracle), then renders progressively on the GPU and on the CPU with `vkrt --reference
-... --report ...`, and writes per scene a CSV of every checkpoint and a log-log SVG plot of RMSE against
-render time with the fitted slopes, plus a Markdown table of the error at fixed times (stdout and
-table.md). Monte Carlo noise falls as time^-1/2; stratified sampling can do better.
+"""Error against run time for vkrt's scenes and integrators: per scene and integrator, renders a reference
+with the CPU reference renderer (the double-precision oracle), then renders progressively on the GPU and on
+the CPU with `vkrt --reference ... --report ...`, and writes a CSV of every checkpoint and a log-log SVG plot
+of RMSE against render time with the fitted slopes, plus a Markdown table of the error at fixed times and the
+time to reach an RMSE of 0.01 (stdout and table.md). Monte Carlo noise falls as time^-1/2; stratified
+sampling can do better.
 
 Usage: tools/convergence_report.py [--vkrt build/vkrt] [--out-dir DIR] [--width W] [--gpu-spp N]
-                                   [--cpu-spp N] [--reference-spp N] SCENE.gltf...
+                                   [--cpu-spp N] [--reference-spp N] [--integrators path,whitted]
+                                   SCENE.gltf...
 """
 
 import argparse
@@ -49,6 +51,17 @@ def error_at(points, milliseconds):
         if a["render_ms"] <= milliseconds <= b["render_ms"]:
             t = (math.log(milliseconds) - math.log(a["render_ms"])) / (math.log(b["render_ms"]) - math.log(a["render_ms"]))
             return math.exp(math.log(a["rmse"]) + t * (math.log(b["rmse"]) - math.log(a["rmse"])))
+    return None
+
+
+def time_to(points, rmse):
+    """Render time at which the error first falls to `rmse`, interpolated in log-log (None if it never does)."""
+    for a, b in zip(points, points[1:]):
+        if a["rmse"] > rmse >= b["rmse"] and a["render_ms"] > 0:
+            t = (math.log(rmse) - math.log(a["rmse"])) / (math.log(b["rmse"]) - math.log(a["rmse"]))
+            return math.exp(math.log(a["render_ms"]) + t * (math.log(b["render_ms"]) - math.log(a["render_ms"])))
+    if points and points[0]["rmse"] <= rmse:
+        return points[0]["render_ms"]
     return None
 
 
@@ -105,16 +118,26 @@ def main():
     parser.add_argument("--gpu-spp", type=int, default=256)
     parser.add_argument("--cpu-spp", type=int, default=64)
     parser.add_argument("--reference-spp", type=int, default=1024)
+    parser.add_argument("--integrators", default="path,whitted",
+                        help="comma-separated: path, whitted (each has its own reference and plot)")
     args = parser.parse_args()
     os.makedirs(args.out_dir, exist_ok=True)
+    integrators = [i for i in args.integrators.split(",") if i]
+    for integrator in integrators:
+        if integrator not in ("path", "whitted"):
+            sys.exit("convergence_report: unknown integrator '%s'" % integrator)
 
     times = [100, 1000]
-    table = ["| scene | device | slope | " + " | ".join("RMSE at %d ms" % t for t in times) + " |",
-             "|---|---|---|" + "---|" * len(times)]
+    target = 0.01
+    table = ["| scene | integrator | device | slope | " + " | ".join("RMSE at %d ms" % t for t in times) +
+             " | ms to RMSE %g |" % target,
+             "|---|---|---|---|" + "---|" * (len(times) + 1)]
     summary = {}
-    for scene in args.scenes:
-        name = os.path.splitext(os.path.basename(scene))[0]
-        common = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width)]
+    for scene, integrator in [(s, i) for s in args.scenes for i in integrators]:
+        # Whitted keeps the file names the report had before paths existed.
+        stem = os.path.splitext(os.path.basename(scene))[0]
+        name = stem if integrator == "whitted" else stem + "-path"
+        common = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width), "--integrator", integrator]
         reference = os.path.join(args.out_dir, name + "-reference.exr")
         run(common + ["--device", "cpu", "--spp", str(args.reference_spp), "--seed", "1000", "--out", reference])
         series = []
@@ -126,11 +149,14 @@ def main():
             slope = fit_slope(points)
             series.append((device, points, slope))
             errors = [error_at(points, t) for t in times]
-            table.append("| %s | %s | %.2f | %s |" % (name, device, slope,
-                                                      " | ".join("%.4g" % e if e else "-" for e in errors)))
-            summary.setdefault(name, {})[device] = {"slope": slope, "checkpoints": points}
-        svg_plot(os.path.join(args.out_dir, name + ".svg"), "%s, %d px wide: error against render time" % (name, args.width),
-                 series)
+            reached = time_to(points, target)
+            table.append("| %s | %s | %s | %.2f | %s | %s |" % (
+                stem, integrator, device, slope, " | ".join("%.4g" % e if e else "-" for e in errors),
+                "%.0f" % reached if reached else "-"))
+            summary.setdefault(name, {})[device] = {"slope": slope, "integrator": integrator,
+                                                    "ms_to_rmse_%g" % target: reached, "checkpoints": points}
+        svg_plot(os.path.join(args.out_dir, name + ".svg"),
+                 "%s, %s, %d px wide: error against render time" % (stem, integrator, args.width), series)
     with open(os.path.join(args.out_dir, "table.md"), "w") as f:
         f.write("\n".join(table) + "\n")
     with open(os.path.join(args.out_dir, "summary.json"), "w") as f:

@@ -91,8 +91,9 @@ struct CommandLine {
     Options options;
     std::string device = "gpu", filter = "box", toneMap = toneMapName(kDefaultToneMap);
     std::vector<double> shutter;
-    std::string ambient, background;
+    std::string ambient, background, integrator;
     int height = 512;
+    int maxDepth = 0;
     bool noMis = false;
 
     CommandLine() {
@@ -123,13 +124,21 @@ struct CommandLine {
             ->check(kInteger)
             ->check(CLI::Range(1, 1 << 24))
             ->capture_default_str();
-        app.add_option("--max-depth", s.maxDepth,
-                       "reflection/refraction bounces after the first hit (0-" +
-                           std::to_string(VKRT_MAX_RAY_DEPTH) + ")")
+        app.add_option("--integrator", integrator,
+                       "path: path tracing (every lobe continued, all indirect light, Russian roulette); "
+                       "whitted: distributed Whitted ray tracing (mirror, glossy and refracted rays; diffuse "
+                       "surfaces lit by the lights and an ambient term)")
+            ->type_name("path|whitted")
+            ->check(CLI::IsMember({"path", "whitted"}))
+            ->default_str("path (glTF's materials are physically based)");
+        app.add_option("--max-depth", maxDepth,
+                       "bounces after the first hit: paths 0-" + std::to_string(kMaxPathDepth) +
+                           ", Whitted 0-" + std::to_string(VKRT_MAX_RAY_DEPTH))
             ->type_name("D")
             ->check(kInteger)
-            ->check(CLI::Range(0, VKRT_MAX_RAY_DEPTH))
-            ->capture_default_str();
+            ->check(CLI::Range(0, kMaxPathDepth))
+            ->default_str(std::to_string(kDefaultPathDepth) + " for paths, " + std::to_string(kDefaultWhittedDepth) +
+                          " for Whitted");
         app.add_option(
                "--light-samples", s.lightSamples,
                "area-light samples per shading point (1-" + std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
@@ -200,11 +209,12 @@ struct CommandLine {
             ->check(CLI::Range(0, 1 << 20))
             ->capture_default_str();
         app.add_option("--ambient", ambient,
-                       "ambient radiance (a scene without lights, given neither this nor --environment, is lit "
-                       "by a neutral environment of radiance 1 instead)")
+                       "Whitted's ambient radiance (a scene without lights, given neither this nor --environment, "
+                       "is lit by a neutral environment of radiance 1 instead); for paths, a uniform environment "
+                       "of this radiance")
             ->type_name("R[,G,B]")
             ->check(kColor)
-            ->default_str("0.05; 0 under an environment");
+            ->default_str("Whitted: 0.05, 0 under an environment; paths: none");
         app.add_option("--background", background,
                        "radiance of rays that leave the scene (without --environment)")
             ->type_name("R[,G,B]")
@@ -251,6 +261,10 @@ struct CommandLine {
     void finish() {
         RenderSettings& s = options.request.settings;
         if (app.count("--height")) options.request.height = height;
+        if (app.count("--max-depth")) options.request.maxDepth = maxDepth;
+        if (!integrator.empty()) {
+            options.request.integrator = integrator == "whitted" ? Integrator::Whitted : Integrator::Path;
+        }
         s.multipleImportanceSampling = !noMis;
         s.pixelFilter = filter == "tent"       ? PixelFilter::Tent
                         : filter == "gaussian" ? PixelFilter::Gaussian

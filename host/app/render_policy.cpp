@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "scene/camera_selection.h"
+#include "scene/scene_error.h"
+#include "shared.h"
 
 namespace vkrt {
 
@@ -11,13 +13,22 @@ bool sceneHasLights(const Scene& scene) {
     return !scene.lights.empty() || !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
 }
 
+Integrator integratorOf(const RenderRequest& request) {
+    return request.integrator.value_or(Integrator::Path);
+}
+
 bool addNeutralEnvironment(const RenderRequest& request, Scene& scene) {
-    if (sceneHasLights(scene) || scene.environment.present() || request.ambient) return false;
+    if (scene.environment.present()) return false;
+    glm::dvec3 radiance(kNeutralEnvironmentRadiance);
+    if (request.ambient) {
+        if (integratorOf(request) != Integrator::Path) return false;  // Whitted's ambient term lights it
+        radiance = *request.ambient;
+    } else if (sceneHasLights(scene)) {
+        return false;
+    }
     constexpr int kWidth = 16, kHeight = 8;
-    scene.environment = makeEnvironmentMap(
-        "neutral", kWidth, kHeight,
-        std::vector<glm::vec3>(kWidth * kHeight, glm::vec3(static_cast<float>(kNeutralEnvironmentRadiance))), 0.0,
-        1.0);
+    scene.environment = makeEnvironmentMap("neutral", kWidth, kHeight,
+                                           std::vector<glm::vec3>(kWidth * kHeight, glm::vec3(radiance)), 0.0, 1.0);
     scene.environment.neutral = true;
     return true;
 }
@@ -26,6 +37,14 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     RenderSetup setup;
     RenderSettings& settings = setup.settings;
     settings = request.settings;
+    settings.integrator = integratorOf(request);
+    const bool paths = settings.integrator == Integrator::Path;
+    settings.maxDepth = request.maxDepth.value_or(paths ? kDefaultPathDepth : kDefaultWhittedDepth);
+    if (!paths && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
+        throw SceneError("--max-depth " + std::to_string(settings.maxDepth) + ": Whitted ray trees go at most " +
+                         std::to_string(VKRT_MAX_RAY_DEPTH) + " deep (paths up to " + std::to_string(kMaxPathDepth) +
+                         ")");
+    }
 
     // Image size: a file camera with an aspect ratio sets the height unless it was asked for.
     if (request.height) {
@@ -53,8 +72,10 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     const double ambient = scene.environment.present() ? kEnvironmentAmbient
                            : lit                       ? kLitSceneAmbient
                                                        : kUnlitSceneAmbient;
-    settings.ambient = request.ambient.value_or(glm::dvec3(ambient));
-    if (scene.environment.neutral) {
+    settings.ambient = paths ? glm::dvec3(0.0) : request.ambient.value_or(glm::dvec3(ambient));
+    if (scene.environment.neutral && paths && request.ambient) {
+        // The uniform environment addNeutralEnvironment made of the ambient radiance: nothing to warn about.
+    } else if (scene.environment.neutral) {
         setup.warnings.push_back(
             "the scene has no lights; a neutral environment (uniform radiance 1) lights it (--environment FILE "
             "or --ambient R,G,B light it otherwise)");

@@ -19,6 +19,7 @@ nlohmann::json toJson(const RunReport& r) {
         {"height", r.settings.height},
         {"spp", r.samplesRendered},
         {"spp_requested", r.settings.samplesPerPixel},
+        {"integrator", integratorName(r.settings.integrator)},
         {"max_depth", r.settings.maxDepth},
         {"light_samples", r.settings.lightSamples},
         {"seed", r.settings.seed},

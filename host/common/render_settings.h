@@ -11,15 +11,28 @@ namespace vkrt {
 // Box: the pixel's square; tent: radius 1 pixel; Gaussian: standard deviation 0.5 pixel.
 enum class PixelFilter : int { Box = 0, Tent = 1, Gaussian = 2 };
 
+// How light is gathered: unidirectional path tracing (Kajiya 1986: every lobe continued by one sampled ray,
+// next-event estimation with multiple importance sampling, Russian roulette), or distributed Whitted ray
+// tracing (mirror, glossy and refracted rays traced, diffuse light from the lights and an ambient term alone).
+enum class Integrator : int { Whitted = 0, Path = 1 };
+
+inline const char* integratorName(Integrator integrator) {
+    return integrator == Integrator::Path ? "path" : "whitted";
+}
+
+// The most bounces a path may take (Whitted's ray tree is bounded by VKRT_MAX_RAY_DEPTH on the GPU).
+inline constexpr int kMaxPathDepth = 1024;
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
     int samplesPerPixel = 16;
-    int maxDepth = 8;  // reflection and refraction bounces after the camera ray's hit
+    Integrator integrator = Integrator::Whitted;
+    int maxDepth = 8;  // bounces after the camera ray's hit (Whitted: reflection and refraction)
     uint32_t seed = 0;
-    glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's ambient term)
+    glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's alone; paths ignore it)
     glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
-    double minThroughput = 1e-3;  // branches of the ray tree weighted less than this are cut
+    double minThroughput = 1e-3;  // Whitted: branches of the ray tree weighted less than this are cut
     PixelFilter pixelFilter = PixelFilter::Box;
     int lightSamples = 1;  // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
     // Glossy lobes that are both traced and lit by light samples combine the two by the power heuristic;
@@ -31,7 +44,7 @@ struct RenderSettings {
 struct RayCounters {
     uint64_t primary = 0;
     uint64_t shadow = 0;
-    uint64_t secondary = 0;  // reflection and refraction rays
+    uint64_t secondary = 0;  // reflection and refraction rays; a path's bounces
     uint64_t nonFiniteSamples = 0;
     uint64_t total() const { return primary + shadow + secondary; }
 };

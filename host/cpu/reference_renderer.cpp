@@ -43,6 +43,7 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     shading::ShadingContext context;
     context.ambient = settings_.ambient;
     context.background = settings_.background;
+    context.paths = settings_.integrator == Integrator::Path;
     context.environmentBackdrop = !scene_.environment.neutral;
     context.minThroughput = settings_.minThroughput;
     context.maxDepth = settings_.maxDepth;
@@ -142,14 +143,37 @@ glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shadi
     return absorbed * result;
 }
 
+glm::dvec3 ReferenceRenderer::pathRadiance(shading::RayState ray, const shading::ShadingContext& context,
+                                           double time, RayCounters& counters) const {
+    const CpuShadingDevice device(shadingScene_, time, counters);
+    glm::dvec3 sum(0.0);
+    for (;;) {
+        SurfaceHit hit;
+        shading::HitPoint point;
+        const bool found = visibleHit(device, context, ray, time, hit, point);
+        const glm::dvec3 weight =
+            ray.throughput *
+            shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
+        if (!found) return sum + weight * shading::escapedRadiance(device, context, ray);
+        const shading::ShadedHit shaded = shading::shadeHit(device, context, ray, point, weight);
+        sum += weight * shaded.radiance;
+        shading::RayState next;
+        if (!shading::continuePath(context, ray, shaded, next)) return sum;
+        ray = next;
+        ++counters.secondary;
+    }
+}
+
 glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t sample,
                                        RayCounters& counters) const {
     // A camera ray, with the camera's ray cone (texture levels of detail).
     const glm::dvec2 cone = shading::cameraCone(camera_);
-    return radiance(shading::withCone(shading::rayState(ray.origin, ray.direction, glm::dvec3(1.0), 0, 0,
-                                                        kNoPrimitive, 0.0, shading::emptyMedia()),
-                                      cone.x, cone.y),
-                    shadingContext(pixel, sample), shutterTime(pixel, sample), counters);
+    const shading::RayState state = shading::withCone(
+        shading::rayState(ray.origin, ray.direction, glm::dvec3(1.0), 0, 0, kNoPrimitive, 0.0, shading::emptyMedia()),
+        cone.x, cone.y);
+    const shading::ShadingContext context = shadingContext(pixel, sample);
+    const double time = shutterTime(pixel, sample);
+    return context.paths ? pathRadiance(state, context, time, counters) : radiance(state, context, time, counters);
 }
 
 glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,

@@ -50,7 +50,10 @@ class ReferenceRenderer {
     // The nearest surface along `ray` that is there (alpha), as the GPU's traceVisible finds it.
     bool visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
                     const shading::RayState& ray, double time, SurfaceHit& hit, shading::HitPoint& point) const;
-    // Radiance arriving along one ray of the tree, seen at shutter time `time`.
+    // The path integrator: radiance arriving along a path's first ray, one ray per bounce, in a loop.
+    glm::dvec3 pathRadiance(shading::RayState ray, const shading::ShadingContext& context, double time,
+                            RayCounters& counters) const;
+    // Whitted: radiance arriving along one ray of the tree, seen at shutter time `time`, by recursion.
     glm::dvec3 radiance(const shading::RayState& ray, const shading::ShadingContext& context, double time,
                         RayCounters& counters) const;
 

@@ -31,9 +31,9 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       settings_(settings),
       options_(options),
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)) {
-    if (settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
-        throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU limit of " +
-                       std::to_string(VKRT_MAX_RAY_DEPTH));
+    if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
+        throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
+                       "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
     }
     // Upload what the scene uses; absent features keep a zero address and no buffer.
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
@@ -55,6 +55,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {
         defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");
     }

@@ -1,0 +1,127 @@
+// The path integrator against closed forms, on the GPU and the CPU reference alike: an enclosure whose walls
+// all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, and paths deeper than the Whitted limit
+// render.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "scene/scene_builder.h"
+#include "support/gpu_fixture.h"
+#include "support/render_both.h"
+#include "support/test_paths.h"
+#include "support/unit_square.h"
+
+namespace vkrt {
+namespace {
+
+using test::bvhFor;
+using test::Gpu;
+
+// The cube [-1, 1]^3 with its faces turned inwards, every face of material 0.
+void addInwardCube(Scene& scene) {
+    const glm::vec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    // Counter-clockwise seen from inside the cube.
+    addFlatQuad(scene, c[0], c[1], c[2], c[3], 0);  // z = -1, facing +z
+    addFlatQuad(scene, c[5], c[4], c[7], c[6], 0);  // z = +1, facing -z
+    addFlatQuad(scene, c[4], c[0], c[3], c[7], 0);  // x = -1, facing +x
+    addFlatQuad(scene, c[1], c[5], c[6], c[2], 0);  // x = +1, facing -x
+    addFlatQuad(scene, c[4], c[5], c[1], c[0], 0);  // y = -1, facing +y
+    addFlatQuad(scene, c[3], c[2], c[6], c[7], 0);  // y = +1, facing -y
+}
+
+// The mean of every `block` x `block` square of pixels (red channel; the scenes here are grey).
+std::vector<double> blockMeans(const Image& image, int block) {
+    std::vector<double> means;
+    for (int by = 0; by + block <= image.height; by += block) {
+        for (int bx = 0; bx + block <= image.width; bx += block) {
+            double sum = 0.0;
+            for (int y = by; y < by + block; ++y) {
+                for (int x = bx; x < bx + block; ++x) sum += image.at(x, y).x;
+            }
+            means.push_back(sum / (block * block));
+        }
+    }
+    return means;
+}
+
+TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
+    // Every wall emits radiance 1 and reflects a fraction A diffusely: the radiance is 1 + A + A^2 + ... =
+    // 1 / (1 - A) everywhere, 2 for A = 0.5 and 5 for A = 0.8. Light samples, cosine-sampled bounces, their
+    // multiple importance sampling and Russian roulette all take part; any bias shows as a wrong level.
+    for (const float albedo : {0.5f, 0.8f}) {
+        Scene scene;
+        Material wall = test::lambertian(albedo);
+        wall.emission = glm::vec3(1.0f);
+        scene.materials.push_back(wall);
+        addInwardCube(scene);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera;
+        camera.position = {0.2, -0.1, 0.3};
+        camera.forward = glm::normalize(glm::dvec3(1.0, 0.7, 0.4));
+        camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+        camera.up = glm::cross(camera.right, camera.forward);
+        camera.yfov = 1.4;  // corners, edges and three faces in view
+        RenderSettings settings;
+        settings.integrator = Integrator::Path;
+        settings.maxDepth = 256;
+        settings.ambient = glm::dvec3(0.0);
+        settings.width = settings.height = 32;
+        settings.samplesPerPixel = 64;
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+        const double expected = 1.0 / (1.0 - albedo);
+        for (const RenderResult* result : {&gpu, &cpu}) {
+            const std::string which = std::string(result == &gpu ? "gpu" : "cpu") + ", albedo " + std::to_string(albedo);
+            EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
+            const std::vector<double> blocks = blockMeans(result->image, 8);
+            double sum = 0.0;
+            for (const double b : blocks) {
+                EXPECT_NEAR(b, expected, 0.02 * expected) << which;
+                sum += b;
+            }
+            EXPECT_NEAR(sum / blocks.size(), expected, 0.005 * expected) << which;
+            // Paths went far beyond Whitted's depth: at A = 0.8 one in 5 survives each bounce on average.
+            EXPECT_GT(result->rays.secondary, 3 * result->rays.primary) << which;
+        }
+    }
+}
+
+TEST_F(Gpu, PathsStopAtTheMaximumDepth) {
+    // Paths of at most D bounces (before Russian roulette starts) see the first D + 2 terms of the series,
+    // 1 + A + ... + A^(D+1): every hit's emission, and at the last hit a light sample, which takes full weight
+    // there since no bounce follows it. An unweighted or doubly weighted term would show.
+    Scene scene;
+    const float albedo = 0.5f;
+    Material wall = test::lambertian(albedo);
+    wall.emission = glm::vec3(1.0f);
+    scene.materials.push_back(wall);
+    addInwardCube(scene);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;
+    camera.yfov = 1.0;
+    for (const int depth : {0, 1, 2}) {
+        RenderSettings settings;
+        settings.integrator = Integrator::Path;
+        settings.maxDepth = depth;
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 256;
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+        double expected = 0.0;
+        for (int k = 0; k <= depth + 1; ++k) expected += std::pow(albedo, k);
+        for (const RenderResult* result : {&gpu, &cpu}) {
+            double sum = 0.0;
+            for (const glm::vec3& p : result->image.pixels) sum += p.x;
+            // A missing or doubled term would be off by A^(D+1) / expected, at least 7% here.
+            EXPECT_NEAR(sum / result->image.pixels.size(), expected, 0.015 * expected)
+                << (result == &gpu ? "gpu" : "cpu") << ", depth " << depth;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace vkrt
