@@ -1,0 +1,261 @@
+"""Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
+
+Made for scenes/cornell.gltf, whose materials are all purely Lambertian (KHR_materials_specular with
+specularFactor 0) with an optional emission: the scene's geometry and camera come through Blender's own glTF
+importer, and every material is then rebuilt from the glTF file itself (read here as JSON, matched to
+Blender's materials by name) as
+
+    Diffuse BSDF (colour = baseColorFactor's RGB, roughness 0: Lambert)
+      + Emission (colour = emissiveFactor x KHR_materials_emissive_strength, strength 1)
+
+so nothing of the importer's Principled BSDF conversion is left. Textures, metals, transmission and the
+other extensions are not supported: the script stops on a material that has them.
+
+Emission: vkrt's glTF emission is one-sided (only the front face emits), Cycles' Emission shader emits from
+both sides. In the Cornell box the lamp's back side faces the empty space above the hole in the ceiling,
+where there is nothing to light, so the two agree there; a scene whose emitters' backs can be seen or light
+something would not.
+
+Cycles' Emission of strength 1 and colour C makes a surface whose radiance is C (a pixel that sees it
+directly reads C), which is what glTF's emissiveFactor x emissiveStrength means.
+
+Run it with Blender (Debian 12's blender 3.4.1 and python3-numpy, which Blender's glTF importer needs):
+
+    blender -b --factory-startup -P tools/cycles_reference.py -- \\
+        --scene scenes/cornell.gltf --out tests/references/cornell-cycles.exr \\
+        --width 128 --height 128 --spp 16384 --seed 0
+
+The output is an OpenEXR file of scene-linear RGB (no view transform, no compositing, no denoising),
+32-bit float unless --half is given, ZIP-compressed, rows top to bottom as in any image file.
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+import bpy
+from mathutils import Vector
+
+
+def arguments():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(prog="blender -b --factory-startup -P tools/cycles_reference.py --",
+                                     description="Cycles reference render of a Lambertian glTF scene.")
+    parser.add_argument("--scene", required=True, help="the glTF file")
+    parser.add_argument("--out", required=True, help="the OpenEXR file to write")
+    parser.add_argument("--width", type=int, default=128)
+    parser.add_argument("--height", type=int, default=128)
+    parser.add_argument("--spp", type=int, default=16384, help="samples per pixel")
+    parser.add_argument("--seed", type=int, default=0, help="Cycles' sampling seed")
+    parser.add_argument("--threads", type=int, default=2, help="CPU threads")
+    parser.add_argument("--bounces", type=int, default=1024, help="most bounces (Cycles allows 0 to 1024)")
+    parser.add_argument("--half", action="store_true", help="write 16-bit half floats instead of 32-bit")
+    return parser.parse_args(argv)
+
+
+def gltf_materials(path):
+    """Diffuse colour and emitted radiance of every material of the glTF file, by name."""
+    with open(path) as f:
+        gltf = json.load(f)
+    supported = {"KHR_materials_emissive_strength", "KHR_materials_specular"}
+    materials = {}
+    for index, material in enumerate(gltf.get("materials", [])):
+        name = material.get("name", "material %d" % index)
+        pbr = material.get("pbrMetallicRoughness", {})
+        extensions = material.get("extensions", {})
+        problems = [key for key in ("baseColorTexture", "metallicRoughnessTexture") if key in pbr]
+        problems += [key for key in ("normalTexture", "emissiveTexture", "occlusionTexture")
+                     if key in material]
+        problems += [key for key in extensions if key not in supported]
+        if pbr.get("metallicFactor", 1.0) != 0.0:
+            problems.append("metallicFactor %s (not 0)" % pbr.get("metallicFactor", 1.0))
+        if extensions.get("KHR_materials_specular", {}).get("specularFactor", 1.0) != 0.0:
+            problems.append("no KHR_materials_specular with specularFactor 0 (not purely Lambertian)")
+        if "specularColorFactor" in extensions.get("KHR_materials_specular", {}):
+            problems.append("specularColorFactor")
+        if problems:
+            sys.exit("material %r is not a plain Lambertian emitter: %s" % (name, ", ".join(problems)))
+        if name in materials:
+            sys.exit("two materials are named %r: cannot match them to Blender's by name" % name)
+        strength = extensions.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
+        materials[name] = {
+            "diffuse": list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]),
+            "emission": [c * strength for c in material.get("emissiveFactor", [0.0, 0.0, 0.0])],
+        }
+    return gltf, materials
+
+
+def rebuild_material(material, spec):
+    material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.clear()
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
+    diffuse.inputs["Roughness"].default_value = 0.0  # 0: Lambert (above 0 it is Oren-Nayar)
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = spec["emission"] + [1.0]
+    emission.inputs["Strength"].default_value = 1.0
+    add = tree.nodes.new("ShaderNodeAddShader")
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    output.target = "ALL"
+    tree.links.new(diffuse.outputs["BSDF"], add.inputs[0])
+    tree.links.new(emission.outputs["Emission"], add.inputs[1])
+    tree.links.new(add.outputs["Shader"], output.inputs["Surface"])
+    material.cycles.sample_as_light = any(c > 0.0 for c in spec["emission"])  # emitters are sampled as lights
+
+
+def black_world(scene):
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    background.inputs["Strength"].default_value = 0.0
+    scene.world = world
+
+
+def camera_report(scene, gltf):
+    camera = scene.camera
+    data = camera.data
+    # The frame's corners in the camera's own space (top right, bottom right, bottom left, top left), which
+    # the camera's eye is the origin of; the fields of view from the middles of its edges.
+    frame = data.view_frame(scene=scene)
+    eye = camera.matrix_world.translation
+    top = (frame[0] + frame[3]) / 2
+    bottom = (frame[1] + frame[2]) / 2
+    left = (frame[2] + frame[3]) / 2
+    right = (frame[0] + frame[1]) / 2
+    yfov = top.angle(bottom)
+    xfov = left.angle(right)
+    forward = (camera.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+    up = (camera.matrix_world.to_3x3() @ Vector((0.0, 1.0, 0.0))).normalized()
+    expected = gltf["cameras"][0]["perspective"]["yfov"] if gltf.get("cameras") else float("nan")
+    print("camera %r: sensor fit %s, angle_y %.16g, vertical fov (from the frame) %.16g, horizontal %.16g, "
+          "glTF yfov %.16g" % (camera.name, data.sensor_fit, data.angle_y, yfov, xfov, expected))
+    # Blender is Z-up; the glTF importer turns glTF's (x, y, z) into Blender's (x, -z, y).
+    print("camera eye (Blender) %s, forward %s, up %s; glTF eye (%.6g, %.6g, %.6g)"
+          % (tuple(round(c, 9) for c in eye), tuple(round(c, 9) for c in forward),
+             tuple(round(c, 9) for c in up), eye.x, eye.z, -eye.y))
+    if abs(yfov - expected) > 1e-6:
+        sys.exit("the camera's vertical field of view %.16g is not the glTF's %.16g" % (yfov, expected))
+
+
+def main():
+    args = arguments()
+    scene_path = os.path.abspath(args.scene)
+    out_path = os.path.abspath(args.out)
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)  # no default cube, lamp or camera
+    gltf, specs = gltf_materials(scene_path)
+    # Blender 3.4's glTF importer uses numpy.bool, which numpy 1.24 (Debian 12's) no longer has; it meant
+    # the builtin bool.
+    import numpy
+    if "bool" not in numpy.__dict__:
+        numpy.bool = bool
+    bpy.ops.import_scene.gltf(filepath=scene_path)
+    scene = bpy.context.scene
+
+    # Every material in use is rebuilt from the glTF file; one that the file does not name is an error.
+    used = {slot.material for ob in scene.objects
+            for slot in getattr(ob, "material_slots", []) if slot.material}
+    for material in sorted(used, key=lambda m: m.name):
+        if material.name not in specs:
+            sys.exit("Blender material %r is not a material of %s" % (material.name, args.scene))
+        rebuild_material(material, specs[material.name])
+        print("material %r: diffuse %s, emission %s" % (material.name, specs[material.name]["diffuse"],
+                                                       specs[material.name]["emission"]))
+    missing = set(specs) - {m.name for m in used}
+    if missing:
+        print("note: glTF materials not used by any object:", ", ".join(sorted(missing)))
+
+    cameras = [ob for ob in scene.objects if ob.type == "CAMERA"]
+    if len(cameras) != 1:
+        sys.exit("expected one camera in the scene, found %d" % len(cameras))
+    scene.camera = cameras[0]
+    scene.camera.data.dof.use_dof = False
+    black_world(scene)
+
+    render = scene.render
+    render.engine = "CYCLES"
+    render.resolution_x, render.resolution_y = args.width, args.height
+    render.resolution_percentage = 100
+    render.pixel_aspect_x = render.pixel_aspect_y = 1.0
+    render.use_border = False
+    render.use_motion_blur = False
+    render.film_transparent = False
+    render.use_compositing = False
+    render.use_sequencer = False
+    render.dither_intensity = 0.0
+    render.threads_mode = "FIXED"
+    render.threads = args.threads
+    render.use_persistent_data = False
+
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.feature_set = "SUPPORTED"
+    cycles.samples = args.spp
+    cycles.use_layer_samples = "IGNORE"
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = args.seed
+    cycles.use_animated_seed = False
+    cycles.sampling_pattern = "PROGRESSIVE_MULTI_JITTER"
+    cycles.scrambling_distance = 1.0  # no correlation between pixels
+    cycles.auto_scrambling_distance = False
+    cycles.sample_clamp_direct = 0.0  # no clamping: unbiased
+    cycles.sample_clamp_indirect = 0.0
+    cycles.light_sampling_threshold = 0.0
+    cycles.min_light_bounces = 0
+    cycles.min_transparent_bounces = 0
+    cycles.max_bounces = args.bounces
+    cycles.diffuse_bounces = args.bounces
+    cycles.glossy_bounces = args.bounces
+    cycles.transmission_bounces = args.bounces
+    cycles.transparent_max_bounces = args.bounces
+    cycles.volume_bounces = 0  # the scene has no volumes
+    cycles.caustics_reflective = True
+    cycles.caustics_refractive = True
+    cycles.blur_glossy = 0.0
+    cycles.pixel_filter_type = "BOX"  # each sample counts, uniformly, in the one pixel it falls in
+    cycles.filter_width = 1.0
+    cycles.film_exposure = 1.0  # Cycles' film exposure is a factor: 1 leaves the radiance as it is
+    for layer in scene.view_layers:
+        layer.use_pass_combined = True
+        layer.samples = 0
+        layer.cycles.denoising_store_passes = False
+        layer.cycles.use_denoising = False
+
+    view = scene.view_settings
+    scene.display_settings.display_device = "sRGB"
+    view.view_transform = "Standard"
+    view.look = "None"
+    view.exposure = 0.0
+    view.gamma = 1.0
+    view.use_curve_mapping = False
+
+    image = render.image_settings
+    image.file_format = "OPEN_EXR"
+    image.color_mode = "RGB"
+    image.color_depth = "16" if args.half else "32"
+    image.exr_codec = "ZIP"
+    image.use_preview = False
+    image.use_zbuffer = False
+    image.color_management = "FOLLOW_SCENE"  # EXR: scene-linear, no view transform
+    # No date, render time or other notes in the file's header: the same command writes the same bytes.
+    for stamp in [p.identifier for p in render.bl_rna.properties if p.identifier.startswith("use_stamp")]:
+        setattr(render, stamp, False)
+    render.use_file_extension = False
+    render.filepath = out_path
+
+    camera_report(scene, gltf)
+    print("Blender %s, Cycles on CPU with %d threads: %dx%d, %d samples per pixel, seed %d"
+          % (bpy.app.version_string, args.threads, args.width, args.height, args.spp, args.seed))
+    os.makedirs(os.path.dirname(out_path), exist_ok=True)
+    start = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    seconds = time.perf_counter() - start
+    print("wrote %s (%d bytes); render wall time %.1f s" % (out_path, os.path.getsize(out_path), seconds))
+
+
+main()
