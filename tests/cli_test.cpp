@@ -26,8 +26,8 @@ const std::string kCornell = quoted(test::sourceDir() / "scenes/cornell.gltf");
 TEST(Cli, HelpListsTheOptionsAndExitsZero) {
     const auto result = test::runVkrt("--help");
     EXPECT_EQ(result.exitCode, 0);
-    for (const char* option : {"--scene", "--out", "--width", "--height", "--spp", "--max-depth", "--device",
-                               "--seed", "--camera", "--stats"}) {
+    for (const char* option : {"--scene", "--out", "--width", "--height", "--spp", "--integrator", "--max-depth",
+                               "--device", "--seed", "--camera", "--stats"}) {
         EXPECT_NE(result.output.find(option), std::string::npos) << option;
     }
 }
@@ -36,7 +36,7 @@ TEST(Cli, BadUsageExitsTwoWithOneLine) {
     for (const char* arguments :
          {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
           "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu", "--scene x.gltf --shutter 1 0",
-          "--scene x.gltf --shutter 0"}) {
+          "--scene x.gltf --shutter 0", "--scene x.gltf --integrator bdpt", "--scene x.gltf --max-depth 1025"}) {
         const auto result = test::runVkrt(arguments);
         EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.output;
         EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
@@ -147,6 +147,33 @@ TEST(Cli, RendersEveryFormatAndWritesStats) {
         EXPECT_EQ(json["device"], "cpu");
         EXPECT_EQ(json["nonfinite_samples"], 0);
     }
+}
+
+TEST(Cli, IntegratorAndDepthAreChosenAndRecorded) {
+    // Paths by default, 64 deep; Whitted when asked, 8 deep, and at most 24 (exit 2 beyond, before rendering).
+    const auto folder = test::temporaryFolder();
+    const auto stats = folder / "stats.json";
+    const std::string common = "--scene " + kCornell + " --device cpu --width 8 --spp 1 --out '" +
+                               (folder / "c.exr").string() + "' --stats '" + stats.string() + "'";
+    struct Case {
+        std::string options;
+        const char* integrator;
+        int depth;
+    };
+    for (const Case& c : {Case{"", "path", 64}, Case{" --integrator whitted", "whitted", 8},
+                          Case{" --max-depth 500", "path", 500}, Case{" --integrator whitted --max-depth 24", "whitted", 24}}) {
+        const auto result = test::runVkrt(common + c.options);
+        ASSERT_EQ(result.exitCode, 0) << c.options << ": " << result.output;
+        std::ifstream file(stats);
+        const nlohmann::json json = nlohmann::json::parse(file);
+        EXPECT_EQ(json["integrator"], c.integrator) << c.options;
+        EXPECT_EQ(json["max_depth"], c.depth) << c.options;
+    }
+    std::filesystem::remove(folder / "c.exr");
+    const auto deep = test::runVkrt(common + " --integrator whitted --max-depth 25");
+    EXPECT_EQ(deep.exitCode, 2) << deep.output;
+    EXPECT_NE(deep.output.find("Whitted"), std::string::npos) << deep.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "c.exr"));
 }
 
 TEST(Cli, EnvironmentLightsTheSceneAndIsRecordedInTheStats) {

@@ -110,5 +110,25 @@ TEST(ImageMetrics, KnownDifferences) {
     EXPECT_TRUE(std::isinf(compareImages(a, a).psnr));
 }
 
+TEST(ImageMetrics, BlocksCompareTheirMeans) {
+    // A 4x2 image in 2x2 blocks: the left block's pixels differ by +-10% but its mean agrees; the right block's
+    // red mean is 5% high. Partial blocks (a 5th column) are left out.
+    Image image(5, 2), reference(5, 2);
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 5; ++x) reference.at(x, y) = image.at(x, y) = glm::vec3(1.0f);
+    }
+    image.at(0, 0) = glm::vec3(1.1f);
+    image.at(1, 0) = glm::vec3(0.9f);
+    image.at(2, 0).x = 1.2f;  // red mean of the right block: 1.05
+    image.at(4, 1) = glm::vec3(100.0f);
+    const BlockAgreement within = compareBlocks(image, reference, 2, 0.06, 0.0);
+    EXPECT_EQ(within.blocks, 2);
+    EXPECT_DOUBLE_EQ(within.fractionWithin, 1.0);
+    EXPECT_NEAR(within.worstBlock, 0.05, 1e-6);
+    const BlockAgreement strict = compareBlocks(image, reference, 2, 0.04, 0.0);
+    EXPECT_DOUBLE_EQ(strict.fractionWithin, 0.5);
+    EXPECT_NEAR(within.meanRatio.y, (9.0 + 100.0) / 10.0, 1e-5);  // the whole image's means count every pixel
+}
+
 }  // namespace
 }  // namespace vkrt

@@ -18,7 +18,11 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
     return (count + size - 1) / size;
 }
 
+// At most this many samples per pixel in one dispatch: llvmpipe cuts off an invocation's loops after 65535
+// iterations in total, so one invocation must not trace too many. A path's samples can bounce up to
+// --max-depth times, each bounce a BVH walk and its shadow rays, so paths take fewer per dispatch.
 constexpr uint32_t kMaxSamplesPerDispatch = 16;
+constexpr uint32_t kMaxPathSamplesPerDispatch = 4;
 
 const SceneFeatures kAllFeatures = SceneFeatures::all();
 
@@ -131,10 +135,10 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
     };
     uint32_t samplesDone = 0;
     while (samplesDone < spp) {
-        // At most kMaxSamplesPerDispatch per pixel: llvmpipe cuts off an invocation's loops after 65535
-        // iterations in total, so one invocation must not trace too many samples.
         // Passes end where the schedule says (every power of two, with checkpoints).
-        const uint32_t limit = std::min(schedule.boundary(samplesDone) - samplesDone, kMaxSamplesPerDispatch);
+        const uint32_t limit = std::min(schedule.boundary(samplesDone) - samplesDone,
+                                        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch
+                                                                                 : kMaxSamplesPerDispatch);
         const uint32_t samples =
             static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(limit)));
         for (uint32_t row = 0; row < height;) {

@@ -1,5 +1,6 @@
 #include "image/image_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -35,6 +36,45 @@ ImageDifference compareImages(const Image& image, const Image& reference, double
                                             : std::numeric_limits<double>::infinity();
     difference.fractionOff = static_cast<double>(off) / static_cast<double>(image.pixels.size());
     return difference;
+}
+
+BlockAgreement compareBlocks(const Image& image, const Image& reference, int block, double relativeTolerance,
+                             double absoluteFloor) {
+    if (image.width != reference.width || image.height != reference.height) {
+        throw std::invalid_argument("compareBlocks: sizes differ");
+    }
+    if (block < 1) throw std::invalid_argument("compareBlocks: the block size must be positive");
+    BlockAgreement agreement;
+    int within = 0;
+    for (int by = 0; by + block <= image.height; by += block) {
+        for (int bx = 0; bx + block <= image.width; bx += block) {
+            glm::dvec3 a(0.0), b(0.0);
+            for (int y = by; y < by + block; ++y) {
+                for (int x = bx; x < bx + block; ++x) {
+                    a += glm::dvec3(image.at(x, y));
+                    b += glm::dvec3(reference.at(x, y));
+                }
+            }
+            a /= static_cast<double>(block * block);
+            b /= static_cast<double>(block * block);
+            bool blockWithin = true;
+            for (int c = 0; c < 3; ++c) {
+                const double difference = std::abs(a[c] - b[c]);
+                agreement.worstBlock = std::max(agreement.worstBlock, difference / (std::abs(b[c]) + absoluteFloor));
+                if (!(difference <= relativeTolerance * std::abs(b[c]) + absoluteFloor)) blockWithin = false;
+            }
+            within += blockWithin ? 1 : 0;
+            ++agreement.blocks;
+        }
+    }
+    agreement.fractionWithin = agreement.blocks > 0 ? static_cast<double>(within) / agreement.blocks : 0.0;
+    glm::dvec3 sumImage(0.0), sumReference(0.0);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        sumImage += glm::dvec3(image.pixels[i]);
+        sumReference += glm::dvec3(reference.pixels[i]);
+    }
+    for (int c = 0; c < 3; ++c) agreement.meanRatio[c] = sumReference[c] > 0.0 ? sumImage[c] / sumReference[c] : 0.0;
+    return agreement;
 }
 
 }  // namespace vkrt

@@ -18,4 +18,18 @@ struct ImageDifference {
 ImageDifference compareImages(const Image& image, const Image& reference, double relativeTolerance = 0.01,
                               double absoluteFloor = 1e-3);
 
+// How two renders of the same scene by different renderers agree at the scale of their structure rather than
+// their noise: the means of `block` x `block` squares of pixels, and of each channel over the whole image.
+struct BlockAgreement {
+    int blocks = 0;
+    double fractionWithin = 0.0;   // blocks whose every channel mean is within the tolerance
+    double worstBlock = 0.0;       // the largest relative difference of a block's channel mean
+    glm::dvec3 meanRatio{1.0};     // image / reference, per channel mean over the whole image
+};
+
+// Compares `image` against `reference` (same size; partial blocks at the right and bottom edges are left out).
+// A block's channel is within when |a - b| <= relativeTolerance * b + absoluteFloor.
+BlockAgreement compareBlocks(const Image& image, const Image& reference, int block, double relativeTolerance,
+                             double absoluteFloor = 1e-3);
+
 }  // namespace vkrt

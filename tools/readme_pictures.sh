@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Renders every picture in the README with the command the README shows beside it (the CPU reference; the GPU
+# renders the same images, as the tests check). Usage: [VKRT=build/vkrt] tools/readme_pictures.sh [OUT_DIR]
+# (default docs/images); the gallery of third-party assets needs ../shared/scenes-real and is skipped without it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-docs/images}
+mkdir -p "$out/gallery"
+binary=${VKRT:-build/vkrt}
+vkrt() { nice "$binary" --device cpu --quiet "$@"; }
+sky=(--background 0.35,0.55,0.9)
+
+# The Cornell box, path traced (the default) and by Whitted's integrator with its ambient term.
+vkrt --scene scenes/cornell.gltf --width 512 --spp 1024 --out "$out/cornell-cpu.png"
+vkrt --scene scenes/cornell.gltf --width 512 --spp 64 --integrator whitted --out "$out/cornell-whitted-cpu.png"
+
+vkrt --scene scenes/whitted.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/whitted-cpu.png"
+vkrt --scene scenes/lights.gltf --width 512 --spp 256 --out "$out/lights-cpu.png"
+vkrt --scene scenes/dof.gltf --width 512 --spp 256 --out "$out/dof-cpu.png"
+vkrt --scene scenes/glossy.gltf --width 512 --spp 256 --light-samples 2 --out "$out/glossy-cpu.png"
+vkrt --scene scenes/motion-blur.gltf --width 512 --spp 256 --out "$out/motion-blur-cpu.png"
+vkrt --scene scenes/textures.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/textures-cpu.png"
+vkrt --scene scenes/environment.gltf --width 512 --spp 256 --environment scenes/sky.hdr \
+    --environment-rotation 40 --environment-strength 1.5 --out "$out/environment-cpu.png"
+vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
+
+real=../shared/scenes-real
+if [ -d "$real" ]; then
+    asset() { vkrt --scene "$real/$1" --width 320 --height 320 --spp 256 --environment scenes/sky.hdr --out "$out/gallery/$2"; }
+    asset khronos-NormalTangentTest/glTF/NormalTangentTest.gltf normal-tangent-test-cpu.png
+    asset khronos-Avocado/glTF/Avocado.gltf avocado-cpu.png
+    asset khronos-TransmissionRoughnessTest/TransmissionRoughnessTest.glb transmission-roughness-test-cpu.png
+else
+    echo "readme_pictures: $real is missing; the gallery is not rendered" >&2
+fi
