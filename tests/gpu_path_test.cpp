@@ -1,13 +1,12 @@
 // The path integrator against closed forms, on the GPU and the CPU reference alike: an enclosure whose walls
 // all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, and paths deeper than the Whitted limit
 // render.
-#include <algorithm>
 #include <cmath>
 #include <string>
-#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "image/image_metrics.h"
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
@@ -33,19 +32,15 @@ void addInwardCube(Scene& scene) {
     addFlatQuad(scene, c[3], c[2], c[6], c[7], 0);  // y = +1, facing -y
 }
 
-// The mean of every `block` x `block` square of pixels (red channel; the scenes here are grey).
-std::vector<double> blockMeans(const Image& image, int block) {
-    std::vector<double> means;
-    for (int by = 0; by + block <= image.height; by += block) {
-        for (int bx = 0; bx + block <= image.width; bx += block) {
-            double sum = 0.0;
-            for (int y = by; y < by + block; ++y) {
-                for (int x = bx; x < bx + block; ++x) sum += image.at(x, y).x;
-            }
-            means.push_back(sum / (block * block));
-        }
-    }
-    return means;
+// The cube [-1, 1]^3 seen from inside, its walls Lambertian of albedo `albedo` and emitting radiance 1.
+Scene glowingCube(float albedo) {
+    Scene scene;
+    Material wall = test::lambertian(albedo);
+    wall.emission = glm::vec3(1.0f);
+    scene.materials.push_back(wall);
+    addInwardCube(scene);
+    finalizeScene(scene);
+    return scene;
 }
 
 TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
@@ -53,12 +48,7 @@ TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
     // 1 / (1 - A) everywhere, 2 for A = 0.5 and 5 for A = 0.8. Light samples, cosine-sampled bounces, their
     // multiple importance sampling and Russian roulette all take part; any bias shows as a wrong level.
     for (const float albedo : {0.5f, 0.8f}) {
-        Scene scene;
-        Material wall = test::lambertian(albedo);
-        wall.emission = glm::vec3(1.0f);
-        scene.materials.push_back(wall);
-        addInwardCube(scene);
-        finalizeScene(scene);
+        const Scene scene = glowingCube(albedo);
         const FlatBvh bvh = bvhFor(scene);
         Camera camera;
         camera.position = {0.2, -0.1, 0.3};
@@ -74,17 +64,16 @@ TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
         settings.samplesPerPixel = 64;
         const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
         const double expected = 1.0 / (1.0 - albedo);
+        Image exact(settings.width, settings.height);
+        for (glm::vec3& p : exact.pixels) p = glm::vec3(static_cast<float>(expected));
         for (const RenderResult* result : {&gpu, &cpu}) {
             const std::string which = std::string(result == &gpu ? "gpu" : "cpu") + ", albedo " + std::to_string(albedo);
             EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
-            const std::vector<double> blocks = blockMeans(result->image, 8);
-            double sum = 0.0;
-            for (const double b : blocks) {
-                EXPECT_NEAR(b, expected, 0.02 * expected) << which;
-                sum += b;
-            }
-            EXPECT_NEAR(sum / blocks.size(), expected, 0.005 * expected) << which;
-            // Paths went far beyond Whitted's depth: at A = 0.8 one in 5 survives each bounce on average.
+            const BlockAgreement agreement = compareBlocks(result->image, exact, 8, 0.02, 0.0);
+            EXPECT_EQ(agreement.fractionWithin, 1.0) << which << ": worst block off by " << agreement.worstBlock;
+            EXPECT_NEAR(agreement.meanRatio.x, 1.0, 0.005) << which;
+            // Paths went far beyond Whitted's depth: at A = 0.8 Russian roulette continues them with probability
+            // about 0.8 per bounce.
             EXPECT_GT(result->rays.secondary, 3 * result->rays.primary) << which;
         }
     }
@@ -94,13 +83,8 @@ TEST_F(Gpu, PathsStopAtTheMaximumDepth) {
     // Paths of at most D bounces (before Russian roulette starts) see the first D + 2 terms of the series,
     // 1 + A + ... + A^(D+1): every hit's emission, and at the last hit a light sample, which takes full weight
     // there since no bounce follows it. An unweighted or doubly weighted term would show.
-    Scene scene;
     const float albedo = 0.5f;
-    Material wall = test::lambertian(albedo);
-    wall.emission = glm::vec3(1.0f);
-    scene.materials.push_back(wall);
-    addInwardCube(scene);
-    finalizeScene(scene);
+    const Scene scene = glowingCube(albedo);
     const FlatBvh bvh = bvhFor(scene);
     Camera camera;
     camera.yfov = 1.0;
