@@ -1,12 +1,14 @@
 // The path integrator against closed forms, on the GPU and the CPU reference alike: an enclosure whose walls
-// all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, and paths deeper than the Whitted limit
-// render.
+// all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, depth D sums D + 2 terms of that series,
+// and a Lambertian sphere in a white furnace shows its albedo.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "image/image_metrics.h"
+#include "scene/environment_map.h"
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
@@ -104,6 +106,40 @@ TEST_F(Gpu, PathsStopAtTheMaximumDepth) {
             EXPECT_NEAR(sum / result->image.pixels.size(), expected, 0.015 * expected)
                 << (result == &gpu ? "gpu" : "cpu") << ", depth " << depth;
         }
+    }
+}
+
+TEST_F(Gpu, PathsInAWhiteFurnaceShowTheAlbedo) {
+    // A Lambertian sphere of albedo 0.6 in a uniform environment of radiance 1: light samples of the
+    // environment and cosine-sampled bounces that leave into it, weighed by MIS, sum to the albedo exactly (a
+    // convex surface sees only the environment).
+    Scene scene;
+    scene.materials.push_back(test::lambertian(0.6f));
+    scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+    scene.environment = makeEnvironmentMap("white", 8, 4, std::vector<glm::vec3>(32, glm::vec3(1.0f)), 0.0, 1.0);
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0};
+    camera.xmag = camera.ymag = 1.0;  // the sphere fills the film's inscribed disk
+    RenderSettings settings;
+    settings.integrator = Integrator::Path;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 64;
+    const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    for (const RenderResult* result : {&gpu, &cpu}) {
+        double sum = 0.0;
+        int count = 0;
+        for (int y = 0; y < settings.height; ++y) {
+            for (int x = 0; x < settings.width; ++x) {
+                const glm::dvec2 film((x + 0.5) / 12.0 - 1.0, (y + 0.5) / 12.0 - 1.0);
+                if (glm::length(film) > 0.9) continue;  // the silhouette's pixels see the environment too
+                sum += result->image.at(x, y).x;
+                ++count;
+            }
+        }
+        EXPECT_NEAR(sum / count, 0.6, 0.006) << (result == &gpu ? "gpu" : "cpu");
     }
 }
 
