@@ -253,13 +253,26 @@ VKRT_FN real cosinePdf(real3 normal, real3 toLight) {
     return max(dot(normal, toLight), 0.0) / VKRT_PI;
 }
 
+// What reaches a shading point along a shadow ray of length `distance` that `visible` of the light passes:
+// for paths, whose shadow rays stop at transmissive surfaces and so never leave the volume they start in
+// (`media`), less what that volume absorbs on the way.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real3 shadowed(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uvec2 media, real3 visible, real distance) {
+#ifdef VKRT_HAS_VOLUMES
+    if (context.paths) return visible * absorptionAlong(VKRT_DEVICE_ARG media, distance);
+#endif
+    return visible;
+}
+
 // Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
 // emissive primitive chosen by power, reflected towards the viewer by `surface`; `node` is the ray-tree node
-// whose random dimensions the light samples use. `lobeSampled`: the glossy lobe is also traced;
-// `untracedSampled`: so are the other lobes (paths); light samples weigh each against them by the power heuristic.
+// whose random dimensions the light samples use, `media` the volumes the viewer's side is in. `lobeSampled`:
+// the glossy lobe is also traced; `untracedSampled`: so are the other lobes (paths); light samples weigh each
+// against them by the power heuristic.
 VKRT_DEVICE_TEMPLATE
-VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
-                          VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled) {
+VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, uvec2 media,
+                          VKRT_IN(ShadingFrame) frame, VKRT_IN(SurfaceResponse) surface, bool lobeSampled,
+                          bool untracedSampled) {
     const real3 point = frame.position, origin = frame.viewerSide, normal = frame.normal;
     const real3 toViewer = frame.toViewer;
     const uint exclude = frame.excludeOnViewerSide;
@@ -272,8 +285,10 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             maxComponent(arrival.irradiance) <= 0.0) {
             continue;
         }
-        const real3 visible =
-            VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE);
+        const real3 visible = shadowed(
+            VKRT_DEVICE_ARG context, media,
+            VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE),
+            arrival.distance);
         sum += reflectedLight(surface, normal, frame.coatNormal, toViewer, arrival.toLight,
                               arrival.irradiance * visible, 1.0, 1.0);
     }
@@ -295,8 +310,11 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             real cosLight = -dot(light.normal, toLight);
             if (emitter.doubleSided) cosLight = abs(cosLight);
             if (!(cosLight > 0.0) || !facesLight(frame, toLight)) continue;
-            const real3 visible = VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance),
-                                                                  exclude, light.primitive);
+            const real3 visible = shadowed(
+                VKRT_DEVICE_ARG context, media,
+                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance), exclude,
+                                                 light.primitive),
+                distance);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
             real3 irradiance =
                 textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv, 0.0) *
@@ -335,8 +353,10 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
                                                               stratified(context, dimension, 1u));
             const real3 toLight = light.direction;
             if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) continue;
-            const real3 visible =
-                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE);
+            const real3 visible = shadowed(
+                VKRT_DEVICE_ARG context, media,
+                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE),
+                VKRT_INFINITY);
             // Weighed against the traced lobes by the power heuristic, as the area lights are.
             real weight = 1.0, untracedWeight = 1.0;
             if (context.multipleImportanceSampling) {
@@ -455,7 +475,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     const bool continues = ray.depth < context.maxDepth;
     const bool lobeSampled = continues && ((surface.traced && !surface.mirror) || (surface.coatTraced && !surface.coatMirror));
     const bool untracedSampled = continues && context.paths;
-    local += directLight(VKRT_DEVICE_ARG context, ray.node, frame, surface, lobeSampled, untracedSampled);
+    local += directLight(VKRT_DEVICE_ARG context, ray.node, ray.media, frame, surface, lobeSampled, untracedSampled);
     result.radiance = local;
     // Whitted cuts branches that would add little; a path goes on until Russian roulette ends it (continuePath).
     const real cut = context.paths ? 0.0 : context.minThroughput;

@@ -345,9 +345,11 @@ VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real 
 }
 
 // The fraction of light a surface lets through a shadow ray: all of it where the surface is missing (alpha),
-// and where it covers the point, what its transmission lets through (shadow rays do not refract).
-VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs) {
-    const real3 transmitted = (1.0 - inputs.metallic) * inputs.transmission * inputs.albedo;
+// and where it covers the point, what its transmission lets through (shadow rays do not refract), unless
+// `transmissionBlocks`: the path integrator's shadow rays stop at transmissive surfaces, since its paths
+// already bring the light through them by following their transmission (counting it both ways would double it).
+VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
+    const real3 transmitted = transmissionBlocks ? real3(0.0) : (1.0 - inputs.metallic) * inputs.transmission * inputs.albedo;
     return (1.0 - inputs.coverage) + inputs.coverage * transmitted;
 }
 

@@ -35,12 +35,19 @@ float searchLimit(Hit hit, float tMax, const int mode) {
     return min(tMax, hit.t * (1.0 + float(VKRT_TIE_EPSILON)));
 }
 
+// The path integrator's shadow rays stop at transmissive surfaces (surface_response.h's shadowTint).
+#ifdef VKRT_PATHS
+const bool vkrtTransmissionBlocksShadows = true;
+#else
+const bool vkrtTransmissionBlocksShadows = false;
+#endif
+
 // Multiplies `transmittance` by the transmission of a surface crossed at barycentrics / texture
 // coordinates (u, v); true when it is now opaque.
 bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
 #if defined(VKRT_HAS_TRANSMISSION) || defined(VKRT_HAS_ALPHA)
     const SurfaceMaterial material = device_material(device_materialOf(primitive));
-    transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0));
+    transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
     if (maxComponent(transmittance) > 0.0) return false;
 #endif
     transmittance = vec3(0.0);  // opaque

@@ -143,5 +143,55 @@ TEST_F(Gpu, PathsInAWhiteFurnaceShowTheAlbedo) {
     }
 }
 
+TEST_F(Gpu, PathsCountLightThroughGlassOnce) {
+    // A Lambertian floor under a glowing ceiling, seen through a thin pane that transmits everything (index 1:
+    // no Fresnel reflection): the floor must look as it does without the pane. Light reaches it through the
+    // pane along the paths that follow the pane's transmission; were shadow rays let through too, that light
+    // would count twice.
+    auto render = [&](bool pane) {
+        Scene scene;
+        scene.materials.push_back(test::lambertian(0.5f));
+        Material glow = test::lambertian(0.0f);
+        glow.emission = glm::vec3(1.0f);
+        scene.materials.push_back(glow);
+        addFlatQuad(scene, {-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}, 0);  // the floor, facing +z
+        addFlatQuad(scene, {-4, -4, 2}, {-4, 4, 2}, {4, 4, 2}, {4, -4, 2}, 1);  // the ceiling, facing -z
+        if (pane) {
+            Material glass = test::lambertian(1.0f);
+            glass.transmission = 1.0f;
+            glass.ior = 1.0f;
+            glass.roughness = 0.0f;
+            glass.specularFactor = 1.0f;
+            scene.materials.push_back(glass);
+            addFlatQuad(scene, {-4, -4, 1}, {4, -4, 1}, {4, 4, 1}, {-4, 4, 1}, 2);
+        }
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera;
+        camera.projection = Projection::Orthographic;
+        camera.position = {0.0, 0.0, 1.5};
+        camera.forward = {0.0, 0.0, -1.0};
+        camera.up = {0.0, 1.0, 0.0};
+        camera.right = {1.0, 0.0, 0.0};
+        camera.xmag = camera.ymag = 0.5;
+        RenderSettings settings;
+        settings.integrator = Integrator::Path;
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 256;
+        return test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    };
+    const auto open = render(false), glazed = render(true);
+    auto mean = [](const Image& image) {
+        double sum = 0.0;
+        for (const glm::vec3& p : image.pixels) sum += p.x;
+        return sum / static_cast<double>(image.pixels.size());
+    };
+    for (const bool gpu : {true, false}) {
+        const double without = mean((gpu ? open.gpu : open.cpu).image), with = mean((gpu ? glazed.gpu : glazed.cpu).image);
+        EXPECT_GT(without, 0.3) << "the ceiling lights the floor";
+        EXPECT_NEAR(with, without, 0.02 * without) << (gpu ? "gpu" : "cpu");
+    }
+}
+
 }  // namespace
 }  // namespace vkrt

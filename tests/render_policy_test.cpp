@@ -116,6 +116,9 @@ TEST(RenderPolicy, PathsTakeAnAskedAmbientAsAUniformEnvironment) {
     RenderRequest request;
     request.ambient = glm::dvec3(0.5);
     EXPECT_FALSE(addNeutralEnvironment(request, mapped));
+    const RenderSetup setup = resolveRender(request, mapped);
+    ASSERT_EQ(setup.warnings.size(), 1u);
+    EXPECT_NE(setup.warnings[0].find("--ambient is Whitted's"), std::string::npos) << setup.warnings[0];
 }
 
 TEST(RenderPolicy, AskedAmbientWinsWithoutAWarning) {

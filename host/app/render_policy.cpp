@@ -73,8 +73,11 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
                            : lit                       ? kLitSceneAmbient
                                                        : kUnlitSceneAmbient;
     settings.ambient = paths ? glm::dvec3(0.0) : request.ambient.value_or(glm::dvec3(ambient));
-    if (scene.environment.neutral && paths && request.ambient) {
-        // The uniform environment addNeutralEnvironment made of the ambient radiance: nothing to warn about.
+    if (paths && request.ambient) {
+        // addNeutralEnvironment made a uniform environment of it, unless a map was given.
+        if (scene.environment.present() && !scene.environment.neutral) {
+            setup.warnings.push_back("--ambient is Whitted's; paths under an environment map are lit by the map alone");
+        }
     } else if (scene.environment.neutral) {
         setup.warnings.push_back(
             "the scene has no lights; a neutral environment (uniform radiance 1) lights it (--environment FILE "

@@ -90,7 +90,8 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
     auto cross = [&](uint32_t primitive, glm::dvec2 hitUv) {
         const shading::SurfaceMaterial& material = data_.materials[scene.materialOf(primitive)];
-        result *= shading::shadowTint(shading::sampleMaterial(*this, material, primitive, hitUv, 0.0));
+        result *= shading::shadowTint(shading::sampleMaterial(*this, material, primitive, hitUv, 0.0),
+                                      data_.transmissionBlocksShadows);
     };
     traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
         if (primitive == excludeA || primitive == excludeB) return false;

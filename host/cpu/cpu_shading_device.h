@@ -31,6 +31,7 @@ struct CpuShadingScene {
     LightTable lights;
     EnvironmentTables environment;
     const std::vector<float>* sheenTable = nullptr;  // with a sheen material (sheen.h)
+    bool transmissionBlocksShadows = false;          // the path integrator's shadow rays (shadowTint)
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.

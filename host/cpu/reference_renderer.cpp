@@ -28,7 +28,9 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       bvh_(bvh),
       settings_(settings),
       shadingScene_(scene, bvh),
-      camera_(cameraFrame(camera, settings.width, settings.height)) {}
+      camera_(cameraFrame(camera, settings.width, settings.height)) {
+    shadingScene_.transmissionBlocksShadows = settings.integrator == Integrator::Path;
+}
 
 double ReferenceRenderer::shutterTime(uint32_t pixel, uint32_t sample) const {
     return scene_.moving() ? vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_TIME, 0) : 0.0;

@@ -19,10 +19,11 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
 }
 
 // At most this many samples per pixel in one dispatch: llvmpipe cuts off an invocation's loops after 65535
-// iterations in total, so one invocation must not trace too many. A path's samples can bounce up to
-// --max-depth times, each bounce a BVH walk and its shadow rays, so paths take fewer per dispatch.
+// iterations in total, so one invocation must not trace too many. A path can bounce up to --max-depth times,
+// each bounce a BVH walk and its shadow rays, so a path has an invocation to itself: a long path cut short
+// would be dropped (and counted), and dropping long paths more often than short ones would bias the image.
 constexpr uint32_t kMaxSamplesPerDispatch = 16;
-constexpr uint32_t kMaxPathSamplesPerDispatch = 4;
+constexpr uint32_t kMaxPathSamplesPerDispatch = 1;
 
 const SceneFeatures kAllFeatures = SceneFeatures::all();
 
