@@ -147,6 +147,17 @@ void expectLit(const Scene& scene, const char* by) {
     EXPECT_TRUE(setup.warnings.empty()) << by;
 }
 
+TEST(RenderPolicy, UnlitEmissiveMaterialLightsNothing) {
+    // KHR_materials_unlit shows the base colour and ignores emission: such a surface is no light, else light
+    // samples would find light that rays hitting it never see.
+    Scene scene = darkSquare();
+    scene.materials[0].emission = glm::vec3(5.0f);
+    scene.materials[0].unlit = true;
+    finalizeScene(scene);
+    EXPECT_TRUE(scene.emissiveTriangles.empty());
+    EXPECT_FALSE(sceneHasLights(scene));
+}
+
 TEST(RenderPolicy, PunctualLightLightsTheScene) {
     Scene scene = darkSquare();
     PunctualLight light;

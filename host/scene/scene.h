@@ -157,7 +157,8 @@ struct Material {
     float attenuationDistance = std::numeric_limits<float>::infinity();
     bool doubleSided = false;
 
-    bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+    // Emits light (an unlit material shows its base colour instead, and lights nothing).
+    bool emissive() const { return !unlit && (emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f); }
     // Every texture slot.
     std::array<const TextureSlot*, 13> textureSlots() const {
         return {&baseColorTexture,          &metallicRoughnessTexture, &emissiveTexture,
