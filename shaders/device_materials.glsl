@@ -60,6 +60,13 @@ vec4 device_vertexColor(uint primitive, vec2 hitUv) {
 float device_sheenTable(uint entry) { return params.sheenTable.values[entry]; }
 #endif
 
+#ifdef VKRT_HAS_ROUGH_SPECULAR
+float device_ggxAlbedoTable(uint entry) { return params.ggxAlbedoTable.values[entry]; }
+#ifdef VKRT_HAS_VOLUMES
+float device_ggxDielectricAlbedoTable(uint entry) { return params.ggxDielectricAlbedoTable.values[entry]; }
+#endif
+#endif
+
 #include "surface_response.h"
 
 SurfaceMaterial device_material(uint index) {

@@ -44,6 +44,7 @@ struct ShadingContext {
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
     uint lightSamples;   // area-light samples per shading point
     bool multipleImportanceSampling;
+    bool energyCompensation;   // GGX lobes make up for what single scattering loses (energy_compensation.h)
     uint seed;
     uint pixel;
     uint sampleIndex;
@@ -457,6 +458,24 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(surface.sheenColor) > 0.0) addSheen(VKRT_DEVICE_ARG surface, inputs.sheenRoughness, dot(normal, toViewer));
 #endif
+    // A volume is entered through its front face and left through its back face, from the medium the ray is in
+    // into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the same from both sides.
+    bool volume = false;
+    uvec2 beyond = ray.media;
+    real eta = surface.ior;
+#ifdef VKRT_HAS_VOLUMES
+    volume = material.volume && surface.transmission > 0.0;
+    if (volume) {
+        beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
+        eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
+    }
+#endif
+#ifdef VKRT_HAS_ROUGH_SPECULAR
+    if (context.energyCompensation) {
+        addEnergyCompensation(VKRT_DEVICE_ARG surface, inputs.transmission, dot(normal, toViewer),
+                              dot(frame.coatNormal, toViewer), eta, volume);
+    }
+#endif
     // Ambient light reaches the diffuse part, and the specular part where it is not traced, as much as the
     // material's occlusion lets it; a coat lets through what it does not reflect, and reflects its share where
     // it is not traced.
@@ -504,18 +523,6 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     }
     if (!continues || !(surface.traced || surface.coatTraced)) return result;
 
-    // A volume is entered through its front face and left through its back face, from the medium the ray is in
-    // into the one beyond (nested dielectrics); thin-walled and opaque surfaces look the same from both sides.
-    bool volume = false;
-    uvec2 beyond = ray.media;
-    real eta = surface.ior;
-#ifdef VKRT_HAS_VOLUMES
-    volume = material.volume && surface.transmission > 0.0;
-    if (volume) {
-        beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
-        eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
-    }
-#endif
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
     const real3 microNormal = surface.mirror ? normal
@@ -523,9 +530,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                                                   normal, toViewer, surface.alpha);
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
-    // Reflection: Fresnel, times G2 / G1 for a sampled visible normal (Heitz 2018, eq. 19).
+    // Reflection: Fresnel (energy compensated), times G2 / G1 for a sampled visible normal (Heitz 2018,
+    // eq. 19).
     real3 reflected = reflectAbout(toViewer, microNormal);
-    real3 reflectWeight = fresnelAt(surface, cosMicro, eta);
+    real3 reflectWeight = compensatedFresnelAt(surface, cosMicro, eta);
     real reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
     if (!surface.mirror) {
         const real cosIn = dot(normal, reflected);
@@ -552,7 +560,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                    : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
                                                         toViewer, surface.coatAlpha);
             reflected = reflectAbout(toViewer, coatMicro);
-            real weight = surface.clearcoat * coatFresnel(cosCoat) / pick;
+            real weight = surface.clearcoat * coatFresnel(cosCoat) * surface.coatCompensation / pick;
             if (!surface.coatMirror) {
                 const real cosIn = dot(coatNormal, reflected);
                 const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
@@ -591,7 +599,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (passes && volume && !surface.mirror) {
         const real cosIn = dot(normal, direction);
         passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
-        if (passes) transmitWeight *= ggxG2(cosOut, -cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha);
+        if (passes) {
+            transmitWeight *= surface.transmissionCompensation * ggxG2(cosOut, -cosIn, surface.alpha) /
+                              ggxG1(cosOut, surface.alpha);
+        }
     }
     if (passes && maxComponent(pathThroughput * transmitWeight) >= cut) {
         result.transmits = true;

@@ -337,6 +337,14 @@ struct SceneParams {
     float environmentCosRotation;  // the map's rotation about +Y
     float environmentSinRotation;
     VKRT_ADDRESS(FloatBuffer, sheenTable);          // with VKRT_HAS_SHEEN: sheen.h's albedo table
+    // With VKRT_HAS_ROUGH_SPECULAR: energy_compensation.h's tables, the dielectric's only where a rough lobe
+    // refracts.
+    VKRT_ADDRESS(FloatBuffer, ggxAlbedoTable);
+    VKRT_ADDRESS(FloatBuffer, ggxDielectricAlbedoTable);
+    uint energyCompensation;  // 1: the GGX lobes make up for single scattering's loss; 0: they do not
+    uint unused0;
+    uint unused1;
+    uint unused2;
 };
 
 // Per dispatch: which samples of which rows.
@@ -388,7 +396,9 @@ static_assert(offsetof(SceneParams, tangents) == 160 + 14 * 8);
 static_assert(offsetof(SceneParams, environmentTexels) == 160 + 15 * 8);
 static_assert(offsetof(SceneParams, environmentWidth) == 160 + 17 * 8);
 static_assert(offsetof(SceneParams, sheenTable) == 312);
-static_assert(sizeof(SceneParams) == 320);
+static_assert(offsetof(SceneParams, ggxDielectricAlbedoTable) == 328);
+static_assert(offsetof(SceneParams, energyCompensation) == 336);
+static_assert(sizeof(SceneParams) == 352);
 static_assert(sizeof(GpuEnvironmentTexel) == 16 && offsetof(GpuEnvironmentTexel, columnCdf) == 12);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 16);

@@ -5,6 +5,7 @@
 #ifndef VKRT_SURFACE_RESPONSE_H
 #define VKRT_SURFACE_RESPONSE_H
 
+#include "energy_compensation.h"
 #include "microfacet.h"
 #include "optics.h"
 #include "shading_language.h"
@@ -255,6 +256,12 @@ struct SurfaceResponse {
     real sheenAlpha;      // its Charlie width
     real sheenScaling;    // what the sheen lets through to the layers below: 1 - max(sheenColor) E(mu_view)
     real sheenAlbedo;     // E(mu_view): the sheen's directional albedo towards the viewer
+    // The energy compensation of the GGX lobes (energy_compensation.h; addEnergyCompensation sets them where
+    // the viewer is known, 1 without):
+    real3 metalCompensation;        // the metal's reflection: 1 + F0 (1 - E) / E, F0 the base colour
+    real3 dielectricCompensation;   // the dielectric's: 1 + F0 (1 - E) / E, 1 / E_eta where it refracts
+    real transmissionCompensation;  // its refraction: 1 / E_eta (1 for thin walls, which pass light straight)
+    real coatCompensation;          // the coat's lobe: 1 + 0.04 (1 - E) / E
 };
 
 VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
@@ -282,6 +289,10 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.sheenAlpha = sheenAlpha(inputs.sheenRoughness);
     s.sheenScaling = 1.0;  // addSheen() sets these two where the viewer is known
     s.sheenAlbedo = 0.0;
+    s.metalCompensation = real3(1.0);
+    s.dielectricCompensation = real3(1.0);
+    s.transmissionCompensation = 1.0;
+    s.coatCompensation = 1.0;
     return s;
 }
 
@@ -315,7 +326,7 @@ VKRT_FN real coatBrdf(VKRT_IN(SurfaceResponse) s, real3 coatNormal, real3 toView
     const real cosOut = dot(coatNormal, toViewer), cosIn = dot(coatNormal, toLight);
     if (!(s.clearcoat > 0.0) || s.coatMirror || cosOut <= 0.0 || cosIn <= 0.0) return 0.0;
     const real3 halfway = normalize(toViewer + toLight);
-    return s.clearcoat * coatFresnel(cosOut) * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
+    return s.clearcoat * coatFresnel(cosOut) * s.coatCompensation * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
            ggxG2(cosOut, cosIn, s.coatAlpha) / (4.0 * cosOut * cosIn);
 }
 
@@ -358,15 +369,55 @@ VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
     return (1.0 - s.metallic) * dielectricReflectance(s, cosH, eta) + s.metallic * fresnelSchlick(s.albedo, cosH);
 }
 
-// The specular lobe for light from `toLight`: F D G2 / (4 cos_o cos_i); zero for a mirror (a delta lobe meets
-// a light of zero size with probability zero, and area lights reach mirrors through traced rays).
+// fresnelAt with each part's energy compensation: the specular lobe's reflection, traced or lit.
+VKRT_FN real3 compensatedFresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
+    return (1.0 - s.metallic) * dielectricReflectance(s, cosH, eta) * s.dielectricCompensation +
+           s.metallic * fresnelSchlick(s.albedo, cosH) * s.metalCompensation;
+}
+
+// The specular lobe for light from `toLight`: F D G2 / (4 cos_o cos_i), energy compensated; zero for a
+// mirror (a delta lobe meets a light of zero size with probability zero, and area lights reach mirrors
+// through traced rays).
 VKRT_FN real3 specularBrdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toViewer, real3 toLight) {
     const real cosOut = dot(normal, toViewer), cosIn = dot(normal, toLight);
     if (s.mirror || cosOut <= 0.0 || cosIn <= 0.0) return real3(0.0);
     const real3 halfway = normalize(toViewer + toLight);
-    return fresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(dot(normal, halfway), s.alpha) *
+    return compensatedFresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(dot(normal, halfway), s.alpha) *
            ggxG2(cosOut, cosIn, s.alpha) / (4.0 * cosOut * cosIn);
 }
+
+#ifdef VKRT_HAS_ROUGH_SPECULAR
+// The energy compensation of the GGX lobes (energy_compensation.h) for a viewer at cosine cosView from the
+// normal and cosCoatView from the coat's; `transmission` is the dielectric's transmission factor and `eta`
+// the relative index across the interface, read when `refracts` (a volume: light refracts through the
+// microfacets; a thin wall passes it straight and loses none there). The material is a blend of a metal
+// (weight m), a refracting dielectric ((1 - m) t) and an opaque one ((1 - m) (1 - t)), each compensated as
+// its own. Mirrors lose nothing and keep 1.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN void addEnergyCompensation(VKRT_DEVICE_PARAM VKRT_INOUT(SurfaceResponse) s, real transmission,
+                                   real cosView, real cosCoatView, real eta, bool refracts) {
+    if (!s.mirror && (maxComponent(s.specular) > 0.0 || s.transmission > 0.0)) {
+        const real roughness = sqrt(s.alpha);
+        const real loss = 1.0 / ggxAlbedo(VKRT_DEVICE_ARG cosView, roughness) - 1.0;  // (1 - E) / E
+        s.metalCompensation = real3(1.0) + s.albedo * loss;
+        const real3 opaqueF0 = min(dielectricF0(s.ior) * s.specularTint, real3(1.0)) * s.specularWeight;
+        s.dielectricCompensation = real3(1.0) + opaqueF0 * loss;
+#ifdef VKRT_HAS_VOLUMES
+        if (refracts) {
+            s.transmissionCompensation = 1.0 / ggxDielectricAlbedo(VKRT_DEVICE_ARG cosView, roughness, eta);
+            s.dielectricCompensation =
+                mix(s.dielectricCompensation, real3(s.transmissionCompensation), transmission);
+        }
+#endif
+    }
+#ifdef VKRT_HAS_CLEARCOAT
+    if (s.clearcoat > 0.0 && !s.coatMirror) {
+        s.coatCompensation =
+            1.0 + VKRT_CLEARCOAT_F0 * (1.0 / ggxAlbedo(VKRT_DEVICE_ARG cosCoatView, sqrt(s.coatAlpha)) - 1.0);
+    }
+#endif
+}
+#endif
 
 // Density with which the traced lobes would have chosen `toLight` (0 when none is traced): the base's, and the
 // coat's (about `coatNormal`) with the probability coatPick gives it.

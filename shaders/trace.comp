@@ -260,6 +260,7 @@ void main() {
     context.maxDepth = int(params.maxDepth);
     context.lightSamples = params.lightSamples;
     context.multipleImportanceSampling = params.multipleImportanceSampling != 0u;
+    context.energyCompensation = params.energyCompensation != 0u;
     context.seed = seed;
     context.pixel = pixel;
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;

@@ -16,6 +16,11 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
     if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.hasSheen(); }))
         sheenTable = &sheenAlbedoTable();
+    // Likewise the albedo tables of the rough GGX lobes.
+    if (std::any_of(scene.materials.begin(), scene.materials.end(), hasRoughSpecular))
+        ggxAlbedoTable = &vkrt::ggxAlbedoTable();
+    if (std::any_of(scene.materials.begin(), scene.materials.end(), refractsRoughly))
+        ggxDielectricAlbedoTable = &vkrt::ggxDielectricAlbedoTable();
 }
 
 glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {

@@ -10,6 +10,7 @@
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
 #include "scene/environment_map.h"
+#include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
 #include "scene/scene.h"
 #include "scene/sheen_table.h"
@@ -31,6 +32,8 @@ struct CpuShadingScene {
     LightTable lights;
     EnvironmentTables environment;
     const std::vector<float>* sheenTable = nullptr;  // with a sheen material (sheen.h)
+    const std::vector<float>* ggxAlbedoTable = nullptr;  // with a rough GGX lobe (energy_compensation.h)
+    const std::vector<float>* ggxDielectricAlbedoTable = nullptr;  // with a rough refracting one
     bool transmissionBlocksShadows = false;          // the path integrator's shadow rays (shadowTint)
 };
 
@@ -50,6 +53,8 @@ class CpuShadingDevice {
     glm::dvec4 vertexColor(uint32_t primitive, glm::dvec2 hitUv) const;
     double textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const;
     double sheenTable(uint32_t entry) const { return (*data_.sheenTable)[entry]; }
+    double ggxAlbedoTable(uint32_t entry) const { return (*data_.ggxAlbedoTable)[entry]; }
+    double ggxDielectricAlbedoTable(uint32_t entry) const { return (*data_.ggxDielectricAlbedoTable)[entry]; }
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }

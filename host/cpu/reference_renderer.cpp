@@ -51,6 +51,7 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     context.maxDepth = settings_.maxDepth;
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);
     context.multipleImportanceSampling = settings_.multipleImportanceSampling;
+    context.energyCompensation = settings_.energyCompensation;
     context.seed = settings_.seed;
     context.pixel = pixel;
     context.sampleIndex = sample;

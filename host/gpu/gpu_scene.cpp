@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "camera.h"
+#include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
 #include "scene/sheen_table.h"
 #include "scene/shading_inputs.h"
@@ -177,6 +178,15 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         data.environment = environmentMapInfo(scene.environment);
     }
     if (data.features.sheen) data.sheenTable = sheenAlbedoTable();
+    if (data.features.roughSpecular) {
+        data.ggxAlbedoTable = ggxAlbedoTable();
+        // The shader reads the dielectric's table only for a rough volume (a superset of the materials that
+        // refract roughly where their textures lower the factors).
+        if (data.features.volumes &&
+            std::any_of(scene.materials.begin(), scene.materials.end(), refractsRoughly)) {
+            data.ggxDielectricAlbedoTable = ggxDielectricAlbedoTable();
+        }
+    }
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     data.environmentBackdrop = !scene.environment.neutral;
     if (!features) data.features.areaLights = !data.areaLights.empty();
@@ -208,6 +218,8 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
     addresses_.environmentTexels = upload(data.environmentTexels);
     addresses_.environmentRows = upload(data.environmentRows);
     addresses_.sheenTable = upload(data.sheenTable);
+    addresses_.ggxAlbedoTable = upload(data.ggxAlbedoTable);
+    addresses_.ggxDielectricAlbedoTable = upload(data.ggxDielectricAlbedoTable);
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
@@ -227,6 +239,8 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     params.environmentTexels = addresses_.environmentTexels;
     params.environmentRows = addresses_.environmentRows;
     params.sheenTable = addresses_.sheenTable;
+    params.ggxAlbedoTable = addresses_.ggxAlbedoTable;
+    params.ggxDielectricAlbedoTable = addresses_.ggxDielectricAlbedoTable;
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {
@@ -268,6 +282,7 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.samplesPerPixel = static_cast<uint32_t>(settings.samplesPerPixel);
     p.areaLightPower = static_cast<float>(data.areaLightPower);
     p.multipleImportanceSampling = settings.multipleImportanceSampling ? 1u : 0u;
+    p.energyCompensation = settings.energyCompensation ? 1u : 0u;
     p.motionSegments = static_cast<uint32_t>(data.motionSegments);
     p.environmentBackdrop = data.environmentBackdrop ? 1u : 0u;
     p.environmentWidth = data.environment.width;

@@ -22,6 +22,8 @@ struct GpuSceneData {
     std::vector<gpu::GpuTexCoords1> texCoords1;      // only with TEXCOORD_1, leaf order
     std::vector<gpu::GpuTangents> tangents;          // only with normal maps, leaf order
     std::vector<float> sheenTable;                   // only with sheen (sheen.h)
+    std::vector<float> ggxAlbedoTable;               // only with rough GGX lobes (energy_compensation.h)
+    std::vector<float> ggxDielectricAlbedoTable;     // only where one of them refracts
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures

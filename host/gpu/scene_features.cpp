@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "scene/ggx_albedo_tables.h"
+
 namespace vkrt {
 namespace {
 
@@ -30,6 +32,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::clearcoat, "clearcoat", "VKRT_HAS_CLEARCOAT"},
     {&SceneFeatures::environment, "environment", "VKRT_HAS_ENVIRONMENT"},
     {&SceneFeatures::sheen, "sheen", "VKRT_HAS_SHEEN"},
+    {&SceneFeatures::roughSpecular, "rough_specular", "VKRT_HAS_ROUGH_SPECULAR"},
 };
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -94,6 +97,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.unlit |= material.unlit;
         features.clearcoat |= material.clearcoat > 0.0f;
         features.sheen |= material.hasSheen();
+        features.roughSpecular |= hasRoughSpecular(material);
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.
