@@ -1,11 +1,12 @@
 // Energy compensation for single-scattering GGX: a microfacet lobe that scatters light once loses what would
-// scatter between microfacets again (up to 60% for a white metal at roughness 1). Following Turquin,
+// scatter between microfacets again (about 60% for a white metal at roughness 1). Following Turquin,
 // "Practical multiple scattering compensation for microfacet models" (2019), the lobe is scaled, for a viewer
 // at cosine mu, by
 // - a conductor's (and an opaque dielectric's) reflection: 1 + F0 (1 - E(mu)) / E(mu), with E the directional
 //   albedo of the lobe with F = 1 and F0 the reflectance at normal incidence;
 // - a refracting dielectric's reflection and transmission alike: 1 / E_eta(mu), with E_eta the albedo of both
-//   together with the exact Fresnel term at relative index eta (Turquin's section 4).
+//   together with the exact Fresnel term at relative index eta (Turquin's treatment of dielectrics);
+// - the clear coat's lobe: 1 / E(mu), since its Fresnel term is taken at the viewer, outside the integral.
 // Both albedos are integrated once on the host (host/scene/ggx_albedo_tables.cpp) and read by both renderers
 // through VKRT_DEVICE, like the sheen's. docs/materials.md lists what is compensated and what remains.
 #ifndef VKRT_ENERGY_COMPENSATION_H

@@ -261,7 +261,7 @@ struct SurfaceResponse {
     real3 metalCompensation;        // the metal's reflection: 1 + F0 (1 - E) / E, F0 the base colour
     real3 dielectricCompensation;   // the dielectric's: 1 + F0 (1 - E) / E, 1 / E_eta where it refracts
     real transmissionCompensation;  // its refraction: 1 / E_eta (1 for thin walls, which pass light straight)
-    real coatCompensation;          // the coat's lobe: 1 + 0.04 (1 - E) / E
+    real coatCompensation;          // the coat's lobe: 1 / E (its Fresnel term is taken at the viewer)
 };
 
 VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_IN(MaterialSample) inputs) {
@@ -392,7 +392,9 @@ VKRT_FN real3 specularBrdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toVie
 // the relative index across the interface, read when `refracts` (a volume: light refracts through the
 // microfacets; a thin wall passes it straight and loses none there). The material is a blend of a metal
 // (weight m), a refracting dielectric ((1 - m) t) and an opaque one ((1 - m) (1 - t)), each compensated as
-// its own. Mirrors lose nothing and keep 1.
+// its own. The coat's Fresnel term is taken at the viewer, outside the lobe's integral, so its lobe is
+// scaled by 1 / E: it then reflects exactly what it takes from the layers below. Mirrors lose nothing and
+// keep 1.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN void addEnergyCompensation(VKRT_DEVICE_PARAM VKRT_INOUT(SurfaceResponse) s, real transmission,
                                    real cosView, real cosCoatView, real eta, bool refracts) {
@@ -412,8 +414,7 @@ VKRT_FN void addEnergyCompensation(VKRT_DEVICE_PARAM VKRT_INOUT(SurfaceResponse)
     }
 #ifdef VKRT_HAS_CLEARCOAT
     if (s.clearcoat > 0.0 && !s.coatMirror) {
-        s.coatCompensation =
-            1.0 + VKRT_CLEARCOAT_F0 * (1.0 / ggxAlbedo(VKRT_DEVICE_ARG cosCoatView, sqrt(s.coatAlpha)) - 1.0);
+        s.coatCompensation = 1.0 / ggxAlbedo(VKRT_DEVICE_ARG cosCoatView, sqrt(s.coatAlpha));
     }
 #endif
 }

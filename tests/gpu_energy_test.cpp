@@ -32,7 +32,7 @@ using test::Gpu;
 
 constexpr float kRoughnesses[] = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f};
 
-enum class Surface { Metal, Glass };
+enum class Surface { Metal, Glass, Coated };
 
 Material furnaceMaterial(Surface surface, float roughness) {
     Material material;
@@ -40,6 +40,10 @@ Material furnaceMaterial(Surface surface, float roughness) {
     material.roughness = roughness;
     if (surface == Surface::Metal) {
         material.metallic = 1.0f;  // F0 = the white base colour: Schlick's Fresnel term is 1 everywhere
+    } else if (surface == Surface::Coated) {
+        material = test::lambertian(1.0f);  // white, KHR_materials_specular 0: the coat's is the only lobe
+        material.clearcoat = 1.0f;
+        material.clearcoatRoughness = roughness;
     } else {
         material.metallic = 0.0f;
         material.transmission = 1.0f;
@@ -139,10 +143,14 @@ void furnaceTable(
     }
 }
 
-// Never above 1 beyond the noise: four standard errors.
-void expectAtMostOne(const DiskMean& energy, const std::string& which) {
-    EXPECT_LE(energy.mean, 1.0 + 4.0 * energy.standardError) << which;
+// Never above 1 beyond the noise (four standard errors) and `allowance`.
+void expectAtMostOne(const DiskMean& energy, double allowance, const std::string& which) {
+    EXPECT_LE(energy.mean, 1.0 + 4.0 * energy.standardError + allowance) << which;
 }
+
+// What the compensation may add beyond 1: the error of the tables' interpolation (at 1024 samples per pixel
+// the furnaces below show at most 1.0005 for metal and 1.0034 for glass).
+constexpr double kTableAllowance = 0.005;
 
 TEST_F(Gpu, WhiteFurnaceMetalKeepsItsEnergyWithCompensation) {
     // Single scattering loses more than 10% from roughness 0.5 on (the disk shows 0.89 at 0.5, 0.64 at 0.75
@@ -151,8 +159,8 @@ TEST_F(Gpu, WhiteFurnaceMetalKeepsItsEnergyWithCompensation) {
     furnaceTable(
         context(), Surface::Metal, Light::Environment, "white metal, uniform environment",
         [](float roughness, const DiskMean& before, const DiskMean& after, const std::string& which) {
-            expectAtMostOne(before, which);
-            expectAtMostOne(after, which);
+            expectAtMostOne(before, 0.0, which);
+            expectAtMostOne(after, kTableAllowance, which);
             EXPECT_NEAR(after.mean, 1.0, 0.005) << which;
             if (roughness == 0.0f) {
                 EXPECT_NEAR(before.mean, 1.0, 1e-5) << which;  // the mirror
@@ -166,13 +174,13 @@ TEST_F(Gpu, WhiteFurnaceMetalKeepsItsEnergyWithCompensation) {
 TEST_F(Gpu, WhiteFurnaceGlassKeepsItsEnergyWithCompensation) {
     // Lit by the background alone, every path ends by leaving the sphere: the glass's energy is the BSDF's,
     // each refraction and reflection compensated by 1 / E_eta. Single scattering loses more than 10% from
-    // roughness 0.5 on (0.82, 0.55 and 0.35 at 0.5, 0.75 and 1: each path crosses at least two rough
+    // roughness 0.5 on (0.80, 0.53 and 0.34 at 0.5, 0.75 and 1: each path crosses at least two rough
     // interfaces).
     furnaceTable(
         context(), Surface::Glass, Light::Background, "clear glass, background only",
         [](float roughness, const DiskMean& before, const DiskMean& after, const std::string& which) {
-            expectAtMostOne(before, which);
-            expectAtMostOne(after, which);
+            expectAtMostOne(before, 0.0, which);
+            expectAtMostOne(after, kTableAllowance, which);
             EXPECT_NEAR(after.mean, 1.0, 0.006) << which;
             if (roughness == 0.0f) {
                 EXPECT_NEAR(before.mean, 1.0, 1e-5) << which;  // smooth glass
@@ -186,18 +194,33 @@ TEST_F(Gpu, WhiteFurnaceGlassKeepsItsEnergyWithCompensation) {
 TEST_F(Gpu, WhiteFurnaceGlassUnderAnEnvironmentGainsOnlyThroughShadowRays) {
     // Under the uniform environment, light samples taken inside the glass reach the environment through its
     // wall, since shadow rays pass transmissive surfaces straight (docs/materials.md), while the internal
-    // reflection they light is traced on as well: the sphere shows up to 2% above 1 with the compensation
-    // (0.5% without light samples inside, which the background-only furnace shows exactly).
+    // reflection they light is traced on as well: that light is counted twice, and the compensated sphere
+    // shows up to 2.2% above 1 (the background-only furnace, without light samples, stays within 0.5%).
     furnaceTable(
         context(), Surface::Glass, Light::Environment, "clear glass, uniform environment",
         [](float roughness, const DiskMean& before, const DiskMean& after, const std::string& which) {
-            expectAtMostOne(before, which);
-            EXPECT_LE(after.mean, 1.025) << which;
+            expectAtMostOne(before, 0.0, which);
+            EXPECT_LE(after.mean, 1.03) << which;
             EXPECT_GE(after.mean, 0.99) << which;
             if (roughness == 0.0f) {
                 EXPECT_NEAR(after.mean, 1.0, 1e-5) << which;  // no rough lobe to light
             }
         });
+}
+
+TEST_F(Gpu, WhiteFurnaceCoatOverWhiteKeepsItsEnergyWithCompensation) {
+    // A clear coat over a white Lambertian base lets 1 - F(mu) of the base through (its Fresnel term at the
+    // viewer, as KHR_materials_clearcoat layers it) and reflects F(mu) E(mu): single scattering loses
+    // F (1 - E), 3% at roughness 1, and the compensation 1 / E returns it.
+    furnaceTable(context(), Surface::Coated, Light::Environment, "clear coat over white, uniform environment",
+                 [](float roughness, const DiskMean& before, const DiskMean& after, const std::string& which) {
+                     expectAtMostOne(before, 0.0, which);
+                     expectAtMostOne(after, kTableAllowance, which);
+                     EXPECT_NEAR(after.mean, 1.0, 0.005) << which;
+                     if (roughness == 1.0f) {
+                         EXPECT_LT(before.mean, 0.98) << which;
+                     }
+                 });
 }
 
 // The tables as the shared code reads them, on the host.
