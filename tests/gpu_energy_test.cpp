@@ -104,12 +104,8 @@ FurnaceEnergy furnaceEnergy(const VulkanContext& context, Surface surface, float
         makeEnvironmentMap("furnace", 16, 8, std::vector<glm::vec3>(16 * 8, glm::vec3(1.0f)), 0.0, 1.0);
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0};
-    camera.xmag = camera.ymag = 1.0;
     const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context, scene, bvh, camera, settings, test::shaderCacheDir());
+        test::renderGpuAndCpu(context, scene, bvh, test::sphereCamera(), settings, test::shaderCacheDir());
     EXPECT_EQ(gpu.rays.nonFiniteSamples + cpu.rays.nonFiniteSamples, 0u);
     return {diskMean(gpu.image), diskMean(cpu.image)};
 }

@@ -119,10 +119,7 @@ TEST_F(Gpu, PathsInAWhiteFurnaceShowTheAlbedo) {
     scene.environment = makeEnvironmentMap("white", 8, 4, std::vector<glm::vec3>(32, glm::vec3(1.0f)), 0.0, 1.0);
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0};
-    camera.xmag = camera.ymag = 1.0;  // the sphere fills the film's inscribed disk
+    const Camera camera = test::sphereCamera();
     RenderSettings settings;
     settings.integrator = Integrator::Path;
     settings.width = settings.height = 24;
@@ -167,13 +164,8 @@ TEST_F(Gpu, PathsCountLightThroughGlassOnce) {
         }
         finalizeScene(scene);
         const FlatBvh bvh = bvhFor(scene);
-        Camera camera;
-        camera.projection = Projection::Orthographic;
-        camera.position = {0.0, 0.0, 1.5};
-        camera.forward = {0.0, 0.0, -1.0};
-        camera.up = {0.0, 1.0, 0.0};
-        camera.right = {1.0, 0.0, 0.0};
-        camera.xmag = camera.ymag = 0.5;
+        Camera camera = test::squareCamera();
+        camera.position.z = 1.5;  // between the pane and the ceiling
         RenderSettings settings;
         settings.integrator = Integrator::Path;
         settings.width = settings.height = 16;

@@ -13,6 +13,7 @@
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
+#include "support/unit_square.h"
 
 namespace vkrt {
 namespace {
@@ -38,10 +39,7 @@ TEST_F(Gpu, WhiteFurnaceNeverGainsEnergy) {
         scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
         finalizeScene(scene);
         const FlatBvh bvh = bvhFor(scene);
-        Camera camera;
-        camera.projection = Projection::Orthographic;
-        camera.position = {0.0, 0.0, 5.0};
-        camera.xmag = camera.ymag = 1.0;  // the sphere fills the film's inscribed disk
+        const Camera camera = test::sphereCamera();
         for (const bool compensation : {false, true}) {
             RenderSettings settings;
             settings.width = settings.height = 24;

@@ -46,6 +46,14 @@ Camera squareCamera() {
     return camera;
 }
 
+Camera sphereCamera() {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0};
+    camera.xmag = camera.ymag = 1.0;
+    return camera;
+}
+
 RenderSettings ambientOnly(int size) {
     RenderSettings settings;
     settings.width = settings.height = size;

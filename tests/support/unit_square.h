@@ -23,6 +23,10 @@ void addUnitSquare(Scene& scene, uint32_t material);
 // An orthographic camera that sees exactly the unit square.
 Camera squareCamera();
 
+// An orthographic camera looking down -z at the unit sphere around the origin, which fills the film's inscribed
+// disk.
+Camera sphereCamera();
+
 // Lit by ambient radiance 1 alone (background 0.25): a Lambertian dielectric shows its albedo (plus F0 where
 // the lobe is not traced).
 RenderSettings ambientOnly(int size);
