@@ -38,31 +38,36 @@ VKRT_SHADING_BEGIN
 // normal, (1 - F) G2 / G1 where it leaves below; F is the dielectric's Fresnel term, or 1 for eta = 0 (the
 // conductor table). By the midpoint rule on `steps` x `steps` cells of the visible normal's random pair (u1,
 // u2), with u1 = 1 - (1 - w)^2 for w uniform: the cells crowd where u1 nears 1, the steep microfacets that
-// send light below the horizon, which a uniform grid misses at low roughness.
+// send light below the horizon, which a uniform grid misses at low roughness. The lobe is symmetric about the
+// plane of the normal and the viewer, so u2 covers the half of the azimuths on one side of it (`steps` even).
 VKRT_FN real ggxAlbedoIntegral(real cosView, real roughness, real eta, int steps) {
     const real cosV = clamp(cosView, 1e-4, 1.0);
     const real3 toViewer = real3(sqrt(1.0 - cosV * cosV), 0.0, cosV);
     const real alpha = ggxAlpha(roughness);
-    const real g1 = ggxG1(cosV, alpha);
+    // G2 / G1 = (1 + Lambda_v) / (1 + Lambda_v + Lambda_l), the viewer's Lambda taken once.
+    const real lambdaView = ggxLambda(cosV, alpha);
+    const int sides = steps / 2;
     real sum = 0.0;
     for (int i = 0; i < steps; ++i) {
         const real w = (real(i) + 0.5) / real(steps);
         const real u1 = 1.0 - (1.0 - w) * (1.0 - w), jacobian = 2.0 * (1.0 - w);
-        for (int j = 0; j < steps; ++j) {
-            const real3 m = sampleGgxVisibleNormal(toViewer, alpha, u1, (real(j) + 0.5) / real(steps));
+        for (int j = 0; j < sides; ++j) {
+            // 2 pi u2 from -pi/2 to pi/2: the visible normals on one side of the plane.
+            const real u2 = 0.5 * ((real(j) + 0.5) / real(sides) - 0.5);
+            const real3 m = sampleGgxVisibleNormal(toViewer, alpha, u1, u2);
             const real cosMicro = max(0.0, dot(m, toViewer));
             const real fresnel = eta > 0.0 ? fresnelDielectric(cosMicro, eta) : 1.0;
             real weight = 0.0;
             const real3 reflected = reflectAbout(toViewer, m);
-            if (reflected.z > 0.0) weight += fresnel * ggxG2(cosV, reflected.z, alpha);
+            if (reflected.z > 0.0) weight += fresnel / (1.0 + lambdaView + ggxLambda(reflected.z, alpha));
             real3 refracted;
             if (eta > 0.0 && refractThrough(toViewer, m, eta, refracted) && refracted.z < 0.0) {
-                weight += (1.0 - fresnel) * ggxG2(cosV, -refracted.z, alpha);
+                weight += (1.0 - fresnel) / (1.0 + lambdaView + ggxLambda(-refracted.z, alpha));
             }
-            sum += jacobian * weight / g1;
+            sum += jacobian * weight;
         }
     }
-    return sum / (real(steps) * real(steps));
+    return (1.0 + lambdaView) * sum / (real(steps) * real(sides));
 }
 
 // The tables' coordinate in [0, 1] for a viewer at cosine cosView, and its inverse.

@@ -7,8 +7,8 @@ namespace vkrt {
 namespace {
 
 // Cells of the midpoint rule per axis (shading::ggxAlbedoIntegral): the entries are within 0.2% of the
-// integral, well below the error of interpolating between them. The dielectric's 6400 entries take about
-// 0.4 seconds of one core.
+// integral, well below the error of interpolating between them. The dielectric's 6400 entries take about a
+// quarter of a second of one core.
 constexpr int kConductorSteps = 32;
 constexpr int kDielectricSteps = 24;
 
