@@ -15,6 +15,7 @@ struct Hit {
     float t;
     float u, v;  // barycentric weights of v1 and v2
     uint primitive;
+    uint sceneIndex;  // the primitive's index in the scene, which breaks ties (kept to spare a reload)
 };
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
@@ -82,15 +83,15 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
-        hit = Hit(t, u, v, index);
+        hit = Hit(t, u, v, index, primitive.sceneIndex);
         return true;
     }
     if (mode == VKRT_TRACE_CLOSEST) {
         // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
         const float tolerance = float(VKRT_TIE_EPSILON) * hit.t;
         const bool first = hit.primitive == VKRT_NO_PRIMITIVE;
-        if (first || t < hit.t - tolerance || primitive.sceneIndex < VKRT_PRIMITIVE(hit.primitive).sceneIndex) {
-            hit = Hit(t, u, v, index);
+        if (first || t < hit.t - tolerance || primitive.sceneIndex < hit.sceneIndex) {
+            hit = Hit(t, u, v, index, primitive.sceneIndex);
         }
         return false;
     }
@@ -112,7 +113,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
                  inout vec3 transmittance, out bool complete) {
-    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE);
+    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
     complete = true;
     if (params.primitiveCount == 0u) return false;
     const BvhNode root = VKRT_NODE(0u);
