@@ -18,6 +18,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
     std::vector<std::string> defines;
     if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
+    if (context.wideGeometryLoads()) defines.push_back("VKRT_WIDE_LOADS");
     if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines.push_back("VKRT_SPHERE_FLOAT64");
     const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
