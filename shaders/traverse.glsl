@@ -127,22 +127,16 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     uint first = root.leftOrFirst, count = root.primCount;
     complete = false;
     for (;;) {
-        if (count > 0u) {
-            // A leaf: test its primitives.
-            for (uint index = first; index < first + count; ++index) {
-                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) {
-                    complete = true;
-                    return true;
-                }
-            }
-        } else {
-            // Test both children; enter the nearer, stack the farther.
+        // Descend through interior nodes, one per iteration: test both children, enter the nearer, stack the
+        // farther. Ends at a leaf, or where the ray misses both children.
+        if (count == 0u) do {
             const BvhNode left = VKRT_NODE(first);
             const BvhNode right = VKRT_NODE(first + 1u);
             float tLeft, tRight;
             const float limit = searchLimit(hit, tMax, mode);
             const bool hitLeft = intersectBox(left, r, tMin, limit, tLeft);
             const bool hitRight = intersectBox(right, r, tMin, limit, tRight);
+            if (!hitLeft && !hitRight) break;
             const bool leftFirst = hitLeft && (!hitRight || tLeft <= tRight);
             if (hitLeft && hitRight) {
                 stackFirst[size] = leftFirst ? right.leftOrFirst : left.leftOrFirst;
@@ -150,11 +144,18 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                 stackEntry[size] = leftFirst ? tRight : tLeft;
                 ++size;
             }
-            if (hitLeft || hitRight) {
-                first = leftFirst ? left.leftOrFirst : right.leftOrFirst;
-                count = leftFirst ? left.primCount : right.primCount;
-                continue;
-            }
+            first = leftFirst ? left.leftOrFirst : right.leftOrFirst;
+            count = leftFirst ? left.primCount : right.primCount;
+        } while (count == 0u);
+        // A leaf: test its primitives, one per iteration.
+        if (count > 0u) {
+            uint index = first;
+            do {
+                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) {
+                    complete = true;
+                    return true;
+                }
+            } while (++index < first + count);
         }
         // Pop until an entry the ray enters in front of the closest hit (the others are dropped).
         for (;;) {
