@@ -38,5 +38,5 @@ void main() {
         return;
     }
     // Hits name the primitive by its index in the scene, not its place in the BVH's leaf order.
-    constants.hits.hits[index] = found ? GpuHit(hit.t, VKRT_PRIMITIVE(hit.primitive).sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
+    constants.hits.hits[index] = found ? GpuHit(hit.t, hit.sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
 }

@@ -17,6 +17,8 @@
 #include <string>
 #include <thread>
 
+#include <sys/resource.h>
+
 #include <nlohmann/json.hpp>
 
 #include "app/render_policy.h"
@@ -46,6 +48,14 @@ Statistics summarize(std::vector<double> values) {
     const size_t n = values.size();
     const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
     return {median, values.front(), values.back()};
+}
+
+// CPU seconds used by every thread of this process so far (Embree's workers included).
+double processCpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
 Scene sphereOverGround(size_t triangleTarget) {
@@ -156,32 +166,39 @@ int main(int argc, char** argv) {
 #endif
         nlohmann::json kinds;
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
-            std::vector<double> gpuRates, wallRates;
+            std::vector<double> gpuRates, wallRates, cpuRates;
             for (int run = 0; run < runs; ++run) {
                 RaycastTiming timing;
                 raycaster.trace(rays, mode, &timing);
+                cpuRates.push_back(rays.size() / timing.cpuMs / 1e3);
                 if (timing.gpuMs > 0.0) gpuRates.push_back(rays.size() / timing.gpuMs / 1e3);
                 wallRates.push_back(rays.size() / timing.wallMs / 1e3);
             }
             const Statistics wall = summarize(wallRates);
             nlohmann::json entry = {
                 {"rays", rays.size()},
-                {"mrays_per_s", {{"median", wall.median}, {"min", wall.min}, {"max", wall.max}}}};
+                {"mrays_per_s", {{"median", wall.median}, {"min", wall.min}, {"max", wall.max}}},
+                {"mrays_per_cpu_s", summarize(cpuRates).median}};
             if (!gpuRates.empty()) {
                 const Statistics g = summarize(gpuRates);
                 entry["mrays_per_gpu_s"] = {{"median", g.median}, {"min", g.min}, {"max", g.max}};
             }
 #ifdef VKRT_HAVE_EMBREE
             // The same rays through Embree, interleaved with vkrt's runs; the ratio of same-run medians.
-            std::vector<double> embreeRates;
+            std::vector<double> embreeRates, embreeCpuRates;
             std::vector<uint32_t> embreeHits;
             for (int run = 0; run < runs; ++run) {
+                const double cpuStart = processCpuSeconds();
                 const double ms = embree.trace(rays, mode == RaycastMode::Any, embreeThreads, embreeHits);
+                embreeCpuRates.push_back(rays.size() / (processCpuSeconds() - cpuStart) / 1e6);
                 embreeRates.push_back(rays.size() / ms / 1e3);
             }
             const Statistics e = summarize(embreeRates);
             entry["embree_mrays_per_s"] = {{"median", e.median}, {"min", e.min}, {"max", e.max}};
             entry["vkrt_over_embree"] = wall.median / e.median;
+            // Per CPU second (both use every hardware thread): the same ratio, less sensitive to a busy machine.
+            entry["embree_mrays_per_cpu_s"] = summarize(embreeCpuRates).median;
+            entry["vkrt_over_embree_cpu"] = summarize(cpuRates).median / summarize(embreeCpuRates).median;
             // Agreement on which rays hit, as a check that both traced the same thing.
             const std::vector<gpu::GpuHit> vkrtHits = raycaster.trace(rays, mode);
             size_t agree = 0;

@@ -2,10 +2,24 @@
 
 #include <chrono>
 
+#include <sys/resource.h>
+
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
+
+namespace {
+
+// CPU time used by every thread of this process so far (lavapipe's workers included).
+double processCpuMs() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto ms = [](const timeval& t) { return 1e3 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_usec); };
+    return ms(usage.ru_utime) + ms(usage.ru_stime);
+}
+
+}  // namespace
 
 GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
                            const std::string& shaderCacheDir)
@@ -18,6 +32,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
     std::vector<std::string> defines;
     if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
+    if (context.wideGeometryLoads()) defines.push_back("VKRT_WIDE_LOADS");
     if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines.push_back("VKRT_SPHERE_FLOAT64");
     const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
@@ -40,6 +55,7 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     const gpu::RaycastConstants constants{rayBuffer.address(), hitBuffer.address(),
                                           static_cast<uint32_t>(rays.size()), static_cast<uint32_t>(mode)};
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuMs();
     context_.submitAndWait([&](VkCommandBuffer commands) {
         timer_->begin(commands);
         pipeline_->dispatch(commands, &constants, sizeof(constants),
@@ -51,6 +67,7 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
         timing->wallMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         timing->gpuMs = timer_->elapsedMs();
+        timing->cpuMs = processCpuMs() - cpuStart;
     }
     hitBuffer.download(hits.data(), hits.size() * sizeof(gpu::GpuHit));
     return hits;

@@ -18,6 +18,7 @@ enum class RaycastMode : uint32_t { Closest = VKRT_RAYCAST_CLOSEST, Any = VKRT_R
 struct RaycastTiming {
     double gpuMs = 0.0;   // from timestamps (0 when the device has none)
     double wallMs = 0.0;  // submit to completion, as seen by the host
+    double cpuMs = 0.0;   // CPU time this process spent meanwhile, all threads (a CPU device's work)
 };
 
 class GpuRaycaster {

@@ -59,6 +59,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     defines_ = data_.features.defines();
     report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
+    if (context.wideGeometryLoads()) defines_.push_back("VKRT_WIDE_LOADS");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {

@@ -46,6 +46,10 @@ class VulkanContext {
     bool hasTimestamps() const { return timestampValidBits_ > 0; }
     // Whether shaders may use double precision (enabled when the device has it).
     bool hasShaderFloat64() const { return shaderFloat64_; }
+    bool hasShaderInt64() const { return shaderInt64_; }
+    // Whether kernels should read geometry as 64-bit words (VKRT_WIDE_LOADS, shaders/geometry.glsl): a
+    // gain on CPU devices (lavapipe), which gather one component at a time; real GPUs keep plain reads.
+    bool wideGeometryLoads() const { return shaderInt64_ && description_.type == "CPU"; }
     double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
 
     // Validation-layer warnings and errors seen so far (0 when validation is off).
@@ -77,6 +81,7 @@ class VulkanContext {
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
+    bool shaderInt64_ = false;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};
