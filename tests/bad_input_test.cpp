@@ -267,6 +267,131 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "requires extension KHR_draco_mesh_compression"},
+        // Properties of the wrong JSON type or out of range, which tinygltf alone would skip: each is named by
+        // its JSON path.
+        {"primitives as an object",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["meshes"][0]["primitives"] = d["meshes"][0]["primitives"][0];
+             writeJson(file, d);
+         },
+         "meshes[0].primitives: expected an array"},
+        {"pbrMetallicRoughness as an array",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["materials"] = {{{"pbrMetallicRoughness", {0.5, 0.5}}}};
+             writeJson(file, d);
+         },
+         "materials[0].pbrMetallicRoughness: expected an object"},
+        {"texture index -1",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", -1}}}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].pbrMetallicRoughness.baseColorTexture.index: expected a number >= 0, got -1"},
+        {"texture transform as text",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["images"] = {{{"uri", "no-such-image.png"}}};
+             d["textures"] = {{{"source", 0}}};
+             d["materials"] = {{{"emissiveTexture",
+                                 {{"index", 0}, {"extensions", {{"KHR_texture_transform", "text"}}}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].emissiveTexture.extensions.KHR_texture_transform: expected an object"},
+        {"texture whose image does not exist",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["textures"] = {{{"source", 2}}};
+             d["materials"] = {{{"normalTexture", {{"index", 0}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].normalTexture.index (its texture's source): image 2 does not exist"},
+        {"base colour above one",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.5, 1.0, 1.0}}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].pbrMetallicRoughness.baseColorFactor[1]: expected a number in [0, 1], got 1.5"},
+        {"roughness as text",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["materials"] = {{{"pbrMetallicRoughness", {{"roughnessFactor", "0.5"}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].pbrMetallicRoughness.roughnessFactor: expected a number"},
+        {"malformed supported extension",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensionsUsed"] = {"KHR_materials_ior"};
+             d["materials"] = {{{"extensions", {{"KHR_materials_ior", {{"ior", 0.5}}}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].extensions.KHR_materials_ior.ior: expected 0 or a number >= 1, got 0.5"},
+        {"light index that names nothing",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}}}}}}};
+             d["nodes"][0]["extensions"] = {{"KHR_lights_punctual", {{"light", 1}}}};
+             writeJson(file, d);
+         },
+         "nodes[0].extensions.KHR_lights_punctual.light: light 1 does not exist (the file has 1)"},
+        {"spot light without its cone",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "spot"}}}}}}};
+             writeJson(file, d);
+         },
+         "extensions.KHR_lights_punctual.lights[0].spot: missing, and required"},
+        {"accessor of an unknown type",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][0]["type"] = "VEC5";
+             writeJson(file, d);
+         },
+         "accessors[0].type: expected one of"},
+        {"fractional index",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["meshes"][0]["primitives"][0]["indices"] = 1.5;
+             writeJson(file, d);
+         },
+         "meshes[0].primitives[0].indices: expected an integer"},
+        {"node rotation as a string",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"][0]["rotation"] = "identity";
+             writeJson(file, d);
+         },
+         "nodes[0].rotation: expected an array of 4 numbers"},
+        {"scene that does not exist",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["scene"] = 1;
+             writeJson(file, d);
+         },
+         "scene: scene 1 does not exist (the file has 1)"},
+        {"camera without its projection",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["cameras"] = {{{"type", "perspective"}}};
+             writeJson(file, d);
+         },
+         "cameras[0].perspective: missing, and required"},
+        {"GLB whose JSON has the wrong types",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"][0]["children"] = {"one"};
+             const std::string text = d.dump();
+             const std::string padded = text + std::string((4 - text.size() % 4) % 4, ' ');
+             auto word = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+             file.replace_extension(".glb");
+             test::writeText(file, "glTF" + word(2) + word(static_cast<uint32_t>(20 + padded.size())) +
+                                       word(static_cast<uint32_t>(padded.size())) + "JSON" + padded);
+         },
+         "nodes[0].children[0]: expected an integer"},
         {"truncated GLB",
          [](auto&, auto& file) {
              file.replace_extension(".glb");
@@ -371,6 +496,14 @@ TEST(BadInput, ValidTriangleLoads) {
     writeJson(folder / "valid.gltf", validTriangle());
     const Scene scene = loadGltf((folder / "valid.gltf").string());
     EXPECT_EQ(scene.triangles.size(), 1u);
+    // Properties and extensions vkrt does not know are allowed, whatever their type.
+    json unknown = validTriangle();
+    unknown["nodes"][0]["futureProperty"] = "text";
+    unknown["meshes"][0]["primitives"][0]["extensions"] = {{"EXT_someday", {1, 2, 3}}};
+    unknown["asset"]["generator"] = "a test";
+    unknown["extras"] = 5;
+    writeJson(folder / "unknown.gltf", unknown);
+    EXPECT_EQ(loadGltf((folder / "unknown.gltf").string()).triangles.size(), 1u);
 }
 
 }  // namespace

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <limits>
 
 #include <nlohmann/json.hpp>
@@ -56,24 +54,12 @@ void warnAboutUnsupportedFeatures(GltfContext& context) {
     }
 }
 
-std::optional<std::string> unsupportedRequiredExtension(const std::string& path, bool binary) {
-    std::ifstream file(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(file)), {});
-    if (binary) {
-        // GLB: a 12-byte header, then the JSON chunk: its length (little-endian) and type, then the text.
-        if (text.size() < 20) return std::nullopt;
-        uint32_t length = 0;
-        for (int i = 0; i < 4; ++i)
-            length |= static_cast<uint32_t>(static_cast<unsigned char>(text[12 + i])) << (8 * i);
-        if (text.compare(16, 4, "JSON") != 0 || length > text.size() - 20) return std::nullopt;
-        text = text.substr(20, length);
-    }
-    const nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
-    if (json.is_discarded() || !json.is_object() || !json.contains("extensionsRequired") ||
-        !json["extensionsRequired"].is_array()) {
+std::optional<std::string> unsupportedRequiredExtension(const nlohmann::json& document) {
+    if (!document.is_object() || !document.contains("extensionsRequired") ||
+        !document["extensionsRequired"].is_array()) {
         return std::nullopt;
     }
-    for (const nlohmann::json& name : json["extensionsRequired"]) {
+    for (const nlohmann::json& name : document["extensionsRequired"]) {
         if (name.is_string() && !isSupportedExtension(name.get<std::string>()))
             return name.get<std::string>();
     }

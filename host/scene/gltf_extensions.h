@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 #include <glm/glm.hpp>
 
@@ -21,10 +22,10 @@ void checkExtensions(GltfContext& context);
 // targets (meshes render with their base shape).
 void warnAboutUnsupportedFeatures(GltfContext& context);
 
-// The first extension a file (.gltf, or .glb with `binary`) requires and vkrt does not support, read from its
-// JSON directly: tinygltf may reject such a file (a Draco-compressed mesh has accessors without buffer views)
-// before the loader can name the reason.
-std::optional<std::string> unsupportedRequiredExtension(const std::string& path, bool binary);
+// The first extension a glTF document requires and vkrt does not support, read from its JSON directly: tinygltf
+// may reject such a file (a Draco-compressed mesh has accessors without buffer views) before the loader can
+// name the reason.
+std::optional<std::string> unsupportedRequiredExtension(const nlohmann::json& document);
 
 // Reads KHR_materials_transmission, _ior, _volume into `material` and returns
 // KHR_materials_emissive_strength (1 when absent).

@@ -13,6 +13,7 @@
 #include "scene/gltf_materials.h"
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
+#include "scene/gltf_schema.h"
 #include "scene/gltf_transforms.h"
 #include "scene/scene_builder.h"
 
@@ -157,16 +158,23 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     if (!probe) throw SceneError(path + ": cannot open file");
     probe.close();
 
+    // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
+    // and range (tinygltf skips what has the wrong type). JSON that does not parse is left to tinygltf to
+    // describe.
+    const bool binary = hasGlbMagic(path);
+    const nlohmann::json document = readGltfJson(path, binary);
+    if (!document.is_discarded()) {
+        if (const auto extension = unsupportedRequiredExtension(document))
+            throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
+        validateGltfJson(document, path);
+    }
+
     tinygltf::TinyGLTF reader;
     tinygltf::Model model;
     std::string error, warning;
-    const bool binary = hasGlbMagic(path);
     const bool ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path)
                            : reader.LoadASCIIFromFile(&model, &error, &warning, path);
     if (!ok || !error.empty()) {
-        if (const auto extension = unsupportedRequiredExtension(path, binary)) {
-            throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
-        }
         std::string message = error.empty() ? "not a valid glTF file" : error;
         // tinygltf's messages can span lines; the command line reports one.
         std::replace(message.begin(), message.end(), '\n', ' ');

@@ -1,0 +1,20 @@
+// The glTF document as JSON, checked before tinygltf reads it: tinygltf skips a property of the wrong type
+// and carries on, so `"primitives": {}` would load as an empty mesh. Every property vkrt reads is checked
+// here for its JSON type and range; unknown properties stay allowed.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace vkrt {
+
+// The JSON of a .gltf file, or of a .glb's JSON chunk; a discarded value when there is none to parse (the
+// loader then lets tinygltf say what is wrong).
+nlohmann::json readGltfJson(const std::string& path, bool binary);
+
+// Throws SceneError "path: meshes[0].primitives: expected an array" at the first property of the wrong type
+// or out of its range, or an index that names nothing.
+void validateGltfJson(const nlohmann::json& document, const std::string& path);
+
+}  // namespace vkrt
