@@ -481,6 +481,47 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
     }
 }
 
+// Paths are checked before anything is loaded or rendered: each case asks for a render that would take hours
+// (16384 x 16384 at 4096 spp on the CPU), so a check made only after rendering would time the test out.
+TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
+    const auto folder = test::temporaryFolder();
+    const std::string scene = "'" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'";
+    const std::string huge = " --device cpu --width 16384 --height 16384 --spp 4096";
+    std::filesystem::create_directory(folder / "folder.png");
+    struct Case {
+        std::string options;
+        std::string expected;
+    };
+    for (const Case& c :
+         {Case{"--scene '" + (test::sourceDir() / "scenes").string() + "' --out '" + (folder / "a.png").string() + "'",
+               "--scene: " + (test::sourceDir() / "scenes").string() + ": is a directory"},
+          Case{"--scene " + scene + " --out '" + (folder / "no/such/dir/x.png").string() + "'",
+               "--out: " + (folder / "no/such/dir/x.png").string() + ": folder " + (folder / "no/such/dir").string() +
+                   " does not exist"},
+          Case{"--scene " + scene + " --out '" + (folder / "folder.png").string() + "'",
+               "--out: " + (folder / "folder.png").string() + ": is a directory"},
+          Case{"--scene " + scene + " --out '" + (folder / "b.png").string() + "' --stats '" +
+                   (folder / "missing/s.json").string() + "'",
+               "--stats: " + (folder / "missing/s.json").string() + ": folder"},
+          Case{"--scene " + scene + " --out '" + (folder / "c.png").string() + "' --report '" +
+                   (folder / "missing/r.csv").string() + "'",
+               "--report: " + (folder / "missing/r.csv").string() + ": folder"}}) {
+        SCOPED_TRACE(c.options);
+        const test::CommandResult result = test::runVkrt(c.options + huge);
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
+        EXPECT_NE(result.output.find(c.expected), std::string::npos) << result.output;
+    }
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1) << "wrote nothing";
+    // The loader itself says so too, for callers other than the command.
+    try {
+        loadGltf((test::sourceDir() / "scenes").string());
+        ADD_FAILURE() << "loaded a directory";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+    }
+}
+
 TEST(BadInput, ValidAnimationLoadsAndMoves) {
     const auto file = test::temporaryFolder() / "animated.gltf";
     writeJson(file, animatedTriangle(0.0f, 1.0f));

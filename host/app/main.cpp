@@ -11,6 +11,7 @@
 
 #include "app/convergence_report.h"
 #include "app/options.h"
+#include "app/path_checks.h"
 #include "app/progress_bar.h"
 #include "app/render_policy.h"
 #include "app/render_stats.h"
@@ -48,6 +49,7 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 int run(Options options) {
+    checkPaths(options);
     const auto loadStart = std::chrono::steady_clock::now();
     LoadOptions loadOptions;
     loadOptions.shutter = options.shutter;

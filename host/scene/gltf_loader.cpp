@@ -1,6 +1,7 @@
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 
 #include <tiny_gltf.h>
@@ -154,6 +155,8 @@ bool hasGlbMagic(const std::string& path) {
 }  // namespace
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
+    std::error_code statusError;
+    if (std::filesystem::is_directory(path, statusError)) throw SceneError(path + ": is a directory");
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw SceneError(path + ": cannot open file");
     probe.close();

@@ -1,0 +1,47 @@
+#include "app/path_checks.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+namespace vkrt {
+namespace {
+
+void checkReadable(const char* option, const std::string& path) {
+    if (path.empty()) return;
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (status.type() == std::filesystem::file_type::not_found)
+        throw UsageError(std::string(option) + ": " + path + ": cannot open: no such file");
+    if (status.type() == std::filesystem::file_type::directory)
+        throw UsageError(std::string(option) + ": " + path + ": is a directory");
+    if (!std::ifstream(path, std::ios::binary)) throw UsageError(std::string(option) + ": " + path + ": cannot read");
+}
+
+// The folder that will hold `path` exists and can take a new file (outputs are written to a temporary file
+// there first, then renamed).
+void checkWritable(const char* option, const std::string& path) {
+    if (path.empty()) return;
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw UsageError(std::string(option) + ": " + path + ": is a directory");
+    std::filesystem::path folder = std::filesystem::path(path).parent_path();
+    if (folder.empty()) folder = ".";
+    if (!std::filesystem::is_directory(folder, error))
+        throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " does not exist");
+    if (access(folder.c_str(), W_OK | X_OK) != 0)
+        throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " is not writable");
+}
+
+}  // namespace
+
+void checkPaths(const Options& options) {
+    checkReadable("--scene", options.scenePath);
+    checkWritable("--out", options.outputPath);
+    checkWritable("--stats", options.statsPath);
+    checkWritable("--report", options.reportPath);
+}
+
+}  // namespace vkrt
