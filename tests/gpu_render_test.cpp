@@ -1,6 +1,7 @@
 // The GPU renderer's own machinery, under the validation layer: shader variants without unused features,
 // geometry bound as descriptors or reached by device address, dispatch chunking, the time limit, and a
 // 5M-triangle scene too large for one storage-buffer descriptor.
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -95,19 +96,65 @@ TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
     EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
 }
 
-TEST_F(Gpu, TimeLimitStopsAfterThePassThatCrossesIt) {
+TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
     settings.width = settings.height = 32;
     settings.samplesPerPixel = 100000;
-    GpuRenderOptions options;
-    options.timeLimitSeconds = 1e-6;
     GpuRenderReport report;
-    const RenderResult result = renderGpu(scene, bvh, camera, settings, options, &report);
-    EXPECT_GE(report.samplesPerPixel, 1u);
-    EXPECT_LT(report.samplesPerPixel, 100000u);
-    EXPECT_EQ(result.rays.primary, 32u * 32u * report.samplesPerPixel);
-    EXPECT_GT(result.image.at(16, 16).x, 0.0f);
+    const RenderResult result = renderGpu(scene, bvh, camera, settings, {}, &report, StopCondition(nullptr, 1e-6));
+    // The first dispatch is one row at one sample; the limit ends the render after it, part way through the
+    // first pass.
+    EXPECT_EQ(result.stopped, StopReason::TimeLimit);
+    EXPECT_EQ(report.dispatches, 1u);
+    EXPECT_EQ(result.fewestSamples, 0u);
+    EXPECT_EQ(result.mostSamples, 1u);
+    EXPECT_EQ(result.rays.primary, 32u);
+    // Row 0 is that of a one-sample render; the rest have no samples yet and are black.
+    settings.samplesPerPixel = 1;
+    const Image oneSample = renderGpu(scene, bvh, camera, settings).image;
+    for (int x = 0; x < 32; ++x) {
+        EXPECT_EQ(result.image.at(x, 0), oneSample.at(x, 0)) << x;
+        EXPECT_EQ(result.image.at(x, 16), glm::vec3(0.0f)) << x;
+    }
+}
+
+// A render stopped part way through a pass is, pixel by pixel, the render of the samples each pixel got: rows
+// the last pass reached equal a render of `mostSamples`, the others one of `fewestSamples`, exactly.
+TEST_F(Gpu, StoppedRenderAveragesEachPixelOverItsOwnSamples) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 64;
+    settings.integrator = Integrator::Path;
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    std::atomic<bool> stopFlag{false};
+    RenderResult stopped;
+    {
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+        // Progress counts rows x samples (one sample per pass for paths): stop in the second pass or later, at
+        // the first dispatch that ends part way through its pass.
+        stopped = renderer.render(
+            [&](uint64_t done, uint64_t) { stopFlag = stopFlag || (done > 24 && done % 24 != 0); }, {}, 0.0,
+            StopCondition(&stopFlag, 0.0));
+    }
+    ASSERT_EQ(stopped.stopped, StopReason::Requested);
+    ASSERT_EQ(stopped.mostSamples, stopped.fewestSamples + 1);
+    RenderSettings fewer = settings, more = settings;
+    fewer.samplesPerPixel = static_cast<int>(stopped.fewestSamples);
+    more.samplesPerPixel = static_cast<int>(stopped.mostSamples);
+    const Image a = fewer.samplesPerPixel > 0 ? renderGpu(scene, bvh, camera, fewer).image : Image(24, 24);
+    const Image b = renderGpu(scene, bvh, camera, more).image;
+    int rowsWithMore = 0;
+    for (int y = 0; y < 24; ++y) {
+        const bool more = stopped.image.at(0, y) == b.at(0, y) && stopped.image.at(0, y) != a.at(0, y);
+        rowsWithMore += more ? 1 : 0;
+        for (int x = 0; x < 24; ++x)
+            ASSERT_EQ(stopped.image.at(x, y), (more ? b : a).at(x, y)) << x << ", " << y;
+    }
+    EXPECT_GT(rowsWithMore, 0);
+    EXPECT_LT(rowsWithMore, 24);
 }
 
 TEST_F(Gpu, FiveMillionTrianglesRender) {

@@ -1,5 +1,9 @@
 // vkrt: renders a glTF 2.0 scene to an image file.
+#include <unistd.h>
+
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +20,7 @@
 #include "app/render_policy.h"
 #include "app/render_stats.h"
 #include "bvh/triangle_bvh.h"
+#include "common/atomic_file.h"
 #include "cpu/reference_renderer.h"
 #include "gpu/gpu_renderer.h"
 #include "gpu/vulkan_check.h"
@@ -29,6 +34,27 @@ namespace {
 
 constexpr int kExitRuntimeFailure = 1;
 constexpr int kExitBadInput = 2;
+constexpr int kExitSignalBase = 128;  // ended by signal N: exit 128 + N, as shells report it
+
+// SIGINT and SIGTERM: the first ends the render after the dispatch or pixel in flight, and the samples done
+// are written as usual; a second ends the process at once.
+std::atomic<bool> gStopRequested{false};
+volatile std::sig_atomic_t gSignal = 0;
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void onStopSignal(int signal) {
+    if (gSignal != 0) {
+        if (gTemporaryFileBeingWritten[0] != '\0') unlink(gTemporaryFileBeingWritten);
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+        return;
+    }
+    gSignal = signal;
+    gStopRequested.store(true);
+}
+
+// Interrupted before the render itself began (while making the reference of --report): nothing to keep.
+struct InterruptedBeforeRender {};
 // A reference made for a report without --reference has this many times the samples of the render.
 constexpr int kReferenceSampleFactor = 16;
 
@@ -96,15 +122,14 @@ int run(Options options) {
         ProgressBar progress(label, !options.quiet);
         const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
         const auto renderStart = std::chrono::steady_clock::now();
+        // The time limit is the render's own; the reference of --report renders all its samples.
+        const StopCondition stop(&gStopRequested, runReport ? options.timeLimitSeconds : 0.0);
         RenderResult rendered;
         if (context) {
-            GpuRenderOptions gpuOptions;
-            gpuOptions.timeLimitSeconds = runReport ? options.timeLimitSeconds : 0.0;
-            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
-            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs);
+            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings);
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
             if (runReport) {
                 const GpuRenderReport& g = renderer.report();
-                runReport->samplesRendered = static_cast<int>(g.samplesPerPixel);
                 runReport->gpu = RunReport::Gpu{context->description().name,
                                                 context->description().type,
                                                 context->description().driver,
@@ -123,11 +148,16 @@ int run(Options options) {
             }
         } else {
             const ReferenceRenderer renderer(scene, flatBvh, camera, renderSettings);
-            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs);
-            if (runReport) runReport->samplesRendered = renderSettings.samplesPerPixel;
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
         }
-        if (runReport) runReport->renderMs = millisecondsSince(renderStart);
+        if (runReport) {
+            runReport->renderMs = millisecondsSince(renderStart);
+            runReport->samplesRendered = static_cast<int>(rendered.fewestSamples);
+            runReport->mostSamplesRendered = static_cast<int>(rendered.mostSamples);
+            runReport->stopped = rendered.stopped;
+        }
         progress.finish();
+        if (!runReport && rendered.stopped == StopReason::Requested) throw InterruptedBeforeRender{};
         return rendered;
     };
 
@@ -198,12 +228,20 @@ int run(Options options) {
     }
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
-        std::fprintf(stderr, "vkrt: wrote %s (%dx%d, %d spp) in %.0f ms, %.2f Mrays/s%s%s\n",
-                     options.outputPath.c_str(), settings.width, settings.height, report.samplesRendered,
-                     report.renderMs, mrays, report.gpu ? " on " : "",
-                     report.gpu ? report.gpu->deviceName.c_str() : "");
+        const std::string spp = report.mostSamplesRendered > report.samplesRendered
+                                    ? std::to_string(report.samplesRendered) + " to " +
+                                          std::to_string(report.mostSamplesRendered)
+                                    : std::to_string(report.samplesRendered);
+        std::fprintf(stderr, "vkrt: %swrote %s (%dx%d, %s spp) in %.0f ms, %.2f Mrays/s%s%s\n",
+                     result.stopped == StopReason::Requested ? "interrupted: " : "", options.outputPath.c_str(),
+                     settings.width, settings.height, spp.c_str(), report.renderMs, mrays,
+                     report.gpu ? " on " : "", report.gpu ? report.gpu->deviceName.c_str() : "");
+        if (result.fewestSamples == 0) {
+            std::fprintf(stderr, "vkrt: warning: the render stopped before every pixel had a sample; those "
+                                 "are black\n");
+        }
     }
-    return 0;
+    return result.stopped == StopReason::Requested ? kExitSignalBase + gSignal : 0;
 }
 
 }  // namespace
@@ -225,7 +263,12 @@ int main(int argc, char** argv) {
             }
             return 0;
         }
+        std::signal(SIGINT, onStopSignal);
+        std::signal(SIGTERM, onStopSignal);
         return run(std::move(options));
+    } catch (const InterruptedBeforeRender&) {
+        std::fprintf(stderr, "vkrt: interrupted while rendering the reference for --report; nothing written\n");
+        return kExitSignalBase + gSignal;
     } catch (const UsageError& e) {
         std::fprintf(stderr, "vkrt: error: %s\n", e.what());
         return kExitBadInput;

@@ -164,7 +164,8 @@ struct CommandLine {
         app.add_flag("--list-devices", options.listDevices, "print the Vulkan devices and exit");
         app.add_flag("--validate", options.validate, "enable the Khronos validation layer");
         app.add_option("--time-limit", options.timeLimitSeconds,
-                       "GPU: stop after the pass that crosses this time")
+                       "stop after this long, once the dispatch (GPU) or pixel (CPU) in flight is done; each "
+                       "pixel averages the samples it got")
             ->type_name("SECONDS")
             ->check(kFinite)
             ->check(kPositive);

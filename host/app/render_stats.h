@@ -9,6 +9,7 @@
 
 #include "bvh/bvh.h"
 #include "common/render_settings.h"
+#include "common/stop_condition.h"
 
 namespace vkrt {
 
@@ -32,7 +33,11 @@ struct RunReport {
     double loadMs = 0.0;
     double renderMs = 0.0;
     RayCounters rays;
-    int samplesRendered = 0;  // fewer than settings.samplesPerPixel when a time limit stopped the render
+    // Samples per pixel rendered: every pixel has at least samplesRendered, some up to mostSamplesRendered
+    // when the render stopped part way through a pass (by the time limit or an interrupt).
+    int samplesRendered = 0;
+    int mostSamplesRendered = 0;
+    StopReason stopped = StopReason::None;
 
     // The GPU tracer's own figures; absent for the CPU reference.
     struct Gpu {

@@ -2,6 +2,7 @@
 // same folder, then rename it into place (rename is atomic within a file system).
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <sstream>
@@ -11,6 +12,10 @@
 
 namespace vkrt {
 
+// The temporary file being written, for a signal handler that ends the process to remove (unlink() is
+// async-signal-safe): empty when none, or a path longer than the buffer.
+inline char gTemporaryFileBeingWritten[4096] = {};
+
 // Calls write(temporaryPath), then renames the temporary file to `path`. If write throws or the rename
 // fails, the temporary file is removed and nothing appears at `path`.
 template <typename Write>
@@ -19,6 +24,13 @@ void writeFileAtomically(const std::string& path, Write&& write) {
     std::ostringstream name;
     name << path << ".tmp-" << std::hex << device() << device();
     const std::string temporary = name.str();
+    struct Published {  // the temporary file's name, visible to a signal handler while it exists
+        explicit Published(const std::string& file) {
+            if (file.size() < sizeof(gTemporaryFileBeingWritten))
+                std::copy(file.c_str(), file.c_str() + file.size() + 1, gTemporaryFileBeingWritten);
+        }
+        ~Published() { gTemporaryFileBeingWritten[0] = '\0'; }
+    } published(temporary);
     try {
         write(temporary);
         std::error_code error;

@@ -204,8 +204,15 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
     return glm::dvec4(sum, static_cast<double>(finite));
 }
 
+namespace {
+
+constexpr uint32_t kMaxSamplesPerPass = 64;
+
+}  // namespace
+
 RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
-                                       double checkpointEveryMs) const {
+                                       double checkpointEveryMs, StopCondition stop) const {
+    stop.start();
     RenderResult result;
     result.image = Image(settings_.width, settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
@@ -217,8 +224,13 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
     // Passes of samples over all rows, ending where the schedule says. Per pixel the samples are summed in
     // the same order either way, so the image does not depend on the passes.
     uint32_t done = 0;
-    while (done < spp) {
-        const uint32_t end = schedule.passEnd(done);
+    uint32_t most = 0;
+    while (done < spp && result.stopped == StopReason::None) {
+        // Passes double from one sample up to kMaxSamplesPerPass: the first image comes soon, and a pixel's
+        // share of a pass stays short enough that stopping waits for little.
+        const uint32_t end = std::min(schedule.passEnd(done), done + std::clamp(done, 1u, kMaxSamplesPerPass));
+        std::atomic<StopReason> stopped{StopReason::None};
+        std::atomic<uint64_t> pixelsDone{0};
         std::atomic<uint64_t> rowsDone{0};
         std::mutex progressLock;
         // One cache line per thread's counters: they change with every ray, and sharing a line between cores
@@ -230,8 +242,15 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
         parallelFor(static_cast<size_t>(settings_.height), threads, [&](size_t row, unsigned worker) {
             const int y = static_cast<int>(row);
             for (int x = 0; x < settings_.width; ++x) {
+                if (stopped.load(std::memory_order_relaxed) != StopReason::None) return;
+                // Every render gets at least one pixel's samples, however soon it is asked to stop.
+                if (const StopReason reason = stop.reason(); reason != StopReason::None && (done > 0 || pixelsDone > 0)) {
+                    stopped = reason;
+                    return;
+                }
                 sums[static_cast<size_t>(y) * settings_.width + x] +=
                     renderPixel(x, y, done, end, counters[worker].rays);
+                pixelsDone.fetch_add(1, std::memory_order_relaxed);
             }
             const uint64_t rows = ++rowsDone;
             if (progress) {
@@ -246,6 +265,10 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
             result.rays.secondary += c.rays.secondary;
             result.rays.nonFiniteSamples += c.rays.nonFiniteSamples;
         }
+        // A pass cut short leaves some pixels with `end` samples and the rest with `done`.
+        result.stopped = stopped;
+        if (pixelsDone > 0) most = end;
+        if (result.stopped != StopReason::None) break;
         done = end;
 
         const double renderMs = schedule.renderMs();
@@ -256,6 +279,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
         }
     }
     result.image = averageOf(sums, settings_.width, settings_.height);
+    result.fewestSamples = done;
+    result.mostSamples = std::max(done, most);
     return result;
 }
 

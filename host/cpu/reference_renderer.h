@@ -27,10 +27,11 @@ class ReferenceRenderer {
     ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                       const RenderSettings& settings);
 
-    // Renders every sample. With a checkpoint callback, it is also called with the image so far at every
-    // power-of-two sample count, at the end, and after any pass that crosses checkpointEveryMs (> 0).
+    // Renders every sample, or until `stop` says so (checked before each pixel of a pass). With a checkpoint
+    // callback, it is also called with the image so far at every power-of-two sample count, at the end, and
+    // after any pass that crosses checkpointEveryMs (> 0).
     RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
-                        double checkpointEveryMs = 0.0) const;
+                        double checkpointEveryMs = 0.0, StopCondition stop = {}) const;
 
     // The pieces, public for tests.
     // Film coordinates in pixels, (0, 0) top-left; (lensU, lensV) in [0, 1)^2 picks the lens point.

@@ -120,7 +120,8 @@ void GpuRenderer::readCounters(RayCounters& counters) {
 }
 
 RenderResult GpuRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
-                                 double checkpointEveryMs) {
+                                 double checkpointEveryMs, StopCondition stop) {
+    stop.start();
     RenderResult result;
     const uint32_t height = static_cast<uint32_t>(settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
@@ -136,14 +137,16 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
                                 : lastUnits;
     };
     uint32_t samplesDone = 0;
-    while (samplesDone < spp) {
+    uint32_t mostSamples = 0;
+    while (samplesDone < spp && result.stopped == StopReason::None) {
         // Passes end where the schedule says (every power of two, with checkpoints).
         const uint32_t limit = std::min(schedule.boundary(samplesDone) - samplesDone,
                                         settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch
                                                                                  : kMaxSamplesPerDispatch);
         const uint32_t samples =
             static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(limit)));
-        for (uint32_t row = 0; row < height;) {
+        uint32_t row = 0;
+        while (row < height) {
             const uint32_t rows = static_cast<uint32_t>(
                 std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
             const double ms = runDispatch(samplesDone, samples, row, rows);
@@ -151,19 +154,24 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
             unitsPerMs = lastUnits / std::max(ms, 0.01);
             readCounters(result.rays);
             row += rows;
+            mostSamples = samplesDone + samples;
             if (progress)
                 progress(static_cast<uint64_t>(samplesDone) * height + static_cast<uint64_t>(row) * samples,
                          static_cast<uint64_t>(spp) * height);
+            // Stopping here leaves rows [0, row) with one pass more than the rest; pixels are averaged over
+            // their own sample counts.
+            result.stopped = stop.reason();
+            if (result.stopped != StopReason::None) break;
         }
+        if (row < height) break;  // stopped part way through the pass
         samplesDone += samples;
         const double renderMs = schedule.renderMs();
-        const bool timeUp = options_.timeLimitSeconds > 0.0 && renderMs >= options_.timeLimitSeconds * 1000.0;
-        if (checkpoint && (schedule.due(samplesDone, renderMs) || timeUp)) {
+        if (checkpoint && (schedule.due(samplesDone, renderMs) || result.stopped != StopReason::None)) {
             schedule.take(renderMs, [&] { checkpoint(samplesDone, renderMs, report_.gpuMs, readImage()); });
         }
-        if (timeUp) break;
     }
-    report_.samplesPerPixel = samplesDone;
+    result.fewestSamples = samplesDone;
+    result.mostSamples = std::max(samplesDone, mostSamples);
     if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
 
     result.image = readImage();

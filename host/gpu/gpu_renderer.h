@@ -20,7 +20,6 @@
 namespace vkrt {
 
 struct GpuRenderOptions {
-    double timeLimitSeconds = 0.0;   // 0: render every sample; otherwise stop after the pass crossing it
     double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
@@ -33,8 +32,6 @@ struct GpuRenderReport {
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
-    uint32_t samplesPerPixel =
-        0;  // samples actually rendered (fewer than asked when a time limit stopped it)
     double longestDispatchMs = 0.0;
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
     bool boundGeometry = false;      // nodes and primitives bound as storage buffers (else device addresses)
@@ -46,11 +43,11 @@ class GpuRenderer {
                 const RenderSettings& settings, const GpuRenderOptions& options = {});
     ~GpuRenderer();
 
-    // Renders every sample (or until the time limit). With a checkpoint callback, it is also called with
-    // the image so far at every power-of-two sample count, at the end, and after any pass that crosses
-    // checkpointEveryMs (> 0).
+    // Renders every sample, or until `stop` says so (checked after each dispatch). With a checkpoint
+    // callback, it is also called with the image so far at every power-of-two sample count, at the end, and
+    // after any pass that crosses checkpointEveryMs (> 0).
     RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
-                        double checkpointEveryMs = 0.0);
+                        double checkpointEveryMs = 0.0, StopCondition stop = {});
 
     const GpuRenderReport& report() const { return report_; }
     const SceneFeatures& features() const { return data_.features; }

@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "common/render_settings.h"
+#include "common/stop_condition.h"
 #include "image/image.h"
 
 namespace vkrt {
@@ -13,6 +14,11 @@ namespace vkrt {
 struct RenderResult {
     Image image;
     RayCounters rays;
+    // Samples per pixel rendered: all pixels have at least the fewest, some up to the most when the render
+    // stopped part way through a pass.
+    uint32_t fewestSamples = 0;
+    uint32_t mostSamples = 0;
+    StopReason stopped = StopReason::None;
 };
 
 // Called as rows (CPU) or passes (GPU) finish: done out of total.

@@ -37,10 +37,10 @@ Gpu::SceneUnderTest Gpu::ownScene(const char* name, double aspect) {
 
 RenderResult Gpu::renderGpu(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                             const RenderSettings& settings, GpuRenderOptions options,
-                            GpuRenderReport* report) {
+                            GpuRenderReport* report, StopCondition stop) {
     options.shaderCacheDir = shaderCacheDir();
     GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
-    RenderResult result = renderer.render();
+    RenderResult result = renderer.render({}, {}, 0.0, stop);
     if (report) *report = renderer.report();
     return result;
 }

@@ -34,7 +34,7 @@ class Gpu : public ::testing::Test {
     // A GPU render with the tests' shader cache; `report`, when given, receives the renderer's report.
     static RenderResult renderGpu(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                   const RenderSettings& settings, GpuRenderOptions options = {},
-                                  GpuRenderReport* report = nullptr);
+                                  GpuRenderReport* report = nullptr, StopCondition stop = {});
 
   private:
     static inline std::unique_ptr<VulkanContext> context_;

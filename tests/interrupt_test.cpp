@@ -1,0 +1,103 @@
+// Renders that end early keep their work: SIGINT and SIGTERM end the render after the dispatch or pixel in
+// flight and write the image of the samples done (exit 128 + signal); a second signal ends vkrt at once; a
+// time limit can end a render part way through its first pass. Each render asked for here would take hours
+// if it did not stop, so a stop that failed would time the test out.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+struct Interrupted {
+    test::CommandResult command;  // the shell's output ends with "exit=N", vkrt's exit code
+    int exitCode = -1;
+};
+
+// Starts vkrt in the background, sends `signals` (e.g. "INT", or "INT INT") once it has rendered for a while,
+// `gap` seconds apart, and waits for it.
+Interrupted interrupt(const std::string& arguments, const std::string& signals, double gap = 0.05) {
+    const std::string script = "VKRT_VALIDATE=1 '" + std::string(VKRT_BINARY) + "' " + arguments +
+                               " & pid=$!; sleep 3; for s in " + signals + "; do kill -$s $pid; sleep " +
+                               std::to_string(gap) + "; done; wait $pid; echo \"exit=$?\"";
+    Interrupted result;
+    result.command = test::runCommand("bash -c '" + [&] {
+        std::string quoted;
+        for (char c : script) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return quoted;
+    }() + "'");
+    const size_t at = result.command.output.rfind("exit=");
+    if (at != std::string::npos) result.exitCode = std::stoi(result.command.output.substr(at + 5));
+    return result;
+}
+
+nlohmann::json readJson(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+}
+
+std::string scene() { return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'"; }
+
+void expectKeptWork(const std::string& device, const std::string& signal, int exitCode) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const auto stats = folder / "stats.json";
+    const Interrupted run = interrupt(scene() + " --device " + device + " --width 64 --height 64 --spp 1000000 --out '" +
+                                          image.string() + "' --stats '" + stats.string() + "'",
+                                      signal);
+    EXPECT_EQ(run.exitCode, exitCode) << run.command.output;
+    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
+    ASSERT_TRUE(std::filesystem::exists(image)) << run.command.output;
+    const nlohmann::json s = readJson(stats);
+    EXPECT_TRUE(s["interrupted"].get<bool>());
+    EXPECT_GE(s["spp_max"].get<int>(), 1) << "samples were rendered in 3 s";
+    EXPECT_LT(s["spp"].get<int>(), 1000000);
+    EXPECT_LE(s["spp_max"].get<int>() - s["spp"].get<int>(), 64) << "passes of at most 64 samples";
+}
+
+TEST(Interrupt, SigintOnTheCpuWritesTheSamplesDone) { expectKeptWork("cpu", "INT", 130); }
+
+TEST(Interrupt, SigtermOnTheGpuWritesTheSamplesDone) { expectKeptWork("gpu", "TERM", 143); }
+
+// The first SIGINT stops a 4096 x 4096 render, whose image then takes seconds to average and write; the
+// second, 0.3 s later, ends vkrt there and then, leaving no file, not even the temporary one.
+TEST(Interrupt, SecondSigintEndsAtOnceWithoutWriting) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "never.exr";
+    const Interrupted run = interrupt(scene() + " --device cpu --width 4096 --height 4096 --spp 1000000 --out '" +
+                                          image.string() + "'",
+                                      "INT INT", 0.3);
+    EXPECT_EQ(run.exitCode, 130) << run.command.output;  // killed by SIGINT, as the shell reports it
+    EXPECT_EQ(run.command.output.find("wrote"), std::string::npos) << run.command.output;
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 0) << "nothing written";
+}
+
+// A time limit ends the render inside its first pass (one sample of 16M pixels, many seconds on a few cores),
+// with each pixel averaged over its own samples: some have one, the rest none.
+TEST(Interrupt, TimeLimitEndsInsideAPass) {
+    for (const char* device : {"cpu", "gpu"}) {
+        SCOPED_TRACE(device);
+        const auto folder = test::temporaryFolder();
+        const auto stats = folder / "stats.json";
+        const test::CommandResult run = test::runVkrt(scene() + " --device " + device +
+                                                      " --width 4096 --height 4096 --spp 64 --time-limit 2 --out '" +
+                                                      (folder / "x.exr").string() + "' --stats '" + stats.string() + "'");
+        EXPECT_EQ(run.exitCode, 0) << run.output;
+        const nlohmann::json s = readJson(stats);
+        EXPECT_TRUE(s["stopped_by_time_limit"].get<bool>());
+        EXPECT_FALSE(s["interrupted"].get<bool>());
+        EXPECT_EQ(s["spp"].get<int>(), 0);
+        EXPECT_EQ(s["spp_max"].get<int>(), 1);
+        EXPECT_NE(run.output.find("before every pixel had a sample"), std::string::npos) << run.output;
+    }
+}
+
+}  // namespace
+}  // namespace vkrt
