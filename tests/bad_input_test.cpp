@@ -131,6 +131,13 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "overflows"},
+        {"accessor count far beyond its data",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][0]["count"] = 2147483647;  // read before checking, 24 GiB
+             writeJson(file, d);
+         },
+         "overflows"},
         {"index out of range",
          [](auto&, auto& file) {
              std::vector<uint8_t> bytes = triangleBytes();
@@ -520,6 +527,35 @@ TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
     }
+}
+
+// Inputs found by fuzzing (tools/fuzz_loader.sh) or made to break the loader: each must load or fail with one
+// SceneError, never crash, run out of memory or throw anything else.
+TEST(BadInput, FuzzRegressionsLoadOrFailCleanly) {
+    size_t files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(test::sourceDir() / "tests/fuzz/regressions")) {
+        SCOPED_TRACE(entry.path().string());
+        ++files;
+        try {
+            loadGltf(entry.path().string());
+        } catch (const SceneError& e) {
+            EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_GE(files, 3u);
+}
+
+// A node hierarchy 100,000 levels deep is walked with the loader's own stacks, not the call stack.
+TEST(BadInput, DeepHierarchyLoads) {
+    json d = validTriangle();
+    d["nodes"] = json::array({{{"children", {1}}}});
+    for (int i = 1; i < 100000; ++i) d["nodes"].push_back({{"children", {i + 1}}});
+    d["nodes"].push_back({{"mesh", 0}, {"translation", {0.0, 0.0, 1.0}}});
+    const auto file = test::temporaryFolder() / "deep.gltf";
+    writeJson(file, d);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    EXPECT_EQ(scene.triangles[0].v0.z, 1.0f);
 }
 
 TEST(BadInput, ValidAnimationLoadsAndMoves) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <sstream>
 
 #include <tiny_gltf.h>
@@ -100,6 +101,12 @@ size_t AccessorReader::count(int accessorIndex, const std::string& what) const {
     return model_.accessors[accessorIndex].count;
 }
 
+namespace {
+
+constexpr size_t kMaxSparseOnlyElements = size_t{1} << 26;
+
+}  // namespace
+
 std::vector<double> AccessorReader::readComponents(int accessorIndex, int components, bool wantIndices,
                                                    const std::string& what) const {
     const size_t elementCount = count(accessorIndex, what);
@@ -162,11 +169,19 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
         return {buffer.data.data() + view.byteOffset + byteOffset, stride};
     };
 
-    std::vector<double> values(elementCount * components, 0.0);
+    // The data is located, and its size checked, before anything is allocated for it. Only an accessor
+    // with sparse values alone has no data to bound its count.
+    std::optional<ElementRun> run;
     if (accessor.bufferView >= 0) {
-        ElementRun run = locate(accessor.bufferView, accessor.byteOffset, elementCount, elementSize, name);
+        run = locate(accessor.bufferView, accessor.byteOffset, elementCount, elementSize, name);
+    } else if (elementCount > kMaxSparseOnlyElements) {
+        fail(name + " has " + std::to_string(elementCount) + " elements and no bufferView; vkrt reads at most " +
+             std::to_string(kMaxSparseOnlyElements) + " such");
+    }
+    std::vector<double> values(elementCount * components, 0.0);
+    if (run) {
         for (size_t i = 0; i < elementCount; ++i) {
-            const unsigned char* element = run.data + i * run.stride;
+            const unsigned char* element = run->data + i * run->stride;
             for (int c = 0; c < components; ++c) {
                 values[i * components + c] =
                     decodeComponent(element + c * size, accessor.componentType, accessor.normalized);

@@ -38,7 +38,10 @@ class GltfConverter {
     using Poses = std::vector<glm::dmat4>;
 
     void chooseShutter();
-    void walk(int nodeIndex, const Poses& parents);
+    // Places the tree under `root` in the world, below `parents`.
+    void walk(int root, const Poses& parents);
+    // Places one node's mesh, camera, light and sphere; returns its poses, its children's parents.
+    Poses place(int nodeIndex, const Poses& parents);
 
     GltfContext context_;
     LoadOptions options_;
@@ -108,7 +111,20 @@ void GltfConverter::chooseShutter() {
     }
 }
 
-void GltfConverter::walk(int nodeIndex, const Poses& parents) {
+void GltfConverter::walk(int root, const Poses& rootParents) {
+    // Depth first, parents before children and children in order, with a stack of its own: a file's
+    // hierarchy can be deeper than the call stack.
+    std::vector<std::pair<int, Poses>> pending{{root, rootParents}};
+    while (!pending.empty()) {
+        auto [nodeIndex, parents] = std::move(pending.back());
+        pending.pop_back();
+        const Poses poses = place(nodeIndex, parents);
+        const std::vector<int>& children = context_.model.nodes[nodeIndex].children;
+        for (auto child = children.rbegin(); child != children.rend(); ++child) pending.emplace_back(*child, poses);
+    }
+}
+
+GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
     const tinygltf::Node& node = context_.model.nodes[nodeIndex];
     // Compose the node's world transform at each pose time.
     Poses poses(parents.size());
@@ -142,7 +158,7 @@ void GltfConverter::walk(int nodeIndex, const Poses& parents) {
         for (size_t k = 1; k < poses.size(); ++k)
             context_.scene.spherePoses.push_back(placeSphere(context_, sphere->second, poses[k], where));
     }
-    for (int child : node.children) walk(child, poses);
+    return poses;
 }
 
 bool hasGlbMagic(const std::string& path) {

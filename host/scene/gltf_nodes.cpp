@@ -83,7 +83,12 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         lo = glm::min(lo, q);
         hi = glm::max(hi, q);
     };
-    std::function<void(int, const glm::dmat4&)> visit = [&](int nodeIndex, const glm::dmat4& parent) {
+    // Depth first with a stack of its own: a hierarchy can be deeper than the call stack.
+    std::vector<std::pair<int, glm::dmat4>> pending;
+    for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.emplace_back(*root, glm::dmat4(1.0));
+    while (!pending.empty()) {
+        const auto [nodeIndex, parent] = pending.back();
+        pending.pop_back();
         const tinygltf::Node& node = model.nodes[nodeIndex];
         const glm::dmat4 world = parent * localTransform(context, nodeIndex);
         // Grow by the 8 corners of each primitive's POSITION bounds.
@@ -106,9 +111,9 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         }
         // Grow by a sphere's centre.
         if (node.extensions.count("VKRT_sphere")) grow(glm::dvec3(world[3]));
-        for (int child : node.children) visit(child, world);
-    };
-    for (int root : roots) visit(root, glm::dmat4(1.0));
+        for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+            pending.emplace_back(*child, world);
+    }
     return lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(0.0);
 }
 
