@@ -139,8 +139,8 @@ class Builder {
             std::vector<TopSplit> splits(level.size());
             for (uint32_t k = 0; k < level.size(); ++k) {
                 if (mustBalance(level[k])) continue;
-                Bins& bins = blockBins[firstBlock[k]];
-                for (size_t b = firstBlock[k] + 1; b < firstBlock[k + 1]; ++b) bins.merge(blockBins[b]);
+                Bins bins(config_.binCount);
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) bins.merge(blockBins[b]);
                 const Split split = findSahSplit(bins, topNodes_[level[k].node].bounds, level[k].centers, config_,
                                                  rightArea, rightCount);
                 if (split.axis < 0) continue;
@@ -148,33 +148,19 @@ class Builder {
                 splitBounds(bins, split, splits[k].leftBounds, splits[k].rightBounds);
             }
 
-            // Partition: count each block's left primitives, place the blocks' sides one after another in
-            // the other reference array (a stable partition), in parallel.
+            // Partition: each block's left count is in its bins; the blocks' sides go one after another to
+            // the other reference array (a stable partition), in parallel, gathering centroid bounds.
             std::vector<BlockPartition> parts(blocks.size());
-            parallelFor(blocks.size(), threads_, [&](size_t b, unsigned) {
-                const Block& block = blocks[b];
-                const TopSplit& split = splits[block.pending];
-                if (!split.side) return;
-                const PrimRef* refs = refs_[level[block.pending].buffer].get();
-                BlockPartition& part = parts[b];
-                for (uint32_t i = block.begin; i < block.end; ++i) {
-                    if (split.side->goesLeft(refs[i])) {
-                        ++part.leftCount;
-                        part.leftCenters.grow(refs[i].doubledCenter());
-                    } else {
-                        part.rightCenters.grow(refs[i].doubledCenter());
-                    }
-                }
-            });
             for (uint32_t k = 0; k < level.size(); ++k) {
                 TopSplit& split = splits[k];
                 if (!split.side) continue;
                 uint32_t left = level[k].begin;
                 for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
+                    for (int bin = 0; bin <= split.side->bin; ++bin) {
+                        parts[b].leftCount += blockBins[b].count(split.side->axis, bin);
+                    }
                     parts[b].leftOut = left;
                     left += parts[b].leftCount;
-                    split.leftCenters.grow(parts[b].leftCenters);
-                    split.rightCenters.grow(parts[b].rightCenters);
                 }
                 split.middle = left;
                 uint32_t right = left;
@@ -190,11 +176,24 @@ class Builder {
                 const int buffer = level[block.pending].buffer;
                 const PrimRef* in = refs_[buffer].get();
                 PrimRef* out = refs_[1 - buffer].get();
-                uint32_t left = parts[b].leftOut, right = parts[b].rightOut;
+                BlockPartition& part = parts[b];
+                uint32_t left = part.leftOut, right = part.rightOut;
                 for (uint32_t i = block.begin; i < block.end; ++i) {
-                    out[split.side->goesLeft(in[i]) ? left++ : right++] = in[i];
+                    if (split.side->goesLeft(in[i])) {
+                        part.leftCenters.grow(in[i].doubledCenter());
+                        out[left++] = in[i];
+                    } else {
+                        part.rightCenters.grow(in[i].doubledCenter());
+                        out[right++] = in[i];
+                    }
                 }
             });
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
+                    splits[k].leftCenters.grow(parts[b].leftCenters);
+                    splits[k].rightCenters.grow(parts[b].rightCenters);
+                }
+            }
 
             // Nodes without an SAH plane (near the depth limit, or all centroids alike): the median.
             for (uint32_t k = 0; k < level.size(); ++k) {
