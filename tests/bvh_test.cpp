@@ -1,7 +1,7 @@
 // BVH invariants and closest-hit queries against brute force.
 #include <algorithm>
-#include <cmath>
 #include <bit>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -93,14 +93,16 @@ std::vector<std::string> canonicalTree(const Bvh& bvh) {
 void expectSameTree(const Bvh& a, const Bvh& b, const char* what) {
     const std::vector<std::string> ca = canonicalTree(a), cb = canonicalTree(b);
     ASSERT_EQ(ca.size(), cb.size()) << what;
-    for (size_t i = 0; i < ca.size(); ++i) ASSERT_EQ(ca[i], cb[i]) << what << ": node " << i << " in depth-first order";
+    for (size_t i = 0; i < ca.size(); ++i)
+        ASSERT_EQ(ca[i], cb[i]) << what << ": node " << i << " in depth-first order";
 }
 
 // The binned SAH build as first written (Wald 2007, one recursive function, 16 bins swept in full): the
 // fast builder must make exactly its tree.
 class ReferenceBuilder {
   public:
-    ReferenceBuilder(const std::vector<Aabb>& bounds, const BvhConfig& config) : bounds_(bounds), config_(config) {
+    ReferenceBuilder(const std::vector<Aabb>& bounds, const BvhConfig& config)
+        : bounds_(bounds), config_(config) {
         for (const Aabb& b : bounds) centers_.push_back(b.center());
     }
     Bvh build() {
@@ -119,8 +121,9 @@ class ReferenceBuilder {
     }
     int binOf(const glm::vec3& c, const Aabb& cb, int axis) const {
         const float extent = cb.max[axis] - cb.min[axis];
-        return std::clamp(static_cast<int>((c[axis] - cb.min[axis]) * (static_cast<float>(config_.binCount) / extent)), 0,
-                          config_.binCount - 1);
+        return std::clamp(
+            static_cast<int>((c[axis] - cb.min[axis]) * (static_cast<float>(config_.binCount) / extent)), 0,
+            config_.binCount - 1);
     }
     void buildNode(uint32_t nodeIndex, uint32_t begin, uint32_t end, int level) {
         Aabb nodeBounds, cb;
@@ -156,9 +159,9 @@ class ReferenceBuilder {
                     for (int k = 0; k <= b; ++k) left.grow(bins[k]), nl += counts[k];
                     for (int k = b + 1; k < config_.binCount; ++k) right.grow(bins[k]), nr += counts[k];
                     if (nl == 0 || nr == 0) continue;
-                    const float cost = config_.traversalCost + config_.intersectionCost *
-                                                                   (left.surfaceArea() * nl + right.surfaceArea() * nr) /
-                                                                   nodeArea;
+                    const float cost = config_.traversalCost +
+                                       config_.intersectionCost *
+                                           (left.surfaceArea() * nl + right.surfaceArea() * nr) / nodeArea;
                     if (cost < bestCost) bestAxis = axis, bestBin = b, bestCost = cost;
                 }
             }
@@ -364,8 +367,8 @@ TEST(Bvh, SameTreeAsTheReferenceBuilder) {
         config.maxDepth = c.maxDepth;
         config.threads = 2;
         const Bvh reference = ReferenceBuilder(bounds, config).build();
-        for (const BinnedSahSchedule schedule : {BinnedSahSchedule{}, BinnedSahSchedule{64, 100},
-                                                 BinnedSahSchedule{1000, 7}}) {
+        for (const BinnedSahSchedule schedule :
+             {BinnedSahSchedule{}, BinnedSahSchedule{64, 100}, BinnedSahSchedule{1000, 7}}) {
             std::string trace = c.name;
             trace.append(", subtrees of ").append(std::to_string(schedule.subtreeSize));
             trace.append(", blocks of ").append(std::to_string(schedule.blockSize));

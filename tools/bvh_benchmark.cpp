@@ -37,7 +37,9 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 double processCpuMs() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
-    auto ms = [](const timeval& t) { return 1e3 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_usec); };
+    auto ms = [](const timeval& t) {
+        return 1e3 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_usec);
+    };
     return ms(usage.ru_utime) + ms(usage.ru_stime);
 }
 

@@ -9,9 +9,12 @@ namespace vkrt {
 
 const char* qualityName(EmbreeBuildQuality quality) {
     switch (quality) {
-        case EmbreeBuildQuality::Low: return "low";
-        case EmbreeBuildQuality::Medium: return "medium";
-        case EmbreeBuildQuality::High: return "high";
+        case EmbreeBuildQuality::Low:
+            return "low";
+        case EmbreeBuildQuality::Medium:
+            return "medium";
+        case EmbreeBuildQuality::High:
+            return "high";
     }
     return "?";
 }
@@ -41,9 +44,9 @@ EmbreeBuildTimer::~EmbreeBuildTimer() {
 }
 
 double EmbreeBuildTimer::build(EmbreeBuildQuality quality) const {
-    const RTCBuildQuality rtcQuality = quality == EmbreeBuildQuality::Low      ? RTC_BUILD_QUALITY_LOW
+    const RTCBuildQuality rtcQuality = quality == EmbreeBuildQuality::Low    ? RTC_BUILD_QUALITY_LOW
                                        : quality == EmbreeBuildQuality::High ? RTC_BUILD_QUALITY_HIGH
-                                                                              : RTC_BUILD_QUALITY_MEDIUM;
+                                                                             : RTC_BUILD_QUALITY_MEDIUM;
     const auto start = std::chrono::steady_clock::now();
     RTCScene scene = rtcNewScene(device_);
     rtcSetSceneBuildQuality(scene, rtcQuality);

@@ -34,7 +34,7 @@ class EmbreeBuildTimer {
 
   private:
     RTCDeviceTy* device_ = nullptr;
-    std::vector<float> vertices_;   // xyz per corner, padded: Embree may read 16 bytes from the last one
+    std::vector<float> vertices_;    // xyz per corner, padded: Embree may read 16 bytes from the last one
     std::vector<unsigned> indices_;  // three corners per triangle
     size_t triangleCount_ = 0;
 };

@@ -20,9 +20,9 @@ using namespace sah;
 struct PendingNode {
     uint32_t node;  // index among the top nodes
     uint32_t begin, end;
-    int level;    // the root: 1
+    int level;     // the root: 1
     Box4 centers;  // bounds of the doubled centroids
-    int buffer;   // which of the two reference arrays holds refs[begin, end)
+    int buffer;    // which of the two reference arrays holds refs[begin, end)
 };
 
 // Consecutive primitives of one pending node: the unit of parallel work at the top of the tree.
@@ -31,8 +31,7 @@ struct Block {
     uint32_t begin, end;
 };
 
-// How one pending node is split: by an SAH plane, with the left count and centroid bounds of each block,
-// or at the median.
+// How one pending node is split (by an SAH plane, or at the median without one) and what its children get.
 struct TopSplit {
     std::optional<SplitSide> side;
     Aabb leftBounds, rightBounds;
@@ -40,6 +39,8 @@ struct TopSplit {
     uint32_t middle = 0;
 };
 
+// One block's share of a partition: its left count (from its bins), where its two sides go, and the
+// centroid bounds of each side.
 struct BlockPartition {
     uint32_t leftCount = 0;
     Box4 leftCenters, rightCenters;
@@ -119,7 +120,8 @@ class Builder {
             std::vector<size_t> firstBlock;
             for (uint32_t k = 0; k < level.size(); ++k) {
                 firstBlock.push_back(blocks.size());
-                for (uint32_t begin = level[k].begin; begin < level[k].end; begin += std::min(blockSize_, level[k].end - begin)) {
+                for (uint32_t begin = level[k].begin; begin < level[k].end;
+                     begin += std::min(blockSize_, level[k].end - begin)) {
                     blocks.push_back({k, begin, std::min(level[k].end, begin + blockSize_)});
                 }
             }
@@ -133,7 +135,8 @@ class Builder {
                 const Block& block = blocks[b];
                 const PendingNode& pending = level[block.pending];
                 if (!mustBalance(pending)) {
-                    blockBins[b].add(refs_[pending.buffer].get(), block.begin, block.end, mappings[block.pending]);
+                    blockBins[b].add(refs_[pending.buffer].get(), block.begin, block.end,
+                                     mappings[block.pending]);
                 }
             });
             std::vector<TopSplit> splits(level.size());
@@ -141,8 +144,8 @@ class Builder {
                 if (mustBalance(level[k])) continue;
                 Bins bins(config_.binCount);
                 for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) bins.merge(blockBins[b]);
-                const Split split = findSahSplit(bins, topNodes_[level[k].node].bounds, level[k].centers, config_,
-                                                 rightArea, rightCount);
+                const Split split = findSahSplit(bins, topNodes_[level[k].node].bounds, level[k].centers,
+                                                 config_, rightArea, rightCount);
                 if (split.axis < 0) continue;
                 splits[k].side = SplitSide{mappings[k], split.axis, split.bin};
                 splitBounds(bins, split, splits[k].leftBounds, splits[k].rightBounds);
@@ -201,8 +204,8 @@ class Builder {
                 if (split.side) continue;
                 const PendingNode& pending = level[k];
                 PrimRef* out = refs_[1 - pending.buffer].get();
-                std::copy(refs_[pending.buffer].get() + pending.begin, refs_[pending.buffer].get() + pending.end,
-                          out + pending.begin);
+                std::copy(refs_[pending.buffer].get() + pending.begin,
+                          refs_[pending.buffer].get() + pending.end, out + pending.begin);
                 split.middle = medianSplit(out, pending.begin, pending.end, pending.centers);
                 Box4 left, right;
                 boundsOf(out, pending.begin, split.middle, left, split.leftCenters);
@@ -221,9 +224,10 @@ class Builder {
                 topNodes_[pending.node].primCount = 0;
                 topNodes_.push_back(BvhBuildNode{split.leftBounds});
                 topNodes_.push_back(BvhBuildNode{split.rightBounds});
-                const PendingNode children[2] = {
-                    {left, pending.begin, split.middle, pending.level + 1, split.leftCenters, 1 - pending.buffer},
-                    {left + 1, split.middle, pending.end, pending.level + 1, split.rightCenters, 1 - pending.buffer}};
+                const PendingNode children[2] = {{left, pending.begin, split.middle, pending.level + 1,
+                                                  split.leftCenters, 1 - pending.buffer},
+                                                 {left + 1, split.middle, pending.end, pending.level + 1,
+                                                  split.rightCenters, 1 - pending.buffer}};
                 for (const PendingNode& child : children) {
                     (child.end - child.begin > subtreeSize_ ? next : subtrees).push_back(child);
                 }

@@ -70,7 +70,8 @@ struct Box4 {
 // (the bins and clamping of Wald 2007, eq. 1).
 class BinMapping {
   public:
-    BinMapping(const Box4& doubledCenterBounds, int binCount) : origin_(doubledCenterBounds.min), last_(binCount - 1) {
+    BinMapping(const Box4& doubledCenterBounds, int binCount)
+        : origin_(doubledCenterBounds.min), last_(binCount - 1) {
         const Float4 extent = doubledCenterBounds.max - doubledCenterBounds.min;
         for (int axis = 0; axis < 3; ++axis) {
             scale_[axis] = extent[axis] > 0.0f ? static_cast<float>(binCount) / extent[axis] : 0.0f;
@@ -247,7 +248,8 @@ inline Split findSahSplit(const Bins& bins, const Aabb& nodeBounds, const Box4& 
 // The bounds of the two sides of a split, from the bins: exactly those of the primitives on each side.
 inline void splitBounds(const Bins& bins, const Split& split, Aabb& left, Aabb& right) {
     Box4 leftBox, rightBox;
-    for (int b = 0; b < bins.binCount(); ++b) (b <= split.bin ? leftBox : rightBox).grow(bins.box(split.axis, b));
+    for (int b = 0; b < bins.binCount(); ++b)
+        (b <= split.bin ? leftBox : rightBox).grow(bins.box(split.axis, b));
     left = leftBox.toAabb();
     right = rightBox.toAabb();
 }

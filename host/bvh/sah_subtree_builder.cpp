@@ -34,7 +34,8 @@ void SubtreeBuilder::buildNode(uint32_t node, uint32_t begin, uint32_t end, int 
         const BinMapping mapping(centers, config_.binCount);
         bins_.clear();
         bins_.add(refs, begin, end, mapping);
-        const Split split = findSahSplit(bins_, nodes_[node].bounds, centers, config_, rightArea_, rightCount_);
+        const Split split =
+            findSahSplit(bins_, nodes_[node].bounds, centers, config_, rightArea_, rightCount_);
         const float leafCost = config_.intersectionCost * static_cast<float>(count);
         if (count <= maxLeafSize && leafCost <= split.cost) {
             makeLeaf(node, refs, begin, count);
