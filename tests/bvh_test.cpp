@@ -1,7 +1,9 @@
 // BVH invariants and closest-hit queries against brute force.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -59,6 +61,148 @@ void expectValidBvh(const Bvh& bvh, const std::vector<Aabb>& bounds, const BvhCo
         ASSERT_EQ(seen[prim], 1) << "primitive " << prim << " must be in exactly one leaf";
     }
 }
+
+// The tree as a sequence independent of node numbering: depth-first, left child first, each node's bounds
+// and, for a leaf, its primitives.
+std::vector<std::string> canonicalTree(const Bvh& bvh) {
+    std::vector<std::string> out;
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const BvhBuildNode& node = bvh.nodes[stack.back()];
+        stack.pop_back();
+        std::string line;
+        for (float v : {node.bounds.min.x, node.bounds.min.y, node.bounds.min.z, node.bounds.max.x,
+                        node.bounds.max.y, node.bounds.max.z}) {
+            line.append(std::to_string(std::bit_cast<uint32_t>(v))).append(" ");
+        }
+        if (node.isLeaf()) {
+            std::vector<uint32_t> prims(bvh.primIndices.begin() + node.leftOrFirst,
+                                        bvh.primIndices.begin() + node.leftOrFirst + node.primCount);
+            std::sort(prims.begin(), prims.end());
+            line += "leaf";
+            for (uint32_t p : prims) line.append(" ").append(std::to_string(p));
+        } else {
+            stack.push_back(node.leftOrFirst + 1);
+            stack.push_back(node.leftOrFirst);
+        }
+        out.push_back(line);
+    }
+    return out;
+}
+
+void expectSameTree(const Bvh& a, const Bvh& b, const char* what) {
+    const std::vector<std::string> ca = canonicalTree(a), cb = canonicalTree(b);
+    ASSERT_EQ(ca.size(), cb.size()) << what;
+    for (size_t i = 0; i < ca.size(); ++i)
+        ASSERT_EQ(ca[i], cb[i]) << what << ": node " << i << " in depth-first order";
+}
+
+// The binned SAH build as first written (Wald 2007, one recursive function, 16 bins swept in full): the
+// fast builder must make exactly its tree.
+class ReferenceBuilder {
+  public:
+    ReferenceBuilder(const std::vector<Aabb>& bounds, const BvhConfig& config)
+        : bounds_(bounds), config_(config) {
+        for (const Aabb& b : bounds) centers_.push_back(b.center());
+    }
+    Bvh build() {
+        bvh_.primIndices.resize(bounds_.size());
+        for (uint32_t i = 0; i < bounds_.size(); ++i) bvh_.primIndices[i] = i;
+        bvh_.nodes.emplace_back();
+        buildNode(0, 0, static_cast<uint32_t>(bounds_.size()), 1);
+        return bvh_;
+    }
+
+  private:
+    int levelsNeeded(uint32_t count) const {
+        int levels = 1;
+        for (uint64_t capacity = config_.maxLeafSize; capacity < count; capacity *= 2) ++levels;
+        return levels;
+    }
+    int binOf(const glm::vec3& c, const Aabb& cb, int axis) const {
+        const float extent = cb.max[axis] - cb.min[axis];
+        return std::clamp(
+            static_cast<int>((c[axis] - cb.min[axis]) * (static_cast<float>(config_.binCount) / extent)), 0,
+            config_.binCount - 1);
+    }
+    void buildNode(uint32_t nodeIndex, uint32_t begin, uint32_t end, int level) {
+        Aabb nodeBounds, cb;
+        for (uint32_t i = begin; i < end; ++i) {
+            nodeBounds.grow(bounds_[bvh_.primIndices[i]]);
+            cb.grow(centers_[bvh_.primIndices[i]]);
+        }
+        bvh_.nodes[nodeIndex].bounds = nodeBounds;
+        const uint32_t count = end - begin;
+        auto leaf = [&] {
+            bvh_.nodes[nodeIndex].leftOrFirst = begin;
+            bvh_.nodes[nodeIndex].primCount = count;
+        };
+        if (count <= 1) return leaf();
+        const bool mustBalance = level - 1 + levelsNeeded(count) >= config_.maxDepth;
+        uint32_t middle = begin;
+        if (!mustBalance) {
+            int bestAxis = -1, bestBin = 0;
+            float bestCost = std::numeric_limits<float>::infinity();
+            const float nodeArea = nodeBounds.surfaceArea();
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!(cb.max[axis] > cb.min[axis])) continue;
+                std::vector<Aabb> bins(config_.binCount);
+                std::vector<uint32_t> counts(config_.binCount, 0);
+                for (uint32_t i = begin; i < end; ++i) {
+                    const int b = binOf(centers_[bvh_.primIndices[i]], cb, axis);
+                    bins[b].grow(bounds_[bvh_.primIndices[i]]);
+                    ++counts[b];
+                }
+                for (int b = 0; b < config_.binCount - 1; ++b) {
+                    Aabb left, right;
+                    uint32_t nl = 0, nr = 0;
+                    for (int k = 0; k <= b; ++k) left.grow(bins[k]), nl += counts[k];
+                    for (int k = b + 1; k < config_.binCount; ++k) right.grow(bins[k]), nr += counts[k];
+                    if (nl == 0 || nr == 0) continue;
+                    const float cost = config_.traversalCost +
+                                       config_.intersectionCost *
+                                           (left.surfaceArea() * nl + right.surfaceArea() * nr) / nodeArea;
+                    if (cost < bestCost) bestAxis = axis, bestBin = b, bestCost = cost;
+                }
+            }
+            if (count <= static_cast<uint32_t>(config_.maxLeafSize) &&
+                config_.intersectionCost * static_cast<float>(count) <= bestCost) {
+                return leaf();
+            }
+            if (bestAxis >= 0) {
+                middle = static_cast<uint32_t>(
+                    std::partition(bvh_.primIndices.begin() + begin, bvh_.primIndices.begin() + end,
+                                   [&](uint32_t p) { return binOf(centers_[p], cb, bestAxis) <= bestBin; }) -
+                    bvh_.primIndices.begin());
+            }
+        } else if (count <= static_cast<uint32_t>(config_.maxLeafSize)) {
+            return leaf();
+        }
+        if (middle == begin) {  // median split, ties by index
+            middle = begin + count / 2;
+            const glm::vec3 e = cb.extent();
+            const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+            if (e[axis] > 0.0f) {
+                std::nth_element(bvh_.primIndices.begin() + begin, bvh_.primIndices.begin() + middle,
+                                 bvh_.primIndices.begin() + end, [&](uint32_t a, uint32_t b) {
+                                     return centers_[a][axis] < centers_[b][axis] ||
+                                            (centers_[a][axis] == centers_[b][axis] && a < b);
+                                 });
+            }
+        }
+        const uint32_t left = static_cast<uint32_t>(bvh_.nodes.size());
+        bvh_.nodes.resize(left + 2);
+        bvh_.nodes[nodeIndex].leftOrFirst = left;
+        bvh_.nodes[nodeIndex].primCount = 0;
+        buildNode(left, begin, middle, level + 1);
+        buildNode(left + 1, middle, end, level + 1);
+    }
+
+    const std::vector<Aabb>& bounds_;
+    const BvhConfig& config_;
+    std::vector<glm::vec3> centers_;
+    Bvh bvh_;
+};
 
 struct Closest {
     uint32_t prim = std::numeric_limits<uint32_t>::max();
@@ -183,6 +327,57 @@ TEST(Bvh, ParallelAndSerialBuildsAgree) {
     EXPECT_EQ(a.nodes, b.nodes);
     EXPECT_EQ(a.depth, b.depth);
     EXPECT_DOUBLE_EQ(a.sahCost, b.sahCost);
+}
+
+// Node for node, bit for bit: the same nodes, bounds, leaves and primitive order for 1, 2, 3 and 8 threads
+// (the top of this tree is split by all threads, block by block).
+TEST(Bvh, SameTreeForEveryThreadCount) {
+    const auto bounds = boundsOf(makeUvSphere(glm::vec3(0.0f), 1.0f, 200, 400));
+    BvhConfig config;
+    config.threads = 1;
+    const Bvh serial = BinnedSahBuilder::build(bounds, config);
+    for (int threads : {2, 3, 8}) {
+        config.threads = threads;
+        const Bvh parallel = BinnedSahBuilder::build(bounds, config);
+        ASSERT_EQ(parallel.nodes.size(), serial.nodes.size()) << threads << " threads";
+        for (size_t i = 0; i < serial.nodes.size(); ++i) {
+            const BvhBuildNode &a = serial.nodes[i], &b = parallel.nodes[i];
+            ASSERT_TRUE(a.bounds.min == b.bounds.min && a.bounds.max == b.bounds.max &&
+                        a.leftOrFirst == b.leftOrFirst && a.primCount == b.primCount)
+                << "node " << i << ", " << threads << " threads";
+        }
+        EXPECT_EQ(parallel.primIndices, serial.primIndices) << threads << " threads";
+    }
+}
+
+// Parallel binning and partitioning at the top (block sums of bins, stable partition into a second array)
+// make exactly the tree of the plain recursive builder, with leaves in ascending primitive order.
+TEST(Bvh, SameTreeAsTheReferenceBuilder) {
+    struct Case {
+        const char* name;
+        std::vector<Triangle> triangles;
+        int maxDepth;
+    };
+    const Case cases[] = {{"sphere", makeUvSphere(glm::vec3(0.0f), 1.0f, 64, 128), 64},
+                          {"soup", makeTriangleSoup(20000, 3), 64},
+                          {"soup, depth 14 (median splits)", makeTriangleSoup(20000, 3), 14}};
+    for (const Case& c : cases) {
+        const auto bounds = boundsOf(c.triangles);
+        BvhConfig config;
+        config.maxDepth = c.maxDepth;
+        config.threads = 2;
+        const Bvh reference = ReferenceBuilder(bounds, config).build();
+        for (const BinnedSahSchedule schedule :
+             {BinnedSahSchedule{}, BinnedSahSchedule{64, 100}, BinnedSahSchedule{1000, 7}}) {
+            std::string trace = c.name;
+            trace.append(", subtrees of ").append(std::to_string(schedule.subtreeSize));
+            trace.append(", blocks of ").append(std::to_string(schedule.blockSize));
+            SCOPED_TRACE(trace);
+            const Bvh bvh = BinnedSahBuilder::build(bounds, config, schedule);
+            expectValidBvh(bvh, bounds, config);
+            expectSameTree(bvh, reference, c.name);
+        }
+    }
 }
 
 TEST(Bvh, SahCostOfASingleLeafIsItsPrimitiveCount) {

@@ -42,6 +42,7 @@ std::vector<BadArguments> badArguments() {
         {VKRT_BVH_BENCHMARK, "bvh_benchmark", "--bogus 3", "--bogus"},
         {VKRT_BVH_BENCHMARK, "bvh_benchmark", "--scene /nonexistent/scene.gltf", "--scene"},
         {VKRT_BVH_BENCHMARK, "bvh_benchmark", "--scene " + quotedCornell() + " --triangles 10", "excludes"},
+        {VKRT_BVH_BENCHMARK, "bvh_benchmark", "--embree best", "--embree"},
         {VKRT_RAY_BENCHMARK, "ray_benchmark", "--width 0", "--width"},
         {VKRT_RAY_BENCHMARK, "ray_benchmark", "--height 99999", "--height"},
         {VKRT_RAY_BENCHMARK, "ray_benchmark", "--runs 2.5", "--runs"},
@@ -71,7 +72,7 @@ TEST(ToolsCli, BadArgumentsExitTwoWithOneLine) {
 
 TEST(ToolsCli, HelpListsTheOptionsAndExitsZero) {
     const std::vector<std::pair<const char*, std::vector<const char*>>> tools = {
-        {VKRT_BVH_BENCHMARK, {"--triangles", "--runs", "--threads", "--scene"}},
+        {VKRT_BVH_BENCHMARK, {"--triangles", "--runs", "--threads", "--scene", "--embree"}},
         {VKRT_RAY_BENCHMARK, {"--scene", "--triangles", "--width", "--height", "--runs", "--device-index"}},
         {VKRT_STABILITY_REPORT, {"--size", "--spp", "--long-samples", "--json", "--dump"}},
     };

@@ -1,195 +1,305 @@
 #include "bvh/binned_sah_builder.h"
 
 #include <algorithm>
-#include <atomic>
+#include <memory>
+#include <numeric>
+#include <optional>
 #include <stdexcept>
 
-#include "common/fork_join.h"
+#include "bvh/sah_binning.h"
+#include "bvh/sah_subtree_builder.h"
+#include "common/large_buffer.h"
 #include "common/parallel_for.h"
 
 namespace vkrt {
 namespace {
 
-// Subtrees with fewer primitives than this are built on the thread that reached them.
-constexpr uint32_t kParallelThreshold = 16 * 1024;
+using namespace sah;
 
-struct Bin {
-    Aabb bounds;
-    uint32_t count = 0;
+// A node whose split is still to be found, with what its parent learned about it.
+struct PendingNode {
+    uint32_t node;  // index among the top nodes
+    uint32_t begin, end;
+    int level;     // the root: 1
+    Box4 centers;  // bounds of the doubled centroids
+    int buffer;    // which of the two reference arrays holds refs[begin, end)
 };
 
-struct Split {
-    int axis = -1;
-    int bin = 0;  // primitives in bins [0, bin] go left
-    float cost = std::numeric_limits<float>::infinity();
+// Consecutive primitives of one pending node: the unit of parallel work at the top of the tree.
+struct Block {
+    uint32_t pending;
+    uint32_t begin, end;
 };
 
-// Levels that a balanced (median-split) subtree over `count` primitives needs, itself included.
-int levelsNeeded(uint32_t count, int maxLeafSize) {
-    int levels = 1;
-    uint64_t capacity = static_cast<uint64_t>(maxLeafSize);
-    while (capacity < count) {
-        capacity *= 2;
-        ++levels;
-    }
-    return levels;
-}
+// How one pending node is split (by an SAH plane, or at the median without one) and what its children get.
+struct TopSplit {
+    std::optional<SplitSide> side;
+    Aabb leftBounds, rightBounds;
+    Box4 leftCenters, rightCenters;
+    uint32_t middle = 0;
+};
+
+// One block's share of a partition: its left count (from its bins), where its two sides go, and the
+// centroid bounds of each side.
+struct BlockPartition {
+    uint32_t leftCount = 0;
+    Box4 leftCenters, rightCenters;
+    uint32_t leftOut = 0, rightOut = 0;  // where the block's left and right primitives go
+};
 
 class Builder {
   public:
-    Builder(std::span<const Aabb> bounds, const BvhConfig& config)
-        : bounds_(bounds), config_(config), forkJoin_(threadCount(config.threads)) {
-        centers_.resize(bounds.size());
-        for (size_t i = 0; i < bounds.size(); ++i) centers_[i] = bounds[i].center();
-    }
+    Builder(std::span<const Aabb> bounds, const BvhConfig& config, const BinnedSahSchedule& schedule)
+        : bounds_(bounds),
+          config_(config),
+          threads_(threadCount(config.threads)),
+          blockSize_(std::max<uint32_t>(1, schedule.blockSize)),
+          // A node that may still become a leaf stays with the subtree builder.
+          subtreeSize_(std::max(schedule.subtreeSize, static_cast<uint32_t>(config.maxLeafSize))) {}
 
     Bvh build() {
         const uint32_t count = static_cast<uint32_t>(bounds_.size());
         bvh_.primIndices.resize(count);
-        for (uint32_t i = 0; i < count; ++i) bvh_.primIndices[i] = i;
-        // A binary tree with at least one primitive per leaf has at most 2n - 1 nodes.
-        bvh_.nodes.resize(count == 0 ? 1 : 2 * static_cast<size_t>(count) - 1);
-        nextNode_ = 1;
-        buildNode(0, 0, count, 1);
-        bvh_.nodes.resize(nextNode_);
+        refs_[0] = LargeBuffer<PrimRef>(count);
+        refs_[1] = LargeBuffer<PrimRef>(count);
+        PendingNode root{0, 0, count, 1, {}, 0};
+        topNodes_.push_back(BvhBuildNode{makeRefs(root.centers)});
+
+        std::vector<PendingNode> subtrees;
+        if (count > subtreeSize_) {
+            buildTop(root, subtrees);
+        } else {
+            subtrees.push_back(root);
+        }
+        // Subtree s over refs[begin, end) builds into subtreeNodes[2 * begin, 2 * end): places that do
+        // not depend on the order in which subtrees finish.
+        LargeBuffer<BvhBuildNode> subtreeNodes(2 * static_cast<size_t>(count) + 1);
+        std::vector<uint32_t> nodeCounts(subtrees.size());
+        buildSubtrees(subtrees, subtreeNodes, nodeCounts);
+        assemble(subtrees, subtreeNodes, nodeCounts);
         return std::move(bvh_);
     }
 
   private:
-    void buildNode(uint32_t nodeIndex, uint32_t begin, uint32_t end, int level) {
-        BvhBuildNode& node = bvh_.nodes[nodeIndex];
-        Aabb centerBounds;
-        for (uint32_t i = begin; i < end; ++i) {
-            node.bounds.grow(bounds_[bvh_.primIndices[i]]);
-            centerBounds.grow(centers_[bvh_.primIndices[i]]);
-        }
-        const uint32_t count = end - begin;
-        if (count <= 1) {
-            makeLeaf(node, begin, count);
-            return;
-        }
-
-        // Split: SAH where the depth budget allows it, otherwise a median split that halves the count.
-        const bool mustBalance = level - 1 + levelsNeeded(count, config_.maxLeafSize) >= config_.maxDepth;
-        uint32_t middle = begin;
-        if (!mustBalance) {
-            Split split = findSahSplit(node.bounds, centerBounds, begin, end);
-            const float leafCost = config_.intersectionCost * static_cast<float>(count);
-            if (count <= static_cast<uint32_t>(config_.maxLeafSize) && leafCost <= split.cost) {
-                makeLeaf(node, begin, count);
-                return;
+    // The references, with the root's bounds and centroid bounds; returns the bounds.
+    Aabb makeRefs(Box4& rootCenters) {
+        const size_t count = bounds_.size();
+        const size_t blocks = (count + blockSize_ - 1) / blockSize_;
+        std::vector<Box4> blockBounds(blocks), blockCenters(blocks);
+        parallelFor(blocks, threads_, [&](size_t block, unsigned) {
+            const size_t begin = block * blockSize_, end = std::min(count, begin + blockSize_);
+            for (size_t i = begin; i < end; ++i) {
+                const PrimRef ref = makePrimRef(bounds_[i], static_cast<uint32_t>(i));
+                refs_[0][i] = ref;
+                blockBounds[block].grow(ref.min, ref.max);
+                blockCenters[block].grow(ref.doubledCenter());
             }
-            if (split.axis >= 0) middle = partition(split, centerBounds, begin, end);
-        } else if (count <= static_cast<uint32_t>(config_.maxLeafSize)) {
-            makeLeaf(node, begin, count);
-            return;
-        }
-        if (middle == begin || middle == end) middle = medianSplit(centerBounds, begin, end);
-
-        // Put the two children next to each other, then build them (in parallel when both are large).
-        const uint32_t left = nextNode_.fetch_add(2);
-        node.leftOrFirst = left;
-        node.primCount = 0;
-        forkJoin_.invoke(
-            std::min(middle - begin, end - middle) >= kParallelThreshold,
-            [&] { buildNode(left, begin, middle, level + 1); },
-            [&] { buildNode(left + 1, middle, end, level + 1); });
-    }
-
-    void makeLeaf(BvhBuildNode& node, uint32_t begin, uint32_t count) {
-        node.leftOrFirst = begin;
-        node.primCount = count;
-        if (count == 0) node.bounds = Aabb{};  // the empty tree: a leaf no ray can hit
-    }
-
-    int binOf(const glm::vec3& center, const Aabb& centerBounds, int axis) const {
-        const float extent = centerBounds.max[axis] - centerBounds.min[axis];
-        const float scaled =
-            (center[axis] - centerBounds.min[axis]) * (static_cast<float>(config_.binCount) / extent);
-        return std::clamp(static_cast<int>(scaled), 0, config_.binCount - 1);
-    }
-
-    Split findSahSplit(const Aabb& nodeBounds, const Aabb& centerBounds, uint32_t begin, uint32_t end) const {
-        Split best;
-        const float nodeArea = nodeBounds.surfaceArea();
-        const int binCount = config_.binCount;
-        std::vector<Bin> bins(binCount);
-        std::vector<float> rightArea(binCount);
-        std::vector<uint32_t> rightCount(binCount);
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!(centerBounds.max[axis] > centerBounds.min[axis])) continue;
-            std::fill(bins.begin(), bins.end(), Bin{});
-            for (uint32_t i = begin; i < end; ++i) {
-                const uint32_t prim = bvh_.primIndices[i];
-                Bin& bin = bins[binOf(centers_[prim], centerBounds, axis)];
-                bin.bounds.grow(bounds_[prim]);
-                ++bin.count;
-            }
-            // Sweep from the right to know each right-hand side, then from the left to price each plane.
-            Aabb accumulated;
-            uint32_t accumulatedCount = 0;
-            for (int b = binCount - 1; b > 0; --b) {
-                accumulated.grow(bins[b].bounds);
-                accumulatedCount += bins[b].count;
-                rightArea[b] = accumulated.surfaceArea();
-                rightCount[b] = accumulatedCount;
-            }
-            accumulated = Aabb{};
-            accumulatedCount = 0;
-            for (int b = 0; b < binCount - 1; ++b) {
-                accumulated.grow(bins[b].bounds);
-                accumulatedCount += bins[b].count;
-                if (accumulatedCount == 0 || rightCount[b + 1] == 0) continue;
-                const float cost = config_.traversalCost + config_.intersectionCost *
-                                                               (accumulated.surfaceArea() * accumulatedCount +
-                                                                rightArea[b + 1] * rightCount[b + 1]) /
-                                                               nodeArea;
-                if (cost < best.cost) best = Split{axis, b, cost};
-            }
-        }
-        return best;
-    }
-
-    uint32_t partition(const Split& split, const Aabb& centerBounds, uint32_t begin, uint32_t end) {
-        auto first = bvh_.primIndices.begin() + begin;
-        auto last = bvh_.primIndices.begin() + end;
-        auto middle = std::partition(first, last, [&](uint32_t prim) {
-            return binOf(centers_[prim], centerBounds, split.axis) <= split.bin;
         });
-        return static_cast<uint32_t>(middle - bvh_.primIndices.begin());
+        Box4 rootBounds;
+        for (size_t block = 0; block < blocks; ++block) {
+            rootBounds.grow(blockBounds[block]);
+            rootCenters.grow(blockCenters[block]);
+        }
+        return count == 0 ? Aabb{} : rootBounds.toAabb();
     }
 
-    // Halves the range along the widest centroid axis; identical centroids are split by index.
-    uint32_t medianSplit(const Aabb& centerBounds, uint32_t begin, uint32_t end) {
-        const uint32_t middle = begin + (end - begin) / 2;
-        const glm::vec3 extent = centerBounds.extent();
-        int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-        if (extent[axis] > 0.0f) {
-            std::nth_element(bvh_.primIndices.begin() + begin, bvh_.primIndices.begin() + middle,
-                             bvh_.primIndices.begin() + end,
-                             [&](uint32_t a, uint32_t b) { return centers_[a][axis] < centers_[b][axis]; });
+    bool mustBalance(const PendingNode& pending) const {
+        return pending.level - 1 + levelsNeeded(pending.end - pending.begin, config_.maxLeafSize) >=
+               config_.maxDepth;
+    }
+
+    // Splits the nodes over more than subtreeSize_ primitives level by level, each level's binning and
+    // partitioning spread over all threads in blocks; collects the nodes below as subtree roots.
+    void buildTop(const PendingNode& root, std::vector<PendingNode>& subtrees) {
+        std::vector<PendingNode> level{root};
+        std::vector<float> rightArea;
+        std::vector<uint32_t> rightCount;
+        while (!level.empty()) {
+            // Blocks of every node of the level, in order.
+            std::vector<Block> blocks;
+            std::vector<size_t> firstBlock;
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                firstBlock.push_back(blocks.size());
+                for (uint32_t begin = level[k].begin; begin < level[k].end;
+                     begin += std::min(blockSize_, level[k].end - begin)) {
+                    blocks.push_back({k, begin, std::min(level[k].end, begin + blockSize_)});
+                }
+            }
+            firstBlock.push_back(blocks.size());
+            std::vector<BinMapping> mappings;
+            for (const PendingNode& pending : level) mappings.emplace_back(pending.centers, config_.binCount);
+
+            // Bin every block, then merge each node's bins and find its plane.
+            std::vector<Bins> blockBins(blocks.size(), Bins(config_.binCount));
+            parallelFor(blocks.size(), threads_, [&](size_t b, unsigned) {
+                const Block& block = blocks[b];
+                const PendingNode& pending = level[block.pending];
+                if (!mustBalance(pending)) {
+                    blockBins[b].add(refs_[pending.buffer].get(), block.begin, block.end,
+                                     mappings[block.pending]);
+                }
+            });
+            std::vector<TopSplit> splits(level.size());
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                if (mustBalance(level[k])) continue;
+                Bins bins(config_.binCount);
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) bins.merge(blockBins[b]);
+                const Split split = findSahSplit(bins, topNodes_[level[k].node].bounds, level[k].centers,
+                                                 config_, rightArea, rightCount);
+                if (split.axis < 0) continue;
+                splits[k].side = SplitSide{mappings[k], split.axis, split.bin};
+                splitBounds(bins, split, splits[k].leftBounds, splits[k].rightBounds);
+            }
+
+            // Partition: each block's left count is in its bins; the blocks' sides go one after another to
+            // the other reference array (a stable partition), in parallel, gathering centroid bounds.
+            std::vector<BlockPartition> parts(blocks.size());
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                TopSplit& split = splits[k];
+                if (!split.side) continue;
+                uint32_t left = level[k].begin;
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
+                    for (int bin = 0; bin <= split.side->bin; ++bin) {
+                        parts[b].leftCount += blockBins[b].count(split.side->axis, bin);
+                    }
+                    parts[b].leftOut = left;
+                    left += parts[b].leftCount;
+                }
+                split.middle = left;
+                uint32_t right = left;
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
+                    parts[b].rightOut = right;
+                    right += blocks[b].end - blocks[b].begin - parts[b].leftCount;
+                }
+            }
+            parallelFor(blocks.size(), threads_, [&](size_t b, unsigned) {
+                const Block& block = blocks[b];
+                const TopSplit& split = splits[block.pending];
+                if (!split.side) return;
+                const int buffer = level[block.pending].buffer;
+                const PrimRef* in = refs_[buffer].get();
+                PrimRef* out = refs_[1 - buffer].get();
+                BlockPartition& part = parts[b];
+                uint32_t left = part.leftOut, right = part.rightOut;
+                for (uint32_t i = block.begin; i < block.end; ++i) {
+                    if (split.side->goesLeft(in[i])) {
+                        part.leftCenters.grow(in[i].doubledCenter());
+                        out[left++] = in[i];
+                    } else {
+                        part.rightCenters.grow(in[i].doubledCenter());
+                        out[right++] = in[i];
+                    }
+                }
+            });
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
+                    splits[k].leftCenters.grow(parts[b].leftCenters);
+                    splits[k].rightCenters.grow(parts[b].rightCenters);
+                }
+            }
+
+            // Nodes without an SAH plane (near the depth limit, or all centroids alike): the median.
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                TopSplit& split = splits[k];
+                if (split.side) continue;
+                const PendingNode& pending = level[k];
+                PrimRef* out = refs_[1 - pending.buffer].get();
+                std::copy(refs_[pending.buffer].get() + pending.begin,
+                          refs_[pending.buffer].get() + pending.end, out + pending.begin);
+                split.middle = medianSplit(out, pending.begin, pending.end, pending.centers);
+                Box4 left, right;
+                boundsOf(out, pending.begin, split.middle, left, split.leftCenters);
+                boundsOf(out, split.middle, pending.end, right, split.rightCenters);
+                split.leftBounds = left.toAabb();
+                split.rightBounds = right.toAabb();
+            }
+
+            // The children, in pairs: split further at the top, or left to a subtree builder.
+            std::vector<PendingNode> next;
+            for (uint32_t k = 0; k < level.size(); ++k) {
+                const PendingNode& pending = level[k];
+                const TopSplit& split = splits[k];
+                const uint32_t left = static_cast<uint32_t>(topNodes_.size());
+                topNodes_[pending.node].leftOrFirst = left;
+                topNodes_[pending.node].primCount = 0;
+                topNodes_.push_back(BvhBuildNode{split.leftBounds});
+                topNodes_.push_back(BvhBuildNode{split.rightBounds});
+                const PendingNode children[2] = {{left, pending.begin, split.middle, pending.level + 1,
+                                                  split.leftCenters, 1 - pending.buffer},
+                                                 {left + 1, split.middle, pending.end, pending.level + 1,
+                                                  split.rightCenters, 1 - pending.buffer}};
+                for (const PendingNode& child : children) {
+                    (child.end - child.begin > subtreeSize_ ? next : subtrees).push_back(child);
+                }
+            }
+            level = std::move(next);
         }
-        return middle;
+    }
+
+    // Every subtree on one thread, the largest first, so that the last to finish are small.
+    void buildSubtrees(const std::vector<PendingNode>& subtrees, const LargeBuffer<BvhBuildNode>& nodes,
+                       std::vector<uint32_t>& nodeCounts) {
+        std::vector<uint32_t> order(subtrees.size());
+        std::iota(order.begin(), order.end(), 0u);
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+            return subtrees[a].end - subtrees[a].begin > subtrees[b].end - subtrees[b].begin;
+        });
+        std::vector<std::optional<SubtreeBuilder>> builders(threads_);
+        parallelFor(order.size(), threads_, [&](size_t i, unsigned worker) {
+            if (!builders[worker]) builders[worker].emplace(config_, bvh_.primIndices.data());
+            const PendingNode& subtree = subtrees[order[i]];
+            nodeCounts[order[i]] = builders[worker]->build(
+                refs_[subtree.buffer].get(), refs_[1 - subtree.buffer].get(), subtree.begin, subtree.end,
+                subtree.level, topNodes_[subtree.node].bounds, subtree.centers,
+                nodes.get() + 2 * size_t{subtree.begin});
+        });
+    }
+
+    // The top nodes, then each subtree's nodes after its root, in the order the subtrees were found.
+    void assemble(const std::vector<PendingNode>& subtrees, const LargeBuffer<BvhBuildNode>& nodes,
+                  const std::vector<uint32_t>& nodeCounts) {
+        std::vector<size_t> offsets(subtrees.size());
+        size_t total = topNodes_.size();
+        for (size_t s = 0; s < subtrees.size(); ++s) {
+            offsets[s] = total - 1;  // local node i > 0 goes to offsets[s] + i
+            total += nodeCounts[s] - 1;
+        }
+        bvh_.nodes.reserve(total);
+        adviseHugePages(bvh_.nodes.data(), total * sizeof(BvhBuildNode));
+        bvh_.nodes.resize(total);
+        std::copy(topNodes_.begin(), topNodes_.end(), bvh_.nodes.begin());
+        parallelFor(subtrees.size(), threads_, [&](size_t s, unsigned) {
+            const uint32_t offset = static_cast<uint32_t>(offsets[s]);
+            const BvhBuildNode* local = nodes.get() + 2 * size_t{subtrees[s].begin};
+            for (uint32_t i = 0; i < nodeCounts[s]; ++i) {
+                BvhBuildNode node = local[i];
+                if (!node.isLeaf()) node.leftOrFirst += offset;
+                bvh_.nodes[i == 0 ? subtrees[s].node : offset + i] = node;
+            }
+        });
     }
 
     std::span<const Aabb> bounds_;
     const BvhConfig& config_;
-    std::vector<glm::vec3> centers_;
+    unsigned threads_;
+    uint32_t blockSize_;
+    uint32_t subtreeSize_;
+    LargeBuffer<PrimRef> refs_[2];
+    std::vector<BvhBuildNode> topNodes_;
     Bvh bvh_;
-    std::atomic<uint32_t> nextNode_{0};
-    ForkJoin forkJoin_;
 };
 
 }  // namespace
 
-Bvh BinnedSahBuilder::build(std::span<const Aabb> bounds, const BvhConfig& config) {
+Bvh BinnedSahBuilder::build(std::span<const Aabb> bounds, const BvhConfig& config,
+                            const BinnedSahSchedule& schedule) {
     if (config.maxDepth < 2 || config.maxDepth > 64 || config.maxLeafSize < 1 || config.binCount < 2) {
         throw std::invalid_argument("BvhConfig out of range");
     }
-    if (levelsNeeded(static_cast<uint32_t>(bounds.size()), config.maxLeafSize) > config.maxDepth) {
+    if (levelsNeeded(bounds.size(), config.maxLeafSize) > config.maxDepth) {
         throw std::invalid_argument("too many primitives for the BVH depth limit");
     }
-    Builder builder(bounds, config);
+    Builder builder(bounds, config, schedule);
     return builder.build();
 }
 
