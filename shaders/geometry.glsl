@@ -5,8 +5,9 @@
 #ifndef VKRT_GEOMETRY_GLSL
 #define VKRT_GEOMETRY_GLSL
 
+
 #ifdef VKRT_BOUND_GEOMETRY
-layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { BvhNode boundNodes[]; };
+layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
 #define VKRT_PRIMITIVE(i) boundPrimitives[i]
 #else
@@ -21,10 +22,13 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodeWords { u64vec4 boundNodeWords[]; };
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitiveWords { u64vec2 boundPrimitiveWords[]; };
 
-BvhNode vkrtNodeAt(uint i) {
-    const u64vec4 w = boundNodeWords[i];
-    const uvec2 a = unpackUint2x32(w.x), b = unpackUint2x32(w.y), c = unpackUint2x32(w.z), d = unpackUint2x32(w.w);
-    return BvhNode(uintBitsToFloat(uvec3(a, b.x)), b.y, uintBitsToFloat(uvec3(c, d.x)), d.y);
+// A 64-byte wide node as two loads of four words each (llvmpipe loads a vector in one pass over the lanes).
+WideBvhNode vkrtNodeAt(uint i) {
+    const u64vec4 w0 = boundNodeWords[2u * i], w1 = boundNodeWords[2u * i + 1u];
+    const uvec2 a = unpackUint2x32(w0.x), b = unpackUint2x32(w0.y), c = unpackUint2x32(w0.z), d = unpackUint2x32(w0.w);
+    const uvec2 e = unpackUint2x32(w1.x), f = unpackUint2x32(w1.y), g = unpackUint2x32(w1.z);
+    return WideBvhNode(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(b.x), b.y, c.x, c.y, d.x, d.y,
+                       e.x, e.y, f.x, f.y, g.x, g.y, 0u, 0u);
 }
 
 GpuPrimitive vkrtPrimitiveAt(uint i) {

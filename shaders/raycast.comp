@@ -37,6 +37,11 @@ void main() {
         constants.hits.hits[index] = GpuHit(uintBitsToFloat(0x7fc00000u), VKRT_NO_HIT, 0.0, 0.0);
         return;
     }
+#ifdef VKRT_COUNT_ITERATIONS
+    // The walk's loop iterations in place of the barycentrics (ray_benchmark --count-iterations).
+    constants.hits.hits[index] = GpuHit(hit.t, found ? hit.sceneIndex : VKRT_NO_HIT, float(vkrtLoopIterations), 0.0);
+    return;
+#endif
     // Hits name the primitive by its index in the scene, not its place in the BVH's leaf order.
     constants.hits.hits[index] = found ? GpuHit(hit.t, hit.sceneIndex, hit.u, hit.v) : GpuHit(ray.tMax, VKRT_NO_HIT, 0.0, 0.0);
 }

@@ -65,6 +65,38 @@ struct BvhNode {
     uint primCount;
 };
 
+// A 4-wide BVH node, 64 bytes, the layout the GPU walks (flat_bvh.h collapses the binary tree into it).
+// Child boxes are quantized to 8 bits per bound on a per-axis grid of spacing 2^(exponent - 127) counted
+// from `origin` (Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed
+// Wide BVHs", HPG 2017): child k spans origin + lower_k * spacing to origin + upper_k * spacing, where
+// lower_k and upper_k are byte k of the lower* and upper* words. The host rounds outwards and checks that
+// the decoded box, as the GPU computes it in float (the product is exact, a power of two times a byte),
+// contains the child's own, so the slab test stays conservative. Links: VKRT_WIDE_EMPTY for an unused
+// slot, a node index for an interior child, (count << VKRT_WIDE_COUNT_SHIFT) | first for a leaf of `count`
+// primitives from `first`. Scalars only, padded to 64 bytes: lavapipe reads it in two 32-byte loads
+// (geometry.glsl), which beat seven 8-byte ones.
+#define VKRT_WIDE_EMPTY 0xffffffffu
+#define VKRT_WIDE_COUNT_SHIFT 28
+#define VKRT_WIDE_INDEX_MASK 0x0fffffffu
+struct WideBvhNode {
+    float originX;
+    float originY;
+    float originZ;
+    uint exponents;  // bits 0-7, 8-15, 16-23: the x, y and z grid spacing's biased float exponents
+    uint lowerX;
+    uint lowerY;
+    uint lowerZ;
+    uint upperX;
+    uint upperY;
+    uint upperZ;
+    uint child0;
+    uint child1;
+    uint child2;
+    uint child3;
+    uint unused0;
+    uint unused1;
+};
+
 // A primitive, 48 bytes (each vec3 shares its 16 bytes with a uint): a triangle's corners and material,
 // or (kind VKRT_PRIMITIVE_SPHERE, in shaders built with VKRT_HAS_SPHERES) a sphere with its centre in v0
 // and its radius in v1.x. Indices stay integers: integer bits kept in float slots do not survive
@@ -238,7 +270,7 @@ struct GpuHit {
 
 #ifndef __cplusplus
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NodeBuffer {
-    BvhNode nodes[];
+    WideBvhNode nodes[];
 };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveBuffer {
     GpuPrimitive primitives[];
@@ -371,6 +403,8 @@ static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(offsetof(BvhNode, leftOrFirst) == 12, "std430: uint packs after vec3");
 static_assert(offsetof(BvhNode, boundsMax) == 16, "std430: vec3 aligns to 16 bytes");
 static_assert(offsetof(BvhNode, primCount) == 28, "std430: uint packs after vec3");
+static_assert(sizeof(WideBvhNode) == 64 && offsetof(WideBvhNode, exponents) == 12, "two 32-byte rows");
+static_assert(offsetof(WideBvhNode, lowerX) == 16 && offsetof(WideBvhNode, child0) == 40);
 static_assert(sizeof(GpuPrimitive) == 48);
 static_assert(offsetof(GpuPrimitive, material) == 12 && offsetof(GpuPrimitive, v1) == 16);
 static_assert(sizeof(GpuShading) == 64);

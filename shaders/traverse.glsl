@@ -20,14 +20,61 @@ struct Hit {
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
 // touches (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
-bool intersectBox(BvhNode node, ShearedRay r, float tMin, float tMax, out float tEntry) {
-    const vec3 t0 = (node.boundsMin - r.origin) * r.inverseDirection;
-    const vec3 t1 = (node.boundsMax - r.origin) * r.inverseDirection;
+bool intersectBox(vec3 boundsMin, vec3 boundsMax, ShearedRay r, float tMin, float tMax, out float tEntry) {
+    const vec3 t0 = (boundsMin - r.origin) * r.inverseDirection;
+    const vec3 t1 = (boundsMax - r.origin) * r.inverseDirection;
     const vec3 near = min(t0, t1), far = max(t0, t1);
     tEntry = max(max(near.x, near.y), max(near.z, tMin));
     const float tExit = min(min(far.x, far.y), min(far.z, tMax)) * 1.0000003576;
     return tEntry <= tExit;
 }
+
+// A wide node's grid (shared.h): its origin and per-axis spacing 2^(exponent - 127).
+struct WideGrid {
+    vec3 origin;
+    vec3 spacing;
+};
+
+WideGrid wideGrid(WideBvhNode node) {
+    const uvec3 exponents = uvec3(node.exponents, node.exponents >> 8, node.exponents >> 16) & 0xffu;
+    return WideGrid(vec3(node.originX, node.originY, node.originZ), uintBitsToFloat(exponents << 23));
+}
+
+// Tests child slot `slot` of a wide node: its box decoded from the grid (origin + q * spacing, the product
+// exact, so the box is the one the host checked to contain the child's), then the slab test. Gives the
+// entry distance as the sort key and the link, or +infinity and VKRT_WIDE_EMPTY on a miss.
+void testChild(WideBvhNode node, WideGrid grid, uint slot, uint link, ShearedRay r, float tMin, float limit,
+               out float key, out uint hitLink) {
+    const uint shift = 8u * slot;
+    const uvec3 lower = (uvec3(node.lowerX, node.lowerY, node.lowerZ) >> shift) & 0xffu;
+    const uvec3 upper = (uvec3(node.upperX, node.upperY, node.upperZ) >> shift) & 0xffu;
+    float entry;
+    const bool hit = link != VKRT_WIDE_EMPTY &&
+                     intersectBox(grid.origin + vec3(lower) * grid.spacing, grid.origin + vec3(upper) * grid.spacing,
+                                  r, tMin, limit, entry);
+    key = hit ? min(entry, 3.0e38) : uintBitsToFloat(0x7f800000u);
+    hitLink = hit ? link : VKRT_WIDE_EMPTY;
+}
+
+// One comparator of the sorting network: the nearer of two children first.
+void orderChildren(inout float keyA, inout uint linkA, inout float keyB, inout uint linkB) {
+    const bool swap = keyB < keyA;
+    const float key = keyA;
+    const uint link = linkA;
+    keyA = swap ? keyB : keyA;
+    linkA = swap ? linkB : linkA;
+    keyB = swap ? key : keyB;
+    linkB = swap ? link : linkB;
+}
+
+// With VKRT_COUNT_ITERATIONS (ray_benchmark --count-iterations), every pass of every loop of the walk is
+// counted, as llvmpipe counts them against its budget of 65535 per invocation.
+#ifdef VKRT_COUNT_ITERATIONS
+uint vkrtLoopIterations = 0u;
+#define VKRT_COUNT_ITERATION() ++vkrtLoopIterations
+#else
+#define VKRT_COUNT_ITERATION()
+#endif
 
 // How far hits still matter: the best hit so far, plus a tie's width for closest-hit walks (ties are won by
 // the smaller scene index, so a tie just beyond the best hit can still win).
@@ -101,12 +148,14 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // Walks the BVH for hits in (tMin, tMax), skipping primitives excludeA and excludeB. CLOSEST and ANY fill
 // `hit` and return whether there was one; SHADOW multiplies `transmittance` and returns true once it is 0.
 //
-// One iteration of the outer loop visits one node: a leaf's primitives are tested by an inner loop, one per
-// iteration, and the next node comes from an inner loop that pops until an entry still in front of the
-// closest hit. The walk carries a node's link (its first child or primitive, and its primitive count), read
-// with its box when its parent was visited, so a pop loads nothing. On lavapipe every branch of a loop body
-// runs (masked) whether or not a lane takes it, so separate loops for the separate kinds of work cost less
-// than one body doing all of them (issue 13: 1.75x on 2CylinderEngine's camera rays).
+// The tree is 4-wide (shared.h's WideBvhNode). One iteration of the outer loop visits one node: interior
+// nodes by an inner loop, one per iteration (test the four children, enter the nearest, stack the others
+// farthest first), a leaf's primitives by an inner loop, one per iteration, and the next node comes from an
+// inner loop that pops until an entry still in front of the closest hit. Links (shared.h) say where a
+// child's node or primitives are, so a pop loads nothing. On lavapipe every branch of a loop body runs
+// (masked) whether or not a lane takes it, so separate loops for the separate kinds of work cost less than
+// one body doing all of them (issue 13: 1.75x on 2CylinderEngine's camera rays); four children a node
+// halve the interior iterations and the node bytes read of the binary tree's pairs.
 //
 // llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total (each pass of any
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
@@ -116,41 +165,54 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
     complete = true;
     if (params.primitiveCount == 0u) return false;
-    const BvhNode root = VKRT_NODE(0u);
-    float entry;
-    if (!intersectBox(root, r, tMin, hit.t, entry)) return false;
-    // Pending far children: their links and the distances at which the ray enters them.
-    uint stackFirst[VKRT_BVH_MAX_DEPTH];
-    uint stackCount[VKRT_BVH_MAX_DEPTH];
-    float stackEntry[VKRT_BVH_MAX_DEPTH];
+    // Pending children: their links and the distances at which the ray enters them. A wide level stacks
+    // at most three, and the wide tree is no deeper than the binary one (VKRT_BVH_MAX_DEPTH). (One 64-bit
+    // word an entry was 3-5% slower on lavapipe.)
+    uint stackLink[3 * VKRT_BVH_MAX_DEPTH];
+    float stackEntry[3 * VKRT_BVH_MAX_DEPTH];
+#define VKRT_PUSH(link, entry) stackLink[size] = link, stackEntry[size] = entry
+#define VKRT_POP(link, entry) link = stackLink[size], entry = stackEntry[size]
     int size = 0;
-    uint first = root.leftOrFirst, count = root.primCount;
+    uint link = 0u;  // the root, always an interior node
     complete = false;
     for (;;) {
-        // Descend through interior nodes, one per iteration: test both children, enter the nearer, stack the
-        // farther. Ends at a leaf, or where the ray misses both children.
-        if (count == 0u) do {
-            const BvhNode left = VKRT_NODE(first);
-            const BvhNode right = VKRT_NODE(first + 1u);
-            float tLeft, tRight;
+        VKRT_COUNT_ITERATION();
+        // Descend through interior nodes, one per iteration. Ends at a leaf, or where the ray misses every
+        // child.
+        if ((link >> VKRT_WIDE_COUNT_SHIFT) == 0u) do {
+            VKRT_COUNT_ITERATION();
+            const WideBvhNode node = VKRT_NODE(link);
+            const WideGrid grid = wideGrid(node);
             const float limit = searchLimit(hit, tMax, mode);
-            const bool hitLeft = intersectBox(left, r, tMin, limit, tLeft);
-            const bool hitRight = intersectBox(right, r, tMin, limit, tRight);
-            if (!hitLeft && !hitRight) break;
-            const bool leftFirst = hitLeft && (!hitRight || tLeft <= tRight);
-            if (hitLeft && hitRight) {
-                stackFirst[size] = leftFirst ? right.leftOrFirst : left.leftOrFirst;
-                stackCount[size] = leftFirst ? right.primCount : left.primCount;
-                stackEntry[size] = leftFirst ? tRight : tLeft;
-                ++size;
-            }
-            first = leftFirst ? left.leftOrFirst : right.leftOrFirst;
-            count = leftFirst ? left.primCount : right.primCount;
-        } while (count == 0u);
+            float key0, key1, key2, key3;
+            uint link0, link1, link2, link3;
+            testChild(node, grid, 0u, node.child0, r, tMin, limit, key0, link0);
+            testChild(node, grid, 1u, node.child1, r, tMin, limit, key1, link1);
+            testChild(node, grid, 2u, node.child2, r, tMin, limit, key2, link2);
+            testChild(node, grid, 3u, node.child3, r, tMin, limit, key3, link3);
+            // Nearest first (a sorting network of five comparators); misses, at +infinity, go last.
+            orderChildren(key0, link0, key1, link1);
+            orderChildren(key2, link2, key3, link3);
+            orderChildren(key0, link0, key2, link2);
+            orderChildren(key1, link1, key3, link3);
+            orderChildren(key1, link1, key2, link2);
+            if (link0 == VKRT_WIDE_EMPTY) break;
+            // Stack the other children that were hit, farthest first (a miss's slot is overwritten).
+            VKRT_PUSH(link3, key3);
+            size += link3 != VKRT_WIDE_EMPTY ? 1 : 0;
+            VKRT_PUSH(link2, key2);
+            size += link2 != VKRT_WIDE_EMPTY ? 1 : 0;
+            VKRT_PUSH(link1, key1);
+            size += link1 != VKRT_WIDE_EMPTY ? 1 : 0;
+            link = link0;
+        } while ((link >> VKRT_WIDE_COUNT_SHIFT) == 0u);
         // A leaf: test its primitives, one per iteration.
+        const uint count = link >> VKRT_WIDE_COUNT_SHIFT;
         if (count > 0u) {
+            const uint first = link & VKRT_WIDE_INDEX_MASK;
             uint index = first;
             do {
+                VKRT_COUNT_ITERATION();
                 if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) {
                     complete = true;
                     return true;
@@ -159,16 +221,19 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
         }
         // Pop until an entry the ray enters in front of the closest hit (the others are dropped).
         for (;;) {
+            VKRT_COUNT_ITERATION();
             if (size == 0) {
                 complete = true;
                 return mode == VKRT_TRACE_CLOSEST && hit.primitive != VKRT_NO_PRIMITIVE;
             }
             --size;
-            if (mode != VKRT_TRACE_CLOSEST || stackEntry[size] <= searchLimit(hit, tMax, mode)) break;
+            float entry;
+            VKRT_POP(link, entry);
+            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(hit, tMax, mode)) break;
         }
-        first = stackFirst[size];
-        count = stackCount[size];
     }
+#undef VKRT_PUSH
+#undef VKRT_POP
     return false;
 }
 

@@ -3,15 +3,21 @@
 // per ray kind, the BVH build time and SAH cost, and the device.
 //
 //   ray_benchmark [--scene FILE | --triangles N] [--width W --height H] [--runs R] [--device-index N]
+//                 [--count-iterations] [--variant DEFINE[,DEFINE...]]...
 //   (--help lists every option with its range; a bad argument prints one line and exits 2)
 //
 // Without --scene the input is a UV sphere of about N triangles (default 1M) over a ground quad.
 // Camera rays go through every pixel of the scene's camera; shadow rays run from each camera hit to a
 // point above the scene (any hit); diffuse rays leave each camera hit in a cosine-distributed direction
-// (closest hit).
+// (closest hit). --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what
+// llvmpipe counts against its budget of 65535 per invocation), from a kernel built to count them.
+// --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
+// alternately with the default kernel, and reports its rates and their ratio to the default's (A/B tests of
+// shader changes that a busy machine's noise would hide between processes).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -96,6 +102,8 @@ int main(int argc, char** argv) {
     std::string scenePath;
     size_t triangles = 1'000'000;
     int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
+    bool countIterations = false;
+    std::vector<std::string> variants;
     CLI::App app{"Traces camera, shadow and diffuse rays through the GPU traversal and prints JSON.",
                  "ray_benchmark"};
     auto* sceneOption =
@@ -114,6 +122,10 @@ int main(int argc, char** argv) {
     app.add_option("--device-index", deviceIndex, "Vulkan device (-1: the best one)")
         ->check(CLI::Range(-1, 1023))
         ->capture_default_str();
+    app.add_flag("--count-iterations", countIterations,
+                 "also report the traversal's loop iterations per ray (mean, median, 99th percentile, maximum)");
+    app.add_option("--variant", variants,
+                   "also trace with the kernel compiled with these comma-separated defines, alternately");
     if (const std::optional<int> exitCode = parseCommandLine(app, argc, argv)) return *exitCode;
     try {
         const Scene scene = scenePath.empty() ? sphereOverGround(triangles) : loadGltf(scenePath);
@@ -130,6 +142,22 @@ int main(int argc, char** argv) {
         options.deviceIndex = deviceIndex;
         const VulkanContext context(options);
         GpuRaycaster raycaster(context, scene, flat, defaultShaderCacheDir());
+        std::vector<std::unique_ptr<GpuRaycaster>> variantTracers;
+        for (const std::string& variant : variants) {
+            std::vector<std::string> defines;
+            for (size_t start = 0; start <= variant.size();) {
+                const size_t end = std::min(variant.find(',', start), variant.size());
+                if (end > start) defines.push_back(variant.substr(start, end - start));
+                start = end + 1;
+            }
+            variantTracers.push_back(
+                std::make_unique<GpuRaycaster>(context, scene, flat, defaultShaderCacheDir(), defines));
+        }
+        std::unique_ptr<GpuRaycaster> counter;
+        if (countIterations) {
+            counter = std::make_unique<GpuRaycaster>(context, scene, flat, defaultShaderCacheDir(),
+                                                     std::vector<std::string>{"VKRT_COUNT_ITERATIONS"});
+        }
 
         // Camera rays, then shadow and diffuse rays from their hits.
         std::vector<gpu::GpuRay> cameraRays;
@@ -167,7 +195,14 @@ int main(int argc, char** argv) {
         nlohmann::json kinds;
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
             std::vector<double> gpuRates, wallRates, cpuRates;
+            std::vector<std::vector<double>> variantCpuRates(variants.size()), variantWallRates(variants.size());
             for (int run = 0; run < runs; ++run) {
+                for (size_t v = 0; v < variants.size(); ++v) {
+                    RaycastTiming timing;
+                    variantTracers[v]->trace(rays, mode, &timing);
+                    variantCpuRates[v].push_back(rays.size() / timing.cpuMs / 1e3);
+                    variantWallRates[v].push_back(rays.size() / timing.wallMs / 1e3);
+                }
                 RaycastTiming timing;
                 raycaster.trace(rays, mode, &timing);
                 cpuRates.push_back(rays.size() / timing.cpuMs / 1e3);
@@ -207,6 +242,32 @@ int main(int argc, char** argv) {
             }
             entry["hit_agreement"] = static_cast<double>(agree) / static_cast<double>(rays.size());
 #endif
+            for (size_t v = 0; v < variants.size(); ++v) {
+                // Run for run against the default kernel: the median of the per-run ratios.
+                std::vector<double> ratios;
+                for (int run = 0; run < runs; ++run) ratios.push_back(variantCpuRates[v][run] / cpuRates[run]);
+                entry["variants"][variants[v]] = {{"mrays_per_s", summarize(variantWallRates[v]).median},
+                                                  {"mrays_per_cpu_s", summarize(variantCpuRates[v]).median},
+                                                  {"over_default_cpu", summarize(ratios).median}};
+            }
+            if (counter) {
+                std::vector<double> iterations;
+                size_t incomplete = 0;
+                for (const gpu::GpuHit& hit : counter->trace(rays, mode)) {
+                    if (std::isnan(hit.t)) ++incomplete;  // a walk the driver cut short
+                    else iterations.push_back(hit.u);
+                }
+                std::sort(iterations.begin(), iterations.end());
+                double sum = 0.0;
+                for (double n : iterations) sum += n;
+                const size_t n = iterations.size();
+                entry["loop_iterations"] = {
+                    {"mean", n ? sum / static_cast<double>(n) : 0.0},
+                    {"median", n ? iterations[n / 2] : 0.0},
+                    {"p99", n ? iterations[std::min(n - 1, n * 99 / 100)] : 0.0},
+                    {"max", n ? iterations.back() : 0.0},
+                    {"incomplete", incomplete}};
+            }
             kinds[kind] = entry;
         };
         measure("camera", cameraRays, RaycastMode::Closest);

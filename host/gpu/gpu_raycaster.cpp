@@ -22,7 +22,7 @@ double processCpuMs() {
 }  // namespace
 
 GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
-                           const std::string& shaderCacheDir)
+                           const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines)
     : context_(context), data_(packScene(scene, bvh)) {
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     gpu::SceneParams params{};
@@ -30,7 +30,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
-    std::vector<std::string> defines;
+    std::vector<std::string> defines = extraDefines;
     if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
     if (context.wideGeometryLoads()) defines.push_back("VKRT_WIDE_LOADS");
     if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");

@@ -23,8 +23,10 @@ struct RaycastTiming {
 
 class GpuRaycaster {
   public:
+    // `extraDefines` compile into the kernel besides the scene's (VKRT_COUNT_ITERATIONS: hits carry the
+    // walk's loop iterations in u, raycast.comp).
     GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
-                 const std::string& shaderCacheDir);
+                 const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines = {});
     ~GpuRaycaster();
 
     // Hits are reported with scene triangle indices (not the GPU's leaf order).

@@ -76,7 +76,7 @@ gpu::GpuMaterial gpuMaterial(const shading::SurfaceMaterial& s, float thickness)
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
     GpuSceneData data;
     data.features = features ? *features : detectFeatures(scene);
-    data.nodes = bvh.nodes;
+    data.nodes = collapseToWide(bvh);
 
     // Primitives in leaf order, so leaves index them directly. A sphere shares the triangle layout
     // (shared.h).

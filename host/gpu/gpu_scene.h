@@ -15,7 +15,7 @@ namespace vkrt {
 
 struct GpuSceneData {
     SceneFeatures features;
-    std::vector<gpu::BvhNode> nodes;
+    std::vector<gpu::WideBvhNode> nodes;             // the BVH collapsed to 4-wide nodes (flat_bvh.h)
     std::vector<gpu::GpuPrimitive> primitives;       // in BVH leaf order; each keeps its scene index
     std::vector<gpu::GpuShading> shading;            // only with smooth normals or textures
     std::vector<gpu::GpuVertexColors> vertexColors;  // only with vertex colours, leaf order

@@ -25,7 +25,7 @@ layout(std430, binding = 1) writeonly buffer Out { float values[]; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    BvhNode node = params.nodes.nodes[i];
-    values[i] = vkrtRandom(1u, i, 2u, vkrtNodeDimension(3u, VKRT_DIM_LIGHT_U)) + node.boundsMin.x +
-                float(node.primCount + node.leftOrFirst) + node.boundsMax.y + fresnelDielectric(node.boundsMax.x, 1.5);
+    WideBvhNode node = params.nodes.nodes[i];
+    values[i] = vkrtRandom(1u, i, 2u, vkrtNodeDimension(3u, VKRT_DIM_LIGHT_U)) + node.originX +
+                float(node.child0 + node.lowerX) + node.originY + fresnelDielectric(node.originZ, 1.5);
 }
