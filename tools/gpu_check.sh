@@ -79,11 +79,12 @@ else
 fi
 
 # The Vulkan loader, when it has to be brought (see --debs).
+ldconfig=$(command -v ldconfig || echo /sbin/ldconfig)
 if [ -n "$debs" ]; then
     for f in "$debs"/*.deb; do [ -e "$f" ] && dpkg -x "$f" / ; done
-    ldconfig
+    "$ldconfig"
 fi
-if ! ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; then
+if ! "$ldconfig" -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null; then  # not -q: pipefail
     say "no Vulkan loader (libvulkan.so.1): install libvulkan1 (tools/install-deps.sh), or unpack it with --debs DIR"
     exit 2
 fi

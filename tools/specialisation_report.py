@@ -12,7 +12,8 @@ Each scene is rendered with each integrator by `vkrt --shader-features scene` an
   caches (Mesa's MESA_SHADER_CACHE_DIR, NVIDIA's __GL_SHADER_DISK_CACHE_PATH) hold no copy of the shader for
   the first render of a pair and keep what it left for the second. glslang: the first's `shader.compile_ms`
   (GLSL to SPIR-V); pipeline: its `shader.pipeline_ms` (vkCreateComputePipelines, where a driver compiles
-  SPIR-V); first-dispatch JIT: its `gpu_ms` less the second's. lavapipe (llvmpipe) translates SPIR-V when
+  SPIR-V); first-dispatch JIT: its `gpu_ms` less the second's. Cold renders are 8 pixels wide with 1 sample
+  (the same shader: its key is checked), so that little else is in those times. lavapipe (llvmpipe) translates SPIR-V when
   the pipeline is made but compiles it with LLVM only when it is first dispatched, and keeps that in Mesa's
   disk cache: the difference is that compilation (about 0 on drivers that compile up front). Scenes whose
   shaders have the same key (`shader.key`; an integrator's all-features shader is the same for every scene)
@@ -35,11 +36,16 @@ import sys
 import tempfile
 
 VARIANTS = ("scene", "all")
+# Cold renders are this small (width, spp): what making a shader costs does not depend on the image, and the
+# difference of two small renders' GPU times is the compilation alone, not the noise of a long render.
+COLD_SIZE = (8, 1)
 
 
-def render(args, scene, integrator, variant, extra, folder, caches=None):
+def render(args, scene, integrator, variant, extra, folder, caches=None, size=None):
+    """vkrt's stats for one render; `size` (width, spp) instead of the report's."""
+    width, spp = size or (args.width, args.spp)
     stats = os.path.join(folder, "stats.json")
-    command = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width), "--spp", str(args.spp),
+    command = [args.vkrt, "--scene", scene, "--quiet", "--width", str(width), "--spp", str(spp),
                "--seed", str(args.seed), "--integrator", integrator, "--shader-features", variant,
                "--stats", stats, "--out", os.path.join(folder, "image.pfm")] + extra
     env = dict(os.environ)
@@ -60,10 +66,10 @@ def render(args, scene, integrator, variant, extra, folder, caches=None):
 def cold(args, scene, integrator, variant, extra, folder, caches):
     """A render with caches that lack its shader, then one with what it left: what making the shader costs.
     None when the caches held the shader already (it was measured with another scene)."""
-    first = render(args, scene, integrator, variant, extra, folder, caches)
+    first = render(args, scene, integrator, variant, extra, folder, caches, COLD_SIZE)
     if first["shader"]["from_cache"]:
         return first["shader"]["key"], None
-    second = render(args, scene, integrator, variant, extra, folder, caches)
+    second = render(args, scene, integrator, variant, extra, folder, caches, COLD_SIZE)
     if not second["shader"]["from_cache"]:
         sys.exit("specialisation_report: the shader cache did not keep the shader")
     return first["shader"]["key"], {
