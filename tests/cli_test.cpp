@@ -1,4 +1,5 @@
 // The vkrt command: help, exit codes, outputs and the stats JSON.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -26,8 +27,9 @@ const std::string kCornell = quoted(test::sourceDir() / "scenes/cornell.gltf");
 TEST(Cli, HelpListsTheOptionsAndExitsZero) {
     const auto result = test::runVkrt("--help");
     EXPECT_EQ(result.exitCode, 0);
-    for (const char* option : {"--scene", "--out", "--width", "--height", "--spp", "--integrator", "--max-depth",
-                               "--device", "--seed", "--camera", "--stats"}) {
+    for (const char* option :
+         {"--scene", "--out", "--width", "--height", "--spp", "--integrator", "--max-depth", "--device",
+          "--seed", "--camera", "--stats", "--shader-features"}) {
         EXPECT_NE(result.output.find(option), std::string::npos) << option;
     }
 }
@@ -36,7 +38,8 @@ TEST(Cli, BadUsageExitsTwoWithOneLine) {
     for (const char* arguments :
          {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
           "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu", "--scene x.gltf --shutter 1 0",
-          "--scene x.gltf --shutter 0", "--scene x.gltf --integrator bdpt", "--scene x.gltf --max-depth 1025"}) {
+          "--scene x.gltf --shutter 0", "--scene x.gltf --integrator bdpt", "--scene x.gltf --max-depth 1025",
+          "--scene x.gltf --shader-features some"}) {
         const auto result = test::runVkrt(arguments);
         EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.output;
         EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
@@ -346,6 +349,43 @@ TEST(Cli, StatsReportTextureMemory) {
     ASSERT_EQ(result.exitCode, 0) << result.output;
     std::ifstream file(stats);
     EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], ((2 * 2 + 1) + (16 + 8 + 4 + 2 + 1) + (4 + 2 + 1)) * 4);
+}
+
+// The shader is specialised to the scene: the Cornell box (area lights, flat Lambertian walls) compiles none
+// of the other features, and `--shader-features all`, the diagnostic that compiles every one, gives a larger
+// shader and the same image. The stats record which was asked, the SPIR-V's size and the times to make it.
+TEST(Cli, ShaderIsSpecialisedUnlessEveryFeatureIsAsked) {
+    const auto folder = test::temporaryFolder();
+    auto render = [&](const std::string& features) {
+        const auto stats = folder / (features + ".json");
+        const auto result = test::runVkrt("--scene " + kCornell + " --quiet --width 16 --height 16 --spp 1" +
+                                          " --shader-features " + features + " --out " +
+                                          quoted(folder / (features + ".pfm")) + " --stats " + quoted(stats));
+        EXPECT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream file(stats);
+        return nlohmann::json::parse(file);
+    };
+    const nlohmann::json scene = render("scene"), all = render("all");
+    EXPECT_EQ(scene["features"], nlohmann::json::array({"area_lights"}));
+    for (const char* feature : {"textures", "transmission", "volumes", "punctual_lights", "spheres",
+                                "motion_blur", "normal_maps", "alpha", "environment", "rough_specular"}) {
+        EXPECT_NE(std::find(all["features"].begin(), all["features"].end(), feature), all["features"].end())
+            << feature;
+    }
+    EXPECT_EQ(scene["shader"]["features"], "scene");
+    EXPECT_EQ(all["shader"]["features"], "all");
+    EXPECT_LT(scene["shader"]["spirv_bytes"].get<size_t>(), all["shader"]["spirv_bytes"].get<size_t>());
+    for (const nlohmann::json* json : {&scene, &all}) {
+        EXPECT_GE((*json)["shader"]["compile_ms"].get<double>(), 0.0);
+        EXPECT_GT((*json)["shader"]["pipeline_ms"].get<double>(), 0.0);
+    }
+    const Image a = readImage((folder / "scene.pfm").string()), b = readImage((folder / "all.pfm").string());
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(a.pixels[i][c], b.pixels[i][c], 1e-5f * (1.0f + b.pixels[i][c])) << "pixel " << i;
+        }
+    }
 }
 
 }  // namespace vkrt

@@ -126,21 +126,28 @@ int run(Options options) {
         const StopCondition stop(&gStopRequested, runReport ? options.timeLimitSeconds : 0.0);
         RenderResult rendered;
         if (context) {
-            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings);
+            GpuRenderOptions gpuOptions;
+            gpuOptions.allFeatures = options.allShaderFeatures;
+            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
             rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
             if (runReport) {
                 const GpuRenderReport& g = renderer.report();
-                runReport->gpu = RunReport::Gpu{context->description().name,
-                                                context->description().type,
-                                                context->description().driver,
-                                                g.gpuMs,
-                                                g.compileMs,
-                                                g.shaderFromCache,
-                                                renderer.features().names(),
-                                                g.deviceMemoryBytes,
-                                                g.dispatches,
-                                                g.longestDispatchMs,
-                                                g.boundGeometry};
+                RunReport::Gpu& gpu = runReport->gpu.emplace();
+                gpu.deviceName = context->description().name;
+                gpu.deviceType = context->description().type;
+                gpu.driver = context->description().driver;
+                gpu.gpuMs = g.gpuMs;
+                gpu.compileMs = g.compileMs;
+                gpu.pipelineMs = g.pipelineMs;
+                gpu.shaderFromCache = g.shaderFromCache;
+                gpu.allFeatures = options.allShaderFeatures;
+                gpu.spirvBytes = renderer.spirv().size() * sizeof(uint32_t);
+                gpu.shaderKey = g.shaderKey;
+                gpu.features = renderer.features().names();
+                gpu.deviceMemoryBytes = g.deviceMemoryBytes;
+                gpu.dispatches = g.dispatches;
+                gpu.longestDispatchMs = g.longestDispatchMs;
+                gpu.boundGeometry = g.boundGeometry;
             }
             if (context->validationMessages() > 0) {
                 throw GpuError(std::to_string(context->validationMessages()) +

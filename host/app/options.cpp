@@ -89,7 +89,8 @@ const CLI::Validator kReportPath(
 struct CommandLine {
     CLI::App app{"vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes", "vkrt"};
     Options options;
-    std::string device = "gpu", filter = "box", toneMap = toneMapName(kDefaultToneMap);
+    std::string device = "gpu", filter = "box", toneMap = toneMapName(kDefaultToneMap),
+                shaderFeatures = "scene";
     std::vector<double> shutter;
     std::string ambient, background, integrator;
     int height = 512;
@@ -163,6 +164,13 @@ struct CommandLine {
             ->default_str("discrete GPU first");
         app.add_flag("--list-devices", options.listDevices, "print the Vulkan devices and exit");
         app.add_flag("--validate", options.validate, "enable the Khronos validation layer");
+        app.add_option(
+               "--shader-features", shaderFeatures,
+               "GPU diagnostic: scene compiles the shader with only what the scene uses; all compiles "
+               "every feature in (the same image; measures what specialisation gains)")
+            ->type_name("scene|all")
+            ->check(CLI::IsMember({"scene", "all"}))
+            ->capture_default_str();
         app.add_option("--time-limit", options.timeLimitSeconds,
                        "stop after this long, once the dispatch (GPU) or pixel (CPU) in flight is done; each "
                        "pixel averages the samples it got")
@@ -271,6 +279,7 @@ struct CommandLine {
                         : filter == "gaussian" ? PixelFilter::Gaussian
                                                : PixelFilter::Box;
         options.device = device == "cpu" ? DeviceKind::Cpu : DeviceKind::Gpu;
+        options.allShaderFeatures = shaderFeatures == "all";
         options.toneMap = toneMapFromName(toneMap).value_or(kDefaultToneMap);  // CLI11 checked the name
         if (!shutter.empty()) {
             if (!(shutter[1] >= shutter[0])) throw UsageError("--shutter: CLOSE must not come before OPEN");

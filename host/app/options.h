@@ -25,7 +25,8 @@ struct Options {
     DeviceKind device = DeviceKind::Gpu;
     int deviceIndex = -1;  // -1: choose (discrete GPU first)
     bool listDevices = false;
-    bool validate = false;  // Khronos validation layer
+    bool validate = false;           // Khronos validation layer
+    bool allShaderFeatures = false;  // --shader-features all: compile every feature, not only the scene's
     double timeLimitSeconds = 0.0;
     std::optional<std::array<double, 2>> shutter;  // motion blur: open and close times; overrides the scene's
     std::string referencePath;                     // --reference: image to measure the error against

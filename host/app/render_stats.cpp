@@ -56,7 +56,12 @@ nlohmann::json toJson(const RunReport& r) {
         json["features"] = g.features;
         json["geometry_access"] = g.boundGeometry ? "storage buffers" : "device addresses";
         json["gpu_memory_bytes"] = g.deviceMemoryBytes;
-        json["shader"] = {{"compile_ms", g.compileMs}, {"from_cache", g.shaderFromCache}};
+        json["shader"] = {{"features", g.allFeatures ? "all" : "scene"},
+                          {"compile_ms", g.compileMs},
+                          {"from_cache", g.shaderFromCache},
+                          {"pipeline_ms", g.pipelineMs},
+                          {"spirv_bytes", g.spirvBytes},
+                          {"key", g.shaderKey}};
         json["dispatches"] = {{"count", g.dispatches}, {"longest_ms", g.longestDispatchMs}};
     }
     return json;

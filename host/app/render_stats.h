@@ -45,8 +45,12 @@ struct RunReport {
         std::string deviceType;
         std::string driver;
         double gpuMs = 0.0;
-        double compileMs = 0.0;
+        double compileMs = 0.0;   // GLSL to SPIR-V by glslang, or the SPIR-V read from the cache
+        double pipelineMs = 0.0;  // pipeline creation: the driver's compilation of the SPIR-V
         bool shaderFromCache = false;
+        bool allFeatures = false;  // --shader-features all: every feature compiled in, not just the scene's
+        size_t spirvBytes = 0;
+        std::string shaderKey;  // the SPIR-V cache's key: the same key, the same shader
         std::vector<std::string> features;
         uint64_t deviceMemoryBytes = 0;
         uint32_t dispatches = 0;

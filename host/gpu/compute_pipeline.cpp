@@ -1,5 +1,6 @@
 #include "gpu/compute_pipeline.h"
 
+#include <chrono>
 #include <string>
 
 #include "gpu/vulkan_check.h"
@@ -9,6 +10,7 @@ namespace vkrt {
 ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv,
                                  uint32_t storageBuffers, uint32_t pushConstantBytes)
     : context_(context), storageBuffers_(storageBuffers), pushConstantBytes_(pushConstantBytes) {
+    const auto start = std::chrono::steady_clock::now();
     const VkDevice device = context.device();
     if (pushConstantBytes > context.properties().limits.maxPushConstantsSize) {
         throw GpuError("push constants of " + std::to_string(pushConstantBytes) +
@@ -56,6 +58,7 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
     allocate.descriptorSetCount = 1;
     allocate.pSetLayouts = &setLayout_;
     VK_CHECK(vkAllocateDescriptorSets(device, &allocate, &set_));
+    createMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 ComputePipeline::~ComputePipeline() {

@@ -1,5 +1,6 @@
 // One compute pipeline: a shader module, a descriptor set of storage buffers and a push-constant block.
-// dispatch() checks the push-constant size and that every binding has a buffer.
+// dispatch() checks the push-constant size and that every binding has a buffer. The constructor's time is
+// kept: creating the pipeline is where the driver compiles SPIR-V to machine code (lavapipe's LLVM JIT).
 #pragma once
 
 #include <cstdint>
@@ -27,11 +28,15 @@ class ComputePipeline {
     void dispatch(VkCommandBuffer commands, const void* pushConstants, uint32_t pushConstantBytes,
                   uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ = 1) const;
 
+    // Wall time of the constructor in milliseconds: the shader module, the layouts and the pipeline.
+    double createMs() const { return createMs_; }
+
   private:
     const VulkanContext& context_;
     uint32_t storageBuffers_;
     uint32_t pushConstantBytes_;
     bool bound_ = false;
+    double createMs_ = 0.0;
     VkShaderModule module_ = VK_NULL_HANDLE;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;

@@ -73,6 +73,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     const auto bindings = sceneBuffers_->bindings(params_, report_.boundGeometry);
     pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, static_cast<uint32_t>(bindings.size()),
                                                   static_cast<uint32_t>(sizeof(gpu::PassConstants)));
+    report_.pipelineMs = pipeline_->createMs();
     pipeline_->bind(bindings);
 
     timer_ = std::make_unique<GpuTimer>(context);

@@ -114,6 +114,8 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
                          : std::filesystem::path(cacheDir) / (result.cacheKey + ".spv");
     if (!cacheDir.empty() && readCache(cacheFile, result.spirv)) {
         result.fromCache = true;
+        result.compileMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         return result;
     }
 

@@ -22,7 +22,7 @@ const std::map<std::string, std::string>& embeddedShaders();
 struct CompiledShader {
     std::vector<uint32_t> spirv;
     bool fromCache = false;
-    double compileMs = 0.0;
+    double compileMs = 0.0;  // time to get the SPIR-V: glslang's GLSL to SPIR-V, or reading it from the cache
     std::string cacheKey;
 };
 

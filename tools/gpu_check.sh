@@ -1,0 +1,231 @@
+#!/usr/bin/env bash
+# vkrt on a real GPU, in one go: builds Release, checks that a GPU Vulkan device (not a CPU one such as
+# lavapipe) is there, runs the GPU conformance tests on it, the ray benchmark suite against Embree and the
+# convergence report (Cornell and Whitted, both integrators), and writes a summary: summary.json and
+# summary.md (tables ready for the README) in the output folder. Meant to take under 8 minutes on 16 cores.
+#
+#   tools/gpu_check.sh [options] [OUT_DIR]        (OUT_DIR: gpu-check-out)
+#
+#   --allow-cpu-device  accept a CPU Vulkan device (lavapipe): a dry run of the script on any machine
+#   --quick             short settings (a few tests, small benchmark and convergence runs), for the dry run
+#   --build-dir DIR     the Release build tree [build-gpu-check]; an existing one is only brought up to date
+#   --tests REGEX       ctest -R: which tests [the GPU suites: Gpu*, Stability, ShadingFunctions, Cli]
+#   --jobs N            build and test jobs [nproc]
+#   --debs DIR          first unpack every .deb in DIR into / and run ldconfig (root): the Vulkan loader on a
+#                       machine that has the NVIDIA driver but no libvulkan1
+#
+# The device: with VK_DRIVER_FILES (or VK_ICD_FILENAMES) unset, the script looks for NVIDIA's ICD file
+# (nvidia_icd.json under /usr/share, /etc, /usr/local/share and /usr/local/nvidia/share: vulkan/icd.d) and
+# points the Vulkan loader at it alone, so that the tests, the benchmarks and the renders, which take the
+# best device (a discrete GPU first), cannot fall back to lavapipe. Set VK_DRIVER_FILES yourself for another
+# driver. Prerequisites are those of tools/install-deps.sh (the GPU tests run under the Khronos validation
+# layer, Debian's vulkan-validationlayers; Embree is optional).
+#
+# Exit codes: 0 everything ran and the tests passed; 1 something failed (the summary says what); 2 no GPU
+# Vulkan device (the devices found are listed) or bad usage.
+set -uo pipefail
+
+usage() { sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
+
+allow_cpu=0 quick=0 build_dir=build-gpu-check tests="" jobs=$(nproc) debs="" out=""
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --allow-cpu-device) allow_cpu=1 ;;
+        --quick) quick=1 ;;
+        --build-dir) build_dir=${2:?--build-dir needs a folder}; shift ;;
+        --tests) tests=${2:?--tests needs a regular expression}; shift ;;
+        --jobs) jobs=${2:?--jobs needs a number}; shift ;;
+        --debs) debs=${2:?--debs needs a folder}; shift ;;
+        -h|--help) usage; exit 0 ;;
+        -*) echo "gpu_check: unknown option $1 (see --help)" >&2; exit 2 ;;
+        *) [ -z "$out" ] || { echo "gpu_check: one output folder only (see --help)" >&2; exit 2; }; out=$1 ;;
+    esac
+    shift
+done
+case "$jobs" in ''|*[!0-9]*) echo "gpu_check: --jobs takes a number" >&2; exit 2 ;; esac
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+out=$(mkdir -p "${out:-gpu-check-out}" && cd "${out:-gpu-check-out}" && pwd) || exit 2
+cd "$root" || exit 1
+case "$build_dir" in /*) ;; *) build_dir="$root/$build_dir" ;; esac
+log="$out/log.txt"
+: >"$log"
+start=$(date +%s)
+steps="$out/steps.tsv"  # step, status, seconds, note
+: >"$steps"
+failed=0
+
+say() { echo "gpu_check: $*" | tee -a "$log" >&2; }
+# Runs a step with its output in the log; records its status and duration.
+step() {
+    local name=$1; shift
+    local t0=$(date +%s)
+    say "$name: $*"
+    "$@" >>"$log" 2>&1
+    local status=$?
+    printf '%s\t%s\t%s\n' "$name" "$status" "$(( $(date +%s) - t0 ))" >>"$steps"
+    [ $status -eq 0 ] || { say "$name failed (exit $status; see $log)"; failed=1; }
+    return $status
+}
+
+if [ $quick -eq 1 ]; then
+    : "${tests:=^(Gpu\.BoundAndAddressedGeometryGiveTheSameImage|Scenes/GpuImage\.MatchesCpuReference/cornell |Cli\.GpuRenderUnderValidationWritesGpuStats)}"
+    bench_args=(--runs 1 --size 128)
+    conv_args=(--width 32 --gpu-spp 16 --cpu-spp 16 --reference-spp 64)
+else
+    : "${tests:=^(Gpu|[A-Za-z]+/Gpu|Stability|ShadingFunctions|Cli)}"
+    bench_args=(--runs 3 --size 1024)
+    conv_args=(--width 256 --gpu-spp 256 --cpu-spp 64 --reference-spp 1024)
+fi
+
+# The Vulkan loader, when it has to be brought (see --debs).
+ldconfig=$(command -v ldconfig || echo /sbin/ldconfig)
+if [ -n "$debs" ]; then
+    for f in "$debs"/*.deb; do [ -e "$f" ] && dpkg -x "$f" / ; done
+    "$ldconfig"
+fi
+if ! "$ldconfig" -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null; then  # not -q: pipefail
+    say "no Vulkan loader (libvulkan.so.1): install libvulkan1 (tools/install-deps.sh), or unpack it with --debs DIR"
+    exit 2
+fi
+
+# Only NVIDIA's driver, when it is installed and nothing else was asked (not in a dry run on a CPU device).
+if [ $allow_cpu -eq 0 ] && [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ]; then
+    for icd in /usr/share/vulkan/icd.d/nvidia_icd.json /etc/vulkan/icd.d/nvidia_icd.json \
+               /usr/local/share/vulkan/icd.d/nvidia_icd.json /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; do
+        if [ -f "$icd" ]; then
+            export VK_DRIVER_FILES=$icd VK_ICD_FILENAMES=$icd
+            say "Vulkan loader restricted to $icd"
+            break
+        fi
+    done
+fi
+
+# Build (Release).
+if ! step configure cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release; then
+    say "cmake failed: are the dependencies installed (tools/install-deps.sh)?"
+    exit 1
+fi
+step build cmake --build "$build_dir" -j "$jobs" || exit 1
+vkrt="$build_dir/vkrt"
+
+# The device: listed, then the one vkrt and the tests take by default, probed with a small render.
+"$vkrt" --list-devices >"$out/devices.txt" 2>&1
+cat "$out/devices.txt" >>"$log"
+probe() {
+    "$vkrt" --scene scenes/cornell.gltf --width 16 --height 16 --spp 1 --quiet --out "$out/probe.png" \
+        --stats "$out/probe.json" "$@"
+}
+if ! probe >>"$log" 2>&1; then
+    say "no usable Vulkan device; the loader found:"
+    sed 's/^/    /' "$out/devices.txt" >&2
+    exit 2
+fi
+device_type=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["device_type"])' "$out/probe.json")
+device_name=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["device_name"])' "$out/probe.json")
+if [ "$device_type" = CPU ] && [ $allow_cpu -eq 0 ]; then
+    say "no GPU Vulkan device: vkrt would run on $device_name ($device_type). The devices found:"
+    sed 's/^/    /' "$out/devices.txt" >&2
+    say "(set VK_DRIVER_FILES to the GPU's ICD file, or pass --allow-cpu-device for a dry run)"
+    exit 2
+fi
+say "device: $device_name ($device_type)"
+
+# The GPU conformance tests (each test process takes the same default device), under the validation layer.
+if probe --validate >>"$log" 2>&1; then
+    step tests ctest --test-dir "$build_dir" -j "$jobs" -R "$tests" --output-on-failure \
+        --output-junit "$out/tests.xml"
+else
+    say "the GPU tests need the Khronos validation layer (Debian: vulkan-validationlayers); tests not run"
+    printf 'tests\tnot run\t0\n' >>"$steps"
+    failed=1
+fi
+
+# Ray throughput against Embree, and error against render time.
+benchmark_suite() {
+    python3 tools/benchmark_suite.py --ray-benchmark "$build_dir/ray_benchmark" --out "$out/benchmark.json" \
+        "${bench_args[@]}" >"$out/benchmark.md"
+}
+step benchmark_suite benchmark_suite
+step convergence_report python3 tools/convergence_report.py --vkrt "$vkrt" --out-dir "$out/convergence" \
+    --integrators path,whitted "${conv_args[@]}" scenes/cornell.gltf scenes/whitted.gltf
+
+# The summary.
+elapsed=$(( $(date +%s) - start ))
+step summary python3 - "$out" "$elapsed" "$quick" "$(git -C "$root" describe --always --dirty 2>/dev/null)" <<'EOF'
+import json, os, sys, xml.etree.ElementTree as ET
+out, elapsed, quick, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1", sys.argv[4]
+
+def load(name):
+    path = os.path.join(out, name)
+    return json.load(open(path)) if os.path.exists(path) else None
+
+probe = load("probe.json") or {}
+cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
+summary = {"commit": commit, "quick": quick, "seconds": elapsed, "host_cpu": cpu, "host_threads": os.cpu_count(),
+           "device": {k: probe.get(k) for k in ("device_name", "device_type", "driver")},
+           "steps": []}
+for line in open(os.path.join(out, "steps.tsv")):
+    name, status, seconds = line.rstrip("\n").split("\t")[:3]
+    summary["steps"].append({"step": name, "status": int(status) if status.isdigit() else status,
+                             "seconds": int(seconds)})
+
+tests = None
+if os.path.exists(os.path.join(out, "tests.xml")):
+    cases = ET.parse(os.path.join(out, "tests.xml")).getroot().iter("testcase")
+    tests = {"passed": 0, "failed": 0, "skipped": 0, "failures": []}
+    for case in cases:
+        status = case.get("status")
+        if status == "run":
+            tests["passed"] += 1
+        elif status == "fail":
+            tests["failed"] += 1
+            tests["failures"].append(case.get("name"))
+        else:
+            tests["skipped"] += 1
+summary["tests"] = tests
+
+rays = []
+for r in load("benchmark.json") or []:
+    for kind, k in r["kinds"].items():
+        embree = k.get("embree_mrays_per_s")
+        rays.append({"input": os.path.basename(r["input"]), "triangles": r["triangles"], "kind": kind,
+                     "vkrt_mrays_per_s": k["mrays_per_s"]["median"],
+                     "embree_mrays_per_s": embree["median"] if embree else None,
+                     "vkrt_over_embree": k.get("vkrt_over_embree") if embree else None})
+summary["rays"] = rays
+
+convergence = []
+for name, devices in (load("convergence/summary.json") or {}).items():
+    for device, d in devices.items():
+        convergence.append({"scene": name[:-5] if name.endswith("-path") else name, "integrator": d["integrator"],
+                            "device": device, "ms_to_rmse_0.01": d.get("ms_to_rmse_0.01"), "slope": d["slope"]})
+summary["convergence"] = convergence
+json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=1)
+
+device = summary["device"]
+dash = lambda v, f: f % v if v is not None else "-"
+md = ["vkrt on %s (%s; driver %s), host %s (%d threads), commit %s%s; the check took %d s." % (
+          device["device_name"], device["device_type"], device["driver"], cpu, os.cpu_count(), commit,
+          ", short settings (--quick)" if quick else "", elapsed), ""]
+if tests:
+    md.append("Tests: %d passed, %d failed, %d skipped%s." % (tests["passed"], tests["failed"], tests["skipped"],
+              " (failed: " + ", ".join(tests["failures"]) + ")" if tests["failures"] else ""))
+else:
+    md.append("Tests: not run.")
+md += ["", "| input | triangles | ray kind | vkrt Mrays/s | Embree Mrays/s (host CPU, %d threads) | vkrt / Embree |"
+       % os.cpu_count(), "|---|---|---|---|---|---|"]
+md += ["| %s | %d | %s | %.2f | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
+       dash(r["embree_mrays_per_s"], "%.2f"), dash(r["vkrt_over_embree"], "%.3f")) for r in rays]
+md += ["", "| scene | integrator | device | ms to RMSE 0.01 | slope |", "|---|---|---|---|---|"]
+md += ["| %s | %s | %s | %s | %.2f |" % (c["scene"], c["integrator"],
+       device["device_name"] if c["device"] == "gpu" else "CPU reference (%d threads)" % os.cpu_count(),
+       dash(c["ms_to_rmse_0.01"], "%.0f"), c["slope"]) for c in convergence]
+open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
+print("\n".join(md))
+EOF
+[ -f "$out/summary.md" ] && cat "$out/summary.md"
+elapsed=$(( $(date +%s) - start ))
+say "done in ${elapsed} s; summary in $out/summary.md and $out/summary.json"
+[ $elapsed -le 480 ] || say "note: over the 8-minute budget"
+exit $failed
