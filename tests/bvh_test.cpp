@@ -10,6 +10,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_traversal.h"
 #include "bvh/flat_bvh.h"
+#include "bvh/triangle_bvh.h"
 #include "cpu/triangle_intersection.h"
 #include "random.h"
 #include "scene/gltf_loader.h"
@@ -18,12 +19,6 @@
 
 namespace vkrt {
 namespace {
-
-std::vector<Aabb> boundsOf(const std::vector<Triangle>& triangles) {
-    std::vector<Aabb> bounds(triangles.size());
-    for (size_t i = 0; i < triangles.size(); ++i) bounds[i] = triangles[i].bounds();
-    return bounds;
-}
 
 // Every structural promise the GPU relies on, each failure naming the node.
 void expectValidBvh(const Bvh& bvh, const std::vector<Aabb>& bounds, const BvhConfig& config) {
@@ -234,7 +229,7 @@ Closest throughBvh(const std::vector<Triangle>& triangles, const FlatBvh& bvh, c
 // Rays from random points around the mesh towards random points inside its bounds; most hit.
 void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, int rayCount,
                                       const char* name) {
-    const std::vector<Aabb> bounds = boundsOf(triangles);
+    const std::vector<Aabb> bounds = triangleBounds(triangles);
     const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
     Aabb all;
     for (const Aabb& b : bounds) all.grow(b);
@@ -259,14 +254,14 @@ void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, in
 
 TEST(Bvh, InvariantsOnSphereMesh) {
     const auto triangles = makeUvSphere(glm::vec3(0.0f), 1.0f, 64, 128);
-    const auto bounds = boundsOf(triangles);
+    const auto bounds = triangleBounds(triangles);
     const BvhConfig config;
     expectValidBvh(BinnedSahBuilder::build(bounds, config), bounds, config);
 }
 
 TEST(Bvh, InvariantsOnTriangleSoupWithSmallDepthLimit) {
     const auto triangles = makeTriangleSoup(20000, 3);
-    const auto bounds = boundsOf(triangles);
+    const auto bounds = triangleBounds(triangles);
     BvhConfig config;
     config.maxDepth = 14;  // forces median splits near the limit
     const Bvh bvh = BinnedSahBuilder::build(bounds, config);
@@ -277,7 +272,7 @@ TEST(Bvh, InvariantsOnTriangleSoupWithSmallDepthLimit) {
 TEST(Bvh, DepthBoundHoldsForIdenticalTriangles) {
     const Triangle t{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0};
     const std::vector<Triangle> triangles(100000, t);
-    const auto bounds = boundsOf(triangles);
+    const auto bounds = triangleBounds(triangles);
     const BvhConfig config;
     const Bvh bvh = BinnedSahBuilder::build(bounds, config);
     expectValidBvh(bvh, bounds, config);
@@ -294,7 +289,7 @@ TEST(Bvh, DepthBoundHoldsForAPathologicalChain) {
         const float x = std::ldexp(1.0f, i % 100) * (1.0f + i / 100);
         triangles.push_back({{x, 0, 0}, {x, 1, 0}, {x, 0, 1}, 0});
     }
-    const auto bounds = boundsOf(triangles);
+    const auto bounds = triangleBounds(triangles);
     BvhConfig config;
     config.maxDepth = 20;
     expectValidBvh(BinnedSahBuilder::build(bounds, config), bounds, config);
@@ -302,7 +297,7 @@ TEST(Bvh, DepthBoundHoldsForAPathologicalChain) {
 
 TEST(Bvh, SingleAndEmptyInputs) {
     const std::vector<Triangle> one{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0}};
-    const Bvh bvh = BinnedSahBuilder::build(boundsOf(one));
+    const Bvh bvh = BinnedSahBuilder::build(triangleBounds(one));
     ASSERT_EQ(bvh.nodes.size(), 1u);
     EXPECT_TRUE(bvh.nodes[0].isLeaf());
     const FlatBvh empty = flatten(BinnedSahBuilder::build({}));
@@ -317,7 +312,7 @@ TEST(Bvh, SingleAndEmptyInputs) {
 }
 
 TEST(Bvh, ParallelAndSerialBuildsAgree) {
-    const auto bounds = boundsOf(makeTriangleSoup(100000, 11));
+    const auto bounds = triangleBounds(makeTriangleSoup(100000, 11));
     BvhConfig serial;
     serial.threads = 1;
     BvhConfig parallel;
@@ -332,7 +327,7 @@ TEST(Bvh, ParallelAndSerialBuildsAgree) {
 // Node for node, bit for bit: the same nodes, bounds, leaves and primitive order for 1, 2, 3 and 8 threads
 // (the top of this tree is split by all threads, block by block).
 TEST(Bvh, SameTreeForEveryThreadCount) {
-    const auto bounds = boundsOf(makeUvSphere(glm::vec3(0.0f), 1.0f, 200, 400));
+    const auto bounds = triangleBounds(makeUvSphere(glm::vec3(0.0f), 1.0f, 200, 400));
     BvhConfig config;
     config.threads = 1;
     const Bvh serial = BinnedSahBuilder::build(bounds, config);
@@ -362,7 +357,7 @@ TEST(Bvh, SameTreeAsTheReferenceBuilder) {
                           {"soup", makeTriangleSoup(20000, 3), 64},
                           {"soup, depth 14 (median splits)", makeTriangleSoup(20000, 3), 14}};
     for (const Case& c : cases) {
-        const auto bounds = boundsOf(c.triangles);
+        const auto bounds = triangleBounds(c.triangles);
         BvhConfig config;
         config.maxDepth = c.maxDepth;
         config.threads = 2;
@@ -384,7 +379,7 @@ TEST(Bvh, SahCostOfASingleLeafIsItsPrimitiveCount) {
     const std::vector<Triangle> two{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0},
                                     {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0}};
     const BvhConfig config;
-    const Bvh bvh = BinnedSahBuilder::build(boundsOf(two), config);
+    const Bvh bvh = BinnedSahBuilder::build(triangleBounds(two), config);
     EXPECT_DOUBLE_EQ(measureBvh(bvh, config).sahCost, 2.0);  // identical centroids: one leaf of two
 }
 

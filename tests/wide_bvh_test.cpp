@@ -10,16 +10,11 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/flat_bvh.h"
+#include "bvh/triangle_bvh.h"
 #include "scene/procedural_meshes.h"
 
 namespace vkrt {
 namespace {
-
-std::vector<Aabb> boundsOf(const std::vector<Triangle>& triangles) {
-    std::vector<Aabb> bounds(triangles.size());
-    for (size_t i = 0; i < triangles.size(); ++i) bounds[i] = triangles[i].bounds();
-    return bounds;
-}
 
 struct WideStats {
     int depth = 0;
@@ -101,20 +96,20 @@ void expectValidWideBvh(const std::vector<Aabb>& bounds, const BvhConfig& config
 
 TEST(WideBvh, SphereMesh) {
     WideStats stats;
-    expectValidWideBvh(boundsOf(makeUvSphere(glm::vec3(0.0f), 1.0f, 64, 128)), {}, &stats);
+    expectValidWideBvh(triangleBounds(makeUvSphere(glm::vec3(0.0f), 1.0f, 64, 128)), {}, &stats);
     EXPECT_LE(stats.depth, 12) << "four children a node: about half the binary tree's depth";
 }
 
 TEST(WideBvh, TriangleSoupWithSmallDepthLimit) {
     BvhConfig config;
     config.maxDepth = 14;
-    expectValidWideBvh(boundsOf(makeTriangleSoup(20000, 3)), config);
+    expectValidWideBvh(triangleBounds(makeTriangleSoup(20000, 3)), config);
 }
 
 TEST(WideBvh, SingleEmptyAndIdenticalInputs) {
     const Triangle t{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0};
-    expectValidWideBvh(boundsOf({t}));
-    expectValidWideBvh(boundsOf(std::vector<Triangle>(1000, t)));
+    expectValidWideBvh(triangleBounds({t}));
+    expectValidWideBvh(triangleBounds(std::vector<Triangle>(1000, t)));
     const std::vector<gpu::WideBvhNode> none = collapseToWide(flatten(BinnedSahBuilder::build({})));
     ASSERT_EQ(none.size(), 1u);
     for (int slot = 0; slot < 4; ++slot) EXPECT_EQ(wideChildLink(none[0], slot), VKRT_WIDE_EMPTY);
@@ -133,27 +128,27 @@ TEST(WideBvh, QuantizationStaysConservative) {
         const float d = 1e-42f * static_cast<float>(i - 50);  // denormal coordinates on both sides of zero
         triangles.push_back({{d, -d, 0}, {d, d, 1e-40f}, {-d, 0, -1e-41f}, 0});
     }
-    expectValidWideBvh(boundsOf(triangles));
+    expectValidWideBvh(triangleBounds(triangles));
 
     std::vector<Triangle> far;
     for (int i = 0; i < 500; ++i) {
         const float x = 1e6f + 0.125f * static_cast<float>(i);
         far.push_back({{x, 1e6f, -1e6f}, {x + 0.0625f, 1e6f, -1e6f}, {x, 1e6f + 0.0625f, -1e6f}, 0});
     }
-    expectValidWideBvh(boundsOf(far));
+    expectValidWideBvh(triangleBounds(far));
 
     std::vector<Triangle> spread;
     for (int i = 0; i < 3000; ++i) {
         const float x = std::ldexp(1.0f, i % 100) * (1.0f + i / 100);
         spread.push_back({{x, 0, 0}, {x, 1, 0}, {x, 0, 1}, 0});
     }
-    expectValidWideBvh(boundsOf(spread));
+    expectValidWideBvh(triangleBounds(spread));
 }
 
 TEST(WideBvh, QuantizedBoxesStayTight) {
     // Children's decoded boxes grow by at most two grid steps of their parent's box per side.
     const std::vector<Triangle> triangles = makeUvSphere(glm::vec3(3.0f, -2.0f, 1.0f), 2.0f, 32, 64);
-    const FlatBvh flat = flatten(BinnedSahBuilder::build(boundsOf(triangles)));
+    const FlatBvh flat = flatten(BinnedSahBuilder::build(triangleBounds(triangles)));
     const std::vector<gpu::WideBvhNode> wide = collapseToWide(flat);
     double decodedArea = 0.0, exactArea = 0.0;
     for (const gpu::WideBvhNode& node : wide) {

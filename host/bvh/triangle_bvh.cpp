@@ -20,10 +20,14 @@ TriangleBvh buildOver(const std::vector<Aabb>& bounds, const BvhConfig& config) 
 
 }  // namespace
 
-TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
+std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles) {
     std::vector<Aabb> bounds(triangles.size());
     for (size_t i = 0; i < triangles.size(); ++i) bounds[i] = triangles[i].bounds();
-    return buildOver(bounds, config);
+    return bounds;
+}
+
+TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
+    return buildOver(triangleBounds(triangles), config);
 }
 
 TriangleBvh buildSceneBvh(const Scene& scene, const BvhConfig& config) {

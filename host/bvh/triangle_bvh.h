@@ -14,6 +14,9 @@ struct TriangleBvh {
     BvhStats stats;  // buildMs covers the build alone
 };
 
+// Each triangle's bounding box, in order: what the builder sorts.
+std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles);
+
 TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config = {});
 
 // The BVH over all of a scene's primitives (triangles, then spheres), as the renderers trace them.
