@@ -385,6 +385,7 @@ struct PassConstants {
     uint sampleCount;
     uint rowStart;
     uint rowCount;
+    uint tileRowStart;  // the first image row the accumulation buffer holds (it holds one tile of rows)
 };
 
 // Push constants of the ray-casting kernel.
@@ -435,7 +436,7 @@ static_assert(offsetof(SceneParams, energyCompensation) == 336);
 static_assert(sizeof(SceneParams) == 352);
 static_assert(sizeof(GpuEnvironmentTexel) == 16 && offsetof(GpuEnvironmentTexel, columnCdf) == 12);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
-static_assert(sizeof(PassConstants) == 16);
+static_assert(sizeof(PassConstants) == 20);
 }  // namespace vkrt::gpu
 #endif
 

@@ -295,14 +295,16 @@ void main() {
         }
     }
     // Kahan-compensated accumulation: pixels[2p] holds the running sum (rgb and the finite-sample count),
-    // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits.
-    precise vec4 total = params.accumulation.pixels[2u * pixel];
-    precise vec4 lost = params.accumulation.pixels[2u * pixel + 1u];
+    // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits;
+    // p counts pixels from the first row of the tile the buffer holds.
+    const uint slot = (xy.y - pass.tileRowStart) * width + xy.x;
+    precise vec4 total = params.accumulation.pixels[2u * slot];
+    precise vec4 lost = params.accumulation.pixels[2u * slot + 1u];
     precise const vec4 corrected = (sum - sumLost) - lost;
     precise const vec4 next = total + corrected;
     lost = (next - total) - corrected;
-    params.accumulation.pixels[2u * pixel] = next;
-    params.accumulation.pixels[2u * pixel + 1u] = lost;
+    params.accumulation.pixels[2u * slot] = next;
+    params.accumulation.pixels[2u * slot + 1u] = lost;
     atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], primaryRays);
     atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], vkrtShadowRays);
     atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], secondaryRays);

@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "gpu/device_memory_plan.h"
 #include "gpu/gpu_renderer.h"
+#include "gpu/gpu_scene.h"
 #include "gpu/scene_features.h"
 #include "image/image_metrics.h"
 #include "scene/camera_selection.h"
@@ -155,6 +157,134 @@ TEST_F(Gpu, StoppedRenderAveragesEachPixelOverItsOwnSamples) {
     }
     EXPECT_GT(rowsWithMore, 0);
     EXPECT_LT(rowsWithMore, 24);
+}
+
+// Room for the scene and `rows` rows of the image's accumulation, no more.
+uint64_t roomForRows(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, int width, int rows) {
+    const DeviceMemoryPlan whole = planDeviceMemory(context, sceneBufferNeed(packScene(scene, bvh)), width, 1);
+    return whole.need.total() + static_cast<uint64_t>(rows - 1) * width * kAccumulationBytesPerPixel;
+}
+
+TEST_F(Gpu, TiledRenderEqualsTheWholeImage) {
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 5;
+    GpuRenderOptions tiled;
+    tiled.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 7);
+    GpuRenderReport wholeReport, tiledReport;
+    const Image a = renderGpu(scene, bvh, camera, settings, {}, &wholeReport).image;
+    const RenderResult b = renderGpu(scene, bvh, camera, settings, tiled, &tiledReport);
+    EXPECT_EQ(wholeReport.memory.tiles, 1u);
+    EXPECT_EQ(tiledReport.memory.tiles, 5u);  // 30 rows in bands of at most 7: 5 bands of 6
+    EXPECT_EQ(tiledReport.memory.tileRows, 6u);
+    EXPECT_EQ(tiledReport.hostCopies, 5u);
+    EXPECT_LE(tiledReport.memory.need.total(), tiled.maxDeviceMemoryBytes);
+    EXPECT_EQ(b.fewestSamples, 5u);
+    EXPECT_EQ(b.mostSamples, 5u);
+    EXPECT_EQ(compareImages(a, b.image, 1e-5, 1e-7).fractionOff, 0.0);
+}
+
+// With checkpoints, every tile reaches each power of two before the checkpoint: the images match the whole
+// image's checkpoints.
+TEST_F(Gpu, TiledCheckpointsSeeTheWholeImage) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 4;
+    settings.integrator = Integrator::Path;
+    auto checkpoints = [&](const GpuRenderOptions& options) {
+        std::vector<std::pair<uint32_t, Image>> seen;
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+        renderer.render({}, [&](uint32_t samples, double, double, const Image& image) {
+            seen.emplace_back(samples, image);
+        });
+        return seen;
+    };
+    GpuRenderOptions whole, tiled;
+    whole.shaderCacheDir = tiled.shaderCacheDir = test::shaderCacheDir();
+    tiled.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 10);
+    const auto a = checkpoints(whole), b = checkpoints(tiled);
+    ASSERT_EQ(a.size(), 3u);  // 1, 2 and 4 samples
+    ASSERT_EQ(b.size(), a.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(b[i].first, a[i].first);
+        EXPECT_EQ(compareImages(a[i].second, b[i].second, 1e-5, 1e-7).fractionOff, 0.0) << a[i].first << " spp";
+    }
+}
+
+TEST_F(Gpu, RenderThatDoesNotFitIsRefusedBeforeAllocating) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 64;
+    GpuRenderOptions options;
+    options.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 1) - 1;
+    const uint64_t heldBefore = context().allocatedBytes();
+    try {
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+        FAIL() << "not even one row fits";
+    } catch (const MemoryError& e) {
+        EXPECT_NE(std::string(e.what()).find("(--max-device-memory)"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(context().allocatedBytes(), heldBefore);
+    options.maxDeviceMemoryBytes += 1;
+    EXPECT_NO_THROW(GpuRenderer(context(), scene, bvh, camera, settings, options));
+}
+
+// A device lost part way: the tiles copied before it are kept exactly, the rest stay black.
+TEST_F(Gpu, LostDeviceKeepsTheTilesCopiedBeforeIt) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 2;
+    GpuRenderOptions options;
+    options.targetDispatchMs = 1e-6;  // one row, one sample per dispatch: 8 x 2 dispatches per tile
+    options.hostCopyEveryMs = 1e9;    // copies only when the tile changes
+    options.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 8);
+    const Image whole = renderGpu(scene, bvh, camera, settings, options).image;
+    options.simulateDeviceLossAtDispatch = 2 * 16 + 1;  // the first of the third tile
+    GpuRenderReport report;
+    const RenderResult lost = renderGpu(scene, bvh, camera, settings, options, &report);
+    EXPECT_EQ(report.memory.tiles, 3u);
+    EXPECT_EQ(lost.stopped, StopReason::DeviceLost);
+    EXPECT_EQ(report.deviceLost, "the device was lost (simulated at dispatch 33)");
+    EXPECT_EQ(lost.fewestSamples, 0u);
+    EXPECT_EQ(lost.mostSamples, 2u);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x)
+            ASSERT_EQ(lost.image.at(x, y), y < 16 ? whole.at(x, y) : glm::vec3(0.0f)) << x << ", " << y;
+}
+
+// Copies by time keep the samples of a render in one tile: with a copy after every dispatch, a device lost
+// at dispatch k keeps exactly the k - 1 dispatches before it, each row averaged over its own samples.
+TEST_F(Gpu, LostDeviceKeepsWhatTheLastCopyHeld) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 16;
+    settings.samplesPerPixel = 3;
+    GpuRenderOptions options;
+    options.targetDispatchMs = 1e-6;  // one row, one sample per dispatch
+    options.hostCopyEveryMs = 0.0;
+    options.simulateDeviceLossAtDispatch = 16 + 5;  // rows 0-3 have 2 samples, the rest 1
+    GpuRenderReport report;
+    const RenderResult lost = renderGpu(scene, bvh, camera, settings, options, &report);
+    EXPECT_EQ(lost.stopped, StopReason::DeviceLost);
+    EXPECT_EQ(report.hostCopies, 20u);
+    EXPECT_EQ(lost.fewestSamples, 1u);
+    EXPECT_EQ(lost.mostSamples, 2u);
+    settings.samplesPerPixel = 1;
+    const Image one = renderGpu(scene, bvh, camera, settings).image;
+    settings.samplesPerPixel = 2;
+    const Image two = renderGpu(scene, bvh, camera, settings).image;
+    // Two samples added on the host (in double) and on the device (in float) round differently.
+    for (int y = 0; y < 16; ++y) {
+        for (int x = 0; x < 16; ++x) {
+            const glm::vec3 expected = (y < 4 ? two : one).at(x, y);
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(lost.image.at(x, y)[c], expected[c], 1e-6f * (1.0f + expected[c])) << x << ", " << y;
+        }
+    }
 }
 
 TEST_F(Gpu, FiveMillionTrianglesRender) {

@@ -3,18 +3,20 @@
 // time limit can end a render part way through its first pass. Each render asked for here would take hours
 // if it did not stop, so a stop that failed would time the test out.
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/json_file.h"
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
 namespace {
+
+using test::readJson;
 
 struct Interrupted {
     test::CommandResult command;  // the shell's output ends with "exit=N", vkrt's exit code
@@ -36,11 +38,6 @@ Interrupted interrupt(const std::string& arguments, const std::string& signals, 
     const size_t at = result.command.output.rfind("exit=");
     if (at != std::string::npos) result.exitCode = std::stoi(result.command.output.substr(at + 5));
     return result;
-}
-
-nlohmann::json readJson(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    return nlohmann::json::parse(in);
 }
 
 std::string scene() { return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'"; }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds vkrt with AddressSanitizer and UndefinedBehaviorSanitizer (-DVKRT_SANITIZE=ON, in build-sanitize/) and
-# runs the loader, bad-input, environment and CPU reference tests under them. Any sanitizer report fails its
+# runs the loader, bad-input, environment, memory-estimate and CPU reference tests under them. Any sanitizer report fails its
 # test: the build stops at the first (-fno-sanitize-recover=all).
 #
 # Usage: tools/sanitize_check.sh
@@ -11,8 +11,8 @@ mkdir -p "$build"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRT_SANITIZE=ON > "$build/configure.log" 2>&1 ||
     { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target vkrt gltf_loader_test bad_input_test environment_test \
-      reference_renderer_test common_test image_io_test
+      reference_renderer_test common_test image_io_test memory_test
 export ASAN_OPTIONS=abort_on_error=1:detect_stack_use_after_return=1 UBSAN_OPTIONS=print_stacktrace=1
 export LSAN_OPTIONS="suppressions=$PWD/tools/lsan.supp:print_suppressions=0"
 ctest --test-dir "$build" -j"$(nproc)" --output-on-failure \
-      -R '^(GltfLoader|CameraSelection|Mipmaps|TangentFrames|BadInput|Environment|ReferenceRenderer|CornellBox|CheckpointSchedule|ForkJoin|ParallelFor|ImageIo|ImageMetrics|ToneMap)\.'
+      -R '^(GltfLoader|CameraSelection|Mipmaps|TangentFrames|BadInput|Environment|ReferenceRenderer|CornellBox|CheckpointSchedule|ForkJoin|ParallelFor|ImageIo|ImageMetrics|ToneMap|MemoryNeed|HostMemory)\.'

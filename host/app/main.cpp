@@ -1,6 +1,8 @@
 // vkrt: renders a glTF 2.0 scene to an image file.
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -14,6 +16,7 @@
 #include <string>
 
 #include "app/convergence_report.h"
+#include "app/host_memory.h"
 #include "app/options.h"
 #include "app/path_checks.h"
 #include "app/progress_bar.h"
@@ -70,6 +73,13 @@ EnvironmentMap loadEnvironment(const Options& options) {
                               options.environmentRotation, options.environmentStrength);
 }
 
+// The most resident memory the process has had, in bytes.
+uint64_t peakResidentBytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -100,11 +110,6 @@ int run(Options options) {
         }
     }
 
-    // Acceleration structure.
-    const TriangleBvh triangleBvh = buildSceneBvh(scene);
-    const FlatBvh& flatBvh = triangleBvh.flat;
-    report.bvh = triangleBvh.stats;
-
     // The Vulkan device, when rendering on the GPU. VKRT_VALIDATE=1 turns validation on without changing
     // the command line (the test suite uses it).
     std::unique_ptr<VulkanContext> context;
@@ -115,6 +120,34 @@ int run(Options options) {
         contextOptions.deviceIndex = options.deviceIndex;
         context = std::make_unique<VulkanContext>(contextOptions);
     }
+
+    // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
+    HostMemoryInputs memoryInputs;
+    memoryInputs.triangles = scene.triangles.size();
+    memoryInputs.textureBytes = packedTextureBytes(scene);
+    memoryInputs.width = settings.width;
+    memoryInputs.height = settings.height;
+    memoryInputs.gpu = context != nullptr;
+    memoryInputs.deviceInHostMemory = context && context->description().type == "CPU";
+    if (memoryInputs.deviceInHostMemory) {
+        memoryInputs.deviceBudgetBytes = context->memoryBudget().bytes;
+        if (options.maxDeviceMemoryBytes > 0)
+            memoryInputs.deviceBudgetBytes = std::min(memoryInputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
+    }
+    memoryInputs.report = !options.reportPath.empty() || !options.referencePath.empty();
+    memoryInputs.outputPath = options.outputPath;
+    const MemoryNeed hostNeed = estimateHostMemory(memoryInputs);
+    HostMemory hostMemory = availableHostMemory();
+    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < hostMemory.bytes)
+        hostMemory = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    checkHostMemory(hostNeed, hostMemory);
+    report.memory.hostEstimateBytes = hostNeed.total();
+    report.memory.hostAvailableBytes = hostMemory.bytes;
+
+    // Acceleration structure.
+    const TriangleBvh triangleBvh = buildSceneBvh(scene);
+    const FlatBvh& flatBvh = triangleBvh.flat;
+    report.bvh = triangleBvh.stats;
 
     // One render on the chosen device; fills `runReport` when given.
     auto render = [&](const RenderSettings& renderSettings, const char* label,
@@ -128,10 +161,23 @@ int run(Options options) {
         if (context) {
             GpuRenderOptions gpuOptions;
             gpuOptions.allFeatures = options.allShaderFeatures;
+            gpuOptions.maxDeviceMemoryBytes = options.maxDeviceMemoryBytes;
+            // Testing aid: VKRT_SIMULATE_DEVICE_LOSS=N loses the device at the N-th dispatch.
+            if (const char* loss = std::getenv("VKRT_SIMULATE_DEVICE_LOSS"))
+                gpuOptions.simulateDeviceLossAtDispatch = static_cast<uint32_t>(std::strtoul(loss, nullptr, 10));
             GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
             rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
+            // The reference of --report is all or nothing.
+            if (!runReport && rendered.stopped == StopReason::DeviceLost)
+                throw GpuError(renderer.report().deviceLost + " while rendering the reference for --report");
             if (runReport) {
                 const GpuRenderReport& g = renderer.report();
+                runReport->memory.deviceEstimateBytes = g.memory.need.total();
+                runReport->memory.deviceBudgetBytes = g.memory.budgetBytes;
+                runReport->memory.tiles = g.memory.tiles;
+                runReport->memory.tileRows = g.memory.tileRows;
+                runReport->memory.hostCopies = g.hostCopies;
+                runReport->deviceLost = g.deviceLost;
                 RunReport::Gpu& gpu = runReport->gpu.emplace();
                 gpu.deviceName = context->description().name;
                 gpu.deviceType = context->description().type;
@@ -202,7 +248,11 @@ int run(Options options) {
     }
     const RenderResult result = render(settings, context ? "gpu" : "cpu", checkpoint, &report);
 
-    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    // A lost device keeps the samples the host had copied, if any.
+    const bool deviceLost = result.stopped == StopReason::DeviceLost;
+    const bool anySamples = result.mostSamples > 0;
+    if (!deviceLost || anySamples) writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    report.memory.hostPeakBytes = peakResidentBytes();
 
     report.scene = options.scenePath;
     report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
@@ -215,6 +265,14 @@ int run(Options options) {
     }
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (deviceLost) {
+        std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(),
+                     anySamples ? ("wrote the samples done (" + std::to_string(result.fewestSamples) + " to " +
+                                   std::to_string(result.mostSamples) + " per pixel) to " + options.outputPath)
+                                      .c_str()
+                                : "no samples were kept, nothing written");
+        return kExitRuntimeFailure;
+    }
     if (convergence && !options.reportPath.empty()) {
         nlohmann::json context = {
             {"scene", options.scenePath},
@@ -280,6 +338,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vkrt: error: %s\n", e.what());
         return kExitBadInput;
     } catch (const SceneError& e) {
+        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const MemoryError& e) {
         std::fprintf(stderr, "vkrt: error: %s\n", e.what());
         return kExitBadInput;
     } catch (const std::bad_alloc&) {

@@ -1,6 +1,7 @@
 #include "app/options.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -85,6 +86,34 @@ const CLI::Validator kReportPath(
     },
     "");
 
+// A size in bytes: a number with an optional unit, binary (K, KiB, M, MiB, G, GiB, T, TiB) or decimal (KB,
+// MB, GB, TB). Empty when malformed, not positive, or beyond 2^64.
+std::optional<uint64_t> parseByteSize(const std::string& text) {
+    size_t digits = 0;
+    while (digits < text.size() && (std::isdigit(static_cast<unsigned char>(text[digits])) || text[digits] == '.'))
+        ++digits;
+    const std::optional<double> number = parseNumber<double>(text.substr(0, digits));
+    std::string unit = text.substr(digits);
+    unit.erase(0, unit.find_first_not_of(' '));
+    static const std::pair<const char*, double> kUnits[] = {
+        {"", 1.0},          {"B", 1.0},          {"K", 0x1p10},        {"KiB", 0x1p10}, {"KB", 1e3},
+        {"M", 0x1p20},      {"MiB", 0x1p20},     {"MB", 1e6},          {"G", 0x1p30},   {"GiB", 0x1p30},
+        {"GB", 1e9},        {"T", 0x1p40},       {"TiB", 0x1p40},      {"TB", 1e12}};
+    for (const auto& [name, scale] : kUnits) {
+        if (!number || unit != name) continue;
+        const double bytes = *number * scale;
+        if (!(bytes >= 1.0) || bytes >= 0x1p64) return std::nullopt;
+        return static_cast<uint64_t>(bytes);
+    }
+    return std::nullopt;
+}
+const CLI::Validator kByteSize(
+    [](std::string& text) {
+        return parseByteSize(text) ? std::string()
+                                   : "'" + text + "' is not a size such as 512MiB, 4GiB or 4000000000";
+    },
+    "");
+
 // The parser, bound to the Options it fills, plus the raw text of values converted after parsing.
 struct CommandLine {
     CLI::App app{"vkrt: a Vulkan compute ray tracer for glTF 2.0 scenes", "vkrt"};
@@ -92,7 +121,7 @@ struct CommandLine {
     std::string device = "gpu", filter = "box", toneMap = toneMapName(kDefaultToneMap),
                 shaderFeatures = "scene";
     std::vector<double> shutter;
-    std::string ambient, background, integrator;
+    std::string ambient, background, integrator, maxMemory, maxDeviceMemory;
     int height = 512;
     int maxDepth = 0;
     bool noMis = false;
@@ -177,6 +206,16 @@ struct CommandLine {
             ->type_name("SECONDS")
             ->check(kFinite)
             ->check(kPositive);
+        app.add_option("--max-memory", maxMemory,
+                       "host memory the render may take; refused at once (exit 2) when its estimate is more")
+            ->type_name("SIZE")
+            ->check(kByteSize)
+            ->default_str("what the system has available");
+        app.add_option("--max-device-memory", maxDeviceMemory,
+                       "GPU memory the render may take; the image is rendered in tiles when only they fit")
+            ->type_name("SIZE")
+            ->check(kByteSize)
+            ->default_str("the device's heap or budget");
         app.add_option("--shutter", shutter,
                        "motion blur: shutter interval in the file's animation time (seconds)")
             ->type_name("SECONDS")
@@ -285,6 +324,8 @@ struct CommandLine {
             if (!(shutter[1] >= shutter[0])) throw UsageError("--shutter: CLOSE must not come before OPEN");
             options.shutter = std::array<double, 2>{shutter[0], shutter[1]};
         }
+        if (!maxMemory.empty()) options.maxHostMemoryBytes = *parseByteSize(maxMemory);
+        if (!maxDeviceMemory.empty()) options.maxDeviceMemoryBytes = *parseByteSize(maxDeviceMemory);
         if (!ambient.empty()) options.request.ambient = parseColor(ambient);
         if (!background.empty()) s.background = *parseColor(background);
     }

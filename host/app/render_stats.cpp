@@ -37,7 +37,13 @@ nlohmann::json toJson(const RunReport& r) {
         {"rays", {{"primary", r.rays.primary}, {"shadow", r.rays.shadow}, {"secondary", r.rays.secondary}}},
         {"mrays_per_s", seconds > 0.0 ? static_cast<double>(r.rays.total()) / seconds / 1e6 : 0.0},
         {"nonfinite_samples", r.rays.nonFiniteSamples},
+        {"device_lost", r.stopped == StopReason::DeviceLost},
+        {"memory",
+         {{"host_estimate_bytes", r.memory.hostEstimateBytes},
+          {"host_available_bytes", r.memory.hostAvailableBytes},
+          {"host_peak_bytes", r.memory.hostPeakBytes}}},
     };
+    if (!r.deviceLost.empty()) json["device_lost_because"] = r.deviceLost;
     if (r.environment) {
         const RunReport::Environment& e = *r.environment;
         json["environment"] = {{"file", e.file},
@@ -56,6 +62,11 @@ nlohmann::json toJson(const RunReport& r) {
         json["features"] = g.features;
         json["geometry_access"] = g.boundGeometry ? "storage buffers" : "device addresses";
         json["gpu_memory_bytes"] = g.deviceMemoryBytes;
+        json["memory"]["device_estimate_bytes"] = r.memory.deviceEstimateBytes;
+        json["memory"]["device_budget_bytes"] = r.memory.deviceBudgetBytes;
+        json["memory"]["tiles"] = r.memory.tiles;
+        json["memory"]["tile_rows"] = r.memory.tileRows;
+        json["memory"]["host_copies"] = r.memory.hostCopies;
         json["shader"] = {{"features", g.allFeatures ? "all" : "scene"},
                           {"compile_ms", g.compileMs},
                           {"from_cache", g.shaderFromCache},

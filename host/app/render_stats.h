@@ -38,6 +38,20 @@ struct RunReport {
     int samplesRendered = 0;
     int mostSamplesRendered = 0;
     StopReason stopped = StopReason::None;
+    std::string deviceLost;  // why the GPU render ended early, when its device was lost
+
+    // Memory: estimated before the render, and what there was.
+    struct Memory {
+        uint64_t hostEstimateBytes = 0;
+        uint64_t hostAvailableBytes = 0;
+        uint64_t hostPeakBytes = 0;  // the process's peak resident memory, scene and all
+        uint64_t deviceEstimateBytes = 0;  // GPU only
+        uint64_t deviceBudgetBytes = 0;
+        uint32_t tiles = 0;
+        uint32_t tileRows = 0;
+        uint32_t hostCopies = 0;  // times the device's sums were added into the host's
+    };
+    Memory memory;
 
     // The GPU tracer's own figures; absent for the CPU reference.
     struct Gpu {

@@ -9,7 +9,8 @@
 
 namespace vkrt {
 
-enum class StopReason { None, Requested, TimeLimit };
+// DeviceLost is set by the GPU renderer, not by a StopCondition: the device stopped working.
+enum class StopReason { None, Requested, TimeLimit, DeviceLost };
 
 class StopCondition {
   public:

@@ -214,7 +214,6 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
                                        double checkpointEveryMs, StopCondition stop) const {
     stop.start();
     RenderResult result;
-    result.image = Image(settings_.width, settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
     const uint64_t pixels = static_cast<uint64_t>(settings_.width) * settings_.height;
     std::vector<glm::dvec4> sums(pixels, glm::dvec4(0.0));

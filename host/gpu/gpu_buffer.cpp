@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include "common/memory_need.h"
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
@@ -61,18 +62,21 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     VkMemoryRequirements requirements;
     vkGetBufferMemoryRequirements(context_->device(), buffer_, &requirements);
 
-    // Device-local and host-visible memory serves both sides; failing that, device-local (or, for staging,
-    // host-visible) alone.
+    // Device-local memory of the device's main heap, host-visible too where it can be (lavapipe, resizable
+    // BAR), so that uploads and downloads map it; staging buffers take any host-visible memory. (A small
+    // device-local, host-visible heap beside the main one, as on GPUs without resizable BAR, is not used.)
     const VkMemoryPropertyFlags mappable =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    int type =
-        context_->findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | mappable);
-    if (type < 0) {
-        type = context_->findMemoryType(
-            requirements.memoryTypeBits,
-            preferHostVisible ? mappable : VkMemoryPropertyFlags{VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+    const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    const uint32_t allowed = requirements.memoryTypeBits;
+    int type = -1;
+    if (preferHostVisible) {
+        type = context_->findMemoryType(allowed, mappable);
+    } else {
+        type = context_->findMemoryType(allowed, local | mappable, context_->deviceHeap());
+        if (type < 0) type = context_->findMemoryType(allowed, local, context_->deviceHeap());
     }
-    if (type < 0) type = context_->findMemoryType(requirements.memoryTypeBits, 0);
+    if (type < 0) type = context_->findMemoryType(allowed, 0);
     if (type < 0) throw GpuError("no memory type for a storage buffer");
     hostVisible_ = (context_->memoryProperties().memoryTypes[type].propertyFlags & mappable) == mappable;
 
@@ -84,7 +88,8 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     allocate.memoryTypeIndex = static_cast<uint32_t>(type);
     const VkResult result = vkAllocateMemory(context_->device(), &allocate, nullptr, &memory_);
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY) {
-        throw GpuError("out of GPU memory allocating " + std::to_string(size_ >> 20) + " MiB");
+        throw GpuError("out of GPU memory allocating " + formatBytes(size_) + " (" + formatBytes(context_->allocatedBytes()) +
+                       " held already)");
     }
     VK_CHECK(result);
     context_->trackAllocation(static_cast<int64_t>(size_));

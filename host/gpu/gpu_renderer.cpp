@@ -40,12 +40,14 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
     }
-    // Upload what the scene uses; absent features keep a zero address and no buffer.
+    // What the render will hold on the device, planned before anything is allocated (MemoryError when it
+    // does not fit). Then upload what the scene uses; absent features keep a zero address and no buffer.
+    const uint32_t width = static_cast<uint32_t>(settings.width), height = static_cast<uint32_t>(settings.height);
+    report_.memory = planDeviceMemory(context, sceneBufferNeed(data_), width, height, options.maxDeviceMemoryBytes);
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     sceneBuffers_->fillAddresses(params);
-    const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
-    accumulation_ = GpuBuffer(context, 2 * pixels * sizeof(glm::vec4));  // sum and compensation
+    accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
     accumulation_.fillZero();
     counters_ = GpuBuffer(context, VKRT_COUNTER_COUNT * sizeof(uint32_t));
     counters_.fillZero();
@@ -76,6 +78,11 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.pipelineMs = pipeline_->createMs();
     pipeline_->bind(bindings);
 
+    // The device has the scene now: the host's packed copy goes (all but the features).
+    const SceneFeatures features = data_.features;
+    data_ = GpuSceneData{};
+    data_.features = features;
+
     timer_ = std::make_unique<GpuTimer>(context);
 }
 
@@ -83,7 +90,11 @@ GpuRenderer::~GpuRenderer() = default;
 
 double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart,
                                 uint32_t rowCount) {
-    const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount};
+    if (report_.dispatches + 1 == options_.simulateDeviceLossAtDispatch) {
+        throw DeviceLostError("the device was lost (simulated at dispatch " +
+                              std::to_string(options_.simulateDeviceLossAtDispatch) + ")");
+    }
+    const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount, tileRowStart_};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
         // Earlier dispatches' and transfers' writes must land before this one reads and adds to them.
@@ -120,74 +131,129 @@ void GpuRenderer::readCounters(RayCounters& counters) {
     counters.nonFiniteSamples += delta[VKRT_COUNTER_NONFINITE];
 }
 
+void GpuRenderer::copyToHost(uint32_t tileRowStart) {
+    // Whole rows at a time, a few MiB each: no host copy of the whole buffer, and a copy cut short by a lost
+    // device leaves every row either added or not.
+    const uint32_t width = static_cast<uint32_t>(settings_.width);
+    const uint32_t rows = std::min<uint32_t>(report_.memory.tileRows, settings_.height - tileRowStart);
+    const uint32_t rowsPerChunk = std::max<uint32_t>(1, (8u << 20) / (width * kAccumulationBytesPerPixel));
+    std::vector<glm::vec4> chunk(2 * static_cast<size_t>(std::min(rows, rowsPerChunk)) * width);
+    for (uint32_t first = 0; first < rows; first += rowsPerChunk) {
+        const uint32_t count = std::min(rowsPerChunk, rows - first);
+        const size_t pixels = static_cast<size_t>(count) * width;
+        accumulation_.download(chunk.data(), 2 * pixels * sizeof(glm::vec4),
+                               2 * static_cast<size_t>(first) * width * sizeof(glm::vec4));
+        // The compensated sum is (sum - lost), evaluated in double.
+        glm::dvec4* sums = sums_.data() + static_cast<size_t>(tileRowStart + first) * width;
+        for (size_t i = 0; i < pixels; ++i) sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
+        for (uint32_t row = tileRowStart + first; row < tileRowStart + first + count; ++row)
+            rowSamplesCopied_[row] = rowSamples_[row];
+    }
+    accumulation_.fillZero();
+    ++report_.hostCopies;
+}
+
 RenderResult GpuRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
                                  double checkpointEveryMs, StopCondition stop) {
     stop.start();
     RenderResult result;
+    const uint32_t width = static_cast<uint32_t>(settings_.width);
     const uint32_t height = static_cast<uint32_t>(settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
+    const uint32_t tileRows = report_.memory.tileRows;
+    const uint32_t samplesPerDispatch =
+        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
     CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
+    sums_.assign(static_cast<size_t>(width) * height, glm::dvec4(0.0));
+    rowSamples_.assign(height, 0);
+    rowSamplesCopied_.assign(height, 0);
 
-    // Passes of `samples` samples over the whole image, in bands of rows. Each dispatch is sized from the
-    // measured speed of the last to take about targetDispatchMs, growing at most twofold per step, since
-    // the cost of a band depends on what it sees.
+    // Sums are added into the host's at tile changes, checkpoints and the end, and by time
+    // (GpuRenderOptions::hostCopyEveryMs).
+    bool deviceHoldsSamples = false;
+    auto lastCopy = std::chrono::steady_clock::now();
+    double copyMs = 0.0;
+    auto copy = [&] {
+        if (!deviceHoldsSamples) return;
+        const auto start = std::chrono::steady_clock::now();
+        copyToHost(tileRowStart_);
+        deviceHoldsSamples = false;
+        lastCopy = std::chrono::steady_clock::now();
+        copyMs = millisecondsSince(start);
+    };
+
+    // Each dispatch is sized from the measured speed of the last to take about targetDispatchMs, growing at
+    // most twofold per step, since the cost of a band depends on what it sees.
     double unitsPerMs = 0.0;  // rows x samples traced per millisecond, as last measured
     double lastUnits = 1.0;   // rows x samples of the last dispatch; the first is a single row
     auto nextUnits = [&] {
         return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits)
                                 : lastUnits;
     };
-    uint32_t samplesDone = 0;
-    uint32_t mostSamples = 0;
-    while (samplesDone < spp && result.stopped == StopReason::None) {
-        // Passes end where the schedule says (every power of two, with checkpoints).
-        const uint32_t limit = std::min(schedule.boundary(samplesDone) - samplesDone,
-                                        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch
-                                                                                 : kMaxSamplesPerDispatch);
-        const uint32_t samples =
-            static_cast<uint32_t>(std::clamp(nextUnits() / height, 1.0, static_cast<double>(limit)));
-        uint32_t row = 0;
-        while (row < height) {
-            const uint32_t rows = static_cast<uint32_t>(
-                std::clamp(nextUnits() / samples, 1.0, static_cast<double>(height - row)));
-            const double ms = runDispatch(samplesDone, samples, row, rows);
-            lastUnits = static_cast<double>(rows) * samples;
-            unitsPerMs = lastUnits / std::max(ms, 0.01);
-            readCounters(result.rays);
-            row += rows;
-            mostSamples = samplesDone + samples;
-            if (progress)
-                progress(static_cast<uint64_t>(samplesDone) * height + static_cast<uint64_t>(row) * samples,
-                         static_cast<uint64_t>(spp) * height);
-            // Stopping here leaves rows [0, row) with one pass more than the rest; pixels are averaged over
-            // their own sample counts.
-            result.stopped = stop.reason();
+    uint64_t unitsDone = 0;
+    uint32_t done = 0;  // samples every pixel has
+    try {
+        // Passes end where the schedule says (every power of two, with checkpoints). Within a pass, tile by
+        // tile; within a tile, batches of samples over bands of rows.
+        while (done < spp && result.stopped == StopReason::None) {
+            const uint32_t end = schedule.passEnd(done);
+            for (uint32_t tile = 0; tile < height && result.stopped == StopReason::None; tile += tileRows) {
+                const uint32_t tileEnd = std::min(height, tile + tileRows);
+                if (tile != tileRowStart_) {
+                    copy();
+                    tileRowStart_ = tile;
+                }
+                for (uint32_t s = done; s < end && result.stopped == StopReason::None;) {
+                    const uint32_t samples = static_cast<uint32_t>(std::clamp(
+                        nextUnits() / (tileEnd - tile), 1.0, static_cast<double>(std::min(end - s, samplesPerDispatch))));
+                    for (uint32_t row = tile; row < tileEnd;) {
+                        const uint32_t rows = static_cast<uint32_t>(
+                            std::clamp(nextUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
+                        const double ms = runDispatch(s, samples, row, rows);
+                        deviceHoldsSamples = true;
+                        for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
+                        lastUnits = static_cast<double>(rows) * samples;
+                        unitsPerMs = lastUnits / std::max(ms, 0.01);
+                        unitsDone += static_cast<uint64_t>(rows) * samples;
+                        readCounters(result.rays);
+                        row += rows;
+                        if (progress) progress(unitsDone, static_cast<uint64_t>(spp) * height);
+                        // Stopping here leaves some rows with more samples than others; pixels are averaged
+                        // over their own sample counts.
+                        result.stopped = stop.reason();
+                        if (result.stopped != StopReason::None) break;
+                        const double sinceCopy = millisecondsSince(lastCopy);
+                        if (options_.hostCopyEveryMs <= 0.0 ||
+                            (sinceCopy >= options_.hostCopyEveryMs && sinceCopy >= 20.0 * copyMs)) {
+                            copy();
+                        }
+                    }
+                    s += samples;
+                }
+            }
             if (result.stopped != StopReason::None) break;
+            done = end;
+            const double renderMs = schedule.renderMs();
+            if (checkpoint && schedule.due(done, renderMs)) {
+                schedule.take(renderMs, [&] {
+                    copy();
+                    checkpoint(done, renderMs, report_.gpuMs, averageOf(sums_, settings_.width, settings_.height));
+                });
+            }
         }
-        if (row < height) break;  // stopped part way through the pass
-        samplesDone += samples;
-        const double renderMs = schedule.renderMs();
-        if (checkpoint && (schedule.due(samplesDone, renderMs) || result.stopped != StopReason::None)) {
-            schedule.take(renderMs, [&] { checkpoint(samplesDone, renderMs, report_.gpuMs, readImage()); });
-        }
+        copy();
+    } catch (const DeviceLostError& e) {
+        // What the host holds is all there is: every row as of its last copy.
+        report_.deviceLost = e.what();
+        result.stopped = StopReason::DeviceLost;
     }
-    result.fewestSamples = samplesDone;
-    result.mostSamples = std::max(samplesDone, mostSamples);
+    result.fewestSamples = *std::min_element(rowSamplesCopied_.begin(), rowSamplesCopied_.end());
+    result.mostSamples = *std::max_element(rowSamplesCopied_.begin(), rowSamplesCopied_.end());
     if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
 
-    result.image = readImage();
+    result.image = averageOf(sums_, settings_.width, settings_.height);
     report_.deviceMemoryBytes = context_.peakAllocatedBytes();
     return result;
-}
-
-Image GpuRenderer::readImage() const {
-    // Average the finite samples of each pixel; the compensated sum is (sum - lost), evaluated in double.
-    std::vector<glm::vec4> sums(2 * static_cast<size_t>(settings_.width) * settings_.height);
-    accumulation_.download(sums.data(), sums.size() * sizeof(glm::vec4));
-    std::vector<glm::dvec4> totals(sums.size() / 2);
-    for (size_t i = 0; i < totals.size(); ++i)
-        totals[i] = glm::dvec4(sums[2 * i]) - glm::dvec4(sums[2 * i + 1]);
-    return averageOf(totals, settings_.width, settings_.height);
 }
 
 }  // namespace vkrt

@@ -1,5 +1,7 @@
 // The GPU tracer: uploads the scene, compiles the shader variant the scene needs, and renders in passes of
-// bounded length (so a real GPU's watchdog never fires), accumulating samples on the device.
+// bounded length (so a real GPU's watchdog never fires), accumulating samples on the device and adding them
+// up on the host from time to time. An image whose accumulation does not fit beside the scene is rendered in
+// tiles (bands of rows) that share one device buffer.
 #pragma once
 
 #include <memory>
@@ -10,6 +12,7 @@
 #include "common/render_settings.h"
 #include "image/render_result.h"
 #include "gpu/compute_pipeline.h"
+#include "gpu/device_memory_plan.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
@@ -24,6 +27,13 @@ struct GpuRenderOptions {
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
     bool deviceAddressesOnly = false;  // read geometry through device addresses even when it could be bound
+    uint64_t maxDeviceMemoryBytes = 0;  // at most this much device memory (0: what the device offers)
+    // The device's sums are added into the host's at least this often (and at checkpoints, tile changes and
+    // the end), so that a lost device loses about this much work at most, but no more often than once per 20
+    // times a copy's cost; 0: after every dispatch.
+    double hostCopyEveryMs = 10000.0;
+    // Testing aid: the device is lost (DeviceLostError) at this dispatch, counting from 1; 0: never.
+    uint32_t simulateDeviceLossAtDispatch = 0;
 };
 
 struct GpuRenderReport {
@@ -35,6 +45,9 @@ struct GpuRenderReport {
     uint32_t dispatches = 0;
     double longestDispatchMs = 0.0;
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
+    DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
+    uint32_t hostCopies = 0;         // times the device's sums were added into the host's
+    std::string deviceLost;          // why the device was lost, when it was (the render then ends early)
     bool boundGeometry = false;      // nodes and primitives bound as storage buffers (else device addresses)
 };
 
@@ -46,7 +59,8 @@ class GpuRenderer {
 
     // Renders every sample, or until `stop` says so (checked after each dispatch). With a checkpoint
     // callback, it is also called with the image so far at every power-of-two sample count, at the end, and
-    // after any pass that crosses checkpointEveryMs (> 0).
+    // after any pass that crosses checkpointEveryMs (> 0). A lost device ends the render with the samples the
+    // host had copied (StopReason::DeviceLost, report().deviceLost).
     RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
                         double checkpointEveryMs = 0.0, StopCondition stop = {});
 
@@ -59,7 +73,8 @@ class GpuRenderer {
     // Records and runs one dispatch; returns its wall time in milliseconds.
     double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
     void readCounters(RayCounters& counters);
-    Image readImage() const;
+    // Adds the device's sums for the tile starting at `tileRowStart` into sums_ and zeroes them.
+    void copyToHost(uint32_t tileRowStart);
 
     const VulkanContext& context_;
     RenderSettings settings_;
@@ -69,11 +84,15 @@ class GpuRenderer {
     std::vector<uint32_t> spirv_;
     std::unique_ptr<ComputePipeline> pipeline_;
     std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
-    GpuBuffer accumulation_;
+    GpuBuffer accumulation_;         // one tile of the image: sum and compensation per pixel
+    std::vector<glm::dvec4> sums_;   // the whole image on the host: rgb sums and finite-sample counts
+    std::vector<uint32_t> rowSamples_;        // samples dispatched for each row
+    std::vector<uint32_t> rowSamplesCopied_;  // of those, the ones in sums_
     GpuBuffer counters_;
     GpuBuffer params_;
     std::unique_ptr<GpuTimer> timer_;
     uint32_t lastCounters_[VKRT_COUNTER_COUNT] = {};
+    uint32_t tileRowStart_ = 0;  // the tile the dispatches accumulate into
     GpuRenderReport report_;
 };
 

@@ -193,54 +193,60 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     return data;
 }
 
+namespace {
+
+// Every array of the packed scene with its name and the SceneParams address it fills, in upload order.
+template <typename Visit>
+void visitArrays(const GpuSceneData& d, Visit&& visit) {
+    using P = gpu::SceneParams;
+    visit("BVH nodes", d.nodes, &P::nodes);
+    visit("primitives", d.primitives, &P::primitives);
+    visit("shading normals and texture coordinates", d.shading, &P::shading);
+    visit("materials", d.materials, &P::materials);
+    visit("textures", d.textures, &P::textures);
+    visit("texels", d.texels, &P::texels);
+    visit("lights", d.lights, &P::lights);
+    visit("area lights", d.areaLights, &P::areaLights);
+    visit("motion poses", d.motion, &P::motion);
+    visit("texture bindings", d.textureBindings, &P::textureBindings);
+    visit("vertex colours", d.vertexColors, &P::vertexColors);
+    visit("second texture coordinates", d.texCoords1, &P::texCoords1);
+    visit("tangents", d.tangents, &P::tangents);
+    visit("environment map", d.environmentTexels, &P::environmentTexels);
+    visit("environment rows", d.environmentRows, &P::environmentRows);
+    visit("sheen table", d.sheenTable, &P::sheenTable);
+    visit("GGX albedo table", d.ggxAlbedoTable, &P::ggxAlbedoTable);
+    visit("GGX dielectric albedo table", d.ggxDielectricAlbedoTable, &P::ggxDielectricAlbedoTable);
+}
+
+template <typename T>
+uint64_t bytesOf(const std::vector<T>& values) {
+    return static_cast<uint64_t>(values.size()) * sizeof(T);
+}
+
+}  // namespace
+
+MemoryNeed sceneBufferNeed(const GpuSceneData& data) {
+    MemoryNeed need;
+    visitArrays(data, [&](const char* name, const auto& values, auto) { need.add(name, bytesOf(values)); });
+    return need;
+}
+
 GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
-    buffers_.reserve(16);
-    auto upload = [&](const auto& values) -> uint64_t {
-        if (values.empty()) return 0;
+    buffers_.reserve(sceneBufferNeed(data).parts().size());
+    visitArrays(data, [&](const char*, const auto& values, auto address) {
+        if (values.empty()) return;
         buffers_.emplace_back(context, values);
-        return buffers_.back().address();
-    };
-    addresses_.nodes = upload(data.nodes);
-    nodeBuffer_ = data.nodes.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
-    addresses_.primitives = upload(data.primitives);
-    primitiveBuffer_ = data.primitives.empty() ? -1 : static_cast<int>(buffers_.size()) - 1;
-    addresses_.shading = upload(data.shading);
-    addresses_.materials = upload(data.materials);
-    addresses_.textures = upload(data.textures);
-    addresses_.texels = upload(data.texels);
-    addresses_.lights = upload(data.lights);
-    addresses_.areaLights = upload(data.areaLights);
-    addresses_.motion = upload(data.motion);
-    addresses_.textureBindings = upload(data.textureBindings);
-    addresses_.vertexColors = upload(data.vertexColors);
-    addresses_.texCoords1 = upload(data.texCoords1);
-    addresses_.tangents = upload(data.tangents);
-    addresses_.environmentTexels = upload(data.environmentTexels);
-    addresses_.environmentRows = upload(data.environmentRows);
-    addresses_.sheenTable = upload(data.sheenTable);
-    addresses_.ggxAlbedoTable = upload(data.ggxAlbedoTable);
-    addresses_.ggxDielectricAlbedoTable = upload(data.ggxDielectricAlbedoTable);
+        addresses_.*address = buffers_.back().address();
+        if (address == &gpu::SceneParams::nodes) nodeBuffer_ = static_cast<int>(buffers_.size()) - 1;
+        if (address == &gpu::SceneParams::primitives) primitiveBuffer_ = static_cast<int>(buffers_.size()) - 1;
+    });
 }
 
 void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
-    params.nodes = addresses_.nodes;
-    params.primitives = addresses_.primitives;
-    params.shading = addresses_.shading;
-    params.materials = addresses_.materials;
-    params.textures = addresses_.textures;
-    params.texels = addresses_.texels;
-    params.lights = addresses_.lights;
-    params.areaLights = addresses_.areaLights;
-    params.motion = addresses_.motion;
-    params.textureBindings = addresses_.textureBindings;
-    params.vertexColors = addresses_.vertexColors;
-    params.texCoords1 = addresses_.texCoords1;
-    params.tangents = addresses_.tangents;
-    params.environmentTexels = addresses_.environmentTexels;
-    params.environmentRows = addresses_.environmentRows;
-    params.sheenTable = addresses_.sheenTable;
-    params.ggxAlbedoTable = addresses_.ggxAlbedoTable;
-    params.ggxDielectricAlbedoTable = addresses_.ggxDielectricAlbedoTable;
+    // Only the scene's arrays: accumulation and counters belong to the renderer.
+    const GpuSceneData none;
+    visitArrays(none, [&](const char*, const auto&, auto address) { params.*address = addresses_.*address; });
 }
 
 bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {

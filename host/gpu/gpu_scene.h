@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bvh/flat_bvh.h"
+#include "common/memory_need.h"
 #include "common/render_settings.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/scene_features.h"
@@ -42,6 +43,9 @@ struct GpuSceneData {
 // Packs what the scene's features need; `features`, when given, replaces the detected set (a superset
 // compiles and packs paths the scene does not need, which tests use to show leaving them out is exact).
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features = nullptr);
+
+// The device memory each of the scene's buffers will take, by name (empty arrays take none).
+MemoryNeed sceneBufferNeed(const GpuSceneData& data);
 
 // The fixed per-render parameters, scene buffer addresses not yet filled in.
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,

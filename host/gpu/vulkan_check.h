@@ -14,6 +14,13 @@ class GpuError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// The device stopped working (VK_ERROR_DEVICE_LOST: a driver reset, a watchdog, a GPU fault). Nothing on it
+// can be read back; what the host copied before is all that is left.
+class DeviceLostError : public GpuError {
+  public:
+    using GpuError::GpuError;
+};
+
 const char* vkResultName(VkResult result);
 
 [[noreturn]] void throwVkError(VkResult result, const char* call, const char* file, int line);

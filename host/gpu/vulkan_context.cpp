@@ -92,6 +92,15 @@ int computeQueueFamily(VkPhysicalDevice device, uint32_t* timestampBits) {
     return -1;
 }
 
+bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+    uint32_t count = 0;
+    if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr) != VK_SUCCESS) return false;
+    std::vector<VkExtensionProperties> extensions(count);
+    if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()) != VK_SUCCESS) return false;
+    return std::any_of(extensions.begin(), extensions.end(),
+                       [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
 DeviceDescription describe(VkPhysicalDevice device, int index) {
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -201,6 +210,20 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         description_ = describe(physicalDevice_, chosen);
         vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
         vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
+        for (uint32_t i = 0; i < memoryProperties_.memoryHeapCount; ++i) {
+            const VkMemoryHeap& heap = memoryProperties_.memoryHeaps[i];
+            if ((heap.flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) &&
+                (deviceHeap_ < 0 || heap.size > memoryProperties_.memoryHeaps[deviceHeap_].size)) {
+                deviceHeap_ = static_cast<int>(i);
+            }
+        }
+        if (deviceHeap_ < 0) deviceHeap_ = 0;
+        VkPhysicalDeviceVulkan11Properties properties11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+        VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        properties2.pNext = &properties11;
+        vkGetPhysicalDeviceProperties2(physicalDevice_, &properties2);
+        maxAllocationBytes_ = properties11.maxMemoryAllocationSize;
+        memoryBudget_ = hasDeviceExtension(physicalDevice_, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
         queueFamily_ = static_cast<uint32_t>(computeQueueFamily(physicalDevice_, &timestampValidBits_));
 
         // The logical device: one compute queue, buffer device addresses.
@@ -224,6 +247,11 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         deviceInfo.pEnabledFeatures = &enabled;
         deviceInfo.queueCreateInfoCount = 1;
         deviceInfo.pQueueCreateInfos = &queueInfo;
+        const char* budgetExtension = VK_EXT_MEMORY_BUDGET_EXTENSION_NAME;
+        if (memoryBudget_) {
+            deviceInfo.enabledExtensionCount = 1;
+            deviceInfo.ppEnabledExtensionNames = &budgetExtension;
+        }
         VK_CHECK(vkCreateDevice(physicalDevice_, &deviceInfo, nullptr, &device_));
         vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
 
@@ -297,6 +325,29 @@ void VulkanContext::submitAndWait(const std::function<void(VkCommandBuffer)>& re
     vkFreeCommandBuffers(device_, commandPool_, 1, &commands);
 }
 
+DeviceMemoryBudget VulkanContext::memoryBudget() const {
+    DeviceMemoryBudget budget;
+    budget.heapBytes = memoryProperties_.memoryHeaps[deviceHeap_].size;
+    budget.bytes = budget.heapBytes;
+    budget.source = "its memory heap";
+    if (memoryBudget_) {
+        // What this process may still take: the budget (which counts other processes' use) less what the
+        // driver says this process holds already.
+        VkPhysicalDeviceMemoryBudgetPropertiesEXT reported{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_BUDGET_PROPERTIES_EXT};
+        VkPhysicalDeviceMemoryProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_PROPERTIES_2};
+        properties.pNext = &reported;
+        vkGetPhysicalDeviceMemoryProperties2(physicalDevice_, &properties);
+        const VkDeviceSize available = reported.heapBudget[deviceHeap_];
+        const VkDeviceSize used = reported.heapUsage[deviceHeap_];
+        if (available > 0) {
+            budget.bytes = available > used ? available - used : 0;
+            budget.source = "its memory budget (VK_EXT_memory_budget)";
+        }
+    }
+    return budget;
+}
+
 void VulkanContext::trackAllocation(int64_t bytes) const {
     const uint64_t now =
         allocatedBytes_.fetch_add(static_cast<uint64_t>(bytes)) + static_cast<uint64_t>(bytes);
@@ -305,9 +356,10 @@ void VulkanContext::trackAllocation(int64_t bytes) const {
     }
 }
 
-int VulkanContext::findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required) const {
+int VulkanContext::findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap) const {
     for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i) {
         if ((allowedTypes & (1u << i)) &&
+            (heap < 0 || memoryProperties_.memoryTypes[i].heapIndex == static_cast<uint32_t>(heap)) &&
             (memoryProperties_.memoryTypes[i].propertyFlags & required) == required) {
             return static_cast<int>(i);
         }

@@ -27,6 +27,13 @@ struct DeviceDescription {
     std::string unusableBecause;
 };
 
+// The device memory a render may take.
+struct DeviceMemoryBudget {
+    uint64_t bytes = 0;      // available to vkrt now
+    uint64_t heapBytes = 0;  // the size of the heap it comes from
+    std::string source;      // how `bytes` was found ("its memory heap", "its memory budget ...")
+};
+
 // Every physical device Vulkan reports, with whether vkrt can use it.
 std::vector<DeviceDescription> listDevices();
 
@@ -58,8 +65,15 @@ class VulkanContext {
     // Records commands into a one-time command buffer, submits it and waits for it to finish.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
 
-    // A memory type index with all of `required` among `allowedTypes`, or -1.
-    int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required) const;
+    // A memory type index with all of `required` among `allowedTypes` (and in `heap`, when >= 0), or -1.
+    int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap = -1) const;
+    // The largest device-local heap, where vkrt's buffers go.
+    int deviceHeap() const { return deviceHeap_; }
+    // What the device heap offers now: with VK_EXT_memory_budget, its budget less this process's use;
+    // otherwise the heap's size.
+    DeviceMemoryBudget memoryBudget() const;
+    // The largest single allocation the device allows (maxMemoryAllocationSize).
+    uint64_t maxAllocationBytes() const { return maxAllocationBytes_; }
 
     // Device memory that vkrt's buffers hold now, and the most they held at once.
     void trackAllocation(int64_t bytes) const;
@@ -82,6 +96,9 @@ class VulkanContext {
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
     bool shaderInt64_ = false;
+    bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
+    int deviceHeap_ = -1;
+    uint64_t maxAllocationBytes_ = 0;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};

@@ -1,0 +1,198 @@
+// Memory known before it is spent (issue 14): the host and device estimates, renders refused with the figures
+// (exit 2) before anything is allocated, images rendered in tiles when only the accumulation does not fit,
+// and a lost device (exit 1) keeping the samples the host had copied.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/host_memory.h"
+#include "common/memory_need.h"
+#include "image/image_io.h"
+#include "support/json_file.h"
+#include "support/run_command.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+using test::readJson;
+
+std::string cornell() { return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'"; }
+
+TEST(MemoryNeed, FormatsBytesInBinaryUnits) {
+    EXPECT_EQ(formatBytes(0), "0 B");
+    EXPECT_EQ(formatBytes(1023), "1023 B");
+    EXPECT_EQ(formatBytes(1024), "1.00 KiB");
+    EXPECT_EQ(formatBytes(1536 << 20), "1.50 GiB");
+    EXPECT_EQ(formatBytes(100ull << 20), "100 MiB");
+    EXPECT_EQ(formatBytes(uint64_t{3} << 50), "3.00 PiB");
+}
+
+TEST(MemoryNeed, DescribesTheLargestPartsFirst) {
+    MemoryNeed need;
+    need.add("small", 1024);
+    need.add("none", 0);  // left out
+    need.add("large", 3 << 20);
+    EXPECT_EQ(need.total(), (3u << 20) + 1024u);
+    EXPECT_EQ(need.parts().size(), 2u);
+    EXPECT_EQ(need.largest().what, "large");
+    EXPECT_EQ(need.describe(), "3.00 MiB (large 3.00 MiB, small 1.00 KiB)");
+}
+
+TEST(HostMemory, EstimateGrowsWithPixelsTrianglesAndTheWayItIsRendered) {
+    HostMemoryInputs in;
+    in.width = 1000;
+    in.height = 1000;
+    in.outputPath = "x.pfm";
+    auto estimate = [&] { return estimateHostMemory(in).total(); };
+    const uint64_t pixelsOnly = estimate();
+    EXPECT_EQ(pixelsOnly, 1000000u * (32 + 12)) << "double sums and the float image";
+    in.outputPath = "x.exr";
+    const uint64_t exr = estimate();
+    EXPECT_GT(exr, pixelsOnly) << "the encoder's buffers";
+    in.triangles = 1000000;
+    const uint64_t cpu = estimate();
+    EXPECT_GT(cpu, exr + 100000000u) << "a BVH build of a million triangles takes hundreds of MB";
+    in.gpu = true;
+    const uint64_t gpu = estimate();
+    EXPECT_GT(gpu, cpu + 100000000u) << "the scene packed for the GPU";
+    in.deviceInHostMemory = true;
+    EXPECT_GT(estimate(), gpu + 32000000u) << "lavapipe's buffers are host memory";
+    in.deviceBudgetBytes = 1000;
+    EXPECT_EQ(estimate(), gpu + 1000u) << "but no more than its budget: beyond it, the image is tiled";
+    in.report = true;
+    EXPECT_EQ(estimate(), gpu + 1000u + 24000000u) << "the reference and checkpoint images";
+}
+
+TEST(HostMemory, AvailableMemoryIsReadFromTheSystem) {
+    const HostMemory memory = availableHostMemory();
+    EXPECT_GT(memory.bytes, 0u);
+    EXPECT_FALSE(memory.source.empty());
+    EXPECT_NO_THROW(checkHostMemory(MemoryNeed{}, memory));
+    MemoryNeed need;
+    need.add("image", 5 << 20);
+    try {
+        checkHostMemory(need, HostMemory{4 << 20, "--max-memory"});
+        FAIL() << "5 MiB does not fit in 4";
+    } catch (const MemoryError& e) {
+        EXPECT_STREQ(e.what(), "the render needs about 5.00 MiB (image 5.00 MiB) of host memory, and 4.00 MiB is "
+                               "available (--max-memory)");
+    }
+}
+
+// Each refusal happens before the BVH build and the render: a 16384 x 16384, 4096-spp render would take hours.
+TEST(MemoryCli, HostMemoryTooSmallIsRefusedAtOnceWithTheFigures) {
+    const auto folder = test::temporaryFolder();
+    for (const char* device : {"cpu", "gpu"}) {
+        const auto out = folder / (std::string(device) + ".pfm");
+        const test::CommandResult r = test::runVkrt(cornell() + " --device " + device +
+                                                    " --width 16384 --height 16384 --spp 4096 --max-memory 1GiB "
+                                                    "--out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(r.output.find("of host memory, and 1.00 GiB is available (--max-memory)"), std::string::npos)
+            << r.output;
+        EXPECT_NE(r.output.find("image sums 8.00 GiB"), std::string::npos) << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+}
+
+TEST(MemoryCli, SceneTooLargeForTheDeviceIsRefusedWithTheFigures) {
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "x.png";
+    const test::CommandResult r =
+        test::runVkrt(cornell() + " --width 16384 --height 16384 --spp 4096 --max-device-memory 2KiB --out '" +
+                      out.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("needs more device memory than it has: the scene"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("for one row of the image, against 2.00 KiB (--max-device-memory)"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(MemoryCli, SizesAreCheckedAsTheyAreParsed) {
+    for (const char* size : {"12XB", "-1GiB", "0", "1e30GiB", "GiB"}) {
+        const test::CommandResult r = test::runVkrt(cornell() + " --max-memory " + size);
+        EXPECT_EQ(r.exitCode, 2) << size << ": " << r.output;
+        EXPECT_NE(r.output.find("--max-memory"), std::string::npos) << r.output;
+    }
+}
+
+// The host estimate against what the process really takes: the growth of its peak resident memory from a
+// tiny render to a 1024 x 1024 one, on each device. The estimate may be generous, not short.
+TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
+    const auto folder = test::temporaryFolder();
+    for (const char* device : {"cpu", "gpu"}) {
+        nlohmann::json stats[2];
+        const int widths[2] = {16, 1024};
+        for (int i = 0; i < 2; ++i) {
+            const auto json = folder / ("stats-" + std::to_string(i) + ".json");
+            const test::CommandResult r =
+                test::runVkrt(cornell() + " --device " + device + " --integrator whitted --spp 1 --width " +
+                              std::to_string(widths[i]) + " --out '" + (folder / "x.png").string() +
+                              "' --stats '" + json.string() + "' --quiet");
+            ASSERT_EQ(r.exitCode, 0) << r.output;
+            stats[i] = readJson(json)["memory"];
+        }
+        const double estimated = stats[1]["host_estimate_bytes"].get<double>() - stats[0]["host_estimate_bytes"].get<double>();
+        const double measured = stats[1]["host_peak_bytes"].get<double>() - stats[0]["host_peak_bytes"].get<double>();
+        EXPECT_GE(estimated, 0.9 * measured) << device;
+        EXPECT_LE(estimated, 1.6 * measured) << device;
+    }
+}
+
+// A device that offers room for the scene and one row: one-row tiles of one dispatch each at 1 spp, so the
+// device lost at dispatch 5 has rendered rows 0 to 3, each copied to the host when the next tile began.
+TEST(MemoryCli, LostDeviceKeepsTheTilesCopiedAndExitsOne) {
+    const auto folder = test::temporaryFolder();
+    const auto stats = folder / "stats.json";
+    const std::string common = cornell() + " --width 32 --height 32 --spp 1 --stats '" + stats.string() + "'";
+    ASSERT_EQ(test::runVkrt(common + " --out '" + (folder / "whole.pfm").string() + "'").exitCode, 0);
+    const uint64_t sceneBytes = readJson(stats)["memory"]["device_estimate_bytes"].get<uint64_t>() - 32 * 32 * 32;
+    const std::string oneRowTiles = " --max-device-memory " + std::to_string(sceneBytes + 32 * 32);
+
+    const auto out = folder / "kept.pfm";
+    const test::CommandResult r =
+        test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=5 '" + std::string(VKRT_BINARY) + "' " + common + oneRowTiles +
+                         " --out '" + out.string() + "'");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("vkrt: error: the device was lost (simulated at dispatch 5); wrote the samples done "
+                            "(0 to 1 per pixel)"),
+              std::string::npos)
+        << r.output;
+    const nlohmann::json s = readJson(stats);
+    EXPECT_TRUE(s["device_lost"].get<bool>());
+    EXPECT_EQ(s["memory"]["tiles"].get<int>(), 32);
+    EXPECT_EQ(s["spp"].get<int>(), 0);
+    EXPECT_EQ(s["spp_max"].get<int>(), 1);
+    ASSERT_TRUE(std::filesystem::exists(out)) << r.output;
+    const Image kept = readImage(out.string()), whole = readImage((folder / "whole.pfm").string());
+    for (int y = 0; y < 32; ++y) {
+        for (int x = 0; x < 32; ++x) {
+            if (y < 4)
+                ASSERT_EQ(kept.at(x, y), whole.at(x, y)) << x << ", " << y;
+            else
+                ASSERT_EQ(kept.at(x, y), glm::vec3(0.0f)) << x << ", " << y;
+        }
+    }
+}
+
+TEST(MemoryCli, LostDeviceBeforeAnySampleWritesNothing) {
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "x.png";
+    const test::CommandResult r = test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=1 '" + std::string(VKRT_BINARY) +
+                                                   "' " + cornell() + " --width 32 --spp 4 --out '" + out.string() +
+                                                   "'");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("the device was lost (simulated at dispatch 1); no samples were kept, nothing written"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace vkrt
