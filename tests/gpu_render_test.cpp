@@ -26,6 +26,24 @@ namespace {
 using test::bvhFor;
 using test::Gpu;
 
+// The Whitted scene at 40 x 30 pixels.
+RenderSettings smallWhitted(int samplesPerPixel) {
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = samplesPerPixel;
+    return settings;
+}
+
+// The Cornell box at 24 x 24 pixels, path traced.
+RenderSettings smallCornellPaths(int samplesPerPixel) {
+    RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = samplesPerPixel;
+    settings.integrator = Integrator::Path;
+    return settings;
+}
+
 TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
@@ -67,10 +85,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
 
 TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
-    RenderSettings settings;
-    settings.width = 40;
-    settings.height = 30;
-    settings.samplesPerPixel = 2;
+    const RenderSettings settings = smallWhitted(2);
     GpuRenderOptions addressed;
     addressed.deviceAddressesOnly = true;
     GpuRenderReport boundReport, addressedReport;
@@ -83,10 +98,7 @@ TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
 
 TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
-    RenderSettings settings;
-    settings.width = 40;
-    settings.height = 30;
-    settings.samplesPerPixel = 6;
+    const RenderSettings settings = smallWhitted(6);
     GpuRenderOptions tiny, huge;
     tiny.targetDispatchMs = 1e-6;  // one row, one sample per dispatch
     huge.targetDispatchMs = 1e9;
@@ -125,10 +137,7 @@ TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {
 // the last pass reached equal a render of `mostSamples`, the others one of `fewestSamples`, exactly.
 TEST_F(Gpu, StoppedRenderAveragesEachPixelOverItsOwnSamples) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
-    RenderSettings settings;
-    settings.width = settings.height = 24;
-    settings.samplesPerPixel = 64;
-    settings.integrator = Integrator::Path;
+    const RenderSettings settings = smallCornellPaths(64);
     GpuRenderOptions options;
     options.shaderCacheDir = test::shaderCacheDir();
     std::atomic<bool> stopFlag{false};
@@ -167,10 +176,7 @@ uint64_t roomForRows(const VulkanContext& context, const Scene& scene, const Fla
 
 TEST_F(Gpu, TiledRenderEqualsTheWholeImage) {
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
-    RenderSettings settings;
-    settings.width = 40;
-    settings.height = 30;
-    settings.samplesPerPixel = 5;
+    const RenderSettings settings = smallWhitted(5);
     GpuRenderOptions tiled;
     tiled.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 7);
     GpuRenderReport wholeReport, tiledReport;
@@ -190,10 +196,7 @@ TEST_F(Gpu, TiledRenderEqualsTheWholeImage) {
 // image's checkpoints.
 TEST_F(Gpu, TiledCheckpointsSeeTheWholeImage) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
-    RenderSettings settings;
-    settings.width = settings.height = 24;
-    settings.samplesPerPixel = 4;
-    settings.integrator = Integrator::Path;
+    const RenderSettings settings = smallCornellPaths(4);
     auto checkpoints = [&](const GpuRenderOptions& options) {
         std::vector<std::pair<uint32_t, Image>> seen;
         GpuRenderer renderer(context(), scene, bvh, camera, settings, options);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds vkrt with AddressSanitizer and UndefinedBehaviorSanitizer (-DVKRT_SANITIZE=ON, in build-sanitize/) and
-# runs the loader, bad-input, environment, memory-estimate and CPU reference tests under them. Any sanitizer report fails its
-# test: the build stops at the first (-fno-sanitize-recover=all).
+# runs the loader, bad-input, environment, memory-estimate and CPU reference tests under them. Any sanitizer
+# report fails its test: the build stops at the first (-fno-sanitize-recover=all).
 #
 # Usage: tools/sanitize_check.sh
 set -euo pipefail
