@@ -169,8 +169,10 @@ TEST_F(Gpu, StoppedRenderAveragesEachPixelOverItsOwnSamples) {
 }
 
 // Room for the scene and `rows` rows of the image's accumulation, no more.
-uint64_t roomForRows(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, int width, int rows) {
-    const DeviceMemoryPlan whole = planDeviceMemory(context, sceneBufferNeed(packScene(scene, bvh)), width, 1);
+uint64_t roomForRows(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh, int width,
+                     int rows) {
+    const DeviceMemoryPlan whole =
+        planDeviceMemory(context, sceneBufferNeed(packScene(scene, bvh)), width, 1);
     return whole.need.total() + static_cast<uint64_t>(rows - 1) * width * kAccumulationBytesPerPixel;
 }
 
@@ -213,7 +215,8 @@ TEST_F(Gpu, TiledCheckpointsSeeTheWholeImage) {
     ASSERT_EQ(b.size(), a.size());
     for (size_t i = 0; i < a.size(); ++i) {
         EXPECT_EQ(b[i].first, a[i].first);
-        EXPECT_EQ(compareImages(a[i].second, b[i].second, 1e-5, 1e-7).fractionOff, 0.0) << a[i].first << " spp";
+        EXPECT_EQ(compareImages(a[i].second, b[i].second, 1e-5, 1e-7).fractionOff, 0.0)
+            << a[i].first << " spp";
     }
 }
 
@@ -285,7 +288,8 @@ TEST_F(Gpu, LostDeviceKeepsWhatTheLastCopyHeld) {
         for (int x = 0; x < 16; ++x) {
             const glm::vec3 expected = (y < 4 ? two : one).at(x, y);
             for (int c = 0; c < 3; ++c)
-                ASSERT_NEAR(lost.image.at(x, y)[c], expected[c], 1e-6f * (1.0f + expected[c])) << x << ", " << y;
+                ASSERT_NEAR(lost.image.at(x, y)[c], expected[c], 1e-6f * (1.0f + expected[c]))
+                    << x << ", " << y;
         }
     }
 }

@@ -21,7 +21,9 @@ namespace {
 
 using test::readJson;
 
-std::string cornell() { return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'"; }
+std::string cornell() {
+    return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'";
+}
 
 TEST(MemoryNeed, FormatsBytesInBinaryUnits) {
     EXPECT_EQ(formatBytes(0), "0 B");
@@ -79,21 +81,26 @@ TEST(HostMemory, AvailableMemoryIsReadFromTheSystem) {
         checkHostMemory(need, HostMemory{4 << 20, "--max-memory"});
         FAIL() << "5 MiB does not fit in 4";
     } catch (const MemoryError& e) {
-        EXPECT_STREQ(e.what(), "the render needs about 5.00 MiB (image 5.00 MiB) of host memory, and 4.00 MiB is "
-                               "available (--max-memory)");
+        EXPECT_STREQ(e.what(),
+                     "the render needs about 5.00 MiB (image 5.00 MiB) of host memory, and 4.00 MiB is "
+                     "available (--max-memory)");
     }
 }
 
-// Each refusal happens before the BVH build and the render: a 16384 x 16384, 4096-spp render would take hours.
+// Each refusal happens before the BVH build and the render: a 16384 x 16384, 4096-spp render would take
+// hours.
 TEST(MemoryCli, HostMemoryTooSmallIsRefusedAtOnceWithTheFigures) {
     const auto folder = test::temporaryFolder();
     for (const char* device : {"cpu", "gpu"}) {
         const auto out = folder / (std::string(device) + ".pfm");
-        const test::CommandResult r = test::runVkrt(cornell() + " --device " + device +
-                                                    " --width 16384 --height 16384 --spp 4096 --max-memory 1GiB "
-                                                    "--out '" + out.string() + "'");
+        const test::CommandResult r =
+            test::runVkrt(cornell() + " --device " + device +
+                          " --width 16384 --height 16384 --spp 4096 --max-memory 1GiB "
+                          "--out '" +
+                          out.string() + "'");
         EXPECT_EQ(r.exitCode, 2) << r.output;
-        EXPECT_NE(r.output.find("of host memory, and 1.00 GiB is available (--max-memory)"), std::string::npos)
+        EXPECT_NE(r.output.find("of host memory, and 1.00 GiB is available (--max-memory)"),
+                  std::string::npos)
             << r.output;
         EXPECT_NE(r.output.find("image sums 8.00 GiB"), std::string::npos) << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
@@ -104,12 +111,14 @@ TEST(MemoryCli, HostMemoryTooSmallIsRefusedAtOnceWithTheFigures) {
 TEST(MemoryCli, SceneTooLargeForTheDeviceIsRefusedWithTheFigures) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "x.png";
-    const test::CommandResult r =
-        test::runVkrt(cornell() + " --width 16384 --height 16384 --spp 4096 --max-device-memory 2KiB --out '" +
-                      out.string() + "'");
+    const test::CommandResult r = test::runVkrt(
+        cornell() + " --width 16384 --height 16384 --spp 4096 --max-device-memory 2KiB --out '" +
+        out.string() + "'");
     EXPECT_EQ(r.exitCode, 2) << r.output;
-    EXPECT_NE(r.output.find("needs more device memory than it has: the scene"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("for one row of the image, against 2.00 KiB (--max-device-memory)"), std::string::npos)
+    EXPECT_NE(r.output.find("needs more device memory than it has: the scene"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("for one row of the image, against 2.00 KiB (--max-device-memory)"),
+              std::string::npos)
         << r.output;
     EXPECT_FALSE(std::filesystem::exists(out));
 }
@@ -138,8 +147,10 @@ TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
             ASSERT_EQ(r.exitCode, 0) << r.output;
             stats[i] = readJson(json)["memory"];
         }
-        const double estimated = stats[1]["host_estimate_bytes"].get<double>() - stats[0]["host_estimate_bytes"].get<double>();
-        const double measured = stats[1]["host_peak_bytes"].get<double>() - stats[0]["host_peak_bytes"].get<double>();
+        const double estimated =
+            stats[1]["host_estimate_bytes"].get<double>() - stats[0]["host_estimate_bytes"].get<double>();
+        const double measured =
+            stats[1]["host_peak_bytes"].get<double>() - stats[0]["host_peak_bytes"].get<double>();
         EXPECT_GE(estimated, 0.9 * measured) << device;
         EXPECT_LE(estimated, 1.6 * measured) << device;
     }
@@ -152,17 +163,19 @@ TEST(MemoryCli, LostDeviceKeepsTheTilesCopiedAndExitsOne) {
     const auto stats = folder / "stats.json";
     const std::string common = cornell() + " --width 32 --height 32 --spp 1 --stats '" + stats.string() + "'";
     ASSERT_EQ(test::runVkrt(common + " --out '" + (folder / "whole.pfm").string() + "'").exitCode, 0);
-    const uint64_t sceneBytes = readJson(stats)["memory"]["device_estimate_bytes"].get<uint64_t>() - 32 * 32 * 32;
+    const uint64_t sceneBytes =
+        readJson(stats)["memory"]["device_estimate_bytes"].get<uint64_t>() - 32 * 32 * 32;
     const std::string oneRowTiles = " --max-device-memory " + std::to_string(sceneBytes + 32 * 32);
 
     const auto out = folder / "kept.pfm";
     const test::CommandResult r =
-        test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=5 '" + std::string(VKRT_BINARY) + "' " + common + oneRowTiles +
-                         " --out '" + out.string() + "'");
+        test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=5 '" + std::string(VKRT_BINARY) + "' " +
+                         common + oneRowTiles + " --out '" + out.string() + "'");
     EXPECT_EQ(r.exitCode, 1) << r.output;
-    EXPECT_NE(r.output.find("vkrt: error: the device was lost (simulated at dispatch 5); wrote the samples done "
-                            "(0 to 1 per pixel)"),
-              std::string::npos)
+    EXPECT_NE(
+        r.output.find("vkrt: error: the device was lost (simulated at dispatch 5); wrote the samples done "
+                      "(0 to 1 per pixel)"),
+        std::string::npos)
         << r.output;
     const nlohmann::json s = readJson(stats);
     EXPECT_TRUE(s["device_lost"].get<bool>());
@@ -184,12 +197,13 @@ TEST(MemoryCli, LostDeviceKeepsTheTilesCopiedAndExitsOne) {
 TEST(MemoryCli, LostDeviceBeforeAnySampleWritesNothing) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "x.png";
-    const test::CommandResult r = test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=1 '" + std::string(VKRT_BINARY) +
-                                                   "' " + cornell() + " --width 32 --spp 4 --out '" + out.string() +
-                                                   "'");
+    const test::CommandResult r =
+        test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=1 '" + std::string(VKRT_BINARY) + "' " +
+                         cornell() + " --width 32 --spp 4 --out '" + out.string() + "'");
     EXPECT_EQ(r.exitCode, 1) << r.output;
-    EXPECT_NE(r.output.find("the device was lost (simulated at dispatch 1); no samples were kept, nothing written"),
-              std::string::npos)
+    EXPECT_NE(
+        r.output.find("the device was lost (simulated at dispatch 1); no samples were kept, nothing written"),
+        std::string::npos)
         << r.output;
     EXPECT_FALSE(std::filesystem::exists(out));
 }

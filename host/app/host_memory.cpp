@@ -47,7 +47,8 @@ MemoryNeed estimateHostMemory(const HostMemoryInputs& in) {
     // (the renderer is gone by then; the encoder works from the image).
     MemoryNeed rendering;
     rendering.add("BVH build", bvh);
-    if (in.gpu) rendering.add("scene packed for the GPU", in.triangles * kGpuBytesPerTriangle + in.textureBytes);
+    if (in.gpu)
+        rendering.add("scene packed for the GPU", in.triangles * kGpuBytesPerTriangle + in.textureBytes);
     if (in.deviceInHostMemory) {
         rendering.add("device buffers in host memory (a CPU device)",
                       std::min(in.deviceBudgetBytes, in.triangles * kGpuBytesPerTriangle + in.textureBytes +
@@ -78,7 +79,8 @@ HostMemory availableHostMemory() {
         }
     }
     if (memory.source.empty()) {
-        memory.bytes = static_cast<uint64_t>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
+        memory.bytes =
+            static_cast<uint64_t>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
         memory.source = "free physical memory";
     }
     // A container's limit (cgroup v2), less what the group holds already.

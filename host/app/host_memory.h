@@ -14,11 +14,11 @@ struct HostMemoryInputs {
     uint64_t textureBytes = 0;  // the scene's packed texels (packedTextureBytes)
     int width = 0;
     int height = 0;
-    bool gpu = false;                // rendered by the GPU tracer
+    bool gpu = false;                 // rendered by the GPU tracer
     bool deviceInHostMemory = false;  // the Vulkan device is the CPU (lavapipe): its memory is the host's
     uint64_t deviceBudgetBytes = UINT64_MAX;  // the most that device will hold (it tiles the image beyond)
-    bool report = false;              // --report or --reference: a reference image and checkpoint images too
-    std::string outputPath;           // its extension decides the encoder's buffers
+    bool report = false;     // --report or --reference: a reference image and checkpoint images too
+    std::string outputPath;  // its extension decides the encoder's buffers
 };
 
 // The larger of two phases, part by part. Rendering: the BVH build, the scene packed for the GPU, on a CPU

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -132,7 +132,8 @@ int run(Options options) {
     if (memoryInputs.deviceInHostMemory) {
         memoryInputs.deviceBudgetBytes = context->memoryBudget().bytes;
         if (options.maxDeviceMemoryBytes > 0)
-            memoryInputs.deviceBudgetBytes = std::min(memoryInputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
+            memoryInputs.deviceBudgetBytes =
+                std::min(memoryInputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
     }
     memoryInputs.report = !options.reportPath.empty() || !options.referencePath.empty();
     memoryInputs.outputPath = options.outputPath;
@@ -164,7 +165,8 @@ int run(Options options) {
             gpuOptions.maxDeviceMemoryBytes = options.maxDeviceMemoryBytes;
             // Testing aid: VKRT_SIMULATE_DEVICE_LOSS=N loses the device at the N-th dispatch.
             if (const char* loss = std::getenv("VKRT_SIMULATE_DEVICE_LOSS"))
-                gpuOptions.simulateDeviceLossAtDispatch = static_cast<uint32_t>(std::strtoul(loss, nullptr, 10));
+                gpuOptions.simulateDeviceLossAtDispatch =
+                    static_cast<uint32_t>(std::strtoul(loss, nullptr, 10));
             GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
             rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
             // The reference of --report is all or nothing.
@@ -251,7 +253,8 @@ int run(Options options) {
     // A lost device keeps the samples the host had copied, if any.
     const bool deviceLost = result.stopped == StopReason::DeviceLost;
     const bool anySamples = result.mostSamples > 0;
-    if (!deviceLost || anySamples) writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    if (!deviceLost || anySamples)
+        writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     report.memory.hostPeakBytes = peakResidentBytes();
 
     report.scene = options.scenePath;
@@ -266,11 +269,11 @@ int run(Options options) {
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (deviceLost) {
-        std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(),
-                     anySamples ? ("wrote the samples done (" + std::to_string(result.fewestSamples) + " to " +
-                                   std::to_string(result.mostSamples) + " per pixel) to " + options.outputPath)
-                                      .c_str()
-                                : "no samples were kept, nothing written");
+        const std::string kept = anySamples ? "wrote the samples done (" + std::to_string(result.fewestSamples) +
+                                                  " to " + std::to_string(result.mostSamples) + " per pixel) to " +
+                                                  options.outputPath
+                                            : std::string("no samples were kept, nothing written");
+        std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(), kept.c_str());
         return kExitRuntimeFailure;
     }
     if (convergence && !options.reportPath.empty()) {

@@ -90,15 +90,16 @@ const CLI::Validator kReportPath(
 // MB, GB, TB). Empty when malformed, not positive, or beyond 2^64.
 std::optional<uint64_t> parseByteSize(const std::string& text) {
     size_t digits = 0;
-    while (digits < text.size() && (std::isdigit(static_cast<unsigned char>(text[digits])) || text[digits] == '.'))
+    while (digits < text.size() &&
+           (std::isdigit(static_cast<unsigned char>(text[digits])) || text[digits] == '.'))
         ++digits;
     const std::optional<double> number = parseNumber<double>(text.substr(0, digits));
     std::string unit = text.substr(digits);
     unit.erase(0, unit.find_first_not_of(' '));
     static const std::pair<const char*, double> kUnits[] = {
-        {"", 1.0},          {"B", 1.0},          {"K", 0x1p10},        {"KiB", 0x1p10}, {"KB", 1e3},
-        {"M", 0x1p20},      {"MiB", 0x1p20},     {"MB", 1e6},          {"G", 0x1p30},   {"GiB", 0x1p30},
-        {"GB", 1e9},        {"T", 0x1p40},       {"TiB", 0x1p40},      {"TB", 1e12}};
+        {"", 1.0},     {"B", 1.0},      {"K", 0x1p10},   {"KiB", 0x1p10}, {"KB", 1e3},
+        {"M", 0x1p20}, {"MiB", 0x1p20}, {"MB", 1e6},     {"G", 0x1p30},   {"GiB", 0x1p30},
+        {"GB", 1e9},   {"T", 0x1p40},   {"TiB", 0x1p40}, {"TB", 1e12}};
     for (const auto& [name, scale] : kUnits) {
         if (!number || unit != name) continue;
         const double bytes = *number * scale;

@@ -29,8 +29,8 @@ struct Options {
     bool validate = false;           // Khronos validation layer
     bool allShaderFeatures = false;  // --shader-features all: compile every feature, not only the scene's
     double timeLimitSeconds = 0.0;
-    uint64_t maxHostMemoryBytes = 0;    // --max-memory; 0: what the system has available
-    uint64_t maxDeviceMemoryBytes = 0;  // --max-device-memory; 0: what the device offers
+    uint64_t maxHostMemoryBytes = 0;               // --max-memory; 0: what the system has available
+    uint64_t maxDeviceMemoryBytes = 0;             // --max-device-memory; 0: what the device offers
     std::optional<std::array<double, 2>> shutter;  // motion blur: open and close times; overrides the scene's
     std::string referencePath;                     // --reference: image to measure the error against
     std::string reportPath;                        // --report: convergence report (.json or .csv)

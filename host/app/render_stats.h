@@ -44,7 +44,7 @@ struct RunReport {
     struct Memory {
         uint64_t hostEstimateBytes = 0;
         uint64_t hostAvailableBytes = 0;
-        uint64_t hostPeakBytes = 0;  // the process's peak resident memory, scene and all
+        uint64_t hostPeakBytes = 0;        // the process's peak resident memory, scene and all
         uint64_t deviceEstimateBytes = 0;  // GPU only
         uint64_t deviceBudgetBytes = 0;
         uint32_t tiles = 0;

@@ -29,8 +29,11 @@ inline std::string formatBytes(uint64_t bytes) {
         ++unit;
     }
     char text[32];
-    std::snprintf(text, sizeof(text), value < 10.0 ? "%.2f %s" : value < 100.0 ? "%.1f %s" : "%.0f %s", value,
-                  kUnits[unit]);
+    std::snprintf(text, sizeof(text),
+                  value < 10.0    ? "%.2f %s"
+                  : value < 100.0 ? "%.1f %s"
+                                  : "%.0f %s",
+                  value, kUnits[unit]);
     return text;
 }
 

@@ -16,7 +16,8 @@ DeviceMemoryPlan planDeviceMemory(const VulkanContext& context, const MemoryNeed
         plan.budgetSource = "--max-device-memory";
     }
 
-    const uint64_t maxAllocation = context.maxAllocationBytes() > 0 ? context.maxAllocationBytes() : UINT64_MAX;
+    const uint64_t maxAllocation =
+        context.maxAllocationBytes() > 0 ? context.maxAllocationBytes() : UINT64_MAX;
     if (const MemoryNeed::Part largest = scene.largest(); largest.bytes > maxAllocation) {
         throw MemoryError("the scene's " + largest.what + " need " + formatBytes(largest.bytes) +
                           " in one buffer, and " + device + " allows at most " + formatBytes(maxAllocation) +

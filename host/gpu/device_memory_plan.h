@@ -12,11 +12,11 @@
 namespace vkrt {
 
 struct DeviceMemoryPlan {
-    MemoryNeed need;            // what the render will hold on the device: scene buffers and one tile
-    uint64_t budgetBytes = 0;   // what it may hold
-    std::string budgetSource;   // where that figure came from
-    uint32_t tileRows = 0;      // image rows accumulated on the device at once
-    uint32_t tiles = 0;         // bands of tileRows rows that cover the image
+    MemoryNeed need;           // what the render will hold on the device: scene buffers and one tile
+    uint64_t budgetBytes = 0;  // what it may hold
+    std::string budgetSource;  // where that figure came from
+    uint32_t tileRows = 0;     // image rows accumulated on the device at once
+    uint32_t tiles = 0;        // bands of tileRows rows that cover the image
 };
 
 // Bytes of device accumulation per pixel: a running sum and its compensation, four floats each.

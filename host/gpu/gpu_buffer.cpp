@@ -88,8 +88,8 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     allocate.memoryTypeIndex = static_cast<uint32_t>(type);
     const VkResult result = vkAllocateMemory(context_->device(), &allocate, nullptr, &memory_);
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY) {
-        throw GpuError("out of GPU memory allocating " + formatBytes(size_) + " (" + formatBytes(context_->allocatedBytes()) +
-                       " held already)");
+        throw GpuError("out of GPU memory allocating " + formatBytes(size_) + " (" +
+                       formatBytes(context_->allocatedBytes()) + " held already)");
     }
     VK_CHECK(result);
     context_->trackAllocation(static_cast<int64_t>(size_));

@@ -42,8 +42,10 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     }
     // What the render will hold on the device, planned before anything is allocated (MemoryError when it
     // does not fit). Then upload what the scene uses; absent features keep a zero address and no buffer.
-    const uint32_t width = static_cast<uint32_t>(settings.width), height = static_cast<uint32_t>(settings.height);
-    report_.memory = planDeviceMemory(context, sceneBufferNeed(data_), width, height, options.maxDeviceMemoryBytes);
+    const uint32_t width = static_cast<uint32_t>(settings.width),
+                   height = static_cast<uint32_t>(settings.height);
+    report_.memory =
+        planDeviceMemory(context, sceneBufferNeed(data_), width, height, options.maxDeviceMemoryBytes);
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     sceneBuffers_->fillAddresses(params);
@@ -145,7 +147,8 @@ void GpuRenderer::copyToHost(uint32_t tileRowStart) {
                                2 * static_cast<size_t>(first) * width * sizeof(glm::vec4));
         // The compensated sum is (sum - lost), evaluated in double.
         glm::dvec4* sums = sums_.data() + static_cast<size_t>(tileRowStart + first) * width;
-        for (size_t i = 0; i < pixels; ++i) sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
+        for (size_t i = 0; i < pixels; ++i)
+            sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
         for (uint32_t row = tileRowStart + first; row < tileRowStart + first + count; ++row)
             rowSamplesCopied_[row] = rowSamples_[row];
     }
@@ -204,8 +207,9 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
                     tileRowStart_ = tile;
                 }
                 for (uint32_t s = done; s < end && result.stopped == StopReason::None;) {
-                    const uint32_t samples = static_cast<uint32_t>(std::clamp(
-                        nextUnits() / (tileEnd - tile), 1.0, static_cast<double>(std::min(end - s, samplesPerDispatch))));
+                    const uint32_t samples = static_cast<uint32_t>(
+                        std::clamp(nextUnits() / (tileEnd - tile), 1.0,
+                                   static_cast<double>(std::min(end - s, samplesPerDispatch))));
                     for (uint32_t row = tile; row < tileEnd;) {
                         const uint32_t rows = static_cast<uint32_t>(
                             std::clamp(nextUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
@@ -237,7 +241,8 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
             if (checkpoint && schedule.due(done, renderMs)) {
                 schedule.take(renderMs, [&] {
                     copy();
-                    checkpoint(done, renderMs, report_.gpuMs, averageOf(sums_, settings_.width, settings_.height));
+                    checkpoint(done, renderMs, report_.gpuMs,
+                               averageOf(sums_, settings_.width, settings_.height));
                 });
             }
         }

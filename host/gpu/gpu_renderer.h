@@ -10,7 +10,6 @@
 
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
-#include "image/render_result.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device_memory_plan.h"
 #include "gpu/gpu_buffer.h"
@@ -18,6 +17,7 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/vulkan_context.h"
+#include "image/render_result.h"
 #include "scene/scene.h"
 
 namespace vkrt {
@@ -84,9 +84,9 @@ class GpuRenderer {
     std::vector<uint32_t> spirv_;
     std::unique_ptr<ComputePipeline> pipeline_;
     std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
-    GpuBuffer accumulation_;         // one tile of the image: sum and compensation per pixel
-    std::vector<glm::dvec4> sums_;   // the whole image on the host: rgb sums and finite-sample counts
-    std::vector<uint32_t> rowSamples_;        // samples dispatched for each row
+    GpuBuffer accumulation_;            // one tile of the image: sum and compensation per pixel
+    std::vector<glm::dvec4> sums_;      // the whole image on the host: rgb sums and finite-sample counts
+    std::vector<uint32_t> rowSamples_;  // samples dispatched for each row
     std::vector<uint32_t> rowSamplesCopied_;  // of those, the ones in sums_
     GpuBuffer counters_;
     GpuBuffer params_;

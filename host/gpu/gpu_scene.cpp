@@ -239,7 +239,8 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
         buffers_.emplace_back(context, values);
         addresses_.*address = buffers_.back().address();
         if (address == &gpu::SceneParams::nodes) nodeBuffer_ = static_cast<int>(buffers_.size()) - 1;
-        if (address == &gpu::SceneParams::primitives) primitiveBuffer_ = static_cast<int>(buffers_.size()) - 1;
+        if (address == &gpu::SceneParams::primitives)
+            primitiveBuffer_ = static_cast<int>(buffers_.size()) - 1;
     });
 }
 

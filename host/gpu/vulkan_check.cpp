@@ -38,7 +38,8 @@ const char* vkResultName(VkResult result) {
 
 void throwVkError(VkResult result, const char* call, const char* file, int line) {
     if (result == VK_ERROR_DEVICE_LOST) {
-        throw DeviceLostError(std::string("the device was lost (") + call + " returned VK_ERROR_DEVICE_LOST)");
+        throw DeviceLostError(std::string("the device was lost (") + call +
+                              " returned VK_ERROR_DEVICE_LOST)");
     }
     throw GpuError(std::string(call) + " failed with " + vkResultName(result) + " (" +
                    std::filesystem::path(file).filename().string() + ":" + std::to_string(line) + ")");
