@@ -269,10 +269,10 @@ int run(Options options) {
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (deviceLost) {
-        const std::string kept = anySamples ? "wrote the samples done (" + std::to_string(result.fewestSamples) +
-                                                  " to " + std::to_string(result.mostSamples) + " per pixel) to " +
-                                                  options.outputPath
-                                            : std::string("no samples were kept, nothing written");
+        const std::string kept =
+            anySamples ? "wrote the samples done (" + std::to_string(result.fewestSamples) + " to " +
+                             std::to_string(result.mostSamples) + " per pixel) to " + options.outputPath
+                       : std::string("no samples were kept, nothing written");
         std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(), kept.c_str());
         return kExitRuntimeFailure;
     }
