@@ -73,7 +73,7 @@ if [ $quick -eq 1 ]; then
     bench_args=(--runs 1 --size 128)
     conv_args=(--width 32 --gpu-spp 16 --cpu-spp 16 --reference-spp 64)
 else
-    : "${tests:=^(Gpu|[A-Za-z]+/Gpu|Stability|ShadingFunctions|Cli)}"
+    : "${tests:=^(Gpu|[A-Za-z]+/Gpu|Stability|ShadingFunctions|Cli|MemoryCli)}"
     bench_args=(--runs 3 --size 1024)
     conv_args=(--width 256 --gpu-spp 256 --cpu-spp 64 --reference-spp 1024)
 fi
@@ -163,7 +163,8 @@ def load(name):
 probe = load("probe.json") or {}
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
 summary = {"commit": commit, "quick": quick, "seconds": elapsed, "host_cpu": cpu, "host_threads": os.cpu_count(),
-           "device": {k: probe.get(k) for k in ("device_name", "device_type", "driver")},
+           "device": {**{k: probe.get(k) for k in ("device_name", "device_type", "driver")},
+                      "memory_budget_bytes": (probe.get("memory") or {}).get("device_budget_bytes")},
            "steps": []}
 for line in open(os.path.join(out, "steps.tsv")):
     name, status, seconds = line.rstrip("\n").split("\t")[:3]
