@@ -332,7 +332,7 @@ DeviceMemoryBudget VulkanContext::memoryBudget() const {
     DeviceMemoryBudget budget;
     budget.heapBytes = memoryProperties_.memoryHeaps[deviceHeap_].size;
     budget.bytes = budget.heapBytes;
-    budget.source = "its memory heap";
+    budget.source = "memory heap";
     if (memoryBudget_) {
         // What this process may still take: the budget (which counts other processes' use) less what the
         // driver says this process holds already.
@@ -345,7 +345,7 @@ DeviceMemoryBudget VulkanContext::memoryBudget() const {
         const VkDeviceSize used = reported.heapUsage[deviceHeap_];
         if (available > 0) {
             budget.bytes = available > used ? available - used : 0;
-            budget.source = "its memory budget (VK_EXT_memory_budget)";
+            budget.source = "memory budget (VK_EXT_memory_budget)";
         }
     }
     return budget;

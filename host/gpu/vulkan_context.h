@@ -31,7 +31,7 @@ struct DeviceDescription {
 struct DeviceMemoryBudget {
     uint64_t bytes = 0;      // available to vkrt now
     uint64_t heapBytes = 0;  // the size of the heap it comes from
-    std::string source;      // how `bytes` was found ("its memory heap", "its memory budget ...")
+    std::string source;      // where `bytes` comes from: "memory heap", "memory budget (VK_EXT_memory_budget)"
 };
 
 // Every physical device Vulkan reports, with whether vkrt can use it.
