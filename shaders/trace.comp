@@ -1,8 +1,9 @@
 #version 460
 // vkrt's tracing kernel: per pixel, stratified samples, each a path (VKRT_PATHS: one ray state carried
 // through a loop of bounces) or a Whitted ray tree (walked with an explicit stack of pending rays); the BVH walk
-// uses its own fixed stack. The shading step at every hit is the one the CPU reference runs (shade_hit.h),
-// drawing the same random numbers; this file holds the GPU's own loops and its single-precision hit points.
+// uses its own fixed stack. One loop runs over the rays of all of an invocation's samples (traceSamples). The
+// shading step at every hit is the one the CPU reference runs (shade_hit.h), drawing the same random numbers;
+// this file holds the GPU's own loops and its single-precision hit points.
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
@@ -177,55 +178,104 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 #endif
 }
 
-#ifdef VKRT_PATHS
-// Radiance arriving along one camera ray by a path: one ray per bounce, continued by continuePath. Counts the
-// bounces in `secondaryRays`.
-vec3 tracePath(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
-    RayState ray = withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0,
-                                     emptyMedia()),
-                            cone.x, cone.y);
-    vec3 radiance = vec3(0.0);
-    for (;;) {
-        Hit hit;
-        HitPoint point;
-        const bool found = traceVisible(ray, context, hit, point);
-        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
-        if (!found) {
-            radiance += weight * escapedRadiance(context, ray);
-            break;
-        }
-        const ShadedHit shaded = shadeHit(context, ray, point, weight);
-        radiance += weight * shaded.radiance;
-        RayState next;
-        if (!continuePath(context, ray, shaded, next)) break;
-        ray = next;
-        ++secondaryRays;
+// One finished sample into the pixel's Kahan-compensated sum (rgb and the finite-sample count). A sample whose
+// BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
+void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise vec4 sumLost, inout uint nonFinite) {
+    if (complete && allFinite(value)) {
+        precise const vec4 corrected = vec4(value, 1.0) - sumLost;
+        precise const vec4 next = sum + corrected;
+        sumLost = (next - sum) - corrected;
+        sum = next;
+    } else {
+        ++nonFinite;
     }
-    return radiance;
 }
+
+// The camera ray of sample `s` of the pixel at `xy`; sets the context's sample index (and the shutter time).
+RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout ShadingContext context) {
+    const uint seed = context.seed, pixel = context.pixel;
+#ifdef VKRT_HAS_MOTION
+    vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
+#endif
+    context.sampleIndex = s;
+    // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
+    const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
+                                     vkrtPixelJitterY(seed, pixel, s));
+    const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
+                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
+                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
+    return withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0, emptyMedia()),
+                    cone.x, cone.y);
+}
+
+// Samples [first, end) of the pixel at `xy`, added to `sum` as they finish: each a path (VKRT_PATHS: one ray
+// per bounce, continued by continuePath) or a ray tree walked depth first (the transmission pushed first, so
+// that the reflection, pushed last, is traced first, as on the CPU).
+//
+// One loop runs over every ray of every sample: an invocation whose path or tree ends starts its next sample in
+// the next iteration instead of idling until its neighbours' end too. SIMD lanes (llvmpipe's eight, a GPU's
+// warp) run a loop for as long as any of them needs it, so a group of invocations takes as many iterations as
+// the one with the most rays over all its samples, rather than the sum over samples of the longest path or
+// largest tree (issue 13). Counts camera rays in `primaryRays`, bounces, reflection and refraction rays in
+// `secondaryRays`, and samples not finished (llvmpipe's loop budget, traverse.glsl, can end the loop early) in
+// `nonFinite`.
+void traceSamples(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end, ShadingContext context,
+                  inout precise vec4 sum, inout precise vec4 sumLost, inout uint primaryRays, inout uint secondaryRays,
+                  inout uint nonFinite) {
+#ifdef VKRT_PATHS
+    RayState ray;
+    bool pathGoesOn = false;  // with `ray`
+#define VKRT_SAMPLE_PENDING pathGoesOn
 #else
-// Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
-// rays it traces in `secondaryRays`.
-vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = taskOf(withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE,
-                                             0.0, emptyMedia()),
-                                    cone.x, cone.y));
+#define VKRT_SAMPLE_PENDING (size > 0)
+#endif
+    uint s = first, finished = 0u;
     vec3 radiance = vec3(0.0);
-    while (size > 0) {
+    for (;;) {
+        if (!VKRT_SAMPLE_PENDING) {
+            // Sample s - 1 is done: add it, and start the next with its camera ray.
+            if (s > first) {
+                addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+                ++finished;
+            }
+            if (s == end) break;
+            vkrtWalksComplete = true;
+            radiance = vec3(0.0);
+#ifdef VKRT_PATHS
+            ray = cameraRayState(camera, cone, xy, s, context);
+            pathGoesOn = true;
+#else
+            stack[size++] = taskOf(cameraRayState(camera, cone, xy, s, context));
+#endif
+            ++primaryRays;
+            ++s;
+        }
+#ifndef VKRT_PATHS
         const RayState ray = stateOf(stack[--size]);
+#endif
         Hit hit;
         HitPoint point;
         const bool found = traceVisible(ray, context, hit, point);
         const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
         if (!found) {
             radiance += weight * escapedRadiance(context, ray);
+#ifdef VKRT_PATHS
+            pathGoesOn = false;
+#endif
             continue;
         }
         const ShadedHit shaded = shadeHit(context, ray, point, weight);
         radiance += weight * shaded.radiance;
-        // The transmission is pushed first, so that the reflection, pushed last, is traced first, as on the CPU.
+#ifdef VKRT_PATHS
+        RayState next;
+        pathGoesOn = continuePath(context, ray, shaded, next);
+        if (pathGoesOn) {
+            ray = next;
+            ++secondaryRays;
+        }
+#else
         if (shaded.transmits) {
             ++secondaryRays;
             stack[size++] = taskOf(shaded.transmission);
@@ -234,10 +284,11 @@ vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout ui
             ++secondaryRays;
             stack[size++] = taskOf(shaded.reflection);
         }
-    }
-    return radiance;
-}
 #endif
+    }
+#undef VKRT_SAMPLE_PENDING
+    nonFinite += (end - first) - finished;
+}
 
 void main() {
     const uint width = params.width;
@@ -266,34 +317,8 @@ void main() {
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
-    for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
-#ifdef VKRT_HAS_MOTION
-        vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
-#endif
-        context.sampleIndex = s;
-        // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
-        const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
-                                         vkrtPixelJitterY(seed, pixel, s));
-        const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
-                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
-                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
-        ++primaryRays;
-        vkrtWalksComplete = true;
-#ifdef VKRT_PATHS
-        const vec3 value = tracePath(primary, cone, context, secondaryRays);
-#else
-        const vec3 value = traceRayTree(primary, cone, context, secondaryRays);
-#endif
-        // A sample whose BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
-        if (vkrtWalksComplete && allFinite(value)) {
-            precise const vec4 corrected = vec4(value, 1.0) - sumLost;
-            precise const vec4 next = sum + corrected;
-            sumLost = (next - sum) - corrected;
-            sum = next;
-        } else {
-            ++nonFinite;
-        }
-    }
+    traceSamples(camera, cone, xy, pass.sampleStart, pass.sampleStart + pass.sampleCount, context, sum, sumLost,
+                 primaryRays, secondaryRays, nonFinite);
     // Kahan-compensated accumulation: pixels[2p] holds the running sum (rgb and the finite-sample count),
     // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits.
     precise vec4 total = params.accumulation.pixels[2u * pixel];
