@@ -1,7 +1,7 @@
 #version 460
 // vkrt's tracing kernel: per pixel, stratified samples, each a path (VKRT_PATHS: one ray state carried
 // through a loop of bounces) or a Whitted ray tree (walked with an explicit stack of pending rays); the BVH walk
-// uses its own fixed stack. One loop runs over the rays of all of an invocation's samples (traceSamples). The
+// uses its own fixed stack; Whitted's loop runs over the rays of all of an invocation's samples. The
 // shading step at every hit is the one the CPU reference runs (shade_hit.h), drawing the same random numbers;
 // this file holds the GPU's own loops and its single-precision hit points.
 //
@@ -208,33 +208,50 @@ RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout S
                     cone.x, cone.y);
 }
 
-// Samples [first, end) of the pixel at `xy`, added to `sum` as they finish: each a path (VKRT_PATHS: one ray
-// per bounce, continued by continuePath) or a ray tree walked depth first (the transmission pushed first, so
-// that the reflection, pushed last, is traced first, as on the CPU).
-//
-// One loop runs over every ray of every sample: an invocation whose path or tree ends starts its next sample in
-// the next iteration instead of idling until its neighbours' end too. SIMD lanes (llvmpipe's eight, a GPU's
-// warp) run a loop for as long as any of them needs it, so a group of invocations takes as many iterations as
-// the one with the most rays over all its samples, rather than the sum over samples of the longest path or
-// largest tree (issue 13). Counts camera rays in `primaryRays`, bounces, reflection and refraction rays in
-// `secondaryRays`, and samples not finished (llvmpipe's loop budget, traverse.glsl, can end the loop early) in
-// `nonFinite`.
-void traceSamples(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end, ShadingContext context,
-                  inout precise vec4 sum, inout precise vec4 sumLost, inout uint primaryRays, inout uint secondaryRays,
-                  inout uint nonFinite) {
 #ifdef VKRT_PATHS
-    RayState ray;
-    bool pathGoesOn = false;  // with `ray`
-#define VKRT_SAMPLE_PENDING pathGoesOn
+// Radiance arriving along `ray` by a path: one ray per bounce, continued by continuePath. Counts the bounces in
+// `secondaryRays`. (Starting the next sample in the same loop when a path ends, as traceRayTrees does, was
+// slower on lavapipe: the camera ray's code then runs, masked, at every bounce, and paths vary less in length
+// than ray trees do in size.)
+vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
+    vec3 radiance = vec3(0.0);
+    for (;;) {
+        Hit hit;
+        HitPoint point;
+        const bool found = traceVisible(ray, context, hit, point);
+        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
+        if (!found) {
+            radiance += weight * escapedRadiance(context, ray);
+            break;
+        }
+        const ShadedHit shaded = shadeHit(context, ray, point, weight);
+        radiance += weight * shaded.radiance;
+        RayState next;
+        if (!continuePath(context, ray, shaded, next)) break;
+        ray = next;
+        ++secondaryRays;
+    }
+    return radiance;
+}
 #else
+// Samples [first, end) of the pixel at `xy`, each a ray tree walked depth first (the transmission pushed first,
+// so that the reflection, pushed last, is traced first, as on the CPU), added to `sum` as they finish.
+//
+// One loop runs over every ray of every tree: an invocation whose tree ends starts its next sample in the next
+// iteration instead of idling until its neighbours' trees end too. SIMD lanes (llvmpipe's eight, a GPU's warp)
+// run a loop for as long as any of them needs it, so a group of invocations takes as many iterations as the one
+// with the most rays over all its samples, rather than the sum over samples of the largest tree (issue 13).
+// Counts camera rays in `primaryRays`, reflection and refraction rays in `secondaryRays`, and samples not
+// finished (llvmpipe's loop budget, traverse.glsl, can end the loop early) in `nonFinite`.
+void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end, ShadingContext context,
+                   inout precise vec4 sum, inout precise vec4 sumLost, inout uint primaryRays, inout uint secondaryRays,
+                   inout uint nonFinite) {
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-#define VKRT_SAMPLE_PENDING (size > 0)
-#endif
     uint s = first, finished = 0u;
     vec3 radiance = vec3(0.0);
     for (;;) {
-        if (!VKRT_SAMPLE_PENDING) {
+        if (size == 0) {
             // Sample s - 1 is done: add it, and start the next with its camera ray.
             if (s > first) {
                 addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
@@ -243,39 +260,21 @@ void traceSamples(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end,
             if (s == end) break;
             vkrtWalksComplete = true;
             radiance = vec3(0.0);
-#ifdef VKRT_PATHS
-            ray = cameraRayState(camera, cone, xy, s, context);
-            pathGoesOn = true;
-#else
             stack[size++] = taskOf(cameraRayState(camera, cone, xy, s, context));
-#endif
             ++primaryRays;
             ++s;
         }
-#ifndef VKRT_PATHS
         const RayState ray = stateOf(stack[--size]);
-#endif
         Hit hit;
         HitPoint point;
         const bool found = traceVisible(ray, context, hit, point);
         const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
         if (!found) {
             radiance += weight * escapedRadiance(context, ray);
-#ifdef VKRT_PATHS
-            pathGoesOn = false;
-#endif
             continue;
         }
         const ShadedHit shaded = shadeHit(context, ray, point, weight);
         radiance += weight * shaded.radiance;
-#ifdef VKRT_PATHS
-        RayState next;
-        pathGoesOn = continuePath(context, ray, shaded, next);
-        if (pathGoesOn) {
-            ray = next;
-            ++secondaryRays;
-        }
-#else
         if (shaded.transmits) {
             ++secondaryRays;
             stack[size++] = taskOf(shaded.transmission);
@@ -284,11 +283,10 @@ void traceSamples(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end,
             ++secondaryRays;
             stack[size++] = taskOf(shaded.reflection);
         }
-#endif
     }
-#undef VKRT_SAMPLE_PENDING
     nonFinite += (end - first) - finished;
 }
+#endif
 
 void main() {
     const uint width = params.width;
@@ -317,8 +315,17 @@ void main() {
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
-    traceSamples(camera, cone, xy, pass.sampleStart, pass.sampleStart + pass.sampleCount, context, sum, sumLost,
-                 primaryRays, secondaryRays, nonFinite);
+#ifdef VKRT_PATHS
+    for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
+        vkrtWalksComplete = true;
+        const RayState primary = cameraRayState(camera, cone, xy, s, context);
+        ++primaryRays;
+        addSample(tracePath(primary, context, secondaryRays), vkrtWalksComplete, sum, sumLost, nonFinite);
+    }
+#else
+    traceRayTrees(camera, cone, xy, pass.sampleStart, pass.sampleStart + pass.sampleCount, context, sum, sumLost,
+                  primaryRays, secondaryRays, nonFinite);
+#endif
     // Kahan-compensated accumulation: pixels[2p] holds the running sum (rgb and the finite-sample count),
     // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits.
     precise vec4 total = params.accumulation.pixels[2u * pixel];
