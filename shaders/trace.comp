@@ -1,8 +1,9 @@
 #version 460
 // vkrt's tracing kernel: per pixel, stratified samples, each a path (VKRT_PATHS: one ray state carried
 // through a loop of bounces) or a Whitted ray tree (walked with an explicit stack of pending rays); the BVH walk
-// uses its own fixed stack. The shading step at every hit is the one the CPU reference runs (shade_hit.h),
-// drawing the same random numbers; this file holds the GPU's own loops and its single-precision hit points.
+// uses its own fixed stack; Whitted's loop runs over the rays of all of an invocation's samples. The
+// shading step at every hit is the one the CPU reference runs (shade_hit.h), drawing the same random numbers;
+// this file holds the GPU's own loops and its single-precision hit points.
 //
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
@@ -177,13 +178,42 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 #endif
 }
 
+// One finished sample into the pixel's Kahan-compensated sum (rgb and the finite-sample count). A sample whose
+// BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
+void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise vec4 sumLost, inout uint nonFinite) {
+    if (complete && allFinite(value)) {
+        precise const vec4 corrected = vec4(value, 1.0) - sumLost;
+        precise const vec4 next = sum + corrected;
+        sumLost = (next - sum) - corrected;
+        sum = next;
+    } else {
+        ++nonFinite;
+    }
+}
+
+// The camera ray of sample `s` of the pixel at `xy`; sets the context's sample index (and the shutter time).
+RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout ShadingContext context) {
+    const uint seed = context.seed, pixel = context.pixel;
+#ifdef VKRT_HAS_MOTION
+    vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
+#endif
+    context.sampleIndex = s;
+    // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
+    const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
+                                     vkrtPixelJitterY(seed, pixel, s));
+    const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
+                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
+                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
+    return withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0, emptyMedia()),
+                    cone.x, cone.y);
+}
+
 #ifdef VKRT_PATHS
-// Radiance arriving along one camera ray by a path: one ray per bounce, continued by continuePath. Counts the
-// bounces in `secondaryRays`.
-vec3 tracePath(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
-    RayState ray = withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0,
-                                     emptyMedia()),
-                            cone.x, cone.y);
+// Radiance arriving along `ray` by a path: one ray per bounce, continued by continuePath. Counts the bounces in
+// `secondaryRays`. (Starting the next sample in the same loop when a path ends, as traceRayTrees does, was
+// slower on lavapipe: the camera ray's code then runs, masked, at every bounce, and paths vary less in length
+// than ray trees do in size.)
+vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
     vec3 radiance = vec3(0.0);
     for (;;) {
         Hit hit;
@@ -204,16 +234,36 @@ vec3 tracePath(CameraRay primary, vec2 cone, ShadingContext context, inout uint 
     return radiance;
 }
 #else
-// Radiance arriving along one camera ray: the ray tree, depth first. Counts the reflection and refraction
-// rays it traces in `secondaryRays`.
-vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout uint secondaryRays) {
+// Samples [first, end) of the pixel at `xy`, each a ray tree walked depth first (the transmission pushed first,
+// so that the reflection, pushed last, is traced first, as on the CPU), added to `sum` as they finish.
+//
+// One loop runs over every ray of every tree: an invocation whose tree ends starts its next sample in the next
+// iteration instead of idling until its neighbours' trees end too. SIMD lanes (llvmpipe's eight, a GPU's warp)
+// run a loop for as long as any of them needs it, so a group of invocations takes as many iterations as the one
+// with the most rays over all its samples, rather than the sum over samples of the largest tree (issue 13).
+// Counts camera rays in `primaryRays`, reflection and refraction rays in `secondaryRays`, and samples not
+// finished (llvmpipe's loop budget, traverse.glsl, can end the loop early) in `nonFinite`.
+void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end, ShadingContext context,
+                   inout precise vec4 sum, inout precise vec4 sumLost, inout uint primaryRays, inout uint secondaryRays,
+                   inout uint nonFinite) {
     RayTask stack[VKRT_MAX_RAY_DEPTH + 1];
     int size = 0;
-    stack[size++] = taskOf(withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE,
-                                             0.0, emptyMedia()),
-                                    cone.x, cone.y));
+    uint s = first, finished = 0u;
     vec3 radiance = vec3(0.0);
-    while (size > 0) {
+    for (;;) {
+        if (size == 0) {
+            // Sample s - 1 is done: add it, and start the next with its camera ray.
+            if (s > first) {
+                addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+                ++finished;
+            }
+            if (s == end) break;
+            vkrtWalksComplete = true;
+            radiance = vec3(0.0);
+            stack[size++] = taskOf(cameraRayState(camera, cone, xy, s, context));
+            ++primaryRays;
+            ++s;
+        }
         const RayState ray = stateOf(stack[--size]);
         Hit hit;
         HitPoint point;
@@ -225,7 +275,6 @@ vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout ui
         }
         const ShadedHit shaded = shadeHit(context, ray, point, weight);
         radiance += weight * shaded.radiance;
-        // The transmission is pushed first, so that the reflection, pushed last, is traced first, as on the CPU.
         if (shaded.transmits) {
             ++secondaryRays;
             stack[size++] = taskOf(shaded.transmission);
@@ -235,7 +284,7 @@ vec3 traceRayTree(CameraRay primary, vec2 cone, ShadingContext context, inout ui
             stack[size++] = taskOf(shaded.reflection);
         }
     }
-    return radiance;
+    nonFinite += (end - first) - finished;
 }
 #endif
 
@@ -266,34 +315,17 @@ void main() {
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
-    for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
-#ifdef VKRT_HAS_MOTION
-        vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
-#endif
-        context.sampleIndex = s;
-        // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
-        const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
-                                         vkrtPixelJitterY(seed, pixel, s));
-        const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
-                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
-                                            vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
-        ++primaryRays;
-        vkrtWalksComplete = true;
 #ifdef VKRT_PATHS
-        const vec3 value = tracePath(primary, cone, context, secondaryRays);
-#else
-        const vec3 value = traceRayTree(primary, cone, context, secondaryRays);
-#endif
-        // A sample whose BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
-        if (vkrtWalksComplete && allFinite(value)) {
-            precise const vec4 corrected = vec4(value, 1.0) - sumLost;
-            precise const vec4 next = sum + corrected;
-            sumLost = (next - sum) - corrected;
-            sum = next;
-        } else {
-            ++nonFinite;
-        }
+    for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
+        vkrtWalksComplete = true;
+        const RayState primary = cameraRayState(camera, cone, xy, s, context);
+        ++primaryRays;
+        addSample(tracePath(primary, context, secondaryRays), vkrtWalksComplete, sum, sumLost, nonFinite);
     }
+#else
+    traceRayTrees(camera, cone, xy, pass.sampleStart, pass.sampleStart + pass.sampleCount, context, sum, sumLost,
+                  primaryRays, secondaryRays, nonFinite);
+#endif
     // Kahan-compensated accumulation: pixels[2p] holds the running sum (rgb and the finite-sample count),
     // pixels[2p + 1] the low-order part lost so far, so 1e5 and more samples keep single-precision digits;
     // p counts pixels from the first row of the tile the buffer holds.

@@ -26,6 +26,10 @@ struct CompiledShader {
     std::string cacheKey;
 };
 
+// What runs on the SPIR-V after glslang: spirv-opt's performance passes (the default; see shader_compiler.cpp),
+// or nothing (every function still there under its name, as the specialisation test reads them).
+enum class SpirvOptimization { Performance, None };
+
 // The folder for cached SPIR-V: $VKRT_SHADER_CACHE, else $XDG_CACHE_HOME/vkrt, else ~/.cache/vkrt.
 // An empty string turns the cache off.
 std::string defaultShaderCacheDir();
@@ -33,10 +37,12 @@ std::string defaultShaderCacheDir();
 // Compiles `mainFile` (a key of embeddedShaders()) with `#define NAME` for each entry of `defines`
 // (entries may be "NAME VALUE"). Throws ShaderError with glslang's log on failure.
 CompiledShader compileShader(const std::string& mainFile, const std::vector<std::string>& defines,
-                             const std::string& cacheDir);
+                             const std::string& cacheDir,
+                             SpirvOptimization optimization = SpirvOptimization::Performance);
 
 // The same for a main file given as text (tests' own kernels); #include still reads embedded files.
 CompiledShader compileShaderSource(const std::string& name, const std::string& source,
-                                   const std::vector<std::string>& defines, const std::string& cacheDir);
+                                   const std::vector<std::string>& defines, const std::string& cacheDir,
+                                   SpirvOptimization optimization = SpirvOptimization::Performance);
 
 }  // namespace vkrt
