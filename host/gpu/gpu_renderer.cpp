@@ -69,7 +69,12 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (settings.pixelFilter != PixelFilter::Box) {
         defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");
     }
-    const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir);
+    // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
+    // they make about 6 to 16% slower to run on lavapipe, more than the shorter pipeline creation saves in
+    // any but the shortest render (README, "Traversal and build").
+    const SpirvOptimization optimization =
+        settings.integrator == Integrator::Path ? SpirvOptimization::None : SpirvOptimization::Performance;
+    const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir, optimization);
     spirv_ = shader.spirv;
     report_.compileMs = shader.compileMs;
     report_.shaderFromCache = shader.fromCache;
