@@ -18,6 +18,8 @@ import subprocess
 import sys
 import tempfile
 
+from vkrt_args import split_at_double_dash
+
 
 def render(binary, scene, device, extra, folder):
     stats = os.path.join(folder, "stats.json")
@@ -42,11 +44,7 @@ def main():
     parser.add_argument("--devices", default="gpu,cpu", help="comma-separated: gpu, cpu [gpu,cpu]")
     parser.add_argument("--out", help="also write the JSON here")
     parser.add_argument("scenes", nargs="+", help="glTF scenes; options after -- go to vkrt")
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        extra = argv[argv.index("--") + 1:]
-        argv = argv[:argv.index("--")]
+    argv, extra = split_at_double_dash(sys.argv[1:])
     args = parser.parse_args(argv)
     if args.runs < 1:
         parser.error("--runs must be at least 1")

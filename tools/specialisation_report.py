@@ -35,6 +35,8 @@ import subprocess
 import sys
 import tempfile
 
+from vkrt_args import split_at_double_dash
+
 VARIANTS = ("scene", "all")
 # Cold renders are this small (width, spp): what making a shader costs does not depend on the image, and the
 # difference of two small renders' GPU times is the compilation alone, not the noise of a long render.
@@ -124,11 +126,7 @@ def main():
     parser.add_argument("--out", help="write every run and the medians here as JSON")
     parser.add_argument("--markdown", help="also write the table here")
     parser.add_argument("scenes", nargs="+", help="glTF scenes; options after -- go to vkrt")
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        extra = argv[argv.index("--") + 1:]
-        argv = argv[:argv.index("--")]
+    argv, extra = split_at_double_dash(sys.argv[1:])
     args = parser.parse_args(argv)
     if args.runs < 1 or args.cold_runs < 0:
         parser.error("--runs must be at least 1, --cold-runs at least 0")
