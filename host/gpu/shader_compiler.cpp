@@ -77,9 +77,9 @@ bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) 
 // spirv-opt's performance passes (spirv-opt -O): functions inlined, loads and stores of locals forwarded,
 // dead code removed. glslang runs them only for HLSL or with optimizeSize. On lavapipe the module is about
 // half the size and pipeline creation (spirv_to_nir and NIR's passes, the bulk of a render's fixed cost)
-// takes a quarter to a third of the time (README, issue 13); the path kernel may run a little slower, which is
-// not resolved yet; real GPUs' drivers are not measured yet. The passes leave NoContraction (GLSL `precise`)
-// arithmetic as written. Returns the input unchanged if the optimizer fails.
+// takes a quarter to a third of the time (README, issue 13); the path kernel runs 6 to 16% slower with them,
+// so the renderer leaves it unoptimised; real GPUs' drivers are not measured yet. The passes leave
+// NoContraction (GLSL `precise`) arithmetic as written. Returns the input unchanged if the optimizer fails.
 std::vector<uint32_t> optimizeSpirv(const std::vector<uint32_t>& spirv) {
     spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_2);
     optimizer.RegisterPerformancePasses();
