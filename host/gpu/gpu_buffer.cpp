@@ -137,9 +137,9 @@ void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) co
     staging.download(data, bytes);
 }
 
-void GpuBuffer::fillZero() {
+void GpuBuffer::fillZero(VkDeviceSize offset, VkDeviceSize bytes) {
     context_->submitAndWait(
-        [&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, buffer_, 0, VK_WHOLE_SIZE, 0); });
+        [&](VkCommandBuffer commands) { vkCmdFillBuffer(commands, buffer_, offset, bytes, 0); });
 }
 
 }  // namespace vkrt

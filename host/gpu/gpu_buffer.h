@@ -35,7 +35,8 @@ class GpuBuffer {
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
-    void fillZero();
+    // Zeroes `bytes` from `offset` (a multiple of 4), or the whole buffer.
+    void fillZero(VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
 
   private:
     void release();

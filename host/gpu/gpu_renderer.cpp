@@ -138,26 +138,28 @@ void GpuRenderer::readCounters(RayCounters& counters) {
     counters.nonFiniteSamples += delta[VKRT_COUNTER_NONFINITE];
 }
 
-void GpuRenderer::copyToHost(uint32_t tileRowStart) {
-    // Whole rows at a time, a few MiB each: no host copy of the whole buffer, and a copy cut short by a lost
-    // device leaves every row either added or not.
+void GpuRenderer::copyToHost() {
+    if (dirtyEnd_ <= dirtyBegin_) return;
+    // The rows dispatched since the last copy, whole rows at a time, a few MiB each: no host copy of the
+    // whole buffer, and a copy cut short by a lost device leaves every row either added or not.
     const uint32_t width = static_cast<uint32_t>(settings_.width);
-    const uint32_t rows = std::min<uint32_t>(report_.memory.tileRows, settings_.height - tileRowStart);
-    const uint32_t rowsPerChunk = std::max<uint32_t>(1, (8u << 20) / (width * kAccumulationBytesPerPixel));
-    std::vector<glm::vec4> chunk(2 * static_cast<size_t>(std::min(rows, rowsPerChunk)) * width);
-    for (uint32_t first = 0; first < rows; first += rowsPerChunk) {
-        const uint32_t count = std::min(rowsPerChunk, rows - first);
+    const size_t rowBytes = static_cast<size_t>(width) * kAccumulationBytesPerPixel;
+    const uint32_t rowsPerChunk = std::max<uint32_t>(1, static_cast<uint32_t>((8u << 20) / rowBytes));
+    std::vector<glm::vec4> chunk(2 * static_cast<size_t>(std::min(dirtyEnd_ - dirtyBegin_, rowsPerChunk)) *
+                                 width);
+    for (uint32_t first = dirtyBegin_; first < dirtyEnd_; first += rowsPerChunk) {
+        const uint32_t count = std::min(rowsPerChunk, dirtyEnd_ - first);
         const size_t pixels = static_cast<size_t>(count) * width;
-        accumulation_.download(chunk.data(), 2 * pixels * sizeof(glm::vec4),
-                               2 * static_cast<size_t>(first) * width * sizeof(glm::vec4));
+        accumulation_.download(chunk.data(), count * rowBytes, (first - tileRowStart_) * rowBytes);
         // The compensated sum is (sum - lost), evaluated in double.
-        glm::dvec4* sums = sums_.data() + static_cast<size_t>(tileRowStart + first) * width;
+        glm::dvec4* sums = sums_.data() + static_cast<size_t>(first) * width;
         for (size_t i = 0; i < pixels; ++i)
             sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
-        for (uint32_t row = tileRowStart + first; row < tileRowStart + first + count; ++row)
-            rowSamplesCopied_[row] = rowSamples_[row];
+        for (uint32_t row = first; row < first + count; ++row) rowSamplesCopied_[row] = rowSamples_[row];
     }
-    accumulation_.fillZero();
+    accumulation_.fillZero((dirtyBegin_ - tileRowStart_) * rowBytes, (dirtyEnd_ - dirtyBegin_) * rowBytes);
+    dirtyBegin_ = UINT32_MAX;
+    dirtyEnd_ = 0;
     ++report_.hostCopies;
 }
 
@@ -178,14 +180,11 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
 
     // Sums are added into the host's at tile changes, checkpoints and the end, and by time
     // (GpuRenderOptions::hostCopyEveryMs).
-    bool deviceHoldsSamples = false;
     auto lastCopy = std::chrono::steady_clock::now();
     double copyMs = 0.0;
     auto copy = [&] {
-        if (!deviceHoldsSamples) return;
         const auto start = std::chrono::steady_clock::now();
-        copyToHost(tileRowStart_);
-        deviceHoldsSamples = false;
+        copyToHost();
         lastCopy = std::chrono::steady_clock::now();
         copyMs = millisecondsSince(start);
     };
@@ -219,7 +218,8 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
                         const uint32_t rows = static_cast<uint32_t>(
                             std::clamp(nextUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
                         const double ms = runDispatch(s, samples, row, rows);
-                        deviceHoldsSamples = true;
+                        dirtyBegin_ = std::min(dirtyBegin_, row);
+                        dirtyEnd_ = std::max(dirtyEnd_, row + rows);
                         for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
                         lastUnits = static_cast<double>(rows) * samples;
                         unitsPerMs = lastUnits / std::max(ms, 0.01);

@@ -73,8 +73,8 @@ class GpuRenderer {
     // Records and runs one dispatch; returns its wall time in milliseconds.
     double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
     void readCounters(RayCounters& counters);
-    // Adds the device's sums for the tile starting at `tileRowStart` into sums_ and zeroes them.
-    void copyToHost(uint32_t tileRowStart);
+    // Adds the device's sums of the rows dispatched since the last copy into sums_, and zeroes them there.
+    void copyToHost();
 
     const VulkanContext& context_;
     RenderSettings settings_;
@@ -93,6 +93,7 @@ class GpuRenderer {
     std::unique_ptr<GpuTimer> timer_;
     uint32_t lastCounters_[VKRT_COUNTER_COUNT] = {};
     uint32_t tileRowStart_ = 0;  // the tile the dispatches accumulate into
+    uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
     GpuRenderReport report_;
 };
 
