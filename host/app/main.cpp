@@ -84,6 +84,33 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+// Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
+// records the estimate and what was available.
+void checkHostMemoryFor(const Options& options, const Scene& scene, const RenderSettings& settings,
+                        const VulkanContext* context, RunReport::Memory& memory) {
+    HostMemoryInputs inputs;
+    inputs.triangles = scene.triangles.size();
+    inputs.textureBytes = packedTextureBytes(scene);
+    inputs.width = settings.width;
+    inputs.height = settings.height;
+    inputs.gpu = context != nullptr;
+    inputs.deviceInHostMemory = context && context->description().type == "CPU";
+    if (inputs.deviceInHostMemory) {
+        inputs.deviceBudgetBytes = context->memoryBudget().bytes;
+        if (options.maxDeviceMemoryBytes > 0)
+            inputs.deviceBudgetBytes = std::min(inputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
+    }
+    inputs.report = !options.reportPath.empty() || !options.referencePath.empty();
+    inputs.outputPath = options.outputPath;
+    const MemoryNeed need = estimateHostMemory(inputs);
+    HostMemory available = availableHostMemory();
+    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
+        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    checkHostMemory(need, available);
+    memory.hostEstimateBytes = need.total();
+    memory.hostAvailableBytes = available.bytes;
+}
+
 int run(Options options) {
     checkPaths(options);
     const auto loadStart = std::chrono::steady_clock::now();
@@ -122,28 +149,7 @@ int run(Options options) {
     }
 
     // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
-    HostMemoryInputs memoryInputs;
-    memoryInputs.triangles = scene.triangles.size();
-    memoryInputs.textureBytes = packedTextureBytes(scene);
-    memoryInputs.width = settings.width;
-    memoryInputs.height = settings.height;
-    memoryInputs.gpu = context != nullptr;
-    memoryInputs.deviceInHostMemory = context && context->description().type == "CPU";
-    if (memoryInputs.deviceInHostMemory) {
-        memoryInputs.deviceBudgetBytes = context->memoryBudget().bytes;
-        if (options.maxDeviceMemoryBytes > 0)
-            memoryInputs.deviceBudgetBytes =
-                std::min(memoryInputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
-    }
-    memoryInputs.report = !options.reportPath.empty() || !options.referencePath.empty();
-    memoryInputs.outputPath = options.outputPath;
-    const MemoryNeed hostNeed = estimateHostMemory(memoryInputs);
-    HostMemory hostMemory = availableHostMemory();
-    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < hostMemory.bytes)
-        hostMemory = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
-    checkHostMemory(hostNeed, hostMemory);
-    report.memory.hostEstimateBytes = hostNeed.total();
-    report.memory.hostAvailableBytes = hostMemory.bytes;
+    checkHostMemoryFor(options, scene, settings, context.get(), report.memory);
 
     // Acceleration structure.
     const TriangleBvh triangleBvh = buildSceneBvh(scene);

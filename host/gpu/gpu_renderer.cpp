@@ -140,6 +140,7 @@ void GpuRenderer::readCounters(RayCounters& counters) {
 
 void GpuRenderer::copyToHost() {
     if (dirtyEnd_ <= dirtyBegin_) return;
+    const auto start = std::chrono::steady_clock::now();
     // The rows dispatched since the last copy, whole rows at a time, a few MiB each: no host copy of the
     // whole buffer, and a copy cut short by a lost device leaves every row either added or not.
     const uint32_t width = static_cast<uint32_t>(settings_.width);
@@ -161,97 +162,100 @@ void GpuRenderer::copyToHost() {
     dirtyBegin_ = UINT32_MAX;
     dirtyEnd_ = 0;
     ++report_.hostCopies;
+    lastCopy_ = std::chrono::steady_clock::now();
+    lastCopyMs_ = millisecondsSince(start);
+}
+
+bool GpuRenderer::copyDue() const {
+    if (options_.hostCopyEveryMs <= 0.0) return true;
+    const double sinceCopy = millisecondsSince(lastCopy_);
+    return sinceCopy >= options_.hostCopyEveryMs && sinceCopy >= 20.0 * lastCopyMs_;
+}
+
+double GpuRenderer::nextDispatchUnits() const {
+    return unitsPerMs_ > 0.0 ? std::clamp(unitsPerMs_ * options_.targetDispatchMs, 1.0, 2.0 * lastUnits_)
+                             : lastUnits_;
+}
+
+StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
+                                   const StopCondition& stop, const ProgressCallback& progress,
+                                   RayCounters& rays) {
+    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
+    const uint32_t height = static_cast<uint32_t>(settings_.height);
+    const uint32_t samplesPerDispatch =
+        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
+    // Batches of samples over bands of rows.
+    for (uint32_t s = first; s < end;) {
+        const uint32_t samples =
+            static_cast<uint32_t>(std::clamp(nextDispatchUnits() / (tileEnd - tile), 1.0,
+                                             static_cast<double>(std::min(end - s, samplesPerDispatch))));
+        for (uint32_t row = tile; row < tileEnd;) {
+            const uint32_t rows = static_cast<uint32_t>(
+                std::clamp(nextDispatchUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
+            const double ms = runDispatch(s, samples, row, rows);
+            dirtyBegin_ = std::min(dirtyBegin_, row);
+            dirtyEnd_ = std::max(dirtyEnd_, row + rows);
+            for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
+            lastUnits_ = static_cast<double>(rows) * samples;
+            unitsPerMs_ = lastUnits_ / std::max(ms, 0.01);
+            unitsDone_ += static_cast<uint64_t>(rows) * samples;
+            readCounters(rays);
+            row += rows;
+            if (progress) progress(unitsDone_, static_cast<uint64_t>(spp) * height);
+            // Stopping here leaves some rows with more samples than others; pixels are averaged over their
+            // own sample counts.
+            if (const StopReason reason = stop.reason(); reason != StopReason::None) return reason;
+            if (copyDue()) copyToHost();
+        }
+        s += samples;
+    }
+    return StopReason::None;
 }
 
 RenderResult GpuRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
                                  double checkpointEveryMs, StopCondition stop) {
     stop.start();
     RenderResult result;
-    const uint32_t width = static_cast<uint32_t>(settings_.width);
     const uint32_t height = static_cast<uint32_t>(settings_.height);
     const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
-    const uint32_t tileRows = report_.memory.tileRows;
-    const uint32_t samplesPerDispatch =
-        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
     CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
-    sums_.assign(static_cast<size_t>(width) * height, glm::dvec4(0.0));
+    sums_.assign(static_cast<size_t>(settings_.width) * height, glm::dvec4(0.0));
     rowSamples_.assign(height, 0);
     rowSamplesCopied_.assign(height, 0);
-
-    // Sums are added into the host's at tile changes, checkpoints and the end, and by time
-    // (GpuRenderOptions::hostCopyEveryMs).
-    auto lastCopy = std::chrono::steady_clock::now();
-    double copyMs = 0.0;
-    auto copy = [&] {
-        const auto start = std::chrono::steady_clock::now();
-        copyToHost();
-        lastCopy = std::chrono::steady_clock::now();
-        copyMs = millisecondsSince(start);
-    };
-
-    // Each dispatch is sized from the measured speed of the last to take about targetDispatchMs, growing at
-    // most twofold per step, since the cost of a band depends on what it sees.
-    double unitsPerMs = 0.0;  // rows x samples traced per millisecond, as last measured
-    double lastUnits = 1.0;   // rows x samples of the last dispatch; the first is a single row
-    auto nextUnits = [&] {
-        return unitsPerMs > 0.0 ? std::clamp(unitsPerMs * options_.targetDispatchMs, 1.0, 2.0 * lastUnits)
-                                : lastUnits;
-    };
-    uint64_t unitsDone = 0;
+    // The device's sums are added into the host's at tile changes, checkpoints, the end, and by time
+    // (copyDue). Dispatches are sized from the speed of the last (nextDispatchUnits); the first is one row.
+    lastCopy_ = std::chrono::steady_clock::now();
+    lastCopyMs_ = 0.0;
+    unitsPerMs_ = 0.0;
+    lastUnits_ = 1.0;
+    unitsDone_ = 0;
     uint32_t done = 0;  // samples every pixel has
     try {
-        // Passes end where the schedule says (every power of two, with checkpoints). Within a pass, tile by
-        // tile; within a tile, batches of samples over bands of rows.
+        // Passes end where the schedule says (every power of two, with checkpoints); within a pass, tile by
+        // tile.
         while (done < spp && result.stopped == StopReason::None) {
             const uint32_t end = schedule.passEnd(done);
-            for (uint32_t tile = 0; tile < height && result.stopped == StopReason::None; tile += tileRows) {
-                const uint32_t tileEnd = std::min(height, tile + tileRows);
+            for (uint32_t tile = 0; tile < height && result.stopped == StopReason::None;
+                 tile += report_.memory.tileRows) {
                 if (tile != tileRowStart_) {
-                    copy();
+                    copyToHost();
                     tileRowStart_ = tile;
                 }
-                for (uint32_t s = done; s < end && result.stopped == StopReason::None;) {
-                    const uint32_t samples = static_cast<uint32_t>(
-                        std::clamp(nextUnits() / (tileEnd - tile), 1.0,
-                                   static_cast<double>(std::min(end - s, samplesPerDispatch))));
-                    for (uint32_t row = tile; row < tileEnd;) {
-                        const uint32_t rows = static_cast<uint32_t>(
-                            std::clamp(nextUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
-                        const double ms = runDispatch(s, samples, row, rows);
-                        dirtyBegin_ = std::min(dirtyBegin_, row);
-                        dirtyEnd_ = std::max(dirtyEnd_, row + rows);
-                        for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
-                        lastUnits = static_cast<double>(rows) * samples;
-                        unitsPerMs = lastUnits / std::max(ms, 0.01);
-                        unitsDone += static_cast<uint64_t>(rows) * samples;
-                        readCounters(result.rays);
-                        row += rows;
-                        if (progress) progress(unitsDone, static_cast<uint64_t>(spp) * height);
-                        // Stopping here leaves some rows with more samples than others; pixels are averaged
-                        // over their own sample counts.
-                        result.stopped = stop.reason();
-                        if (result.stopped != StopReason::None) break;
-                        const double sinceCopy = millisecondsSince(lastCopy);
-                        if (options_.hostCopyEveryMs <= 0.0 ||
-                            (sinceCopy >= options_.hostCopyEveryMs && sinceCopy >= 20.0 * copyMs)) {
-                            copy();
-                        }
-                    }
-                    s += samples;
-                }
+                const uint32_t tileEnd = std::min(height, tile + report_.memory.tileRows);
+                result.stopped = renderTile(tile, tileEnd, done, end, stop, progress, result.rays);
             }
             if (result.stopped != StopReason::None) break;
             done = end;
             const double renderMs = schedule.renderMs();
             if (checkpoint && schedule.due(done, renderMs)) {
                 schedule.take(renderMs, [&] {
-                    copy();
+                    copyToHost();
                     checkpoint(done, renderMs, report_.gpuMs,
                                averageOf(sums_, settings_.width, settings_.height));
                 });
             }
         }
-        copy();
+        copyToHost();
     } catch (const DeviceLostError& e) {
         // What the host holds is all there is: every row as of its last copy.
         report_.deviceLost = e.what();

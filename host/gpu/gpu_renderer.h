@@ -4,6 +4,7 @@
 // tiles (bands of rows) that share one device buffer.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,6 +76,14 @@ class GpuRenderer {
     void readCounters(RayCounters& counters);
     // Adds the device's sums of the rows dispatched since the last copy into sums_, and zeroes them there.
     void copyToHost();
+    // Whether a copy is due by time (GpuRenderOptions::hostCopyEveryMs).
+    bool copyDue() const;
+    // Rows x samples for the next dispatch: about targetDispatchMs at the last one's speed, at most twice
+    // its size (the cost of a band depends on what it sees).
+    double nextDispatchUnits() const;
+    // Samples [first, end) of rows [tile, tileEnd); returns why it stopped early, if it did.
+    StopReason renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
+                          const StopCondition& stop, const ProgressCallback& progress, RayCounters& rays);
 
     const VulkanContext& context_;
     RenderSettings settings_;
@@ -94,6 +103,11 @@ class GpuRenderer {
     uint32_t lastCounters_[VKRT_COUNTER_COUNT] = {};
     uint32_t tileRowStart_ = 0;  // the tile the dispatches accumulate into
     uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
+    std::chrono::steady_clock::time_point lastCopy_;
+    double lastCopyMs_ = 0.0;  // what the last copy cost
+    double unitsPerMs_ = 0.0;  // rows x samples traced per millisecond, as last measured
+    double lastUnits_ = 1.0;   // rows x samples of the last dispatch
+    uint64_t unitsDone_ = 0;   // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
 
