@@ -1,5 +1,6 @@
-"""A small glTF 2.0 writer for vkrt's generated scenes: meshes, materials, cameras and punctual lights,
-with all binary data embedded as one base64 data URI so each scene is a single self-contained file."""
+"""A small glTF 2.0 writer for vkrt's generated scenes: meshes, materials, cameras, punctual lights and vkrt's
+analytic node extensions, with all binary data embedded as one base64 data URI so each scene is a single
+self-contained file."""
 
 import base64
 import json
@@ -23,6 +24,7 @@ class GltfBuilder:
         }
         self.data = bytearray()
         self.extensions = set()
+        self.required = set()  # extensions a viewer must know to show the scene (also listed as used)
 
     # Binary data -----------------------------------------------------------------------------------
     def _view(self, payload, target):
@@ -192,6 +194,19 @@ class GltfBuilder:
         return self.node(name, parent=parent, translation=list(center),
                          extensions={"VKRT_sphere": {"radius": radius, "material": material}})
 
+    def shape(self, name, shape, material, parent=None, **transform):
+        """An analytic shape ("sphere", "box", "cylinder" or "cone"): a node carrying vkrt's VKRT_shape extension
+        (docs/vkrt_shape.md); `transform` is the node's translation, rotation and scale, or matrix."""
+        self.extensions.add("VKRT_shape")
+        return self.node(name, parent=parent, **transform,
+                         extensions={"VKRT_shape": {"shape": shape, "material": material}})
+
+    def csg(self, name, operation, parent=None, **transform):
+        """A constructive solid geometry node ("union", "intersection" or "difference", VKRT_csg,
+        docs/vkrt_shape.md); its operands are the shape() and csg() nodes made with it as their parent."""
+        self.extensions.add("VKRT_csg")
+        return self.node(name, parent=parent, **transform, extensions={"VKRT_csg": {"operation": operation}})
+
     def animate(self, node, path, times, values, interpolation="LINEAR"):
         """One animation channel (translation, rotation or scale of `node`) with its own sampler."""
         times_view = self._view(struct.pack("<%df" % len(times), *times), None)
@@ -228,8 +243,10 @@ class GltfBuilder:
         self.gltf["buffers"] = [{
             "byteLength": len(self.data),
             "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode("ascii")}]
-        if self.extensions:
-            self.gltf["extensionsUsed"] = sorted(self.extensions)
+        if self.extensions or self.required:
+            self.gltf["extensionsUsed"] = sorted(self.extensions | self.required)
+        if self.required:
+            self.gltf["extensionsRequired"] = sorted(self.required)
         with open(path, "w") as f:
             json.dump(self.gltf, f, indent=1)
             f.write("\n")
