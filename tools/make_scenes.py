@@ -45,6 +45,13 @@ and a point light.
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
+csg.gltf: analytic shapes and constructive solid geometry (VKRT_shape and VKRT_csg, docs/vkrt_shape.md) on a
+grey floor, lit by an emissive box (an area light) and a point light. At the back, the classic CSG pieces: a
+box minus a sphere (bites in the box's faces, in the sphere's orange), a glass lens (the intersection of two
+spheres, tinted by Beer's law) and a sphere drilled by two cylinders (red and yellow bores); in front, each
+shape under a non-uniform scale: a mirrored cone with an elliptical base, a tilted gold ellipsoid, a turned
+slab with a checker texture and an oblique cylinder (a matrix with shear).
+
 Usage: python3 tools/make_scenes.py [OUTPUT_FOLDER]   (default: the repository's scenes/)
 """
 
@@ -489,6 +496,95 @@ def environment():
     g.write(os.path.join(OUTPUT, "environment.gltf"))
 
 
+def axis_angle(axis, degrees):
+    """Quaternion (x, y, z, w) of a turn by `degrees` about a unit axis."""
+    s = math.sin(math.radians(degrees) / 2)
+    return [axis[0] * s, axis[1] * s, axis[2] * s, math.cos(math.radians(degrees) / 2)]
+
+
+def quaternion_product(a, b):
+    """The quaternion of turning by b, then by a."""
+    return [a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
+            a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+            a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
+            a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]]
+
+
+def csg():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    g.required.update(("VKRT_shape", "VKRT_csg"))  # without them a viewer would show an empty floor
+
+    def matte(name, colour):
+        return g.material(name, base_color=colour, specular=0.0)
+
+    floor_material = matte("floor", (0.5, 0.5, 0.5))
+    floor = quad([[-12.0, 0.0, -12.0], [12.0, 0.0, -12.0], [12.0, 0.0, 12.0], [-12.0, 0.0, 12.0]], [0.0, 1.0, 0.0])
+    g.node("floor", mesh=g.mesh("floor", [(floor[0], None, floor[1], floor_material)]))
+    up = [0.0, 1.0, 0.0]
+
+    # The back row: the classic CSG pieces, each operand in a colour of its own (a surface of the result keeps
+    # its shape's material). A box minus a sphere 1.3 times its half width: the corners and edges remain, each
+    # face has a bowl bitten out of it. The csg node's transform places both operands.
+    bitten = g.csg("box minus sphere", "difference", translation=[-2.2, 0.7, -1.5], rotation=axis_angle(up, 30.0),
+                   scale=[0.7, 0.7, 0.7])
+    g.shape("box", "box", matte("blue", (0.15, 0.3, 0.75)), parent=bitten)
+    g.shape("bite", "sphere", matte("orange", (0.95, 0.45, 0.1)), parent=bitten, scale=[1.3, 1.3, 1.3])
+
+    # A biconvex lens standing on its rim, facing the camera: two spheres of radius 1.5 whose centres are 2.5
+    # apart, so the lens is 0.5 thick at its centre and 0.83 in radius. Glass with a volume: the light blue
+    # attenuation deepens towards the thick middle (Beer's law over the distance inside the one solid).
+    glass = g.material("tinted glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
+                       thickness=0.5, attenuation_color=(0.45, 0.75, 0.95), attenuation_distance=0.5)
+    rim = math.sqrt(1.5 ** 2 - 1.25 ** 2)
+    lens = g.csg("lens", "intersection", translation=[0.0, rim, -1.5])
+    g.shape("lens, front surface", "sphere", glass, parent=lens, translation=[0.0, 0.0, -1.25], scale=[1.5, 1.5, 1.5])
+    g.shape("lens, back surface", "sphere", glass, parent=lens, translation=[0.0, 0.0, 1.25], scale=[1.5, 1.5, 1.5])
+
+    # A sphere drilled from the top by a thin long cylinder and from the side by one turned to lie horizontally
+    # and face the camera at an angle (the difference subtracts every operand after the first).
+    drilled = g.csg("drilled sphere", "difference", translation=[2.2, 0.85, -1.5])
+    g.shape("ball", "sphere", matte("green", (0.2, 0.6, 0.25)), parent=drilled, scale=[0.85, 0.85, 0.85])
+    g.shape("vertical bore", "cylinder", matte("red", (0.8, 0.12, 0.08)), parent=drilled,
+            scale=[0.3, 1.2, 0.3])
+    g.shape("horizontal bore", "cylinder", matte("yellow", (0.9, 0.75, 0.1)), parent=drilled,
+            rotation=quaternion_product(axis_angle(up, -35.0), axis_angle([1.0, 0.0, 0.0], 90.0)),
+            scale=[0.22, 1.2, 0.22])
+
+    # The front row: each shape under a non-uniform scale, resting on the floor. A cone with an elliptical base,
+    # turned, and mirrored in x (a negative determinant: it looks the same, and its outside stays outside).
+    g.shape("cone", "cone", matte("teal", (0.1, 0.55, 0.55)), translation=[-2.8, 0.75, 1.1],
+            rotation=axis_angle(up, 50.0), scale=[-0.55, 0.75, 0.35])
+    # An ellipsoid of semi-axes 0.75, 0.45 and 0.45, tilted 25 degrees about z and turned about y; its lowest
+    # point is hypot(0.75 sin 25, 0.45 cos 25) below its centre.
+    tilt = math.radians(25.0)
+    gold = g.material("gold", base_color=(1.0, 0.78, 0.34), metallic=1.0, roughness=0.3)
+    g.shape("ellipsoid", "sphere", gold,
+            translation=[-0.8, math.hypot(0.75 * math.sin(tilt), 0.45 * math.cos(tilt)), 1.1],
+            rotation=quaternion_product(axis_angle(up, -30.0), axis_angle([0.0, 0.0, 1.0], 25.0)),
+            scale=[0.75, 0.45, 0.45])
+    # A slab, turned, with a checker (4 x 4 squares a face, in the box's texture coordinates).
+    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (200, 40, 30, 255),
+                                          (200, 40, 30, 255), (235, 235, 235, 255)], nearest=True)
+    checked = g.material("checker", base_color=(1.0, 1.0, 1.0), specular=0.0,
+                         base_color_texture=g.texture_info(checker, scale=[2.0, 2.0]))
+    g.shape("slab", "box", checked, translation=[1.0, 0.3, 1.1], rotation=axis_angle(up, 35.0),
+            scale=[0.6, 0.3, 0.4])
+    # An oblique cylinder: radius 0.4, 1.6 high, sheared so its top is 0.8 further in -x than its base (x -= 0.5
+    # y after the scale); the caps stay level. The matrix is column-major, as glTF stores it.
+    g.shape("oblique cylinder", "cylinder", matte("purple", (0.5, 0.25, 0.7)),
+            matrix=[0.4, 0.0, 0.0, 0.0,  -0.4, 0.8, 0.0, 0.0,  0.0, 0.0, 0.4, 0.0,  2.9, 0.8, 1.1, 1.0])
+
+    # The area light: a thin emissive box high above the middle (out of the camera's view), and a point light.
+    lamp = g.material("lamp", base_color=(0.0, 0.0, 0.0), emission=(1.0, 0.95, 0.85), emission_strength=20.0)
+    g.shape("lamp", "box", lamp, translation=[0.5, 5.0, 1.0], scale=[1.0, 0.04, 0.7])
+    point = g.light({"type": "point", "name": "fill", "color": [0.9, 0.95, 1.0], "intensity": 40.0})
+    g.node("fill", translation=[-4.0, 6.0, 5.0], extensions={"KHR_lights_punctual": {"light": point}})
+    eye, target = [0.0, 3.0, 7.4], [0.0, 0.5, -0.3]
+    camera = g.perspective_camera("csg-camera", math.radians(40.0), aspect_ratio=1.6)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "csg.gltf"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
@@ -503,3 +599,4 @@ if __name__ == "__main__":
     textures()
     surfaces()
     environment()
+    csg()
