@@ -23,6 +23,7 @@ vkrt --scene scenes/textures.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/
 vkrt --scene scenes/environment.gltf --width 512 --spp 256 --environment scenes/sky.hdr \
     --environment-rotation 40 --environment-strength 1.5 --out "$out/environment-cpu.png"
 vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
+vkrt --scene scenes/csg.gltf --width 512 --spp 256 --out "$out/csg-cpu.png"
 
 real=../shared/scenes-real
 if [ -d "$real" ]; then
