@@ -8,6 +8,7 @@
 
 #include "optics.h"
 #include "shading_language.h"
+#include "shape_geometry.h"
 #include "sphere_geometry.h"
 
 VKRT_SHADING_BEGIN
@@ -15,6 +16,7 @@ VKRT_SHADING_BEGIN
 // A point on an emissive primitive.
 struct LightPoint {
     uint primitive;
+    uint material;  // the emitting surface's
     real3 position;
     real3 normal;  // the emitting (front, outward) side
     real2 uv;      // barycentric weights of v1 and v2 (triangles) or texture coordinates (spheres)
@@ -31,6 +33,7 @@ VKRT_FN real triangleArea(real3 v0, real3 v1, real3 v2) { return 0.5 * length(cr
 VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3 v2, real pdfArea, real u, real v) {
     LightPoint p;
     p.primitive = primitive;
+    p.material = 0u;  // the device's to fill in
     const real root = sqrt(u);
     p.uv = real2(root * (1.0 - v), root * v);
     p.position = (1.0 - root) * v0 + p.uv.x * v1 + p.uv.y * v2;
@@ -45,6 +48,7 @@ VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, 
                                      real v) {
     LightPoint p;
     p.primitive = primitive;
+    p.material = 0u;  // the device's to fill in
     const real3 toCenter = center - from;
     const real distance2 = dot(toCenter, toCenter);
     const real phi = 2.0 * VKRT_PI * v;
@@ -96,6 +100,107 @@ VKRT_FN real sphereLightSolidAnglePdf(real3 center, real radius, real pick, real
     const real centerDistance2 = dot(toCenter, toCenter);
     if (centerDistance2 > radius * radius) return pick / (2.0 * VKRT_PI * coneOneMinusCos(radius, centerDistance2));
     return pick / (4.0 * VKRT_PI * radius * radius) * distance2 / cosLight;
+}
+
+// Shapes (VKRT_shape) as lights. A shape is sampled part by part (the sphere; a box face; the cylinder's side
+// and caps; the cone's side and base), each part chosen by its weight (its area in the world, exact for flat
+// parts, estimated from four normals for curved ones), and uniformly by area over the canonical part. The
+// density per world area then follows from Nanson's formula, dA_world = |det M| |M^-T n| dA_object for
+// object-to-world map M: exact under any affine map, whatever the part weights.
+
+// |det M| |M^-T n| for world-to-object map `toObject` (M^-1) and object-space unit normal n.
+VKRT_FN real shapeAreaScale(VKRT_IN(AffineRows) toObject, real3 n) {
+    const real determinant = dot(real3(toObject.row0), cross(real3(toObject.row1), real3(toObject.row2)));
+    return length(affineTransposedVector(toObject, n)) / abs(determinant);
+}
+
+VKRT_FN uint shapePartCount(uint type) {
+    return type == VKRT_SHAPE_SPHERE     ? 1u
+           : type == VKRT_SHAPE_BOX      ? 6u
+           : type == VKRT_SHAPE_CYLINDER ? 3u
+                                         : 2u;
+}
+
+// The area of canonical part `part` (numbered as the faces, shape_geometry.h).
+VKRT_FN real shapePartArea(uint type, uint part) {
+    if (type == VKRT_SHAPE_SPHERE) return 4.0 * VKRT_PI;
+    if (type == VKRT_SHAPE_BOX) return 4.0;
+    if (part != VKRT_FACE_SIDE) return VKRT_PI;
+    return type == VKRT_SHAPE_CYLINDER ? 4.0 * VKRT_PI
+                                       : VKRT_PI * sqrt(5.0);  // the cone's slant height is sqrt 5
+}
+
+// A part's weight: its canonical area times the area scale of its normal (flat parts), or the mean scale of
+// four (curved parts: the sphere's and the round sides' normals along +-x and +-z, the sphere's also +-y).
+VKRT_FN real shapePartWeight(uint type, uint part, VKRT_IN(AffineRows) toObject) {
+    const real area = shapePartArea(type, part);
+    if (type == VKRT_SHAPE_BOX || part != VKRT_FACE_SIDE)
+        return area * shapeAreaScale(toObject, shapeNormal(type, part, real3(0.0)));
+    const real lean = type == VKRT_SHAPE_CONE ? 0.5 : 0.0;
+    real sum = shapeAreaScale(toObject, normalize(real3(1.0, lean, 0.0))) +
+               shapeAreaScale(toObject, normalize(real3(-1.0, lean, 0.0))) +
+               shapeAreaScale(toObject, normalize(real3(0.0, lean, 1.0))) +
+               shapeAreaScale(toObject, normalize(real3(0.0, lean, -1.0)));
+    if (type == VKRT_SHAPE_SPHERE) {
+        sum +=
+            shapeAreaScale(toObject, real3(0.0, 1.0, 0.0)) + shapeAreaScale(toObject, real3(0.0, -1.0, 0.0));
+        return area * sum / 6.0;
+    }
+    return area * sum / 4.0;
+}
+
+// The shape's estimated area in the world: its parts' weights (exact for boxes).
+VKRT_FN real shapeArea(uint type, VKRT_IN(AffineRows) toObject) {
+    real sum = 0.0;
+    for (uint part = 0u; part < shapePartCount(type); ++part) sum += shapePartWeight(type, part, toObject);
+    return sum;
+}
+
+// The density per world area with which sampleShapePoint picks object-space point p of face `face`.
+VKRT_FN real shapePointDensity(uint type, uint face, real3 p, VKRT_IN(AffineRows) toObject) {
+    const real partProbability = shapePartWeight(type, face, toObject) / shapeArea(type, toObject);
+    return partProbability /
+           (shapePartArea(type, face) * shapeAreaScale(toObject, shapeNormal(type, face, p)));
+}
+
+// A point of a shape's surface in object space (u, v in [0, 1)), and its face.
+VKRT_FN real3 sampleShapePoint(uint type, VKRT_IN(AffineRows) toObject, real u, real v, VKRT_OUT(uint) face) {
+    // The part by weight, then u rescaled to [0, 1) within it.
+    const real total = shapeArea(type, toObject);
+    const uint parts = shapePartCount(type);
+    face = parts - 1u;
+    real below = 0.0;
+    for (uint part = 0u; part + 1u < parts; ++part) {
+        const real weight = shapePartWeight(type, part, toObject) / total;
+        if (u < below + weight) {
+            face = part;
+            break;
+        }
+        below += weight;
+    }
+    const real weight = shapePartWeight(type, face, toObject) / total;
+    u = clamp((u - below) / weight, 0.0, 0.99999994);
+    const real phi = 2.0 * VKRT_PI * v;
+    if (type == VKRT_SHAPE_SPHERE) {
+        const real z = 1.0 - 2.0 * u, ring = sqrt(max(0.0, 1.0 - z * z));
+        return real3(ring * cos(phi), ring * sin(phi), z);
+    }
+    if (type == VKRT_SHAPE_BOX) {
+        const int axis = int(face / 2u);
+        real3 p = real3(0.0);
+        p[axis] = (face & 1u) != 0u ? 1.0 : -1.0;
+        p[(axis + 1) % 3] = 2.0 * u - 1.0;
+        p[(axis + 2) % 3] = 2.0 * v - 1.0;
+        return p;
+    }
+    if (face != VKRT_FACE_SIDE) {
+        const real r = sqrt(u);
+        return real3(r * sin(phi), face == VKRT_FACE_TOP ? 1.0 : -1.0, r * cos(phi));
+    }
+    if (type == VKRT_SHAPE_CYLINDER) return real3(sin(phi), 2.0 * u - 1.0, cos(phi));
+    // The cone's side: its area grows with w = 1 - y, so w = 2 sqrt(u).
+    const real w = 2.0 * sqrt(u);
+    return real3(0.5 * w * sin(phi), 1.0 - w, 0.5 * w * cos(phi));
 }
 
 VKRT_SHADING_END

@@ -54,9 +54,33 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
     }
     const GpuAreaLight light = params.areaLights.areaLights[lo];
     const GpuPrimitive emitter = primitiveAt(light.primitive);
+#ifdef VKRT_HAS_SHAPES
+    if (light.shape != VKRT_NO_PRIMITIVE) {
+        // A point of the shape; only points on the solid's surface emit (a CSG operand's others are inside or
+        // outside the solid).
+        const GpuShape shape = params.shapes.shapes[light.shape];
+        AffineRows toObject, toWorld;
+        shapeMaps(light.shape, toObject, toWorld);
+        uint face;
+        const vec3 local = sampleShapePoint(shape.type, toObject, u, v, face);
+        LightPoint p;
+        p.primitive = light.primitive;
+        p.material = shape.material;
+        p.position = affinePoint(toWorld, local);
+        const int side = solidSide(solidOf(emitter), light.shape, p.position);
+        p.normal = (side < 0 ? -1.0 : 1.0) *
+                   normalize(affineTransposedVector(toObject, shapeNormal(shape.type, face, local)));
+        p.uv = shapeUv(shape.type, face, local);
+        p.pdfArea = side == 0 ? 0.0 : light.pick * shapePointDensity(shape.type, face, local, toObject);
+        return p;
+    }
+#endif
+    LightPoint p;
 #ifdef VKRT_HAS_SPHERES
     if (emitter.kind == VKRT_PRIMITIVE_SPHERE) {
-        return sampleSphereLight(light.primitive, emitter.v0, emitter.v1.x, light.pick, from, u, v);
+        p = sampleSphereLight(light.primitive, emitter.v0, emitter.v1.x, light.pick, from, u, v);
+        p.material = emitter.material;
+        return p;
     }
 #endif
 #ifdef VKRT_HAS_MOTION
@@ -64,12 +88,26 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
 #else
     const float pdfArea = light.pdfArea;
 #endif
-    return sampleTriangleLight(light.primitive, emitter.v0, emitter.v1, emitter.v2, pdfArea, u, v);
+    p = sampleTriangleLight(light.primitive, emitter.v0, emitter.v1, emitter.v2, pdfArea, u, v);
+    p.material = emitter.material;
+    return p;
 }
 
 // The density per solid angle with which device_sampleAreaLight, seen from `from`, picks `point` on emissive
-// `primitive`. The pick probability is the primitive's share of the power at the shutter's opening.
-float device_lightSolidAnglePdf(uint primitive, vec3 from, vec3 point, float cosLight) {
+// `primitive` (on `shape`, for a solid). The pick probability is the primitive's share of the power at the
+// shutter's opening.
+float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 point, float cosLight) {
+#ifdef VKRT_HAS_SHAPES
+    if (shape != VKRT_NO_PRIMITIVE) {
+        AffineRows toObject, toWorld;
+        shapeMaps(shape, toObject, toWorld);
+        const GpuShape s = params.shapes.shapes[shape];
+        const vec3 local = affinePoint(toObject, point);
+        const vec3 toPoint = point - from;
+        return solidAnglePdfFromArea(s.lightPick * shapePointDensity(s.type, shapeFaceAt(s.type, local), local, toObject),
+                                     dot(toPoint, toPoint), cosLight);
+    }
+#endif
     const GpuPrimitive opened = VKRT_PRIMITIVE(primitive);
     const GpuPrimitive now = primitiveAt(primitive);
     const vec3 emission = params.materials.materials[opened.material].emission;

@@ -16,10 +16,10 @@ uint device_texel(uint index) { return params.texels.texels[index]; }
 
 GpuTextureBinding device_textureBinding(int index) { return params.textureBindings.bindings[index]; }
 
-// A triangle's texture coordinates of set `set` (0 or 1) at barycentrics hitUv; spheres carry their own.
+// A triangle's texture coordinates of set `set` (0 or 1) at barycentrics hitUv; spheres and solids carry their own.
 vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
-#ifdef VKRT_HAS_SPHERES
-    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return hitUv;
+#if defined(VKRT_HAS_SPHERES) || defined(VKRT_HAS_SHAPES)
+    if (VKRT_PRIMITIVE(primitive).kind != VKRT_PRIMITIVE_TRIANGLE) return hitUv;
 #endif
 #ifdef VKRT_HAS_TEXCOORD1
     if (set == 1u) {
@@ -38,6 +38,9 @@ float device_textureDensity(uint primitive, vec2 hitUv, uint set) {
 #ifdef VKRT_HAS_SPHERES
     if (p.kind == VKRT_PRIMITIVE_SPHERE) return sphereTextureDensity(p.v1.x, hitUv.y);
 #endif
+#ifdef VKRT_HAS_SHAPES
+    if (p.kind != VKRT_PRIMITIVE_TRIANGLE) return p.v1.x;  // a solid's (shape_geometry.h shapeTextureDensity)
+#endif
     return triangleTextureDensity(p.v0, p.v1, p.v2, device_textureCoordinates(primitive, vec2(0.0), set),
                                   device_textureCoordinates(primitive, vec2(1.0, 0.0), set),
                                   device_textureCoordinates(primitive, vec2(0.0, 1.0), set));
@@ -48,8 +51,8 @@ float device_textureDensity(uint primitive, vec2 hitUv, uint set) {
 #ifdef VKRT_HAS_VERTEX_COLORS
 // COLOR_0 at barycentrics hitUv; spheres have none.
 vec4 device_vertexColor(uint primitive, vec2 hitUv) {
-#ifdef VKRT_HAS_SPHERES
-    if (VKRT_PRIMITIVE(primitive).kind == VKRT_PRIMITIVE_SPHERE) return vec4(1.0);
+#if defined(VKRT_HAS_SPHERES) || defined(VKRT_HAS_SHAPES)
+    if (VKRT_PRIMITIVE(primitive).kind != VKRT_PRIMITIVE_TRIANGLE) return vec4(1.0);
 #endif
     const GpuVertexColors c = params.vertexColors.colors[primitive];
     return barycentric(c.corner0, c.corner1, c.corner2, hitUv);

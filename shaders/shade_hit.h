@@ -71,10 +71,11 @@ struct HitPoint {
     real3 geometricNormal;  // unit normals of the front (outside) side, at the hit's shutter time
     real3 normal;
     real4 tangent;  // normal-mapped triangles: the tangent frame (surface_response.h's normalMapped), else 0
-    real2 uv;  // barycentric weights of v1 and v2 (triangles), texture coordinates (spheres)
+    real2 uv;       // barycentric weights of v1 and v2 (triangles), texture coordinates (spheres, solids)
     uint primitive;
     uint material;
     bool sphere;
+    uint shape;  // solids: the scene's shape whose surface this is; else VKRT_NO_PRIMITIVE
 };
 
 // A hit seen from the ray that found it: normals turned towards the viewer, where new rays start, and which
@@ -228,10 +229,12 @@ VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_
     if (!(dot(frame.normal, frame.toViewer) > 0.0)) frame.normal = frame.geometricNormal;  // faces away: the true one
     frame.coatNormal = frame.normal;
     frame.viewerSide = VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, frame.geometricNormal);
-    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far side);
-    // a ray leaving a sphere's outside cannot meet the sphere again.
-    frame.excludeOnViewerSide = hit.sphere && !frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
-    frame.excludeBeyond = hit.sphere && frame.frontFace ? VKRT_NO_PRIMITIVE : hit.primitive;
+    // New rays skip the primitive they leave, except rays that go into a sphere (they must find its far
+    // side); a ray leaving a sphere's outside cannot meet the sphere again. Solids are never skipped (a CSG
+    // object need not be convex): their crossings lie beyond the offset origin (shape_geometry.h).
+    const bool solid = hit.shape != VKRT_NO_PRIMITIVE;
+    frame.excludeOnViewerSide = solid || (hit.sphere && !frame.frontFace) ? VKRT_NO_PRIMITIVE : hit.primitive;
+    frame.excludeBeyond = solid || (hit.sphere && frame.frontFace) ? VKRT_NO_PRIMITIVE : hit.primitive;
     return frame;
 }
 
@@ -307,15 +310,20 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const real distance = sqrt(distance2);
             if (light.primitive == frame.primitive || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
             const real3 toLight = offset / distance;
-            VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(VKRT_DEVICE(materialOf)(light.primitive));
+            VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(light.material);
             real cosLight = -dot(light.normal, toLight);
             if (emitter.doubleSided) cosLight = abs(cosLight);
             if (!(cosLight > 0.0) || !facesLight(frame, toLight)) continue;
-            const real3 visible = shadowed(
-                VKRT_DEVICE_ARG context, media,
-                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_DEVICE(shadowRayLength)(distance), exclude,
-                                                 light.primitive),
-                distance);
+            // The shadow ray runs from the offset origin to the light's point, so it ends at the point
+            // whatever the offset (solids are not skipped: a CSG light can shadow itself).
+            const real3 originToLight = light.position - origin;
+            const real shadowDistance = length(originToLight);
+            const real3 visible =
+                shadowed(VKRT_DEVICE_ARG context, media,
+                         VKRT_DEVICE(shadowTransmittance)(origin, originToLight / shadowDistance,
+                                                          VKRT_DEVICE(shadowRayLength)(shadowDistance),
+                                                          exclude, light.primitive),
+                         distance);
             // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
             real3 irradiance =
                 textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv, 0.0) *
@@ -440,8 +448,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         if (ray.arrivalPdf > 0.0 && VKRT_DEVICE(hasAreaLights)()) {
             emissionWeight = 0.0;
             if (context.multipleImportanceSampling) {
-                const real lightPdf = VKRT_DEVICE(lightSolidAnglePdf)(hit.primitive, ray.origin, hit.position,
-                                                                      abs(dot(geometricNormal, ray.direction)));
+                const real lightPdf =
+                    VKRT_DEVICE(lightSolidAnglePdf)(hit.primitive, hit.shape, ray.origin, hit.position,
+                                                    abs(dot(geometricNormal, ray.direction)));
                 emissionWeight = powerHeuristic(1.0, ray.arrivalPdf, real(context.lightSamples) * lightPdf);
             }
         }

@@ -5,7 +5,7 @@
 //
 // Shared code keeps to the subset both languages read alike:
 // - scalars and vectors are `real`, `real2`, `real3`, `real4` (float/vec in GLSL, double/dvec in C++);
-//   integers are `uint`, `int`, `uvec2`;
+//   integers are `uint`, `int`, `uvec2`, `uvec4`;
 // - functions are declared VKRT_FN; GLSL `out`/`inout` parameters are VKRT_OUT(T)/VKRT_INOUT(T), C++
 //   references; structs are passed as VKRT_IN(T), by value in GLSL and by const reference in C++;
 // - structs are declared, then filled member by member (no constructors, no aggregate initialisers);
@@ -34,6 +34,7 @@ using real3 = glm::dvec3;
 using real4 = glm::dvec4;
 using uint = uint32_t;
 using uvec2 = glm::uvec2;
+using uvec4 = glm::uvec4;
 
 using glm::abs;
 using glm::acos;
@@ -83,6 +84,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_PUNCTUAL_LIGHTS
 #define VKRT_HAS_AREA_LIGHTS
 #define VKRT_HAS_SPHERES
+#define VKRT_HAS_SHAPES
 #define VKRT_HAS_MOTION
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_VERTEX_COLORS

@@ -101,8 +101,13 @@ struct WideBvhNode {
 // or (kind VKRT_PRIMITIVE_SPHERE, in shaders built with VKRT_HAS_SPHERES) a sphere with its centre in v0
 // and its radius in v1.x. Indices stay integers: integer bits kept in float slots do not survive
 // lavapipe's denormal flushing.
+// Kind VKRT_PRIMITIVE_SOLID (with VKRT_HAS_SHAPES) is a solid (GpuSolid): its index sits in the kind's upper
+// bits, kind = VKRT_PRIMITIVE_SOLID | (solid << 2), and v1.x holds its texture density (shape_geometry.h).
 #define VKRT_PRIMITIVE_TRIANGLE 0u
 #define VKRT_PRIMITIVE_SPHERE 1u
+#define VKRT_PRIMITIVE_SOLID 2u
+#define VKRT_PRIMITIVE_KIND_MASK 3u
+#define VKRT_PRIMITIVE_INDEX_SHIFT 2u
 struct GpuPrimitive {
     vec3 v0;
     uint material;
@@ -110,6 +115,40 @@ struct GpuPrimitive {
     uint sceneIndex;  // the primitive's index in the scene, which breaks ties between coincident hits
     vec3 v2;
     uint kind;  // VKRT_PRIMITIVE_*
+};
+
+// A shape of a solid (VKRT_shape, shaders/shape_geometry.h), 112 bytes: its world-to-object and
+// object-to-world maps as three rows each (at the shutter's opening), its VKRT_SHAPE_* type and material, and
+// its probability of being picked as a light (0: it does not emit).
+struct GpuShape {
+    vec4 toObject0;
+    vec4 toObject1;
+    vec4 toObject2;
+    vec4 toWorld0;
+    vec4 toWorld1;
+    vec4 toWorld2;
+    uint type;
+    uint material;
+    float lightPick;
+    uint unused0;
+};
+
+// A solid, 48 bytes: its shapes (firstShape onwards) and the truth table of its CSG expression over their
+// inside bits (bit s of the 256: tableLow's words 0-3, then tableHigh's).
+struct GpuSolid {
+    uint firstShape;
+    uint shapeCount;
+    uint unused0;
+    uint unused1;
+    uvec4 tableLow;
+    uvec4 tableHigh;
+};
+
+// A shape's object-to-world map at one pose (motion blur), three rows.
+struct GpuShapePose {
+    vec4 row0;
+    vec4 row1;
+    vec4 row2;
 };
 
 // A triangle's COLOR_0 at its three corners (RGBA), 48 bytes.
@@ -216,13 +255,17 @@ struct GpuPunctualLight {
 };
 
 // One emissive primitive: its index, the cumulative power up to and including it, its area pdf (pick
-// probability / area; triangles are sampled by area) and its pick probability (spheres are sampled by
-// solid angle).
+// probability / area; triangles are sampled by area), its pick probability (spheres are sampled by
+// solid angle) and, for a solid's shape, the shape (shapes are sampled part by part; else VKRT_NO_HIT).
 struct GpuAreaLight {
     uint primitive;
     float cdf;
     float pdfArea;
     float pick;
+    uint shape;
+    uint unused0;
+    uint unused1;
+    uint unused2;
 };
 
 struct GpuCamera {
@@ -308,6 +351,15 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Li
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer AreaLightBuffer {
     GpuAreaLight areaLights[];
 };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShapeBuffer {
+    GpuShape shapes[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SolidBuffer {
+    GpuSolid solids[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ShapePoseBuffer {
+    GpuShapePose poses[];
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer EnvironmentTexelBuffer {
     GpuEnvironmentTexel texels[];
 };
@@ -375,8 +427,9 @@ struct SceneParams {
     VKRT_ADDRESS(FloatBuffer, ggxDielectricAlbedoTable);
     uint energyCompensation;  // 1: the GGX lobes make up for single scattering's loss; 0: they do not
     uint unused0;
-    uint unused1;
-    uint unused2;
+    VKRT_ADDRESS(ShapeBuffer, shapes);  // with VKRT_HAS_SHAPES: the solids' shapes
+    VKRT_ADDRESS(SolidBuffer, solids);
+    VKRT_ADDRESS(ShapePoseBuffer, shapePoses);  // motion blur: poses 1..motionSegments of every shape
 };
 
 // Per dispatch: which samples of which rows.
@@ -417,7 +470,9 @@ static_assert(offsetof(GpuMaterial, transmission) == 48 && offsetof(GpuMaterial,
 static_assert(sizeof(GpuTexture) == 16);
 static_assert(sizeof(GpuTextureBinding) == 32 && offsetof(GpuTextureBinding, row1) == 16);
 static_assert(sizeof(GpuPunctualLight) == 64 && offsetof(GpuPunctualLight, coneScale) == 48);
-static_assert(sizeof(GpuAreaLight) == 16);
+static_assert(sizeof(GpuAreaLight) == 32);
+static_assert(sizeof(GpuShape) == 112 && offsetof(GpuShape, type) == 96);
+static_assert(sizeof(GpuSolid) == 48 && offsetof(GpuSolid, tableLow) == 16 && sizeof(GpuShapePose) == 48);
 static_assert(sizeof(GpuCamera) == 80 && offsetof(GpuCamera, lensRadius) == 64);
 static_assert(offsetof(SceneParams, ambient) == 80 && offsetof(SceneParams, lightSamples) == 108);
 static_assert(offsetof(SceneParams, width) == 112 && offsetof(SceneParams, punctualLightCount) == 128);
@@ -433,7 +488,8 @@ static_assert(offsetof(SceneParams, environmentWidth) == 160 + 17 * 8);
 static_assert(offsetof(SceneParams, sheenTable) == 312);
 static_assert(offsetof(SceneParams, ggxDielectricAlbedoTable) == 328);
 static_assert(offsetof(SceneParams, energyCompensation) == 336);
-static_assert(sizeof(SceneParams) == 352);
+static_assert(offsetof(SceneParams, shapes) == 344 && offsetof(SceneParams, shapePoses) == 360);
+static_assert(sizeof(SceneParams) == 368);
 static_assert(sizeof(GpuEnvironmentTexel) == 16 && offsetof(GpuEnvironmentTexel, columnCdf) == 12);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 20);

@@ -8,7 +8,7 @@
 // Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
 // VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
 // VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD, VKRT_HAS_VERTEX_COLORS, VKRT_HAS_TEXCOORD1, VKRT_HAS_NORMAL_MAPS,
-// VKRT_HAS_ALPHA, VKRT_HAS_ENVIRONMENT.
+// VKRT_HAS_ALPHA, VKRT_HAS_ENVIRONMENT, VKRT_HAS_SHAPES.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 
@@ -115,11 +115,34 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
     p.primitive = hit.primitive;
     p.material = primitive.material;
     p.sphere = false;
+#ifdef VKRT_HAS_SPHERES
+    p.sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
+#endif
+    p.shape = VKRT_NO_PRIMITIVE;
     p.uv = vec2(hit.u, hit.v);
     p.tangent = vec4(0.0);
     SurfacePoint surface;
+#ifdef VKRT_HAS_SHAPES
+    if (isSolid(primitive)) {
+        // The crossed shape and face (traverse.glsl's visitSolid), the point projected onto the face when that
+        // rounds less than the point along the ray (whose error grows with the shape's distance from the origin).
+        p.shape = uint(hit.u);
+        const uint code = uint(hit.v);
+        AffineRows toObject, toWorld;
+        shapeMaps(p.shape, toObject, toWorld);
+        const GpuShape shape = params.shapes.shapes[p.shape];
+        const ShapePoint s = shapePoint(shape.type, code >> 1u, (code & 1u) != 0u, toObject, ray.origin, ray.direction,
+                                        hit.t);
+        p.material = shape.material;
+        p.geometricNormal = p.normal = s.normal;
+        p.uv = s.uv;
+        const float rayScale = maxAbs(ray.origin) + hit.t + maxAbs(vec3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w));
+        const float scale = shapeScale(toWorld);
+        surface = rayScale < scale ? SurfacePoint(ray.origin + hit.t * ray.direction, rayScale)
+                                   : SurfacePoint(affinePoint(toWorld, s.local), scale);
+    } else
+#endif
 #ifdef VKRT_HAS_SPHERES
-    p.sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
     if (p.sphere) {
         surface = sphereHitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1.x, p.geometricNormal);
         p.normal = p.geometricNormal;
@@ -167,7 +190,7 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
     for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
         point = hitPointOf(ray, hit);
         if (!passesThrough(context, ray, layer, point)) return true;
-        exclude = point.sphere ? VKRT_NO_PRIMITIVE : point.primitive;
+        exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
         tMin = hit.t;
     }
     return false;

@@ -10,6 +10,7 @@
 #define VKRT_TRACE_SHADOW 2   // multiply the transmission of every surface crossed; stop when opaque
 
 #include "sphere_geometry.h"
+#include "solids.glsl"
 
 struct Hit {
     float t;
@@ -90,11 +91,11 @@ const bool vkrtTransmissionBlocksShadows = true;
 const bool vkrtTransmissionBlocksShadows = false;
 #endif
 
-// Multiplies `transmittance` by the transmission of a surface crossed at barycentrics / texture
-// coordinates (u, v); true when it is now opaque.
-bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
+// Multiplies `transmittance` by the transmission of a surface of material `materialIndex` crossed at
+// barycentrics / texture coordinates (u, v); true when it is now opaque.
+bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec3 transmittance) {
 #if defined(VKRT_HAS_TRANSMISSION) || defined(VKRT_HAS_ALPHA)
-    const SurfaceMaterial material = device_material(device_materialOf(primitive));
+    const SurfaceMaterial material = device_material(materialIndex);
     transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
     if (maxComponent(transmittance) > 0.0) return false;
 #endif
@@ -102,12 +103,65 @@ bool crossSurface(uint primitive, float u, float v, inout vec3 transmittance) {
     return true;
 }
 
-// Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow).
+#ifdef VKRT_HAS_SHAPES
+// A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip); in SHADOW
+// mode, every crossing in (tMin, tMax) filters `transmittance` instead (true once opaque).
+bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limit, const int mode, out float t,
+                out float u, out float v, inout vec3 transmittance) {
+    float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
+    uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
+    solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
+    CsgCrossing crossing;
+    t = u = v = 0.0;
+    if (mode == VKRT_TRACE_SHADOW) {
+        float after = tMin;
+        for (uint k = 0u; k < 2u * VKRT_CSG_MAX_SHAPES; ++k) {
+            if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, after,
+                             limit, crossing)) {
+                break;
+            }
+            const uint shape = solid.firstShape + crossing.shape;
+            AffineRows toObject, toWorld;
+            shapeMaps(shape, toObject, toWorld);
+            const GpuShape s = params.shapes.shapes[shape];
+            const ShapePoint p = shapePoint(s.type, crossing.face, crossing.flip, toObject, r.origin, r.direction,
+                                            crossing.t);
+            if (crossSurface(index, s.material, p.uv.x, p.uv.y, transmittance)) return true;
+            after = crossing.groupEnd;
+        }
+        return false;
+    }
+    if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, tMin, limit,
+                     crossing)) {
+        return false;
+    }
+    t = crossing.t;
+    u = float(solid.firstShape + crossing.shape);
+    v = float(crossing.face * 2u + (crossing.flip ? 1u : 0u));
+    return true;
+}
+#endif
+
+// Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
+// are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
                    const int mode, inout Hit hit, inout vec3 transmittance) {
+#ifdef VKRT_HAS_SHAPES
+    const GpuPrimitive primitive = primitiveAt(index);
+    if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
+#else
     if (index == excludeA || index == excludeB) return false;
     const GpuPrimitive primitive = primitiveAt(index);
+#endif
     float t, u = 0.0, v = 0.0;
+#ifdef VKRT_HAS_SHAPES
+    if (isSolid(primitive)) {
+        const bool found = visitSolid(r, index, solidOf(primitive), tMin,
+                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(hit, tMax, mode), mode, t, u, v,
+                                      transmittance);
+        if (mode == VKRT_TRACE_SHADOW || !found) return found;
+    } else
+#endif
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
         if (mode == VKRT_TRACE_SHADOW) {
@@ -117,7 +171,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
             for (int k = 0; k < 2; ++k) {
                 if (!(roots[k] > tMin && roots[k] < tMax)) continue;
                 const vec2 uv = sphereUv(normalize(r.origin + roots[k] * r.direction - primitive.v0));
-                if (crossSurface(index, uv.x, uv.y, transmittance)) return true;
+                if (crossSurface(index, primitive.material, uv.x, uv.y, transmittance)) return true;
             }
             return false;
         }
@@ -142,7 +196,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         }
         return false;
     }
-    return crossSurface(index, u, v, transmittance);
+    return crossSurface(index, primitive.material, u, v, transmittance);
 }
 
 // Walks the BVH for hits in (tMin, tMax), skipping primitives excludeA and excludeB. CLOSEST and ANY fill

@@ -10,7 +10,8 @@
 namespace vkrt {
 
 bool sceneHasLights(const Scene& scene) {
-    return !scene.lights.empty() || !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
+    return !scene.lights.empty() || !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() ||
+           !scene.emissiveShapes.empty();
 }
 
 Integrator integratorOf(const RenderRequest& request) {

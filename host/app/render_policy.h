@@ -62,7 +62,7 @@ inline constexpr double kNeutralEnvironmentRadiance = 1.0;
 // resolveRender. Camera rays do not see it: they see the background.
 bool addNeutralEnvironment(const RenderRequest& request, Scene& scene);
 
-// Punctual lights, emissive triangles and emissive spheres light a scene.
+// Punctual lights, emissive triangles, emissive spheres and emissive shapes light a scene.
 bool sceneHasLights(const Scene& scene);
 
 // Which integrator the request asks for (unset: the path integrator).

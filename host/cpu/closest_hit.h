@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bvh/bvh_traversal.h"
+#include "cpu/solid_intersection.h"
 #include "cpu/triangle_intersection.h"
 #include "scene/scene.h"
 #include "shared.h"
@@ -17,14 +18,25 @@ namespace vkrt {
 inline constexpr uint32_t kNoPrimitive = VKRT_NO_PRIMITIVE;
 
 struct SurfaceHit {
-    uint32_t primitive = kNoPrimitive;  // a triangle, or a sphere (Scene::isSphere)
+    uint32_t primitive = kNoPrimitive;  // a triangle, a sphere (Scene::isSphere) or a solid (Scene::isSolid)
     double t = 0.0;
-    double u = 0.0, v = 0.0;  // barycentric weights of v1 and v2; unused on spheres
+    // Triangles: barycentric weights of v1 and v2; spheres: unused; solids: the shape and face crossed
+    // (encodeCrossing).
+    double u = 0.0, v = 0.0;
 };
 
 // The nearest hit on one primitive, where it is at shutter time `time`, in (tMin, tMax).
 inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const RayT<double>& ray, double tMin,
                                double tMax, TriangleHit& hit, double time = 0.0) {
+    if (scene.isSolid(primitive)) {
+        SolidIntervals intervals =
+            solidIntervals(scene, scene.solidOf(primitive), ray.origin, ray.direction, time);
+        shading::CsgCrossing crossing;
+        if (!solidCrossing(intervals, tMin, tMax, crossing)) return false;
+        hit.t = crossing.t;
+        encodeCrossing(scene.solidOf(primitive), crossing, hit.u, hit.v);
+        return true;
+    }
     if (!scene.isSphere(primitive)) {
         return intersectTriangle(scene.triangleAt(primitive, time), ray.origin, ray.direction, tMin, tMax,
                                  hit);

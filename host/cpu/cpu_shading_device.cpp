@@ -11,6 +11,10 @@ namespace vkrt {
 CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
     for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m, bindings));
+    shapePick.assign(scene.shapes.size(), 0.0);
+    for (size_t i = 0; i < lights.shapes.size(); ++i) {
+        if (lights.shapes[i] != kNoPrimitive) shapePick[lights.shapes[i]] = lights.pick[i];
+    }
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
     if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
     // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
@@ -24,7 +28,8 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
 }
 
 glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
-    if (data_.scene.isSphere(primitive)) return hitUv;  // spheres carry their texture coordinates
+    if (!data_.scene.isTriangle(primitive))
+        return hitUv;  // spheres and solids carry their texture coordinates
     if (set == 1 && !data_.scene.uv1.empty()) {
         const std::array<glm::vec2, 3>& t = data_.scene.uv1[primitive];
         return shading::barycentric(glm::dvec2(t[0]), glm::dvec2(t[1]), glm::dvec2(t[2]), hitUv);
@@ -34,6 +39,10 @@ glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 h
 }
 
 double CpuShadingDevice::textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
+    if (data_.scene.isSolid(primitive)) {
+        const Shape& shape = data_.scene.shapes[data_.scene.solidOf(primitive).firstShape];
+        return shading::shapeTextureDensity(glm::determinant(glm::dmat3(glm::dmat4(shape.toWorld))));
+    }
     if (data_.scene.isSphere(primitive)) {
         return shading::sphereTextureDensity(data_.scene.sphereAt(primitive, time_).radius, hitUv.y);
     }
@@ -46,7 +55,7 @@ double CpuShadingDevice::textureDensity(uint32_t primitive, glm::dvec2 hitUv, ui
 
 glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) const {
     const Scene& scene = data_.scene;
-    if (scene.vertexColors.empty() || scene.isSphere(primitive)) return glm::dvec4(1.0);
+    if (scene.vertexColors.empty() || !scene.isTriangle(primitive)) return glm::dvec4(1.0);
     const std::array<glm::vec4, 3>& c = scene.vertexColors[primitive];
     return shading::barycentric(glm::dvec4(c[0]), glm::dvec4(c[1]), glm::dvec4(c[2]), hitUv);
 }
@@ -56,21 +65,82 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, dou
     const LightTable& lights = data_.lights;
     const size_t i = lights.find(pick);
     const uint32_t primitive = lights.primitives[i];
+    if (lights.shapes[i] != kNoPrimitive)
+        return sampleShapeLight(primitive, lights.shapes[i], lights.pick[i], u, v);
     if (data_.scene.isSphere(primitive)) {
         const Sphere sphere = data_.scene.sphereAt(primitive, time_);
-        return shading::sampleSphereLight(primitive, glm::dvec3(sphere.center), sphere.radius, lights.pick[i],
-                                          from, u, v);
+        shading::LightPoint p = shading::sampleSphereLight(primitive, glm::dvec3(sphere.center),
+                                                           sphere.radius, lights.pick[i], from, u, v);
+        p.material = sphere.material;
+        return p;
     }
     const Triangle t = data_.scene.triangleAt(primitive, time_);
     const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
     // The point is uniform over the triangle as it is now (animations may scale it).
     const double pdfArea = lights.pick[i] / shading::triangleArea(v0, v1, v2);
-    return shading::sampleTriangleLight(primitive, v0, v1, v2, pdfArea, u, v);
+    shading::LightPoint p = shading::sampleTriangleLight(primitive, v0, v1, v2, pdfArea, u, v);
+    p.material = t.material;
+    return p;
 }
 
-double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, const glm::dvec3& from,
+int CpuShadingDevice::solidSide(uint32_t primitive, uint32_t shape, const glm::dvec3& point) const {
+    const Scene& scene = data_.scene;
+    const Solid& solid = scene.solidOf(primitive);
+    uint32_t state = 0;
+    for (uint32_t k = 0; k < solid.shapeCount; ++k) {
+        const uint32_t other = solid.firstShape + k;
+        if (other == shape) continue;
+        glm::dmat4 toWorld, toObject;
+        scene.shapeAt(other, time_, toWorld, toObject);
+        if (shading::shapeContains(scene.shapes[other].type, glm::dvec3(toObject * glm::dvec4(point, 1.0))))
+            state |= 1u << k;
+    }
+    const uint32_t bit = 1u << (shape - solid.firstShape);
+    const glm::uvec4 low(solid.table[0], solid.table[1], solid.table[2], solid.table[3]);
+    const glm::uvec4 high(solid.table[4], solid.table[5], solid.table[6], solid.table[7]);
+    const bool insideWith = shading::csgTable(low, high, state | bit),
+               insideWithout = shading::csgTable(low, high, state);
+    if (insideWith == insideWithout) return 0;
+    return insideWith ? 1 : -1;
+}
+
+shading::LightPoint CpuShadingDevice::sampleShapeLight(uint32_t primitive, uint32_t shape, double pick,
+                                                       double u, double v) const {
+    const Scene& scene = data_.scene;
+    const Shape& s = scene.shapes[shape];
+    glm::dmat4 toWorld, toObject;
+    scene.shapeAt(shape, time_, toWorld, toObject);
+    const shading::AffineRows rows = shading::affineRows(toObject);
+    uint32_t face;
+    const glm::dvec3 local = shading::sampleShapePoint(s.type, rows, u, v, face);
+    shading::LightPoint p;
+    p.primitive = primitive;
+    p.material = s.material;
+    p.position = glm::dvec3(toWorld * glm::dvec4(local, 1.0));
+    p.normal =
+        glm::normalize(shading::affineTransposedVector(rows, shading::shapeNormal(s.type, face, local)));
+    p.uv = shading::shapeUv(s.type, face, local);
+    // Only points on the solid's surface emit (a CSG operand's other points are inside or outside the solid).
+    const int side = solidSide(primitive, shape, p.position);
+    p.normal *= side < 0 ? -1.0 : 1.0;
+    p.pdfArea = side == 0 ? 0.0 : pick * shading::shapePointDensity(s.type, face, local, rows);
+    return p;
+}
+
+double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,
                                             const glm::dvec3& point, double cosLight) const {
     const Scene& scene = data_.scene;
+    if (shape != kNoPrimitive) {
+        glm::dmat4 toWorld, toObject;
+        scene.shapeAt(shape, time_, toWorld, toObject);
+        const shading::AffineRows rows = shading::affineRows(toObject);
+        const glm::dvec3 local(toObject * glm::dvec4(point, 1.0));
+        const uint32_t face = shading::shapeFaceAt(scene.shapes[shape].type, local);
+        const glm::dvec3 offset = point - from;
+        return shading::solidAnglePdfFromArea(
+            data_.shapePick[shape] * shading::shapePointDensity(scene.shapes[shape].type, face, local, rows),
+            glm::dot(offset, offset), cosLight);
+    }
     const double pick = shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission),
                                             primitiveArea(scene, primitive)) /
                         data_.lights.totalPower;
@@ -92,13 +162,31 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     const Scene& scene = data_.scene;
     const RayT<double> ray{origin, direction};
     glm::dvec3 result(1.0);
-    // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice).
-    auto cross = [&](uint32_t primitive, glm::dvec2 hitUv) {
-        const shading::SurfaceMaterial& material = data_.materials[scene.materialOf(primitive)];
-        result *= shading::shadowTint(shading::sampleMaterial(*this, material, primitive, hitUv, 0.0),
-                                      data_.transmissionBlocksShadows);
+    // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice, a solid
+    // more often).
+    auto cross = [&](uint32_t primitive, uint32_t material, glm::dvec2 hitUv) {
+        result *= shading::shadowTint(
+            shading::sampleMaterial(*this, data_.materials[material], primitive, hitUv, 0.0),
+            data_.transmissionBlocksShadows);
     };
     traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
+        if (scene.isSolid(primitive)) {  // never skipped (shade_hit.h's ShadingFrame)
+            SolidIntervals intervals =
+                solidIntervals(scene, scene.solidOf(primitive), origin, direction, time_);
+            shading::CsgCrossing crossing;
+            for (double after = 0.0; solidCrossing(intervals, after, rayMax, crossing);
+                 after = crossing.groupEnd) {
+                const uint32_t shape = scene.solidOf(primitive).firstShape + crossing.shape;
+                glm::dmat4 toWorld, toObject;
+                scene.shapeAt(shape, time_, toWorld, toObject);
+                const shading::ShapePoint p =
+                    shading::shapePoint(scene.shapes[shape].type, crossing.face, crossing.flip,
+                                        shading::affineRows(toObject), origin, direction, crossing.t);
+                cross(primitive, scene.shapes[shape].material, p.uv);
+                if (shading::maxComponent(result) <= 0.0) return true;
+            }
+            return false;
+        }
         if (primitive == excludeA || primitive == excludeB) return false;
         if (scene.isSphere(primitive)) {
             const Sphere sphere = scene.sphereAt(primitive, time_);
@@ -108,14 +196,14 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
                 return false;
             for (double t : roots) {
                 if (t > 0.0 && t < rayMax)
-                    cross(primitive, shading::sphereUv(glm::normalize(origin + t * direction - center)));
+                    cross(primitive, sphere.material,
+                          shading::sphereUv(glm::normalize(origin + t * direction - center)));
             }
         } else {
             TriangleHit hit;
-            if (!intersectTriangle(scene.triangleAt(primitive, time_), origin, direction, 0.0, rayMax, hit)) {
-                return false;
-            }
-            cross(primitive, {hit.u, hit.v});
+            const Triangle triangle = scene.triangleAt(primitive, time_);
+            if (!intersectTriangle(triangle, origin, direction, 0.0, rayMax, hit)) return false;
+            cross(primitive, triangle.material, {hit.u, hit.v});
         }
         return shading::maxComponent(result) <= 0.0;  // fully blocked: stop looking
     });

@@ -30,6 +30,7 @@ struct CpuShadingScene {
     std::vector<shading::PunctualLightParams> punctualLights;
     PackedTextures textures;
     LightTable lights;
+    std::vector<double> shapePick;  // each shape's probability of being picked as a light (0: not a light)
     EnvironmentTables environment;
     const std::vector<float>* sheenTable = nullptr;  // with a sheen material (sheen.h)
     const std::vector<float>* ggxAlbedoTable = nullptr;  // with a rough GGX lobe (energy_compensation.h)
@@ -61,8 +62,16 @@ class CpuShadingDevice {
 
     bool hasAreaLights() const { return !data_.lights.empty(); }
     shading::LightPoint sampleAreaLight(double pick, double u, double v, const glm::dvec3& from) const;
-    double lightSolidAnglePdf(uint32_t primitive, const glm::dvec3& from, const glm::dvec3& point,
-                              double cosLight) const;
+    double lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,
+                              const glm::dvec3& point, double cosLight) const;
+
+    // A point of a solid's shape picked with probability `pick` as a light; pdfArea 0 where the point is not
+    // on the solid's surface.
+    shading::LightPoint sampleShapeLight(uint32_t primitive, uint32_t shape, double pick, double u,
+                                         double v) const;
+    // Whether `point`, on shape `shape` of solid `primitive`, lies on the solid's surface: 0 if not, 1 where
+    // the solid's outside is the shape's, -1 where it is the shape's inside (a subtracted shape).
+    int solidSide(uint32_t primitive, uint32_t shape, const glm::dvec3& point) const;
 
     // The environment map (host/scene/environment_map.h).
     bool hasEnvironment() const { return data_.environment.hasEnvironment(); }

@@ -63,12 +63,30 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     p.primitive = hit.primitive;
     p.material = scene_.materialOf(hit.primitive);
     p.sphere = scene_.isSphere(hit.primitive);
+    p.shape = VKRT_NO_PRIMITIVE;
     p.uv = {hit.u, hit.v};
     p.tangent = glm::dvec4(0.0);
     // The point along the ray, and the magnitude of the numbers it came from; rounding errors are relative to
     // it.
     p.position = ray.origin + hit.t * ray.direction;
     p.errorScale = shading::maxAbs(ray.origin) + hit.t;
+    if (scene_.isSolid(hit.primitive)) {
+        // The crossed shape and face (encodeCrossing); the point projected onto the face.
+        p.shape = static_cast<uint32_t>(hit.u);
+        const uint32_t code = static_cast<uint32_t>(hit.v);
+        const Shape& shape = scene_.shapes[p.shape];
+        glm::dmat4 toWorld, toObject;
+        scene_.shapeAt(p.shape, time, toWorld, toObject);
+        const shading::ShapePoint s =
+            shading::shapePoint(shape.type, code / 2u, (code & 1u) != 0u, shading::affineRows(toObject),
+                                ray.origin, ray.direction, hit.t);
+        p.material = shape.material;
+        p.position = glm::dvec3(toWorld * glm::dvec4(s.local, 1.0));
+        p.errorScale = shading::shapeScale(shading::affineRows(toWorld));
+        p.geometricNormal = p.normal = s.normal;
+        p.uv = s.uv;
+        return p;
+    }
     if (p.sphere) {
         // Project the point onto the sphere, which removes the error of the distance (RTG ch. 7).
         const Sphere sphere = scene_.sphereAt(hit.primitive, time);
@@ -116,7 +134,7 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
          ++layer) {
         point = hitPointOf(line, hit, time);
         if (!shading::passesThrough(device, context, ray, layer, point)) return true;
-        exclude = point.sphere ? kNoPrimitive : point.primitive;
+        exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
         tMin = hit.t;
     }
     return false;

@@ -34,6 +34,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
     if (context.wideGeometryLoads()) defines.push_back("VKRT_WIDE_LOADS");
     if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");
+    if (data_.features.shapes) defines.push_back("VKRT_HAS_SHAPES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines.push_back("VKRT_SPHERE_FLOAT64");
     const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
     const auto bindings = sceneBuffers_->bindings(params_, bound);

@@ -7,8 +7,9 @@
 #include "camera.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
-#include "scene/sheen_table.h"
 #include "scene/shading_inputs.h"
+#include "scene/sheen_table.h"
+#include "shape_geometry.h"
 
 namespace vkrt {
 
@@ -71,6 +72,54 @@ gpu::GpuMaterial gpuMaterial(const shading::SurfaceMaterial& s, float thickness)
     return g;
 }
 
+// Solid `primitive` as a GpuPrimitive: its index in the kind's upper bits, its texture density in v1.x.
+gpu::GpuPrimitive solidPrimitive(const Scene& scene, uint32_t primitive) {
+    const uint32_t solid = primitive - scene.firstSolid();
+    const Shape& first = scene.shapes[scene.solidOf(primitive).firstShape];
+    const double density =
+        shading::shapeTextureDensity(glm::determinant(glm::dmat3(glm::dmat4(first.toWorld))));
+    return {glm::vec3(0.0f), first.material,  glm::vec3(static_cast<float>(density), 0.0f, 0.0f),
+            primitive,       glm::vec3(0.0f), VKRT_PRIMITIVE_SOLID | (solid << VKRT_PRIMITIVE_INDEX_SHIFT)};
+}
+
+// An affine map's three rows, in float.
+void affineRowsOf(const glm::dmat4& m, glm::vec4& row0, glm::vec4& row1, glm::vec4& row2) {
+    const shading::AffineRows rows = shading::affineRows(m);
+    row0 = glm::vec4(rows.row0);
+    row1 = glm::vec4(rows.row1);
+    row2 = glm::vec4(rows.row2);
+}
+
+// The solids, their shapes and the shapes' poses, as the shader reads them.
+void packSolids(const Scene& scene, const LightTable& lights, GpuSceneData& data) {
+    for (const Solid& solid : scene.solids) {
+        data.solids.push_back({solid.firstShape, solid.shapeCount, 0u, 0u,
+                               glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]),
+                               glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7])});
+    }
+    for (const Shape& shape : scene.shapes) {
+        gpu::GpuShape g{};
+        affineRowsOf(shape.toObject, g.toObject0, g.toObject1, g.toObject2);
+        affineRowsOf(glm::dmat4(shape.toWorld), g.toWorld0, g.toWorld1, g.toWorld2);
+        g.type = shape.type;
+        g.material = shape.material;
+        data.shapes.push_back(g);
+    }
+    for (size_t i = 0; i < lights.shapes.size(); ++i) {
+        if (lights.shapes[i] != VKRT_NO_PRIMITIVE)
+            data.shapes[lights.shapes[i]].lightPick = static_cast<float>(lights.pick[i]);
+    }
+    // A static scene given the motion path (SceneFeatures::all) gets one segment that stays put.
+    for (uint32_t shape = 0; data.features.motion && shape < scene.shapes.size(); ++shape) {
+        for (int pose = 1; pose <= std::max(1, scene.motionSegments); ++pose) {
+            gpu::GpuShapePose g{};
+            affineRowsOf(glm::dmat4(scene.shapePose(shape, scene.moving() ? pose : 0)), g.row0, g.row1,
+                         g.row2);
+            data.shapePoses.push_back(g);
+        }
+    }
+}
+
 }  // namespace
 
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
@@ -89,7 +138,9 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         // A static scene given the motion path (SceneFeatures::all) gets one segment that stays put.
         for (int pose = 1; data.features.motion && pose <= std::max(1, scene.motionSegments); ++pose) {
             const int at = scene.moving() ? pose : 0;
-            if (scene.isSphere(index)) {
+            if (scene.isSolid(index)) {
+                data.motion.push_back(solidPrimitive(scene, index));
+            } else if (scene.isSphere(index)) {
                 const Sphere s = scene.spherePose(index, at);
                 data.motion.push_back({s.center, s.material, glm::vec3(s.radius, 0.0f, 0.0f), index,
                                        glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
@@ -98,11 +149,16 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
                 data.motion.push_back({t.v0, t.material, t.v1, index, t.v2, VKRT_PRIMITIVE_TRIANGLE});
             }
         }
-        if (scene.isSphere(index)) {
-            const Sphere& sphere = scene.sphereOf(index);
-            data.primitives.push_back({sphere.center, sphere.material, glm::vec3(sphere.radius, 0.0f, 0.0f),
-                                       index, glm::vec3(0.0f), VKRT_PRIMITIVE_SPHERE});
-            if (needShading) data.shading.push_back({});  // spheres compute theirs
+        if (!scene.isTriangle(index)) {
+            if (scene.isSolid(index)) {
+                data.primitives.push_back(solidPrimitive(scene, index));
+            } else {
+                const Sphere& sphere = scene.sphereOf(index);
+                data.primitives.push_back({sphere.center, sphere.material,
+                                           glm::vec3(sphere.radius, 0.0f, 0.0f), index, glm::vec3(0.0f),
+                                           VKRT_PRIMITIVE_SPHERE});
+            }
+            if (needShading) data.shading.push_back({});  // spheres and solids compute theirs
             if (data.features.vertexColors)
                 data.vertexColors.push_back({glm::vec4(1.0f), glm::vec4(1.0f), glm::vec4(1.0f)});
             if (data.features.texCoords1) data.texCoords1.push_back({});
@@ -164,9 +220,10 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     const LightTable lights = buildLightTable(scene);
     for (size_t i = 0; i < lights.primitives.size(); ++i) {
         data.areaLights.push_back({gpuIndexOf[lights.primitives[i]], static_cast<float>(lights.cdf[i]),
-                                   static_cast<float>(lights.pdfArea[i]),
-                                   static_cast<float>(lights.pick[i])});
+                                   static_cast<float>(lights.pdfArea[i]), static_cast<float>(lights.pick[i]),
+                                   lights.shapes[i], 0u, 0u, 0u});
     }
+    if (data.features.shapes) packSolids(scene, lights, data);
     data.areaLightPower = lights.totalPower;
     if (data.features.environment && scene.environment.present()) {
         const EnvironmentDistribution distribution = EnvironmentDistribution::build(scene.environment);
@@ -217,6 +274,9 @@ void visitArrays(const GpuSceneData& d, Visit&& visit) {
     visit("sheen table", d.sheenTable, &P::sheenTable);
     visit("GGX albedo table", d.ggxAlbedoTable, &P::ggxAlbedoTable);
     visit("GGX dielectric albedo table", d.ggxDielectricAlbedoTable, &P::ggxDielectricAlbedoTable);
+    visit("shapes", d.shapes, &P::shapes);
+    visit("solids", d.solids, &P::solids);
+    visit("shape poses", d.shapePoses, &P::shapePoses);
 }
 
 template <typename T>

@@ -36,6 +36,9 @@ struct GpuSceneData {
     shading::EnvironmentMapInfo environment{};                // width 0: none
     bool environmentBackdrop = true;  // camera rays see the environment (not the neutral default)
     std::vector<gpu::GpuPrimitive> motion;  // poses 1..motionSegments of every primitive (Scene), leaf order
+    std::vector<gpu::GpuShape> shapes;      // only with shapes: the solids' shapes
+    std::vector<gpu::GpuSolid> solids;
+    std::vector<gpu::GpuShapePose> shapePoses;  // poses 1..motionSegments of every shape
     int motionSegments = 0;
     double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling
 };

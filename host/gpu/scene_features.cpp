@@ -21,6 +21,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
     {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
+    {&SceneFeatures::shapes, "shapes", "VKRT_HAS_SHAPES"},
     {&SceneFeatures::motion, "motion_blur", "VKRT_HAS_MOTION"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
@@ -77,6 +78,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
     }
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
+    for (const Shape& shape : scene.shapes) used[shape.material] = true;
+    features.shapes = !scene.solids.empty();
     features.vertexColors = !scene.vertexColors.empty();
     features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
@@ -110,7 +113,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.volumes |= transmits && material.hasVolume();
     }
     features.punctualLights = !scene.lights.empty();
-    features.areaLights = !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty();
+    features.areaLights =
+        !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();
     return features;
 }

@@ -15,8 +15,9 @@ struct SceneFeatures {
     bool transmission = false;   // a material transmits light
     bool volumes = false;        // a transmissive material bounds a volume (refraction, Beer's law)
     bool punctualLights = false;
-    bool areaLights = false;    // emissive triangles or spheres
+    bool areaLights = false;    // emissive triangles, spheres or shapes
     bool spheres = false;       // analytic spheres (VKRT_sphere)
+    bool shapes = false;        // analytic shapes and CSG (VKRT_shape, VKRT_csg)
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
     bool vertexColors = false;  // COLOR_0 multiplies base colours

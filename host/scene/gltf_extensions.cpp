@@ -14,11 +14,20 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 12> kSupportedExtensions = {
-    "KHR_materials_specular",     "KHR_texture_transform",   "KHR_materials_emissive_strength",
-    "KHR_materials_transmission", "KHR_materials_ior",       "KHR_materials_volume",
-    "KHR_materials_unlit",        "KHR_materials_clearcoat", "KHR_materials_sheen",
-    "KHR_lights_punctual",        "EXT_mesh_gpu_instancing", "VKRT_sphere"};
+constexpr std::array<const char*, 14> kSupportedExtensions = {"KHR_materials_specular",
+                                                              "KHR_texture_transform",
+                                                              "KHR_materials_emissive_strength",
+                                                              "KHR_materials_transmission",
+                                                              "KHR_materials_ior",
+                                                              "KHR_materials_volume",
+                                                              "KHR_materials_unlit",
+                                                              "KHR_materials_clearcoat",
+                                                              "KHR_materials_sheen",
+                                                              "KHR_lights_punctual",
+                                                              "EXT_mesh_gpu_instancing",
+                                                              "VKRT_sphere",
+                                                              "VKRT_shape",
+                                                              "VKRT_csg"};
 
 }  // namespace
 

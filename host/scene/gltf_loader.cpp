@@ -15,6 +15,7 @@
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
 #include "scene/gltf_schema.h"
+#include "scene/gltf_solids.h"
 #include "scene/gltf_transforms.h"
 #include "scene/scene_builder.h"
 
@@ -40,7 +41,7 @@ class GltfConverter {
     void chooseShutter();
     // Places the tree under `root` in the world, below `parents`.
     void walk(int root, const Poses& parents);
-    // Places one node's mesh, camera, light and sphere; returns its poses, its children's parents.
+    // Places one node's mesh, camera, light, sphere and solid; returns its poses, its children's parents.
     Poses place(int nodeIndex, const Poses& parents);
 
     GltfContext context_;
@@ -67,8 +68,8 @@ Scene GltfConverter::convert() {
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre));
 
     meshes_.warnAboutSkipped();
-    if (scene.triangles.empty() && scene.spheres.empty())
-        context_.warn("the scene has no triangles or spheres");
+    if (scene.triangles.empty() && scene.spheres.empty() && scene.solids.empty())
+        context_.warn("the scene has no triangles, spheres or shapes");
 
     finalizeScene(scene);
     return std::move(scene);
@@ -119,7 +120,9 @@ void GltfConverter::walk(int root, const Poses& rootParents) {
         auto [nodeIndex, parents] = std::move(pending.back());
         pending.pop_back();
         const Poses poses = place(nodeIndex, parents);
-        const std::vector<int>& children = context_.model.nodes[nodeIndex].children;
+        const tinygltf::Node& node = context_.model.nodes[nodeIndex];
+        if (isCsg(node)) continue;  // its children are its operands, placed with it
+        const std::vector<int>& children = node.children;
         for (auto child = children.rbegin(); child != children.rend(); ++child) pending.emplace_back(*child, poses);
     }
 }
@@ -157,6 +160,14 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
         context_.scene.spheres.push_back(placeSphere(context_, sphere->second, world, where));
         for (size_t k = 1; k < poses.size(); ++k)
             context_.scene.spherePoses.push_back(placeSphere(context_, sphere->second, poses[k], where));
+    }
+    if (hasSolid(node)) {
+        addSolid(context_, nodeIndex, poses, [&](int child) {
+            Poses local(poseTimes_.size());
+            for (size_t k = 0; k < local.size(); ++k)
+                local[k] = localTransformAt(context_, animations_, child, poseTimes_[k]);
+            return local;
+        });
     }
     return poses;
 }

@@ -110,7 +110,8 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
             }
         }
         // Grow by a sphere's centre.
-        if (node.extensions.count("VKRT_sphere")) grow(glm::dvec3(world[3]));
+        if (node.extensions.count("VKRT_sphere") || node.extensions.count("VKRT_shape"))
+            grow(glm::dvec3(world[3]));
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             pending.emplace_back(*child, world);
     }

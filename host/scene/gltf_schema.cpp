@@ -327,6 +327,14 @@ private:
             number(*sphere, "radius", sphereWhere, kPositive, true);
             index(*sphere, "material", sphereWhere, "materials", "material");
         }
+        if (const Json* shape = object(*extensions, "VKRT_shape", at)) {
+            const std::string shapeWhere = member(at, "VKRT_shape");
+            string(*shape, "shape", shapeWhere, true, {"sphere", "box", "cylinder", "cone"});
+            index(*shape, "material", shapeWhere, "materials", "material");
+        }
+        if (const Json* csg = object(*extensions, "VKRT_csg", at)) {
+            string(*csg, "operation", member(at, "VKRT_csg"), true, {"union", "intersection", "difference"});
+        }
     }
 
     void mesh(const Json& mesh, const std::string& where) const {

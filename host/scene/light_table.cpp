@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "area_light.h"
+#include "shared.h"
 
 namespace vkrt {
 
@@ -16,20 +17,40 @@ double primitiveArea(const Scene& scene, uint32_t primitive) {
     return shading::triangleArea(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
 }
 
+double shapeArea(const Scene& scene, uint32_t shape) {
+    const Shape& s = scene.shapes[shape];
+    return shading::shapeArea(s.type, shading::affineRows(s.toObject));
+}
+
+std::vector<uint32_t> solidOfShapes(const Scene& scene) {
+    std::vector<uint32_t> solid(scene.shapes.size());
+    for (uint32_t i = 0; i < scene.solids.size(); ++i) {
+        for (uint32_t k = 0; k < scene.solids[i].shapeCount; ++k)
+            solid[scene.solids[i].firstShape + k] = scene.firstSolid() + i;
+    }
+    return solid;
+}
+
 LightTable buildLightTable(const Scene& scene) {
     LightTable table;
     std::vector<double> power, area;
-    auto add = [&](uint32_t primitive) {
-        const double a = primitiveArea(scene, primitive);
-        const double p =
-            shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission), a);
+    auto add = [&](uint32_t primitive, uint32_t shape, double a, uint32_t material) {
+        const double p = shading::lightPower(glm::dvec3(scene.materials[material].emission), a);
         if (!(a > 0.0) || !std::isfinite(p)) return;
         table.primitives.push_back(primitive);
+        table.shapes.push_back(shape);
         power.push_back(p);
         area.push_back(a);
     };
-    for (uint32_t index : scene.emissiveTriangles) add(index);
-    for (uint32_t index : scene.emissiveSpheres) add(static_cast<uint32_t>(scene.triangles.size()) + index);
+    for (uint32_t index : scene.emissiveTriangles)
+        add(index, VKRT_NO_PRIMITIVE, primitiveArea(scene, index), scene.triangles[index].material);
+    for (uint32_t index : scene.emissiveSpheres) {
+        const uint32_t primitive = static_cast<uint32_t>(scene.triangles.size()) + index;
+        add(primitive, VKRT_NO_PRIMITIVE, primitiveArea(scene, primitive), scene.spheres[index].material);
+    }
+    const std::vector<uint32_t> solids = solidOfShapes(scene);
+    for (uint32_t shape : scene.emissiveShapes)
+        add(solids[shape], shape, shapeArea(scene, shape), scene.shapes[shape].material);
     for (double p : power) table.totalPower += p;
     double running = 0.0;
     for (size_t i = 0; i < power.size(); ++i) {

@@ -1,5 +1,6 @@
-// The table by which both renderers pick an emissive primitive (triangle or sphere) as a light: in
-// proportion to its power, luminance times area at the shutter's opening (shaders/area_light.h lightPower).
+// The table by which both renderers pick an emissive primitive (triangle, sphere or a solid's shape) as a
+// light: in proportion to its power, luminance times area at the shutter's opening (shaders/area_light.h
+// lightPower).
 // A point on the chosen light is then sampled by shaders/area_light.h.
 #pragma once
 
@@ -12,6 +13,7 @@ namespace vkrt {
 
 struct LightTable {
     std::vector<uint32_t> primitives;  // the emissive primitives
+    std::vector<uint32_t> shapes;      // for a solid's shape, the scene's shape; else VKRT_NO_PRIMITIVE
     std::vector<double> cdf;           // cumulative power up to and including each, ending at 1
     std::vector<double> pick;          // each one's probability of being picked
     std::vector<double> pdfArea;       // pick probability over area: the density of a triangle's points
@@ -26,5 +28,10 @@ LightTable buildLightTable(const Scene& scene);
 
 // The area of triangle `index` (of Scene::triangles) or of a sphere's surface, at the shutter's opening.
 double primitiveArea(const Scene& scene, uint32_t primitive);
+// The area of shape `shape` (of Scene::shapes) at the shutter's opening, as light sampling weighs it
+// (shaders/area_light.h shapeArea).
+double shapeArea(const Scene& scene, uint32_t shape);
+// The solid primitive that holds each of the scene's shapes.
+std::vector<uint32_t> solidOfShapes(const Scene& scene);
 
 }  // namespace vkrt

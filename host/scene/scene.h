@@ -73,6 +73,26 @@ struct Sphere {
     }
 };
 
+// A canonical convex shape (the VKRT_shape node extension, docs/vkrt_shape.md) placed in the world by an
+// affine map: a sphere, box, cylinder or cone (shaders/shape_geometry.h's VKRT_SHAPE_*), alone or as an
+// operand of a CSG solid.
+struct Shape {
+    uint32_t type;  // VKRT_SHAPE_*
+    uint32_t material;
+    glm::mat4 toWorld;    // object to world, at the shutter's opening (float, as the GPU stores it)
+    glm::dmat4 toObject;  // its inverse, in double
+};
+
+// A solid: one shape, or a CSG object (VKRT_csg) over up to VKRT_CSG_MAX_SHAPES shapes, as the truth table of
+// its boolean expression over the shapes' inside bits. Solids share the BVH with triangles and spheres:
+// primitive index triangles.size() + spheres.size() + i is solid i.
+struct Solid {
+    uint32_t firstShape = 0;  // into Scene::shapes
+    uint32_t shapeCount = 0;
+    std::array<uint32_t, 8> table{};  // bit s: points inside exactly the shapes of s's set bits are inside
+    Aabb bounds;                      // over the whole shutter
+};
+
 // Per-vertex attributes of a triangle, kept apart from positions so traversal touches less memory.
 struct TriangleShading {
     glm::vec3 normal[3];  // unit length; the geometric normal when the file has none (glTF: flat shading)
@@ -244,6 +264,8 @@ struct Scene {
     // triangle's material has a normal texture (zero, meaning none, for triangles without).
     std::vector<std::array<glm::vec4, 3>> tangents;
     std::vector<Sphere> spheres;  // primitives triangles.size() + i
+    std::vector<Shape> shapes;    // the solids' shapes
+    std::vector<Solid> solids;    // primitives triangles.size() + spheres.size() + i
     // Motion blur: the shutter interval is cut into motionSegments equal segments (0: nothing moves), and
     // each primitive moves linearly from its pose at one segment's start to the next. Pose 0 is the
     // primitive itself; pose k >= 1 of triangle i is trianglePoses[i * motionSegments + k - 1] (and
@@ -251,6 +273,8 @@ struct Scene {
     int motionSegments = 0;
     std::vector<Triangle> trianglePoses;
     std::vector<Sphere> spherePoses;
+    std::vector<glm::mat4>
+        shapePoses;  // object to world of shape i at pose k >= 1: [i * motionSegments + k - 1]
     double shutterOpen = 0.0, shutterClose = 0.0;  // seconds of the file's animation timeline
     std::vector<Material> materials;
     std::vector<Texture> textures;
@@ -258,16 +282,27 @@ struct Scene {
     std::vector<Camera> cameras;              // camera instances in node order
     std::vector<uint32_t> emissiveTriangles;  // indices of triangles whose material emits
     std::vector<uint32_t> emissiveSpheres;    // indices into `spheres` whose material emits
+    std::vector<uint32_t> emissiveShapes;     // indices into `shapes` whose material emits
     std::vector<std::string> warnings;
     Aabb bounds;
     // The environment light (--environment), not part of the glTF file; absent unless one is given.
     EnvironmentMap environment;
 
-    // Primitives are the triangles, then the spheres.
-    uint32_t primitiveCount() const { return static_cast<uint32_t>(triangles.size() + spheres.size()); }
-    bool isSphere(uint32_t primitive) const { return primitive >= triangles.size(); }
+    // Primitives are the triangles, then the spheres, then the solids.
+    uint32_t primitiveCount() const {
+        return static_cast<uint32_t>(triangles.size() + spheres.size() + solids.size());
+    }
+    uint32_t firstSolid() const { return static_cast<uint32_t>(triangles.size() + spheres.size()); }
+    bool isSphere(uint32_t primitive) const {
+        return primitive >= triangles.size() && primitive < firstSolid();
+    }
+    bool isSolid(uint32_t primitive) const { return primitive >= firstSolid(); }
+    bool isTriangle(uint32_t primitive) const { return primitive < triangles.size(); }
     const Sphere& sphereOf(uint32_t primitive) const { return spheres[primitive - triangles.size()]; }
+    const Solid& solidOf(uint32_t primitive) const { return solids[primitive - firstSolid()]; }
+    // A solid's material is its first shape's (each of its surfaces has its own shape's).
     uint32_t materialOf(uint32_t primitive) const {
+        if (isSolid(primitive)) return shapes[solidOf(primitive).firstShape].material;
         return isSphere(primitive) ? sphereOf(primitive).material : triangles[primitive].material;
     }
     bool moving() const { return motionSegments > 0; }
@@ -300,8 +335,27 @@ struct Scene {
         const Sphere a = spherePose(primitive, segment), b = spherePose(primitive, segment + 1);
         return {a.center + s * (b.center - a.center), a.radius + s * (b.radius - a.radius), a.material};
     }
+    // Shape i's object-to-world map at pose k.
+    glm::mat4 shapePose(uint32_t shape, int pose) const {
+        return pose == 0 ? shapes[shape].toWorld : shapePoses[shape * motionSegments + pose - 1];
+    }
+    // Shape i's object-to-world map at shutter time `time` (interpolated as triangles' corners are) and its
+    // inverse.
+    void shapeAt(uint32_t shape, double time, glm::dmat4& toWorld, glm::dmat4& toObject) const {
+        if (!moving() || time == 0.0) {
+            toWorld = glm::dmat4(shapes[shape].toWorld);
+            toObject = shapes[shape].toObject;
+            return;
+        }
+        float s;
+        const int segment = segmentAt(time, s);
+        const glm::mat4 a = shapePose(shape, segment), b = shapePose(shape, segment + 1);
+        toWorld = glm::dmat4(a + s * (b - a));
+        toObject = glm::inverse(toWorld);
+    }
     // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
+        if (isSolid(primitive)) return solidOf(primitive).bounds;
         Aabb b;
         for (int pose = 0; pose <= motionSegments; ++pose) {
             b.grow(isSphere(primitive) ? spherePose(primitive, pose).bounds()

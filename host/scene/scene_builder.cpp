@@ -107,6 +107,11 @@ void finalizeScene(Scene& scene) {
         scene.bounds.grow(scene.boundsOf(static_cast<uint32_t>(scene.triangles.size()) + i));
         if (scene.materials[scene.spheres[i].material].emissive()) scene.emissiveSpheres.push_back(i);
     }
+    scene.emissiveShapes.clear();
+    for (uint32_t i = 0; i < scene.solids.size(); ++i) scene.bounds.grow(scene.solids[i].bounds);
+    for (uint32_t i = 0; i < scene.shapes.size(); ++i) {
+        if (scene.materials[scene.shapes[i].material].emissive()) scene.emissiveShapes.push_back(i);
+    }
 }
 
 }  // namespace vkrt

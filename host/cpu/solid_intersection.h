@@ -1,0 +1,53 @@
+// Rays against solids (VKRT_shape, VKRT_csg) in double precision: each shape's interval along the ray, and
+// the crossings of the solid's surface that shaders/shape_geometry.h finds from them. The reference
+// renderer's side; the GPU's is shaders/traverse.glsl.
+#pragma once
+
+#include <cstdint>
+
+#include "scene/scene.h"
+#include "shape_geometry.h"
+
+namespace vkrt {
+
+// The intervals along one ray of a solid's shapes, at one shutter time.
+struct SolidIntervals {
+    double tIn[VKRT_CSG_MAX_SHAPES];
+    double tOut[VKRT_CSG_MAX_SHAPES];
+    uint32_t faceIn[VKRT_CSG_MAX_SHAPES];
+    uint32_t faceOut[VKRT_CSG_MAX_SHAPES];
+    uint32_t count = 0;
+    glm::uvec4 tableLow{0u}, tableHigh{0u};
+};
+
+inline SolidIntervals solidIntervals(const Scene& scene, const Solid& solid, const glm::dvec3& origin,
+                                     const glm::dvec3& direction, double time) {
+    SolidIntervals s;
+    s.count = solid.shapeCount;
+    s.tableLow = glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]);
+    s.tableHigh = glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7]);
+    for (uint32_t i = 0; i < solid.shapeCount; ++i) {
+        glm::dmat4 toWorld, toObject;
+        scene.shapeAt(solid.firstShape + i, time, toWorld, toObject);
+        const glm::dvec3 o(toObject * glm::dvec4(origin, 1.0)), d(toObject * glm::dvec4(direction, 0.0));
+        if (!shading::shapeInterval(scene.shapes[solid.firstShape + i].type, o, d, s.tIn[i], s.tOut[i],
+                                    s.faceIn[i], s.faceOut[i])) {
+            s.tIn[i] = shading::kInfinity;
+            s.tOut[i] = -shading::kInfinity;
+        }
+    }
+    return s;
+}
+
+inline bool solidCrossing(SolidIntervals& s, double tAfter, double tLimit, shading::CsgCrossing& crossing) {
+    return shading::csgCrossing(s.tIn, s.tOut, s.faceIn, s.faceOut, s.count, s.tableLow, s.tableHigh, tAfter,
+                                tLimit, crossing);
+}
+
+// A crossing as a hit's two numbers (SurfaceHit::u and v): the scene's shape, and face * 2 + flip.
+inline void encodeCrossing(const Solid& solid, const shading::CsgCrossing& crossing, double& u, double& v) {
+    u = static_cast<double>(solid.firstShape + crossing.shape);
+    v = static_cast<double>(crossing.face * 2u + (crossing.flip ? 1u : 0u));
+}
+
+}  // namespace vkrt

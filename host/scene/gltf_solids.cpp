@@ -1,0 +1,249 @@
+#include "scene/gltf_solids.h"
+
+#include <cmath>
+#include <string>
+
+#include <tiny_gltf.h>
+
+#include "scene/gltf_materials.h"
+#include "shape_geometry.h"
+
+namespace vkrt {
+namespace {
+
+enum class Operation { Shape, Union, Intersection, Difference };
+
+// A node of a solid's expression: a shape, or an operation over other nodes.
+struct Operand {
+    Operation operation = Operation::Shape;
+    uint32_t shape = 0;         // of the solid's shapes, for Operation::Shape
+    std::vector<int> children;  // indices into SolidBuilder::operands_
+};
+
+constexpr int kMaxCsgDepth = 32;
+
+class SolidBuilder {
+  public:
+    SolidBuilder(GltfContext& context, const LocalPoses& localPoses, int root)
+        : context_(context),
+          localPoses_(localPoses),
+          rootWhere_(describe("node", root, context.model.nodes[root].name)) {}
+
+    // Adds node `nodeIndex` (placed by `poses`) to the expression; returns its operand.
+    int add(int nodeIndex, const std::vector<glm::dmat4>& poses, int depth);
+    // Appends the solid to the scene (or warns that it is empty).
+    void finish(int root);
+
+  private:
+    bool inside(int operand, uint32_t state) const;
+    Aabb bounds(int operand, size_t pose) const;
+    Shape placeShape(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
+
+    GltfContext& context_;
+    const LocalPoses& localPoses_;
+    std::string rootWhere_;
+    std::vector<Operand> operands_;
+    std::vector<Shape> shapes_;
+    std::vector<std::vector<glm::mat4>> poses_;  // each shape's object-to-world map at each pose time
+};
+
+uint32_t shapeType(const std::string& name) {
+    if (name == "box") return VKRT_SHAPE_BOX;
+    if (name == "cylinder") return VKRT_SHAPE_CYLINDER;
+    if (name == "cone") return VKRT_SHAPE_CONE;
+    return VKRT_SHAPE_SPHERE;
+}
+
+Shape SolidBuilder::placeShape(const tinygltf::Value& extension, const glm::dmat4& world,
+                               const std::string& where) {
+    const std::string shapeWhere = where + " VKRT_shape";
+    if (!extension.IsObject() || !extension.Has("shape") || !extension.Get("shape").IsString())
+        context_.fail(shapeWhere + ": shape must be \"sphere\", \"box\", \"cylinder\" or \"cone\"");
+    Shape shape{};
+    shape.type = shapeType(extension.Get("shape").Get<std::string>());
+    if (!extension.Has("material")) {
+        shape.material = defaultMaterial(context_);
+    } else {
+        const tinygltf::Value& value = extension.Get("material");
+        if (!value.IsInt() || value.GetNumberAsInt() < 0 ||
+            value.GetNumberAsInt() >= static_cast<int>(context_.model.materials.size())) {
+            context_.fail(shapeWhere + ": material must be the index of a material");
+        }
+        shape.material = static_cast<uint32_t>(value.GetNumberAsInt());
+    }
+    // The map as the renderers store it (float), which must be finite and invertible.
+    shape.toWorld = glm::mat4(world);
+    const glm::dmat4 stored(shape.toWorld);
+    const glm::dmat3 linear(stored);
+    const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const double determinant = glm::determinant(linear);
+    bool finite = std::isfinite(determinant) && scale < 1e30;
+    for (int c = 0; c < 4; ++c) finite = finite && std::isfinite(stored[c].x + stored[c].y + stored[c].z);
+    if (!finite) context_.fail(shapeWhere + ": the placed shape is not finite");
+    if (!(std::abs(determinant) > 1e-12 * scale * scale * scale))
+        context_.fail(shapeWhere + ": the node transform is singular (it flattens the shape)");
+    shape.toObject = glm::inverse(stored);
+    return shape;
+}
+
+int SolidBuilder::add(int nodeIndex, const std::vector<glm::dmat4>& poses, int depth) {
+    const tinygltf::Node& node = context_.model.nodes[nodeIndex];
+    const std::string where = describe("node", nodeIndex, node.name);
+    const auto shape = node.extensions.find("VKRT_shape");
+    const auto csg = node.extensions.find("VKRT_csg");
+    if (shape != node.extensions.end() && csg != node.extensions.end())
+        context_.fail(where + " has both VKRT_shape and VKRT_csg");
+    if (depth > 0) {
+        if (shape == node.extensions.end() && csg == node.extensions.end())
+            context_.fail(where + " is a VKRT_csg operand without VKRT_shape or VKRT_csg");
+        if (node.mesh >= 0 || node.camera >= 0 || node.extensions.count("KHR_lights_punctual") ||
+            node.extensions.count("VKRT_sphere")) {
+            context_.fail(
+                where +
+                " is a VKRT_csg operand, which holds only a shape (no mesh, camera, light or sphere)");
+        }
+    }
+    if (depth > kMaxCsgDepth)
+        context_.fail(rootWhere_ + " VKRT_csg: nested deeper than " + std::to_string(kMaxCsgDepth));
+    Operand operand;
+    if (shape != node.extensions.end()) {
+        if (depth > 0 && !node.children.empty())
+            context_.fail(where + " is a VKRT_csg operand shape with children");
+        operand.shape = static_cast<uint32_t>(shapes_.size());
+        shapes_.push_back(placeShape(shape->second, poses[0], where));
+        std::vector<glm::mat4> placed;
+        for (const glm::dmat4& pose : poses) placed.push_back(glm::mat4(pose));
+        for (size_t k = 1; k < poses.size(); ++k)
+            placeShape(shape->second, poses[k], where);  // each pose is valid
+        poses_.push_back(std::move(placed));
+    } else {
+        const tinygltf::Value& extension = csg->second;
+        const std::string name =
+            extension.IsObject() && extension.Has("operation") && extension.Get("operation").IsString()
+                ? extension.Get("operation").Get<std::string>()
+                : "";
+        if (name == "union")
+            operand.operation = Operation::Union;
+        else if (name == "intersection")
+            operand.operation = Operation::Intersection;
+        else if (name == "difference")
+            operand.operation = Operation::Difference;
+        else
+            context_.fail(where +
+                          " VKRT_csg: operation must be \"union\", \"intersection\" or \"difference\"");
+        if (node.children.empty()) context_.fail(where + " VKRT_csg has no operands (child nodes)");
+        for (int child : node.children) {
+            const std::vector<glm::dmat4> local = localPoses_(child);
+            std::vector<glm::dmat4> childPoses(poses.size());
+            for (size_t k = 0; k < poses.size(); ++k) childPoses[k] = poses[k] * local[k];
+            operand.children.push_back(add(child, childPoses, depth + 1));
+            if (shapes_.size() > VKRT_CSG_MAX_SHAPES) {
+                context_.fail(rootWhere_ + " VKRT_csg: more than " + std::to_string(VKRT_CSG_MAX_SHAPES) +
+                              " shapes, the limit is " + std::to_string(VKRT_CSG_MAX_SHAPES));
+            }
+        }
+    }
+    operands_.push_back(std::move(operand));
+    return static_cast<int>(operands_.size()) - 1;
+}
+
+bool SolidBuilder::inside(int index, uint32_t state) const {
+    const Operand& operand = operands_[index];
+    switch (operand.operation) {
+        case Operation::Shape:
+            return ((state >> operand.shape) & 1u) != 0u;
+        case Operation::Union:
+            for (int child : operand.children)
+                if (inside(child, state)) return true;
+            return false;
+        case Operation::Intersection:
+            for (int child : operand.children)
+                if (!inside(child, state)) return false;
+            return true;
+        case Operation::Difference:
+            for (size_t i = 1; i < operand.children.size(); ++i)
+                if (inside(operand.children[i], state)) return false;
+            return inside(operand.children[0], state);
+    }
+    return false;
+}
+
+Aabb SolidBuilder::bounds(int index, size_t pose) const {
+    const Operand& operand = operands_[index];
+    if (operand.operation == Operation::Shape)
+        return shapeBounds(shapes_[operand.shape].type, poses_[operand.shape][pose]);
+    if (operand.operation == Operation::Difference) return bounds(operand.children[0], pose);
+    Aabb result = bounds(operand.children[0], pose);
+    for (size_t i = 1; i < operand.children.size(); ++i) {
+        const Aabb b = bounds(operand.children[i], pose);
+        if (operand.operation == Operation::Union) {
+            result.grow(b);
+        } else {
+            result.min = glm::max(result.min, b.min);
+            result.max = glm::min(result.max, b.max);
+        }
+    }
+    return result;
+}
+
+void SolidBuilder::finish(int root) {
+    Scene& scene = context_.scene;
+    Solid solid;
+    solid.firstShape = static_cast<uint32_t>(scene.shapes.size());
+    solid.shapeCount = static_cast<uint32_t>(shapes_.size());
+    for (uint32_t state = 0; state < (1u << solid.shapeCount); ++state) {
+        if (inside(root, state)) solid.table[state >> 5] |= 1u << (state & 31u);
+    }
+    for (size_t pose = 0; pose < poses_[0].size(); ++pose) {
+        const Aabb b = bounds(root, pose);
+        if (!b.empty()) solid.bounds.grow(b);
+    }
+    if (solid.bounds.empty() || solid.table == std::array<uint32_t, 8>{}) {
+        context_.warn(rootWhere_ + ": the solid is empty; it is left out");
+        return;
+    }
+    for (size_t i = 0; i < shapes_.size(); ++i) {
+        scene.shapes.push_back(shapes_[i]);
+        for (size_t k = 1; k < poses_[i].size(); ++k) scene.shapePoses.push_back(poses_[i][k]);
+    }
+    scene.solids.push_back(solid);
+}
+
+}  // namespace
+
+bool hasSolid(const tinygltf::Node& node) {
+    return node.extensions.count("VKRT_shape") > 0 || node.extensions.count("VKRT_csg") > 0;
+}
+
+bool isCsg(const tinygltf::Node& node) {
+    return node.extensions.count("VKRT_csg") > 0;
+}
+
+void addSolid(GltfContext& context, int nodeIndex, const std::vector<glm::dmat4>& poses,
+              const LocalPoses& localPoses) {
+    SolidBuilder builder(context, localPoses, nodeIndex);
+    const int root = builder.add(nodeIndex, poses, 0);
+    builder.finish(root);
+}
+
+Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld) {
+    // Per world axis, the half-extent of the canonical shape under the linear part (column j of toWorld is
+    // the image of object axis j): the ellipsoid's exactly, the others' through their box [-1, 1]^3 or, for
+    // the round sides, the ellipse of the unit circle in xz plus the height.
+    const glm::vec3 center(toWorld[3]);
+    glm::vec3 extent;
+    for (int i = 0; i < 3; ++i) {
+        const float x = toWorld[0][i], y = toWorld[1][i], z = toWorld[2][i];
+        if (type == VKRT_SHAPE_SPHERE)
+            extent[i] = std::sqrt(x * x + y * y + z * z);
+        else if (type == VKRT_SHAPE_BOX)
+            extent[i] = std::abs(x) + std::abs(y) + std::abs(z);
+        else
+            extent[i] = std::sqrt(x * x + z * z) + std::abs(y);
+    }
+    // Padded by a few ulps of the magnitudes, so a hit point rounded outwards stays inside.
+    extent += 4e-6f * (glm::abs(center) + extent);
+    return {center - extent, center + extent};
+}
+
+}  // namespace vkrt

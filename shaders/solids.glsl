@@ -1,0 +1,88 @@
+// The GPU's side of solids (VKRT_shape, VKRT_csg): their shapes' maps at the sample's shutter time and their
+// intervals along a ray, for traverse.glsl, the hit points and light sampling. The geometry itself is shared
+// with the CPU reference (shape_geometry.h). Requires `params` and geometry.glsl in scope.
+#ifndef VKRT_SOLIDS_GLSL
+#define VKRT_SOLIDS_GLSL
+
+#include "shape_geometry.h"
+
+#ifdef VKRT_HAS_SHAPES
+bool isSolid(GpuPrimitive primitive) {
+    return (primitive.kind & VKRT_PRIMITIVE_KIND_MASK) == VKRT_PRIMITIVE_SOLID;
+}
+
+GpuSolid solidOf(GpuPrimitive primitive) {
+    return params.solids.solids[primitive.kind >> VKRT_PRIMITIVE_INDEX_SHIFT];
+}
+
+// Shape `shape`'s world-to-object and object-to-world maps at the sample's shutter time: with motion, its
+// object-to-world map interpolated between poses (as triangles' corners are) and inverted.
+void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
+    const GpuShape s = params.shapes.shapes[shape];
+    toObject = AffineRows(s.toObject0, s.toObject1, s.toObject2);
+    toWorld = AffineRows(s.toWorld0, s.toWorld1, s.toWorld2);
+#ifdef VKRT_HAS_MOTION
+    const uint segments = params.motionSegments;
+    const float x = vkrtShutterTime * float(segments);
+    const uint segment = min(uint(x), segments - 1u);
+    const float f = x - float(segment);
+    if (segment > 0u) {
+        const GpuShapePose a = params.shapePoses.poses[shape * segments + segment - 1u];
+        toWorld = AffineRows(a.row0, a.row1, a.row2);
+    }
+    const GpuShapePose b = params.shapePoses.poses[shape * segments + segment];
+    toWorld.row0 += f * (b.row0 - toWorld.row0);
+    toWorld.row1 += f * (b.row1 - toWorld.row1);
+    toWorld.row2 += f * (b.row2 - toWorld.row2);
+    // GLSL's matrices are built column by column: the rows' transpose.
+    const mat3 linear = transpose(mat3(toWorld.row0.xyz, toWorld.row1.xyz, toWorld.row2.xyz));
+    const mat3 inverted = inverse(linear);
+    const vec3 translation = -(inverted * vec3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w));
+    const mat3 rows = transpose(inverted);
+    toObject = AffineRows(vec4(rows[0], translation.x), vec4(rows[1], translation.y), vec4(rows[2], translation.z));
+#endif
+}
+
+// The intervals of the line origin + t direction with each of a solid's shapes (misses as (+inf, -inf)).
+void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[VKRT_CSG_MAX_SHAPES],
+                    out float tOut[VKRT_CSG_MAX_SHAPES], out uint faceIn[VKRT_CSG_MAX_SHAPES],
+                    out uint faceOut[VKRT_CSG_MAX_SHAPES]) {
+    for (uint i = 0u; i < VKRT_CSG_MAX_SHAPES; ++i) {
+        tIn[i] = VKRT_INFINITY;
+        tOut[i] = -VKRT_INFINITY;
+        faceIn[i] = 0u;
+        faceOut[i] = 0u;
+        if (i >= solid.shapeCount) continue;
+        AffineRows toObject, toWorld;
+        shapeMaps(solid.firstShape + i, toObject, toWorld);
+        float a, b;
+        uint fa, fb;
+        if (shapeInterval(params.shapes.shapes[solid.firstShape + i].type, affinePoint(toObject, origin),
+                          affineVector(toObject, direction), a, b, fa, fb)) {
+            tIn[i] = a;
+            tOut[i] = b;
+            faceIn[i] = fa;
+            faceOut[i] = fb;
+        }
+    }
+}
+
+// Whether world point p, on shape `shape` of `solid`, lies on the solid's surface: 0 if not, 1 where the
+// solid's outside is the shape's, -1 where it is the shape's inside (a subtracted shape).
+int solidSide(GpuSolid solid, uint shape, vec3 p) {
+    uint state = 0u;
+    for (uint k = 0u; k < solid.shapeCount; ++k) {
+        const uint other = solid.firstShape + k;
+        if (other == shape) continue;
+        AffineRows toObject, toWorld;
+        shapeMaps(other, toObject, toWorld);
+        if (shapeContains(params.shapes.shapes[other].type, affinePoint(toObject, p))) state |= 1u << k;
+    }
+    const uint bit = 1u << (shape - solid.firstShape);
+    const bool insideWith = csgTable(solid.tableLow, solid.tableHigh, state | bit);
+    if (insideWith == csgTable(solid.tableLow, solid.tableHigh, state)) return 0;
+    return insideWith ? 1 : -1;
+}
+#endif
+
+#endif
