@@ -6,6 +6,7 @@
 #include <tiny_gltf.h>
 
 #include "scene/gltf_materials.h"
+#include "scene/scene_builder.h"
 #include "shape_geometry.h"
 
 namespace vkrt {
@@ -224,26 +225,6 @@ void addSolid(GltfContext& context, int nodeIndex, const std::vector<glm::dmat4>
     SolidBuilder builder(context, localPoses, nodeIndex);
     const int root = builder.add(nodeIndex, poses, 0);
     builder.finish(root);
-}
-
-Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld) {
-    // Per world axis, the half-extent of the canonical shape under the linear part (column j of toWorld is
-    // the image of object axis j): the ellipsoid's exactly, the others' through their box [-1, 1]^3 or, for
-    // the round sides, the ellipse of the unit circle in xz plus the height.
-    const glm::vec3 center(toWorld[3]);
-    glm::vec3 extent;
-    for (int i = 0; i < 3; ++i) {
-        const float x = toWorld[0][i], y = toWorld[1][i], z = toWorld[2][i];
-        if (type == VKRT_SHAPE_SPHERE)
-            extent[i] = std::sqrt(x * x + y * y + z * z);
-        else if (type == VKRT_SHAPE_BOX)
-            extent[i] = std::abs(x) + std::abs(y) + std::abs(z);
-        else
-            extent[i] = std::sqrt(x * x + z * z) + std::abs(y);
-    }
-    // Padded by a few ulps of the magnitudes, so a hit point rounded outwards stays inside.
-    extent += 4e-6f * (glm::abs(center) + extent);
-    return {center - extent, center + extent};
 }
 
 }  // namespace vkrt

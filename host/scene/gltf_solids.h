@@ -29,7 +29,4 @@ bool isCsg(const tinygltf::Node& node);
 void addSolid(GltfContext& context, int nodeIndex, const std::vector<glm::dmat4>& poses,
               const LocalPoses& localPoses);
 
-// The bounds of canonical shape `type` (VKRT_SHAPE_*) placed by `toWorld`.
-Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld);
-
 }  // namespace vkrt

@@ -1,8 +1,11 @@
 #include "scene/scene_builder.h"
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <unordered_set>
+
+#include "shape_geometry.h"
 
 namespace vkrt {
 namespace {
@@ -85,6 +88,48 @@ void addFlatTriangle(Scene& scene, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, uin
 void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, uint32_t material) {
     addFlatTriangle(scene, a, b, c, material);
     addFlatTriangle(scene, a, c, d, material);
+}
+
+Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld) {
+    // Per world axis, the half-extent of the canonical shape under the linear part (column j of toWorld is
+    // the image of object axis j): the ellipsoid's exactly, the others' through their box [-1, 1]^3 or, for
+    // the round sides, the ellipse of the unit circle in xz plus the height.
+    const glm::vec3 center(toWorld[3]);
+    glm::vec3 extent;
+    for (int i = 0; i < 3; ++i) {
+        const float x = toWorld[0][i], y = toWorld[1][i], z = toWorld[2][i];
+        if (type == VKRT_SHAPE_SPHERE)
+            extent[i] = std::sqrt(x * x + y * y + z * z);
+        else if (type == VKRT_SHAPE_BOX)
+            extent[i] = std::abs(x) + std::abs(y) + std::abs(z);
+        else
+            extent[i] = std::sqrt(x * x + z * z) + std::abs(y);
+    }
+    // Padded by a few ulps of the magnitudes, so a hit point rounded outwards stays inside.
+    extent += 4e-6f * (glm::abs(center) + extent);
+    return {center - extent, center + extent};
+}
+
+Shape makeShape(uint32_t type, uint32_t material, const glm::dmat4& toWorld) {
+    Shape shape{};
+    shape.type = type;
+    shape.material = material;
+    shape.toWorld = glm::mat4(toWorld);
+    shape.toObject = glm::inverse(glm::dmat4(shape.toWorld));
+    return shape;
+}
+
+void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<uint32_t, 8>& inside) {
+    Solid solid;
+    solid.firstShape = static_cast<uint32_t>(scene.shapes.size());
+    solid.shapeCount = static_cast<uint32_t>(shapes.size());
+    solid.table = inside;
+    for (const Shape& shape : shapes) {
+        solid.bounds.grow(shapeBounds(shape.type, shape.toWorld));
+        scene.shapes.push_back(shape);
+        for (int k = 0; k < scene.motionSegments; ++k) scene.shapePoses.push_back(shape.toWorld);
+    }
+    scene.solids.push_back(solid);
 }
 
 void finalizeScene(Scene& scene) {

@@ -1,6 +1,9 @@
 // Building scenes in code (tests, tools): flat-shaded triangles and the derived fields every loader fills.
 #pragma once
 
+#include <array>
+#include <vector>
+
 #include "scene/scene.h"
 
 namespace vkrt {
@@ -10,6 +13,18 @@ void addFlatTriangle(Scene& scene, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, uin
 
 // Appends two triangles over a quad given in counter-clockwise order seen from its front.
 void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, uint32_t material);
+
+// The bounds of canonical shape `type` (shape_geometry.h's VKRT_SHAPE_*) placed by `toWorld`.
+Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld);
+
+// A shape (VKRT_shape) of type `type` (shape_geometry.h's VKRT_SHAPE_*) placed by `toWorld`, which must be
+// invertible.
+Shape makeShape(uint32_t type, uint32_t material, const glm::dmat4& toWorld);
+
+// Appends a solid of `shapes` (at most VKRT_CSG_MAX_SHAPES; static, no motion) whose inside is `inside`: bit s
+// of the truth table, for s < 2^shapes.size(), says whether points inside exactly the shapes of s's set bits are
+// inside the solid. One shape with inside = {2} is the shape itself. The solid's bounds are its shapes' union.
+void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<uint32_t, 8>& inside);
 
 // Removes exact duplicates: triangles with the same corners in the same winding (any rotation) and the
 // same material as an earlier one. A duplicate can never be seen (it ties with its twin), but a stack of
