@@ -43,27 +43,23 @@ void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
 #endif
 }
 
-// The intervals of the line origin + t direction with each of a solid's shapes (misses as (+inf, -inf)).
+// The intervals of the line origin + t direction with each of a solid's shapes (misses as (+inf, -inf)); entries
+// beyond the solid's shapes are left unset. (Each pass of a loop counts against llvmpipe's budget per invocation,
+// traverse.glsl, so the loop runs over the solid's shapes only.)
 void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[VKRT_CSG_MAX_SHAPES],
                     out float tOut[VKRT_CSG_MAX_SHAPES], out uint faceIn[VKRT_CSG_MAX_SHAPES],
                     out uint faceOut[VKRT_CSG_MAX_SHAPES]) {
-    for (uint i = 0u; i < VKRT_CSG_MAX_SHAPES; ++i) {
-        tIn[i] = VKRT_INFINITY;
-        tOut[i] = -VKRT_INFINITY;
-        faceIn[i] = 0u;
-        faceOut[i] = 0u;
-        if (i >= solid.shapeCount) continue;
+    for (uint i = 0u; i < solid.shapeCount; ++i) {
         AffineRows toObject, toWorld;
         shapeMaps(solid.firstShape + i, toObject, toWorld);
         float a, b;
         uint fa, fb;
-        if (shapeInterval(params.shapes.shapes[solid.firstShape + i].type, affinePoint(toObject, origin),
-                          affineVector(toObject, direction), a, b, fa, fb)) {
-            tIn[i] = a;
-            tOut[i] = b;
-            faceIn[i] = fa;
-            faceOut[i] = fb;
-        }
+        const bool hit = shapeInterval(params.shapes.shapes[solid.firstShape + i].type, affinePoint(toObject, origin),
+                                       affineVector(toObject, direction), a, b, fa, fb);
+        tIn[i] = hit ? a : VKRT_INFINITY;
+        tOut[i] = hit ? b : -VKRT_INFINITY;
+        faceIn[i] = fa;
+        faceOut[i] = fb;
     }
 }
 
