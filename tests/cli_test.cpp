@@ -388,4 +388,27 @@ TEST(Cli, ShaderIsSpecialisedUnlessEveryFeatureIsAsked) {
     }
 }
 
+// The CSG scene's solids reach the stats and the shader: its eight objects (three CSG objects of 2, 2 and 3
+// shapes, five single shapes) on both devices, and the GPU's variant has the shapes' code.
+TEST(Cli, StatsCountTheScenesSolidsAndShapes) {
+    const auto folder = test::temporaryFolder();
+    for (const char* device : {"gpu", "cpu"}) {
+        const auto stats = folder / (std::string(device) + ".json");
+        const auto result = test::runVkrt("--scene " + quoted(test::sourceDir() / "scenes/csg.gltf") +
+                                          " --device " + device + " --quiet --width 16 --spp 1 --out " +
+                                          quoted(folder / "csg.png") + " --stats " + quoted(stats));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream file(stats);
+        const nlohmann::json json = nlohmann::json::parse(file);
+        EXPECT_EQ(json["solids"], 8) << device;
+        EXPECT_EQ(json["shapes"], 12) << device;
+        EXPECT_EQ(json["spheres"], 0) << device;
+        EXPECT_EQ(json["triangles"], 2) << device;
+        if (std::string(device) == "gpu") {
+            EXPECT_NE(std::find(json["features"].begin(), json["features"].end(), "shapes"),
+                      json["features"].end());
+        }
+    }
+}
+
 }  // namespace vkrt

@@ -267,6 +267,9 @@ int run(Options options) {
     report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
     report.camera = camera.name;
     report.triangles = scene.triangles.size();
+    report.spheres = scene.spheres.size();
+    report.solids = scene.solids.size();
+    report.shapes = scene.shapes.size();
     report.textureBytes = packedTextureBytes(scene);
     report.settings = settings;
     if (const EnvironmentMap& e = scene.environment; e.present()) {

@@ -18,6 +18,9 @@ struct RunReport {
     std::string device;
     std::string camera;
     size_t triangles = 0;
+    size_t spheres = 0;       // VKRT_sphere
+    size_t solids = 0;        // VKRT_shape and VKRT_csg objects
+    size_t shapes = 0;        // their shapes
     size_t textureBytes = 0;  // texels of the scene's textures (RGBA8) and their mipmaps, as both renderers hold them
     RenderSettings settings;
     // The --environment map; absent without one.
