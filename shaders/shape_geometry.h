@@ -85,26 +85,9 @@ VKRT_FN bool clipSlab(real origin, real direction, real lo, real hi, uint faceLo
     return tIn <= tOut;
 }
 
-// The interval over which the line origin + t direction (object space) is inside canonical shape `type`, and
-// the faces by which it enters and leaves; false when it misses. Intervals of each bounding surface are
-// intersected, so a ray through an edge finds an interval on one side of it or none, never a gap.
-VKRT_FN bool shapeInterval(uint type, real3 origin, real3 direction, VKRT_OUT(real) tIn, VKRT_OUT(real) tOut,
-                           VKRT_OUT(uint) faceIn, VKRT_OUT(uint) faceOut) {
-    tIn = -VKRT_INFINITY;
-    tOut = VKRT_INFINITY;
-    faceIn = VKRT_FACE_SIDE;
-    faceOut = VKRT_FACE_SIDE;
-    if (type == VKRT_SHAPE_SPHERE) return sphereRoots(real3(0.0), 1.0, origin, direction, tIn, tOut);
-    if (type == VKRT_SHAPE_BOX) {
-        for (int axis = 0; axis < 3; ++axis) {
-            const uint face = 2u * uint(axis);
-            if (!clipSlab(origin[axis], direction[axis], -1.0, 1.0, face, face + 1u, tIn, tOut, faceIn,
-                          faceOut)) {
-                return false;
-            }
-        }
-        return true;
-    }
+// The cylinder's or the cone's interval along origin + t direction (shapeInterval's, for those two).
+VKRT_FN bool roundShapeInterval(uint type, real3 origin, real3 direction, VKRT_INOUT(real) tIn, VKRT_INOUT(real) tOut,
+                                VKRT_INOUT(uint) faceIn, VKRT_INOUT(uint) faceOut) {
     // The cylinder's and the cone's curved side, as a quadric a t^2 + 2 halfB t + c <= 0.
     real a, halfB, c;
     if (type == VKRT_SHAPE_CYLINDER) {
@@ -164,6 +147,36 @@ VKRT_FN bool shapeInterval(uint type, real3 origin, real3 direction, VKRT_OUT(re
     if (!clipSlab(w0, dw, 0.0, 2.0, VKRT_FACE_SIDE, VKRT_FACE_BOTTOM, tIn, tOut, faceIn, faceOut))
         return false;
     return true;
+}
+
+
+// The interval over which the line origin + t direction (object space) is inside canonical shape `type`, and
+// the faces by which it enters and leaves; false when it misses. Intervals of each bounding surface are
+// intersected, so a ray through an edge finds an interval on one side of it or none, never a gap.
+VKRT_FN bool shapeInterval(uint type, real3 origin, real3 direction, VKRT_OUT(real) tIn, VKRT_OUT(real) tOut,
+                           VKRT_OUT(uint) faceIn, VKRT_OUT(uint) faceOut) {
+    tIn = -VKRT_INFINITY;
+    tOut = VKRT_INFINITY;
+    faceIn = VKRT_FACE_SIDE;
+    faceOut = VKRT_FACE_SIDE;
+    if (type == VKRT_SHAPE_SPHERE) return sphereRoots(real3(0.0), 1.0, origin, direction, tIn, tOut);
+    if (type == VKRT_SHAPE_BOX) {
+        for (int axis = 0; axis < 3; ++axis) {
+            const uint face = 2u * uint(axis);
+            if (!clipSlab(origin[axis], direction[axis], -1.0, 1.0, face, face + 1u, tIn, tOut, faceIn,
+                          faceOut)) {
+                return false;
+            }
+        }
+        return true;
+    }
+    // The cylinder and the cone, from the line's point nearest the object's origin (distances measured from
+    // there, then shifted back): a distant origin would otherwise cancel the quadric's digits.
+    const real shift = -dot(origin, direction) / dot(direction, direction);
+    const bool found = roundShapeInterval(type, origin + shift * direction, direction, tIn, tOut, faceIn, faceOut);
+    tIn += shift;
+    tOut += shift;
+    return found;
 }
 
 // The point of face `face` of shape `type` nearest to p, a point found on that face in object space (the
