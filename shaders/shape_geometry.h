@@ -170,9 +170,11 @@ VKRT_FN bool shapeInterval(uint type, real3 origin, real3 direction, VKRT_OUT(re
         }
         return true;
     }
-    // The cylinder and the cone, from the line's point nearest the object's origin (distances measured from
-    // there, then shifted back): a distant origin would otherwise cancel the quadric's digits.
-    const real shift = -dot(origin, direction) / dot(direction, direction);
+    // The cylinder and the cone. From an origin more than 4 units away, from the line's point nearest the
+    // object's origin instead (distances measured from there, then shifted back): a distant origin would
+    // cancel the quadric's digits. Nearer, the origin itself rounds less (the shift's sum rounds to its
+    // magnitude).
+    const real shift = dot(origin, origin) > 16.0 ? -dot(origin, direction) / dot(direction, direction) : 0.0;
     const bool found = roundShapeInterval(type, origin + shift * direction, direction, tIn, tOut, faceIn, faceOut);
     tIn += shift;
     tOut += shift;

@@ -48,20 +48,29 @@ class SolidBuilder {
     std::vector<std::vector<glm::mat4>> poses_;  // each shape's object-to-world map at each pose time
 };
 
-uint32_t shapeType(const std::string& name) {
-    if (name == "box") return VKRT_SHAPE_BOX;
-    if (name == "cylinder") return VKRT_SHAPE_CYLINDER;
-    if (name == "cone") return VKRT_SHAPE_CONE;
-    return VKRT_SHAPE_SPHERE;
+// VKRT_SHAPE_* by name; false for a name that is none.
+bool shapeType(const std::string& name, uint32_t& type) {
+    const std::pair<const char*, uint32_t> names[] = {{"sphere", VKRT_SHAPE_SPHERE},
+                                                      {"box", VKRT_SHAPE_BOX},
+                                                      {"cylinder", VKRT_SHAPE_CYLINDER},
+                                                      {"cone", VKRT_SHAPE_CONE}};
+    for (const auto& [known, value] : names) {
+        if (name == known) {
+            type = value;
+            return true;
+        }
+    }
+    return false;
 }
 
 Shape SolidBuilder::placeShape(const tinygltf::Value& extension, const glm::dmat4& world,
                                const std::string& where) {
     const std::string shapeWhere = where + " VKRT_shape";
-    if (!extension.IsObject() || !extension.Has("shape") || !extension.Get("shape").IsString())
-        context_.fail(shapeWhere + ": shape must be \"sphere\", \"box\", \"cylinder\" or \"cone\"");
     Shape shape{};
-    shape.type = shapeType(extension.Get("shape").Get<std::string>());
+    if (!extension.IsObject() || !extension.Has("shape") || !extension.Get("shape").IsString() ||
+        !shapeType(extension.Get("shape").Get<std::string>(), shape.type)) {
+        context_.fail(shapeWhere + ": shape must be \"sphere\", \"box\", \"cylinder\" or \"cone\"");
+    }
     if (!extension.Has("material")) {
         shape.material = defaultMaterial(context_);
     } else {
