@@ -24,6 +24,13 @@
 // share (coincident faces, touching operands) do not speckle with rounding: 2^-18, 32 float ulps.
 #define VKRT_CSG_TIE 3.814697265625e-6
 
+// The unit roundoff of the precision the shapes are traced in (double on the CPU, float on the GPU).
+#ifdef __cplusplus
+#define VKRT_SHAPE_EPSILON 1.1102230246251565e-16
+#else
+#define VKRT_SHAPE_EPSILON 5.9604644775390625e-08
+#endif
+
 // Faces, by which a ray enters or leaves a shape: the sphere has face 0; the box 2 axis + (1 on the positive
 // side); the cylinder its side 0, bottom cap 1 and top cap 2; the cone its side 0 and base 1.
 #define VKRT_FACE_SIDE 0u
@@ -114,8 +121,10 @@ VKRT_FN bool roundShapeInterval(uint type, real3 origin, real3 direction, VKRT_I
     a = direction.x * direction.x + direction.z * direction.z - 0.25 * dw * dw;
     halfB = origin.x * direction.x + origin.z * direction.z - 0.25 * w0 * dw;
     c = origin.x * origin.x + origin.z * origin.z - 0.25 * w0 * w0;
-    if (a == 0.0) {
-        // Parallel to a ruling: one root of 2 halfB t + c = 0.
+    // Parallel to a ruling, within rounding (a's terms cancel; its sign is then noise, and would pick the
+    // wrong one of a segment and two half-lines): one root of 2 halfB t + c = 0, the far root at infinity.
+    const real scale = direction.x * direction.x + direction.z * direction.z + 0.25 * dw * dw;
+    if (abs(a) <= 8.0 * VKRT_SHAPE_EPSILON * scale) {
         if (halfB == 0.0) {
             if (c > 0.0) return false;
         } else if (halfB > 0.0) {
