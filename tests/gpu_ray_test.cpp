@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "cpu/closest_hit.h"
 #include "cpu/triangle_intersection.h"
@@ -114,17 +114,17 @@ double surfaceCosine(const Scene& scene, const SurfaceHit& hit, const RayT<doubl
     if (hit.primitive == kNoPrimitive || !scene.isSolid(hit.primitive)) return 1.0;
     const Shape& shape = scene.shapes[static_cast<uint32_t>(hit.u)];
     const shading::ShapePoint p =
-        shading::shapePoint(shape.type, static_cast<uint32_t>(hit.v) / 2u, false, shading::affineRows(shape.toObject),
-                            ray.origin, ray.direction, hit.t);
+        shading::shapePoint(shape.type, static_cast<uint32_t>(hit.v) / 2u, false,
+                            shading::affineRows(shape.toObject), ray.origin, ray.direction, hit.t);
     return std::abs(glm::dot(p.normal, glm::normalize(ray.direction)));
 }
 
 // The GPU's closest and any hits against the CPU's. Distances agree; a different primitive is allowed only in
-// a tie (at most 1 hit in 10,000), a hit against a miss never. Hits on solids carry the shape and face crossed
-// (u: the scene's shape, v: face * 2 + flip), integers that must be the CPU's too, except where the two
-// legitimately part at an edge between faces: at most 1 hit on a solid in 10,000, the ties' allowance. When
-// `minSolidFaces` is given, the rays must have seen at least that many distinct (shape, face, flip) triples:
-// every face the test claims to cover. The rays aim at the scene's bounds, or at `aim`.
+// a tie (at most 1 hit in 10,000), a hit against a miss never. Hits on solids carry the shape and face
+// crossed (u: the scene's shape, v: face * 2 + flip), integers that must be the CPU's too, except where the
+// two legitimately part at an edge between faces: at most 1 hit on a solid in 10,000, the ties' allowance.
+// When `minSolidFaces` is given, the rays must have seen at least that many distinct (shape, face, flip)
+// triples: every face the test claims to cover. The rays aim at the scene's bounds, or at `aim`.
 void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const char* name,
                         size_t minSolidFaces = 0, std::optional<Aabb> aim = std::nullopt) {
     const FlatBvh bvh = bvhFor(scene);
@@ -149,9 +149,9 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
             ++hitMissDisagreements;
         } else if (cpuHit) {
             // Distances agree to 1e-5 relative, plus a floor of a few float ulps of the scene's size for hits
-            // very close to the origin; a different triangle is allowed only at the same distance. On a solid,
-            // the distance is measured along the surface's normal (the float shape lies a few ulps from the
-            // double one, which moves a grazing ray's hit by that over the cosine).
+            // very close to the origin; a different triangle is allowed only at the same distance. On a
+            // solid, the distance is measured along the surface's normal (the float shape lies a few ulps
+            // from the double one, which moves a grazing ray's hit by that over the cosine).
             const double cosine = surfaceCosine(scene, cpu, ray);
             const double error = std::abs(static_cast<double>(closest[i].t) - tMax) *
                                  (closest[i].primitive == cpu.primitive ? cosine : 1.0);
@@ -161,9 +161,9 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
             if (off && ++distanceErrors <= 3) {
                 ADD_FAILURE() << name << " ray " << i << ": GPU t " << closest[i].t << ", CPU t " << tMax
                               << ", cosine " << cosine << "; CPU primitive " << cpu.primitive << " (" << cpu.u
-                              << ", " << cpu.v << "), GPU " << closest[i].primitive << " (" << closest[i].u << ", "
-                              << closest[i].v << "); origin " << text(rays[i].origin) << ", direction "
-                              << text(rays[i].direction);
+                              << ", " << cpu.v << "), GPU " << closest[i].primitive << " (" << closest[i].u
+                              << ", " << closest[i].v << "); origin " << text(rays[i].origin)
+                              << ", direction " << text(rays[i].direction);
             }
             if (closest[i].primitive == cpuTriangle)
                 ++samePrimitive;
@@ -171,7 +171,8 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
                 ++ties;
             if (closest[i].primitive == cpuTriangle && scene.isSolid(cpuTriangle)) {
                 ++solidHits;
-                const auto cpuFace = std::make_pair(static_cast<uint32_t>(cpu.u), static_cast<uint32_t>(cpu.v));
+                const auto cpuFace =
+                    std::make_pair(static_cast<uint32_t>(cpu.u), static_cast<uint32_t>(cpu.v));
                 const auto gpuFace =
                     std::make_pair(static_cast<uint32_t>(closest[i].u), static_cast<uint32_t>(closest[i].v));
                 // Integers, exactly: a fraction would be a bug of its own.
@@ -180,9 +181,10 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
                 solidFaces.insert(cpuFace);
                 if (cpuFace != gpuFace) {
                     ++faceDisagreements;
-                    std::printf("%s ray %zu: t %.9g, CPU shape %u face %u flip %u, GPU shape %u face %u flip %u\n",
-                                name, i, tMax, cpuFace.first, cpuFace.second / 2, cpuFace.second % 2,
-                                gpuFace.first, gpuFace.second / 2, gpuFace.second % 2);
+                    std::printf(
+                        "%s ray %zu: t %.9g, CPU shape %u face %u flip %u, GPU shape %u face %u flip %u\n",
+                        name, i, tMax, cpuFace.first, cpuFace.second / 2, cpuFace.second % 2, gpuFace.first,
+                        gpuFace.second / 2, gpuFace.second % 2);
                 }
             }
         }
@@ -192,8 +194,9 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
     const double agreeing = static_cast<double>(samePrimitive) / static_cast<double>(hits);
     EXPECT_GE(agreeing, 0.9999) << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss";
     EXPECT_EQ(hitMissDisagreements, 0u) << name << ": every mismatch must be a tie";
-    std::printf("%s: %zu rays, %zu hits, %zu ties, %zu hit/miss, %zu occlusion disagreements, %zu distances off",
-                name, rays.size(), hits, ties, hitMissDisagreements, occlusionDisagreements, distanceErrors);
+    std::printf(
+        "%s: %zu rays, %zu hits, %zu ties, %zu hit/miss, %zu occlusion disagreements, %zu distances off",
+        name, rays.size(), hits, ties, hitMissDisagreements, occlusionDisagreements, distanceErrors);
     if (solidHits > 0) {
         std::printf(", %zu hits on solids over %zu faces, %zu on another face", solidHits, solidFaces.size(),
                     faceDisagreements);
@@ -282,43 +285,57 @@ std::vector<TestSolid> testSolids() {
     const std::array<uint32_t, 8> alone = truthTable(1, [](uint32_t s) { return in(s, 0); });
     const glm::dmat4 unit(1.0);
     std::vector<TestSolid> solids = {
-        {"ellipsoid", {makeShape(VKRT_SHAPE_SPHERE, 0, placed({0.3, -0.2, 0.1}, 35.0, {1, 2, 0.5}, {0.9, 0.4, 0.6}))},
-         alone, 1},
-        {"box", {makeShape(VKRT_SHAPE_BOX, 0, placed({0.1, 0.2, -0.3}, 50.0, {0.3, 1, -0.4}, {1.2, 0.3, 0.7}))},
-         alone, 6},
+        {"ellipsoid",
+         {makeShape(VKRT_SHAPE_SPHERE, 0, placed({0.3, -0.2, 0.1}, 35.0, {1, 2, 0.5}, {0.9, 0.4, 0.6}))},
+         alone,
+         1},
+        {"box",
+         {makeShape(VKRT_SHAPE_BOX, 0, placed({0.1, 0.2, -0.3}, 50.0, {0.3, 1, -0.4}, {1.2, 0.3, 0.7}))},
+         alone,
+         6},
         {"cylinder",
          {makeShape(VKRT_SHAPE_CYLINDER, 0, placed({-0.2, 0.1, 0.2}, 70.0, {1, 0.2, 0.3}, {0.5, 1.1, 0.3}))},
-         alone, 3},
-        {"cone", {makeShape(VKRT_SHAPE_CONE, 0, placed({0.0, 0.3, 0.1}, -40.0, {0.2, 0.5, 1}, {0.8, 0.9, 0.4}))},
-         alone, 2},
+         alone,
+         3},
+        {"cone",
+         {makeShape(VKRT_SHAPE_CONE, 0, placed({0.0, 0.3, 0.1}, -40.0, {0.2, 0.5, 1}, {0.8, 0.9, 0.4}))},
+         alone,
+         2},
         {"sheared cylinder",
          {makeShape(VKRT_SHAPE_CYLINDER, 0,
                     placed({0.2, 0.0, 0.1}, 20.0, {0, 0, 1}, {1, 1, 1}) * shear(0.6, 0.3) *
                         glm::scale(unit, {0.4, 0.8, 0.5}))},
-         alone, 3},
+         alone,
+         3},
         {"sheared, mirrored cone",
          {makeShape(VKRT_SHAPE_CONE, 0,
                     placed({0.0, 0.0, 0.0}, 60.0, {1, 1, 0}, {1, 1, 1}) * shear(-0.5, 0.4) *
                         glm::scale(unit, {-0.7, 0.8, 0.5}))},
-         alone, 2},
+         alone,
+         2},
     };
     const glm::dmat4 frame = placed({0.1, -0.1, 0.2}, 30.0, {0.2, 1, 0.1}, {0.7, 0.7, 0.7});
     solids.push_back({"box minus sphere",
                       {makeShape(VKRT_SHAPE_BOX, 0, frame),
-                       makeShape(VKRT_SHAPE_SPHERE, 0, frame * placed({0.2, 0.1, 0.0}, 0.0, {0, 1, 0}, {1.25, 1.25, 1.25}))},
-                      truthTable(2, [](uint32_t s) { return in(s, 0) && !in(s, 1); }), 7});
+                       makeShape(VKRT_SHAPE_SPHERE, 0,
+                                 frame * placed({0.2, 0.1, 0.0}, 0.0, {0, 1, 0}, {1.25, 1.25, 1.25}))},
+                      truthTable(2, [](uint32_t s) { return in(s, 0) && !in(s, 1); }),
+                      7});
     const glm::dmat4 lens = placed({0.0, 0.2, 0.0}, 25.0, {1, 0.3, 0}, {1.0, 0.8, 1.2});
-    solids.push_back({"lens (two spheres' intersection)",
-                      {makeShape(VKRT_SHAPE_SPHERE, 0, lens * placed({0, 0, -0.8}, 0.0, {0, 1, 0}, {1.5, 1.5, 1.5})),
-                       makeShape(VKRT_SHAPE_SPHERE, 0, lens * placed({0, 0, 0.8}, 0.0, {0, 1, 0}, {1.5, 1.5, 1.5}))},
-                      truthTable(2, [](uint32_t s) { return in(s, 0) && in(s, 1); }), 2});
+    solids.push_back(
+        {"lens (two spheres' intersection)",
+         {makeShape(VKRT_SHAPE_SPHERE, 0, lens * placed({0, 0, -0.8}, 0.0, {0, 1, 0}, {1.5, 1.5, 1.5})),
+          makeShape(VKRT_SHAPE_SPHERE, 0, lens * placed({0, 0, 0.8}, 0.0, {0, 1, 0}, {1.5, 1.5, 1.5}))},
+         truthTable(2, [](uint32_t s) { return in(s, 0) && in(s, 1); }),
+         2});
     const glm::dmat4 drilled = placed({0.0, 0.0, 0.0}, 15.0, {0, 0, 1}, {0.85, 0.85, 0.85});
     solids.push_back({"sphere minus two cylinders",
                       {makeShape(VKRT_SHAPE_SPHERE, 0, drilled),
                        makeShape(VKRT_SHAPE_CYLINDER, 0, drilled * glm::scale(unit, {0.35, 1.4, 0.35})),
                        makeShape(VKRT_SHAPE_CYLINDER, 0,
                                  drilled * placed({0, 0.1, 0}, 90.0, {1, 0, 0.3}, {0.25, 1.4, 0.25}))},
-                      truthTable(3, [](uint32_t s) { return in(s, 0) && !in(s, 1) && !in(s, 2); }), 3});
+                      truthTable(3, [](uint32_t s) { return in(s, 0) && !in(s, 1) && !in(s, 2); }),
+                      3});
     // (box | cylinder) - (sphere | cone): a union as the first operand and one subtracted.
     solids.push_back(
         {"(box | cylinder) - (sphere | cone)",
@@ -326,7 +343,8 @@ std::vector<TestSolid> testSolids() {
           makeShape(VKRT_SHAPE_CYLINDER, 0, placed({0.5, 0, 0}, 80.0, {1, 0, 0.2}, {0.4, 1.0, 0.4})),
           makeShape(VKRT_SHAPE_SPHERE, 0, placed({-0.6, 0.4, 0.3}, 0.0, {0, 1, 0}, {0.5, 0.5, 0.5})),
           makeShape(VKRT_SHAPE_CONE, 0, placed({0.2, 0.6, -0.2}, 10.0, {0, 0, 1}, {0.3, 0.5, 0.3}))},
-         truthTable(4, [](uint32_t s) { return (in(s, 0) || in(s, 1)) && !(in(s, 2) || in(s, 3)); }), 8});
+         truthTable(4, [](uint32_t s) { return (in(s, 0) || in(s, 1)) && !(in(s, 2) || in(s, 3)); }),
+         8});
     return solids;
 }
 
@@ -340,7 +358,8 @@ Scene solidScene(const std::vector<TestSolid>& solids, const std::vector<Triangl
 }
 
 TEST_F(Gpu, RaysMatchCpuOnShapesAndCsgObjects) {
-    // 30,000 rays per solid: the float walk of shaders/shape_geometry.h against the double one, faces included.
+    // 30,000 rays per solid: the float walk of shaders/shape_geometry.h against the double one, faces
+    // included.
     for (const TestSolid& solid : testSolids())
         expectRaysMatchCpu(context(), solidScene({solid}), solid.name, solid.faces);
 }
@@ -350,8 +369,10 @@ TEST_F(Gpu, RaysMatchCpuOnShapesAndCsgObjectsAmongTriangles) {
     std::vector<TestSolid> solids = testSolids();
     for (size_t i = 0; i < solids.size(); ++i) {
         const glm::dmat4 spread = glm::translate(
-            glm::dmat4(1.0), glm::dvec3(-2.0 + 2.0 * (i % 3), -2.0 + 2.0 * ((i / 3) % 3), -1.0 + 2.0 * (i / 9)));
-        for (Shape& shape : solids[i].shapes) shape = makeShape(shape.type, 0, spread * glm::dmat4(shape.toWorld));
+            glm::dmat4(1.0),
+            glm::dvec3(-2.0 + 2.0 * (i % 3), -2.0 + 2.0 * ((i / 3) % 3), -1.0 + 2.0 * (i / 9)));
+        for (Shape& shape : solids[i].shapes)
+            shape = makeShape(shape.type, 0, spread * glm::dmat4(shape.toWorld));
     }
     std::vector<Triangle> soup = makeTriangleSoup(3000, 6, 0.03f);
     for (Triangle& t : soup) {
@@ -362,8 +383,8 @@ TEST_F(Gpu, RaysMatchCpuOnShapesAndCsgObjectsAmongTriangles) {
 
 TEST_F(Gpu, RaysMatchCpuOnTheCsgScene) {
     // scenes/csg.gltf through the loader: the floor's two triangles and every shape and CSG object of the
-    // scene, the rays aimed at the solids. They see 26 faces: the 30 of the scene's solids less the four bottom
-    // faces that lie on the floor, where the floor (the smaller primitive index) wins the tie.
+    // scene, the rays aimed at the solids. They see 26 faces: the 30 of the scene's solids less the four
+    // bottom faces that lie on the floor, where the floor (the smaller primitive index) wins the tie.
     const Scene scene = loadGltf((test::sourceDir() / "scenes/csg.gltf").string());
     Aabb solids;
     for (const Solid& solid : scene.solids) solids.grow(solid.bounds);
@@ -371,11 +392,12 @@ TEST_F(Gpu, RaysMatchCpuOnTheCsgScene) {
 }
 
 TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
-    // Each canonical shape (under a turn and a mild non-uniform scale) hit by 20,000 rays from 4, 32 and 256
-    // units away, aimed at points of its inner part: the float distance stays within 1e-5 relative of the
-    // double one along the normal (as spheres' and triangles' do, the stable quadrics of sphere_geometry.h), and
-    // no ray that meets the surface at more than 6 degrees from grazing misses. The distance in object units is
-    // what counts: a cone a hundredth of a unit high seen from 2.56 units is the same as this one from 256.
+    // Each canonical shape (under a turn and a mild non-uniform scale) hit by 20,000 rays from 4, 32, 256 and
+    // 2048 units away, aimed at points of its inner part: the float distance stays within 1e-5 relative of
+    // the double one along the normal (as spheres' and triangles' do, the stable quadrics of
+    // sphere_geometry.h), and no ray that meets the surface at more than 6 degrees from grazing misses. The
+    // distance in object units is what counts: a cone a hundredth of a unit high seen from 2.56 units is the
+    // same as this one from 256.
     const std::array<uint32_t, 8> alone = truthTable(1, [](uint32_t s) { return in(s, 0); });
     const glm::dmat4 map = placed({0.0, 0.0, 0.0}, 30.0, {1, 1, 0}, {1.0, 0.8, 1.2});
     for (const uint32_t type : {VKRT_SHAPE_SPHERE, VKRT_SHAPE_BOX, VKRT_SHAPE_CYLINDER, VKRT_SHAPE_CONE}) {
@@ -392,8 +414,9 @@ TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
                 // Directions uniform over the cube's surface's directions, targets inside the shape's core
                 // (the cone's core is its lower half: its inscribed points near the axis).
                 const glm::vec3 direction = glm::normalize(glm::vec3(r(0), r(1), r(2)));
-                const glm::vec3 core = type == VKRT_SHAPE_CONE ? glm::vec3(0.3f * r(3), -0.5f + 0.4f * r(4), 0.3f * r(5))
-                                                               : 0.5f * glm::vec3(r(3), r(4), r(5));
+                const glm::vec3 core = type == VKRT_SHAPE_CONE
+                                           ? glm::vec3(0.3f * r(3), -0.5f + 0.4f * r(4), 0.3f * r(5))
+                                           : 0.5f * glm::vec3(r(3), r(4), r(5));
                 const glm::vec3 target(map * glm::dvec4(core, 1.0));
                 rays.push_back({target - distance * direction, 0.0f, direction, 1e30f});
             }
@@ -416,9 +439,10 @@ TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
                 worst = std::max(worst, error);
                 if (error > 1e-5) ++far;
             }
-            std::printf("shape %u from %g: %zu rays compared, %zu misses, %zu off by more than 1e-5 relative; "
-                        "relative error mean %.3g, worst %.3g\n",
-                        type, distance, compared, misses, far, sum / static_cast<double>(compared), worst);
+            std::printf(
+                "shape %u from %g: %zu rays compared, %zu misses, %zu off by more than 1e-5 relative; "
+                "relative error mean %.3g, worst %.3g\n",
+                type, distance, compared, misses, far, sum / static_cast<double>(compared), worst);
             EXPECT_EQ(misses, 0u) << "shape " << type << " from " << distance;
             EXPECT_EQ(far, 0u) << "shape " << type << " from " << distance << ": worst " << worst;
         }
