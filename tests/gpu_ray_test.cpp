@@ -136,6 +136,7 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
     size_t samePrimitive = 0, ties = 0, hitMissDisagreements = 0, occlusionDisagreements = 0, hits = 0;
     size_t solidHits = 0, faceDisagreements = 0, distanceErrors = 0;
     size_t distanceErrorsByShape[4] = {};  // by VKRT_SHAPE_*
+    std::string someTies;
     std::set<std::pair<uint32_t, uint32_t>> solidFaces;
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayT<double> ray{glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)};
@@ -165,10 +166,15 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
                               << ", " << closest[i].v << "); origin " << text(rays[i].origin)
                               << ", direction " << text(rays[i].direction);
             }
-            if (closest[i].primitive == cpuTriangle)
+            if (closest[i].primitive == cpuTriangle) {
                 ++samePrimitive;
-            else
-                ++ties;
+            } else if (++ties <= 3) {
+                char tie[160];
+                std::snprintf(tie, sizeof(tie),
+                              "; ray %zu at t %.6g: CPU primitive %u (%g, %g), GPU %u (%g, %g)", i, tMax,
+                              cpu.primitive, cpu.u, cpu.v, closest[i].primitive, closest[i].u, closest[i].v);
+                someTies += tie;
+            }
             if (closest[i].primitive == cpuTriangle && scene.isSolid(cpuTriangle)) {
                 ++solidHits;
                 const auto cpuFace =
@@ -192,7 +198,8 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
     }
     ASSERT_GT(hits, rays.size() / 4) << name;
     const double agreeing = static_cast<double>(samePrimitive) / static_cast<double>(hits);
-    EXPECT_GE(agreeing, 0.9999) << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss";
+    EXPECT_GE(agreeing, 0.9999) << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss"
+                                << someTies;
     EXPECT_EQ(hitMissDisagreements, 0u) << name << ": every mismatch must be a tie";
     std::printf(
         "%s: %zu rays, %zu hits, %zu ties, %zu hit/miss, %zu occlusion disagreements, %zu distances off",
