@@ -13,8 +13,11 @@
 
 namespace vkrt {
 
+// Which cases run: all of them, all but the analytic shapes' (VKRT_shape, VKRT_csg), or only those.
+enum class StabilityCases { All, WithoutShapes, ShapesOnly };
+
 struct StabilityOptions {
-    std::filesystem::path sourceDir;  // for scenes/cornell.gltf and scenes/whitted.gltf
+    std::filesystem::path sourceDir;  // for scenes/cornell.gltf, scenes/whitted.gltf and scenes/csg.gltf
     std::filesystem::path workDir;    // generated variants go here
     std::string shaderCacheDir;
     int width = 48;
@@ -23,6 +26,7 @@ struct StabilityOptions {
     int longAccumulationSamples = 100000;
     std::filesystem::path dumpDir;  // when set, every case's images go here: NAME-image.pfm (GPU),
                                     // NAME-reference.pfm (CPU) and NAME-difference.pfm
+    StabilityCases cases = StabilityCases::All;
 };
 
 struct StabilityResult {
@@ -33,12 +37,22 @@ struct StabilityResult {
     double gpuVsCpuMeanRelative = 0.0;
     std::optional<double> invarianceOff;  // against the unit-scale / untranslated / unchanged image
     std::optional<double> invarianceMeanRelative;
-    std::optional<uint64_t> leaks;            // rays aimed at shared edges and vertices that got through
-    std::optional<double> acne;               // fraction of lit pixels darker than the closed form by > 1%
+    std::optional<uint64_t> leaks;      // rays aimed at shared edges and vertices (or into a solid) that
+                                        // got through, GPU and CPU together
+    std::optional<uint64_t> wrongHits;  // rays that hit where nothing is, at another distance, or on another
+                                        // face than the expected one or a face inside a solid (ray cases)
+    std::optional<double> acne;         // fraction of lit pixels darker than the closed form by > 1%
     std::optional<double> accumulationError;  // relative error of a long accumulation of a constant
+    std::string note;  // ray cases: what went wrong, counted by kind, and the first such ray described
 };
 
 std::vector<StabilityResult> runStabilitySuite(const VulkanContext& context, const StabilityOptions& options);
+
+// The analytic shapes' cases alone (runStabilitySuite includes them unless told not to): grazing rays on a
+// box's faces, a cylinder's side and a cone's rulings; rays through edges, corners, the apex and CSG rims,
+// +-1 ulp; operands with coincident faces against the same solids without them; scales 1e-4 and 1e4.
+std::vector<StabilityResult> runShapeStabilityCases(const VulkanContext& context,
+                                                    const StabilityOptions& options);
 
 // The results as a Markdown table.
 std::string stabilityTable(const std::vector<StabilityResult>& results);
