@@ -179,11 +179,13 @@ VKRT_FN bool shapeInterval(uint type, real3 origin, real3 direction, VKRT_OUT(re
         }
         return true;
     }
-    // The cylinder and the cone. From an origin more than 4 units away, from the line's point nearest the
-    // object's origin instead (distances measured from there, then shifted back): a distant origin would
-    // cancel the quadric's digits. Nearer, the origin itself rounds less (the shift's sum rounds to its
-    // magnitude).
-    const real shift = dot(origin, origin) > 16.0 ? -dot(origin, direction) / dot(direction, direction) : 0.0;
+    // The cylinder and the cone, with distances measured from the line's point nearest the cylinder's centre
+    // or the cone's apex, then shifted back: from a distant origin the quadric's terms would cancel (and near
+    // the apex the cone's are small, so a line by a ruling keeps its digits). The cylinder's shift waits
+    // until the origin is more than 4 units away: nearer, the origin itself rounds less than the shift's sum.
+    const real3 offset = type == VKRT_SHAPE_CONE ? origin - real3(0.0, 1.0, 0.0) : origin;
+    const bool shifted = type == VKRT_SHAPE_CONE || dot(origin, origin) > 16.0;
+    const real shift = shifted ? -dot(offset, direction) / dot(direction, direction) : 0.0;
     const bool found = roundShapeInterval(type, origin + shift * direction, direction, tIn, tOut, faceIn, faceOut);
     tIn += shift;
     tOut += shift;

@@ -126,7 +126,8 @@ double surfaceCosine(const Scene& scene, const SurfaceHit& hit, const RayT<doubl
 // When `minSolidFaces` is given, the rays must have seen at least that many distinct (shape, face, flip)
 // triples: every face the test claims to cover. The rays aim at the scene's bounds, or at `aim`.
 void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const char* name,
-                        size_t minSolidFaces = 0, std::optional<Aabb> aim = std::nullopt) {
+                        size_t minSolidFaces = 0, std::optional<Aabb> aim = std::nullopt,
+                        double tieAllowance = 1e-4) {
     const FlatBvh bvh = bvhFor(scene);
     GpuRaycaster raycaster(context, scene, bvh, test::shaderCacheDir());
     const std::vector<gpu::GpuRay> rays = testRays(aim ? *aim : scene.bounds, 30000);
@@ -198,8 +199,8 @@ void expectRaysMatchCpu(const VulkanContext& context, const Scene& scene, const 
     }
     ASSERT_GT(hits, rays.size() / 4) << name;
     const double agreeing = static_cast<double>(samePrimitive) / static_cast<double>(hits);
-    EXPECT_GE(agreeing, 0.9999) << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss"
-                                << someTies;
+    EXPECT_GE(agreeing, 1.0 - tieAllowance)
+        << name << ": " << ties << " ties, " << hitMissDisagreements << " hit/miss" << someTies;
     EXPECT_EQ(hitMissDisagreements, 0u) << name << ": every mismatch must be a tie";
     std::printf(
         "%s: %zu rays, %zu hits, %zu ties, %zu hit/miss, %zu occlusion disagreements, %zu distances off",
@@ -391,11 +392,14 @@ TEST_F(Gpu, RaysMatchCpuOnShapesAndCsgObjectsAmongTriangles) {
 TEST_F(Gpu, RaysMatchCpuOnTheCsgScene) {
     // scenes/csg.gltf through the loader: the floor's two triangles and every shape and CSG object of the
     // scene, the rays aimed at the solids. They see 26 faces: the 30 of the scene's solids less the four
-    // bottom faces that lie on the floor, where the floor (the smaller primitive index) wins the tie.
+    // bottom faces that lie on the floor, where the floor (the smaller primitive index) wins the tie. Rays
+    // that start inside a solid meet such a face and the floor a few hundredths of a unit away, where the
+    // two, stored in float about 3e-8 apart, lie further apart than the tie window (relative to the distance)
+    // is wide: the devices then part by rounding, about 3 rays in 10,000 (5 in 16,169 hits).
     const Scene scene = loadGltf((test::sourceDir() / "scenes/csg.gltf").string());
     Aabb solids;
     for (const Solid& solid : scene.solids) solids.grow(solid.bounds);
-    expectRaysMatchCpu(context(), scene, "csg.gltf", 26, solids);
+    expectRaysMatchCpu(context(), scene, "csg.gltf", 26, solids, 5e-4);
 }
 
 TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
