@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
             if (r.invarianceOff) row["invariance_off"] = *r.invarianceOff;
             if (r.invarianceMeanRelative) row["invariance_mean_relative"] = *r.invarianceMeanRelative;
             if (r.leaks) row["leaks"] = *r.leaks;
+            if (r.wrongHits) row["wrong_hits"] = *r.wrongHits;
+            if (!r.note.empty()) row["note"] = r.note;
             if (r.acne) row["acne"] = *r.acne;
             if (r.accumulationError) row["accumulation_error"] = *r.accumulationError;
             out.push_back(row);
