@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "app/render_policy.h"
 #include "bvh/triangle_bvh.h"
@@ -13,6 +14,7 @@
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
 #include "scene/shading_inputs.h"
+#include "shape_geometry.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
 
@@ -408,6 +410,34 @@ TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedSlab) {
     const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
     const glm::dvec3 L = radianceDown(renderer, 0.1, 0.2);
     // Ray origins sit 1e-9 of |origin| + t off each face, which shortens the path inside by ~2e-8.
+    EXPECT_NEAR(L.x, 0.25, 1e-7);
+    EXPECT_NEAR(L.y, 0.5625, 1e-7);
+    EXPECT_NEAR(L.z, 1.0, 1e-7);
+}
+
+// The same through a CSG solid: the slab is the intersection of two boxes that overlap over z in [-0.5, 0]
+// (the top face is one box's, the bottom the other's), so the path inside is measured across the two
+// operands.
+TEST(ReferenceRenderer, BeersLawThroughAnIndexMatchedCsgSlab) {
+    Scene scene;
+    Material glass = lambert(glm::vec3(1.0f));
+    glass.transmission = 1.0f;
+    glass.thickness = 0.5f;
+    glass.attenuationColor = {0.5f, 0.75f, 1.0f};
+    glass.attenuationDistance = 0.25f;
+    scene.materials.push_back(glass);
+    auto box = [](double zMin, double zMax) {
+        glm::dmat4 m = glm::translate(glm::dmat4(1.0), {0.0, 0.0, 0.5 * (zMin + zMax)});
+        return makeShape(VKRT_SHAPE_BOX, 0, glm::scale(m, {5.0, 5.0, 0.5 * (zMax - zMin)}));
+    };
+    // Inside both boxes: state 3 (bits 0 and 1).
+    addSolid(scene, {box(-0.5, 0.25), box(-0.75, 0.0)}, {1u << 3});
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings = quietSettings();
+    settings.background = glm::dvec3(1.0);
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
+    const glm::dvec3 L = radianceDown(renderer, 0.1, 0.2);
     EXPECT_NEAR(L.x, 0.25, 1e-7);
     EXPECT_NEAR(L.y, 0.5625, 1e-7);
     EXPECT_NEAR(L.z, 1.0, 1e-7);
