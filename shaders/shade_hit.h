@@ -308,7 +308,11 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
             const real3 offset = light.position - point;
             const real distance2 = dot(offset, offset);
             const real distance = sqrt(distance2);
-            if (light.primitive == frame.primitive || !(distance > 0.0) || !(light.pdfArea > 0.0)) continue;
+            // A primitive the new rays skip cannot light the point (a triangle its own plane, a sphere its
+            // outside); one they do not skip can (a concave CSG lamp its own faces, a double-sided sphere its
+            // inside).
+            if (light.primitive == frame.excludeOnViewerSide || !(distance > 0.0) || !(light.pdfArea > 0.0))
+                continue;
             const real3 toLight = offset / distance;
             VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(light.material);
             real cosLight = -dot(light.normal, toLight);

@@ -6,10 +6,12 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "image/image_metrics.h"
 #include "scene/environment_map.h"
 #include "scene/scene_builder.h"
+#include "shape_geometry.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
@@ -78,6 +80,51 @@ TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
             // about 0.8 per bounce.
             EXPECT_GT(result->rays.secondary, 3 * result->rays.primary) << which;
         }
+    }
+}
+
+TEST_F(Gpu, PathsInAGlowingCsgCavitySeeOneOverOneMinusAlbedo) {
+    // The same closed form inside a CSG solid: a box minus a sphere and a box poking out of it leaves a
+    // cavity whose walls (the subtracted shapes' faces, turned inwards) emit 1 and reflect A. Every wall
+    // lights every other across the cavity, all of it one primitive: light samples must reach the lamp's own
+    // faces (its shadow rays crossing no wall on the way), or the level falls short.
+    const float albedo = 0.5f;
+    Scene scene;
+    scene.materials.push_back(test::lambertian(0.5f));  // the outer box, never seen from inside
+    Material wall = test::lambertian(albedo);
+    wall.emission = glm::vec3(1.0f);
+    scene.materials.push_back(wall);
+    const glm::dmat4 pocket = glm::scale(glm::translate(glm::dmat4(1.0), {0.8, 0.0, 0.0}), {0.5, 0.4, 0.4});
+    // Inside the outer box (bit 0) and neither subtracted shape: state 1.
+    addSolid(scene,
+             {makeShape(VKRT_SHAPE_BOX, 0, glm::scale(glm::dmat4(1.0), glm::dvec3(2.0))),
+              makeShape(VKRT_SHAPE_SPHERE, 1, glm::dmat4(1.0)), makeShape(VKRT_SHAPE_BOX, 1, pocket)},
+             {1u << 1});
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;
+    camera.position = {0.1, 0.05, -0.2};
+    camera.forward = glm::normalize(glm::dvec3(1.0, 0.2, 0.3));
+    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = 1.4;  // the pocket and the sphere around it
+    RenderSettings settings;
+    settings.integrator = Integrator::Path;
+    settings.maxDepth = 256;
+    settings.ambient = glm::dvec3(0.0);
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 64;
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    const double expected = 1.0 / (1.0 - albedo);
+    Image exact(settings.width, settings.height);
+    for (glm::vec3& p : exact.pixels) p = glm::vec3(static_cast<float>(expected));
+    for (const RenderResult* result : {&gpu, &cpu}) {
+        const std::string which = result == &gpu ? "gpu" : "cpu";
+        EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
+        const BlockAgreement agreement = compareBlocks(result->image, exact, 8, 0.02, 0.0);
+        EXPECT_EQ(agreement.fractionWithin, 1.0) << which << ": worst block off by " << agreement.worstBlock;
+        EXPECT_NEAR(agreement.meanRatio.x, 1.0, 0.005) << which;
     }
 }
 
