@@ -17,11 +17,13 @@
 
 #include "app/convergence_report.h"
 #include "app/host_memory.h"
+#include "app/mpi_job.h"
 #include "app/options.h"
 #include "app/path_checks.h"
 #include "app/progress_bar.h"
 #include "app/render_policy.h"
 #include "app/render_stats.h"
+#include "app/shared_render.h"
 #include "bvh/triangle_bvh.h"
 #include "common/atomic_file.h"
 #include "cpu/reference_renderer.h"
@@ -111,7 +113,163 @@ void checkHostMemoryFor(const Options& options, const Scene& scene, const Render
     memory.hostAvailableBytes = available.bytes;
 }
 
-int run(Options options) {
+// What the stats say of the scene and the settings, whoever rendered it.
+void describeRun(const Options& options, const Scene& scene, const RenderSettings& settings,
+                 const Camera& camera, RunReport& report) {
+    report.scene = options.scenePath;
+    report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
+    report.camera = camera.name;
+    report.triangles = scene.triangles.size();
+    report.spheres = scene.spheres.size();
+    report.solids = scene.solids.size();
+    report.shapes = scene.shapes.size();
+    report.textureBytes = packedTextureBytes(scene);
+    report.settings = settings;
+    if (const EnvironmentMap& e = scene.environment; e.present()) {
+        report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};
+    }
+}
+
+// The GPU renderer's options from the command line and the environment.
+GpuRenderOptions gpuRenderOptions(const Options& options) {
+    GpuRenderOptions gpuOptions;
+    gpuOptions.allFeatures = options.allShaderFeatures;
+    gpuOptions.maxDeviceMemoryBytes = options.maxDeviceMemoryBytes;
+    // Testing aid: VKRT_SIMULATE_DEVICE_LOSS=N loses the device at the N-th dispatch.
+    if (const char* loss = std::getenv("VKRT_SIMULATE_DEVICE_LOSS"))
+        gpuOptions.simulateDeviceLossAtDispatch = static_cast<uint32_t>(std::strtoul(loss, nullptr, 10));
+    return gpuOptions;
+}
+
+// The GPU tracer's figures for the stats.
+RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
+                           const GpuRenderer& renderer) {
+    const GpuRenderReport& g = renderer.report();
+    RunReport::Gpu gpu;
+    gpu.deviceName = context.description().name;
+    gpu.deviceType = context.description().type;
+    gpu.driver = context.description().driver;
+    gpu.gpuMs = g.gpuMs;
+    gpu.compileMs = g.compileMs;
+    gpu.pipelineMs = g.pipelineMs;
+    gpu.shaderFromCache = g.shaderFromCache;
+    gpu.allFeatures = options.allShaderFeatures;
+    gpu.spirvBytes = renderer.spirv().size() * sizeof(uint32_t);
+    gpu.shaderKey = g.shaderKey;
+    gpu.features = renderer.features().names();
+    gpu.deviceMemoryBytes = g.deviceMemoryBytes;
+    gpu.dispatches = g.dispatches;
+    gpu.longestDispatchMs = g.longestDispatchMs;
+    gpu.boundGeometry = g.boundGeometry;
+    return gpu;
+}
+
+void throwOnValidationMessages(const VulkanContext& context) {
+    if (context.validationMessages() > 0)
+        throw GpuError(std::to_string(context.validationMessages()) + " validation message(s), see above");
+}
+
+// Under mpirun: this rank's share of the render (shared_render.h); rank 0 sums the shares and writes the
+// image and the stats. Every rank comes here with its scene, BVH and device ready.
+int renderShared(const MpiJob& job, const Options& options, const Scene& scene, const RenderSetup& setup,
+                 const FlatBvh& flatBvh, const VulkanContext* context, RunReport& report) {
+    const RenderSettings& settings = setup.settings;
+    const StopCondition stop(&gStopRequested, options.timeLimitSeconds);
+    ProgressBar progress(context ? "gpu" : "cpu", !options.quiet);
+    const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
+    const uint32_t spp = static_cast<uint32_t>(settings.samplesPerPixel);
+    RunReport::Rank mine;
+    mine.device = context ? "gpu" : "cpu";
+    RankShare share;
+    std::optional<RunReport::Gpu> gpu;
+    ShareOptions shareOptions;
+    shareOptions.stopRequested = &gStopRequested;
+    if (context) {
+        GpuRenderer renderer(*context, scene, flatBvh, setup.camera, settings, gpuRenderOptions(options));
+        share = renderShare(
+            job, spp,
+            [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                const RenderResult batch = renderer.renderSamples(first, end, sums, s);
+                throwOnValidationMessages(*context);  // here, while the other ranks can still be ended
+                return batch;
+            },
+            stop, onProgress, shareOptions);
+        gpu = gpuReportOf(options, *context, renderer);
+        mine.deviceName = gpu->deviceName;
+    } else {
+        const ReferenceRenderer renderer(scene, flatBvh, setup.camera, settings);
+        share = renderShare(
+            job, spp,
+            [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                return renderer.renderSamples(first, end, sums, s);
+            },
+            stop, onProgress, shareOptions);
+        mine.deviceName = "cpu reference";
+    }
+    progress.finish();
+    // The others are gone (a rank failed and the launcher is ending the job): write nothing, wait for nothing.
+    if (share.abandoned) std::_Exit(kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM));
+    mine.samples = share.fewest;
+    mine.samplesMax = share.most;
+    mine.batches = share.batches;
+    mine.rays = share.rays;
+    mine.renderMs = share.renderMs;
+    const RenderResult result =
+        combineShares(job, share, mine, settings.width, settings.height, report.ranks);
+    if (job.rank() != 0) return 0;
+    // The render took until the last rank's batch ended (the sums were reduced after it).
+    report.renderMs = millisecondsSince(share.started);
+
+    // Rank 0: the image and the stats, as one process writes them.
+    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    describeRun(options, scene, settings, setup.camera, report);
+    for (const RunReport::Rank& rank : report.ranks) {
+        if (rank.device != report.ranks.front().device) report.device = "mixed";
+    }
+    report.gpu = gpu;
+    report.samplesRendered = static_cast<int>(result.fewestSamples);
+    report.mostSamplesRendered = static_cast<int>(result.mostSamples);
+    report.stopped = result.stopped;
+    report.rays = result.rays;
+    report.memory.hostPeakBytes = peakResidentBytes();
+    if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (!options.quiet) {
+        const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
+        const std::string spp =
+            report.mostSamplesRendered > report.samplesRendered
+                ? std::to_string(report.samplesRendered) + " to " + std::to_string(report.mostSamplesRendered)
+                : std::to_string(report.samplesRendered);
+        std::fprintf(stderr, "vkrt: %swrote %s (%dx%d, %s spp) in %.0f ms, %.2f Mrays/s on %d ranks\n",
+                     result.stopped == StopReason::Requested ? "interrupted: " : "",
+                     options.outputPath.c_str(), settings.width, settings.height, spp.c_str(),
+                     report.renderMs, mrays, job.size());
+        for (size_t i = 0; i < report.ranks.size(); ++i) {
+            const RunReport::Rank& r = report.ranks[i];
+            std::fprintf(stderr, "vkrt:   rank %zu: %s, %llu spp in %u batches, %.0f ms\n", i,
+                         r.deviceName.c_str(), static_cast<unsigned long long>(r.samples), r.batches,
+                         r.renderMs);
+        }
+    }
+    // An interrupt on another rank (mpirun forwards SIGTERM) ends the job as one on this one would.
+    if (result.stopped == StopReason::Requested) return kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM);
+    return 0;
+}
+
+int run(Options options, const MpiJob& job) {
+    if (job.shared()) {
+        // One image and one stats file, from rank 0; the others say only what goes wrong.
+        if (!options.reportPath.empty() || !options.referencePath.empty()) {
+            throw UsageError(
+                "--report and --reference take checkpoints of one process's render; they are not "
+                "supported under mpirun with " +
+                std::to_string(job.size()) + " ranks");
+        }
+        if (job.rank() != 0) {
+            options.quiet = true;
+            options.outputPath.clear();
+            options.statsPath.clear();
+        }
+    }
     checkPaths(options);
     const auto loadStart = std::chrono::steady_clock::now();
     LoadOptions loadOptions;
@@ -145,6 +303,7 @@ int run(Options options) {
         const char* validateEnv = std::getenv("VKRT_VALIDATE");
         contextOptions.validation = options.validate || (validateEnv && std::string(validateEnv) == "1");
         contextOptions.deviceIndex = options.deviceIndex;
+        contextOptions.localRank = job.localRank();
         context = std::make_unique<VulkanContext>(contextOptions);
     }
 
@@ -155,6 +314,7 @@ int run(Options options) {
     const TriangleBvh triangleBvh = buildSceneBvh(scene);
     const FlatBvh& flatBvh = triangleBvh.flat;
     report.bvh = triangleBvh.stats;
+    if (job.shared()) return renderShared(job, options, scene, setup, flatBvh, context.get(), report);
 
     // One render on the chosen device; fills `runReport` when given.
     auto render = [&](const RenderSettings& renderSettings, const char* label,
@@ -166,14 +326,7 @@ int run(Options options) {
         const StopCondition stop(&gStopRequested, runReport ? options.timeLimitSeconds : 0.0);
         RenderResult rendered;
         if (context) {
-            GpuRenderOptions gpuOptions;
-            gpuOptions.allFeatures = options.allShaderFeatures;
-            gpuOptions.maxDeviceMemoryBytes = options.maxDeviceMemoryBytes;
-            // Testing aid: VKRT_SIMULATE_DEVICE_LOSS=N loses the device at the N-th dispatch.
-            if (const char* loss = std::getenv("VKRT_SIMULATE_DEVICE_LOSS"))
-                gpuOptions.simulateDeviceLossAtDispatch =
-                    static_cast<uint32_t>(std::strtoul(loss, nullptr, 10));
-            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuOptions);
+            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuRenderOptions(options));
             rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
             // The reference of --report is all or nothing.
             if (!runReport && rendered.stopped == StopReason::DeviceLost)
@@ -186,27 +339,9 @@ int run(Options options) {
                 runReport->memory.tileRows = g.memory.tileRows;
                 runReport->memory.hostCopies = g.hostCopies;
                 runReport->deviceLost = g.deviceLost;
-                RunReport::Gpu& gpu = runReport->gpu.emplace();
-                gpu.deviceName = context->description().name;
-                gpu.deviceType = context->description().type;
-                gpu.driver = context->description().driver;
-                gpu.gpuMs = g.gpuMs;
-                gpu.compileMs = g.compileMs;
-                gpu.pipelineMs = g.pipelineMs;
-                gpu.shaderFromCache = g.shaderFromCache;
-                gpu.allFeatures = options.allShaderFeatures;
-                gpu.spirvBytes = renderer.spirv().size() * sizeof(uint32_t);
-                gpu.shaderKey = g.shaderKey;
-                gpu.features = renderer.features().names();
-                gpu.deviceMemoryBytes = g.deviceMemoryBytes;
-                gpu.dispatches = g.dispatches;
-                gpu.longestDispatchMs = g.longestDispatchMs;
-                gpu.boundGeometry = g.boundGeometry;
+                runReport->gpu = gpuReportOf(options, *context, renderer);
             }
-            if (context->validationMessages() > 0) {
-                throw GpuError(std::to_string(context->validationMessages()) +
-                               " validation message(s), see above");
-            }
+            throwOnValidationMessages(*context);
         } else {
             const ReferenceRenderer renderer(scene, flatBvh, camera, renderSettings);
             rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
@@ -263,18 +398,7 @@ int run(Options options) {
         writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     report.memory.hostPeakBytes = peakResidentBytes();
 
-    report.scene = options.scenePath;
-    report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
-    report.camera = camera.name;
-    report.triangles = scene.triangles.size();
-    report.spheres = scene.spheres.size();
-    report.solids = scene.solids.size();
-    report.shapes = scene.shapes.size();
-    report.textureBytes = packedTextureBytes(scene);
-    report.settings = settings;
-    if (const EnvironmentMap& e = scene.environment; e.present()) {
-        report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};
-    }
+    describeRun(options, scene, settings, camera, report);
     report.rays = result.rays;
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
     if (deviceLost) {
@@ -324,8 +448,25 @@ int run(Options options) {
 }  // namespace
 }  // namespace vkrt
 
+namespace {
+
+// A failure: one line on stderr and the exit code. Under mpirun the line names the rank, and the whole job
+// ends at once with that code (MPI_Abort): rank 0 never writes a partial result.
+int fail(const vkrt::MpiJob& job, int exitCode, const char* message) {
+    if (job.shared()) {
+        std::fprintf(stderr, "vkrt: rank %d: %s\n", job.rank(), message);
+        job.abort(exitCode);
+    }
+    std::fprintf(stderr, "vkrt: %s\n", message);
+    return exitCode;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace vkrt;
+    // Under an MPI launcher the ranks share the render (shared_render.h); otherwise this is a job of one.
+    const MpiJob job(argc, argv);
     try {
         Options options = parseOptions(argc, argv);
         if (options.help) {
@@ -342,24 +483,19 @@ int main(int argc, char** argv) {
         }
         std::signal(SIGINT, onStopSignal);
         std::signal(SIGTERM, onStopSignal);
-        return run(std::move(options));
+        return run(std::move(options), job);
     } catch (const InterruptedBeforeRender&) {
-        std::fprintf(stderr, "vkrt: interrupted while rendering the reference for --report; nothing written\n");
-        return kExitSignalBase + gSignal;
+        return fail(job, kExitSignalBase + gSignal,
+                    "interrupted while rendering the reference for --report; nothing written");
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
-        return kExitBadInput;
+        return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const SceneError& e) {
-        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
-        return kExitBadInput;
+        return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const MemoryError& e) {
-        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
-        return kExitBadInput;
+        return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "vkrt: error: out of memory\n");
-        return kExitRuntimeFailure;
+        return fail(job, kExitRuntimeFailure, "error: out of memory");
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "vkrt: error: %s\n", e.what());
-        return kExitRuntimeFailure;
+        return fail(job, kExitRuntimeFailure, (std::string("error: ") + e.what()).c_str());
     }
 }
