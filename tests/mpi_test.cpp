@@ -173,6 +173,25 @@ TEST(Mpi, TimeLimitEndsEveryRank) {
     for (const nlohmann::json& rank : s["per_rank"]) EXPECT_LT(rank["render_ms"].get<double>(), 5000.0);
 }
 
+// Ctrl-C to mpirun: Open MPI sends the ranks SIGTERM a second later (and SIGKILL a second after that); they
+// stop within their batch, and rank 0 writes the samples done as an interrupted render.
+TEST(Mpi, InterruptKeepsTheSamplesDone) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const std::string job = mpirun() + " -np 2 " + vkrt() + " " +
+                            render("cpu", folder / "kept.pfm", 1000000) + " --stats '" +
+                            (folder / "kept.json").string() + "'";
+    const test::CommandResult run =
+        test::runCommand("bash -c \"" + job + " & pid=\\$!; sleep 3; kill -INT \\$pid; wait \\$pid\"");
+    EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
+    ASSERT_TRUE(std::filesystem::exists(folder / "kept.pfm")) << run.output;
+    const nlohmann::json s = readJson(folder / "kept.json");
+    EXPECT_TRUE(s["interrupted"].get<bool>());
+    EXPECT_GE(s["spp"].get<int>(), 1);
+    EXPECT_LT(s["spp_max"].get<int>(), 1000000);
+    EXPECT_EQ(s["ranks"], 2);
+}
+
 // --report needs checkpoints of one process's render; under several ranks it is refused, exit 2.
 TEST(Mpi, ReportIsRefusedUnderSeveralRanks) {
     SKIP_WITHOUT_MPI();
