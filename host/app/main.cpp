@@ -169,56 +169,141 @@ void throwOnValidationMessages(const VulkanContext& context) {
         throw GpuError(std::to_string(context.validationMessages()) + " validation message(s), see above");
 }
 
+// The --reference image, checked against the render's size.
+ConvergenceReport referenceFromFile(const Options& options, const RenderSettings& settings) {
+    Image reference;
+    try {
+        reference = readImage(options.referencePath);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--reference: ") + e.what());
+    }
+    if (reference.width != settings.width || reference.height != settings.height) {
+        throw UsageError("--reference: " + options.referencePath + " is " + std::to_string(reference.width) +
+                         "x" + std::to_string(reference.height) + ", the render " +
+                         std::to_string(settings.width) + "x" + std::to_string(settings.height));
+    }
+    return ConvergenceReport(std::move(reference), "file " + options.referencePath);
+}
+
+// What --report made of the render: the error at each checkpoint, written as the report and summed up in one
+// line.
+void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
+                      const RenderSettings& settings, int ranks) {
+    if (!options.reportPath.empty()) {
+        nlohmann::json context = {
+            {"scene", options.scenePath},
+            {"device", report.device},
+            {"device_name", report.gpu ? report.gpu->deviceName : std::string("cpu reference")},
+            {"width", settings.width},
+            {"height", settings.height},
+            {"spp", report.samplesRendered},
+            {"seed", settings.seed}};
+        if (ranks > 1) context["ranks"] = ranks;
+        convergence.write(options.reportPath, context);
+    }
+    if (!options.quiet && !convergence.points().empty()) {
+        const ConvergencePoint& last = convergence.points().back();
+        std::fprintf(
+            stderr,
+            "vkrt: error against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
+            last.rmse, last.relMse, 100.0 * last.fractionOff);
+    }
+}
+
 // Under mpirun: this rank's share of the render (shared_render.h); rank 0 sums the shares and writes the
 // image and the stats. Every rank comes here with its scene, BVH and device ready.
 int renderShared(const MpiJob& job, const Options& options, const Scene& scene, const RenderSetup& setup,
                  const FlatBvh& flatBvh, const VulkanContext* context, RunReport& report) {
     const RenderSettings& settings = setup.settings;
-    const StopCondition stop(&gStopRequested, options.timeLimitSeconds);
-    ProgressBar progress(context ? "gpu" : "cpu", !options.quiet);
-    const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
-    const uint32_t spp = static_cast<uint32_t>(settings.samplesPerPixel);
+    const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
     RunReport::Rank mine;
     mine.device = context ? "gpu" : "cpu";
-    RankShare share;
     std::optional<RunReport::Gpu> gpu;
+
+    // This rank's share of a render with `renderSettings` on its device; the renderer is made once for it.
+    auto share = [&](const RenderSettings& renderSettings, const char* label, const StopCondition& stop,
+                     const ShareOptions& shareOptions, bool forStats) {
+        ProgressBar progress(label, !options.quiet);
+        const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
+        const uint32_t spp = static_cast<uint32_t>(renderSettings.samplesPerPixel);
+        RankShare rankShare;
+        if (context) {
+            GpuRenderer renderer(*context, scene, flatBvh, setup.camera, renderSettings, gpuRenderOptions(options));
+            rankShare = renderShare(
+                job, spp,
+                [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                    const RenderResult batch = renderer.renderSamples(first, end, sums, s);
+                    throwOnValidationMessages(*context);  // here, while the other ranks can still be ended
+                    return batch;
+                },
+                stop, onProgress, shareOptions);
+            if (forStats) {
+                gpu = gpuReportOf(options, *context, renderer);
+                mine.deviceName = gpu->deviceName;
+            }
+        } else {
+            const ReferenceRenderer renderer(scene, flatBvh, setup.camera, renderSettings);
+            rankShare = renderShare(
+                job, spp,
+                [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                    return renderer.renderSamples(first, end, sums, s);
+                },
+                stop, onProgress, shareOptions);
+            mine.deviceName = "cpu reference";
+        }
+        progress.finish();
+        // The others are gone (a rank failed and the launcher is ending the job): write nothing, wait for
+        // nothing.
+        if (rankShare.abandoned) std::_Exit(kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM));
+        return rankShare;
+    };
     ShareOptions shareOptions;
     shareOptions.stopRequested = &gStopRequested;
-    if (context) {
-        GpuRenderer renderer(*context, scene, flatBvh, setup.camera, settings, gpuRenderOptions(options));
-        share = renderShare(
-            job, spp,
-            [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
-                const RenderResult batch = renderer.renderSamples(first, end, sums, s);
-                throwOnValidationMessages(*context);  // here, while the other ranks can still be ended
-                return batch;
-            },
-            stop, onProgress, shareOptions);
-        gpu = gpuReportOf(options, *context, renderer);
-        mine.deviceName = gpu->deviceName;
-    } else {
-        const ReferenceRenderer renderer(scene, flatBvh, setup.camera, settings);
-        share = renderShare(
-            job, spp,
-            [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
-                return renderer.renderSamples(first, end, sums, s);
-            },
-            stop, onProgress, shareOptions);
-        mine.deviceName = "cpu reference";
+    shareOptions.pixels = pixels;
+
+    // Error against run time (rank 0): a reference from a file, or a render shared as the render is, with
+    // another seed and 16 times the samples.
+    std::optional<ConvergenceReport> convergence;
+    if (!options.referencePath.empty()) {
+        if (job.rank() == 0) convergence.emplace(referenceFromFile(options, settings));
+    } else if (!options.reportPath.empty()) {
+        RenderSettings referenceSettings = settings;
+        referenceSettings.samplesPerPixel = settings.samplesPerPixel * kReferenceSampleFactor;
+        referenceSettings.seed = settings.seed + 1;
+        const std::string source = std::string(context ? "gpu" : "cpu") + " render made by this run on " +
+                                   std::to_string(job.size()) + " ranks, " +
+                                   std::to_string(referenceSettings.samplesPerPixel) + " spp, seed " +
+                                   std::to_string(referenceSettings.seed);
+        if (!options.quiet) std::fprintf(stderr, "vkrt: reference: %s\n", source.c_str());
+        // The reference renders all its samples (no time limit); an interrupt leaves nothing to keep.
+        RankShare reference =
+            share(referenceSettings, "reference", StopCondition(&gStopRequested, 0.0), shareOptions, false);
+        std::vector<RunReport::Rank> unused;
+        const RenderResult referenceImage =
+            combineShares(job, reference, mine, settings.width, settings.height, unused);
+        if (job.rank() == 0) {
+            if (referenceImage.stopped == StopReason::Requested) throw InterruptedBeforeRender{};
+            convergence.emplace(referenceImage.image, source);
+        }
     }
-    progress.finish();
-    // The others are gone (a rank failed and the launcher is ending the job): write nothing, wait for nothing.
-    if (share.abandoned) std::_Exit(kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM));
-    mine.samples = share.fewest;
-    mine.samplesMax = share.most;
-    mine.batches = share.batches;
-    mine.rays = share.rays;
-    mine.renderMs = share.renderMs;
-    const RenderResult result =
-        combineShares(job, share, mine, settings.width, settings.height, report.ranks);
+    if (convergence) {
+        shareOptions.checkpoint = [&](uint32_t samples, double renderMs, const std::vector<glm::dvec4>& sums) {
+            convergence->add(samples, renderMs, 0.0, averageOf(sums, settings.width, settings.height));
+        };
+    }
+    shareOptions.checkpointEveryMs = options.reportEveryMs;  // every rank's phases end where rank 0's do
+
+    RankShare rendered = share(settings, context ? "gpu" : "cpu",
+                               StopCondition(&gStopRequested, options.timeLimitSeconds), shareOptions, true);
+    mine.samples = rendered.fewest;
+    mine.samplesMax = rendered.most;
+    mine.batches = rendered.batches;
+    mine.rays = rendered.rays;
+    mine.renderMs = rendered.renderMs;
+    const RenderResult result = combineShares(job, rendered, mine, settings.width, settings.height, report.ranks);
     if (job.rank() != 0) return 0;
     // The render took until the last rank's batch ended (the sums were reduced after it).
-    report.renderMs = millisecondsSince(share.started);
+    report.renderMs = millisecondsSince(rendered.started);
 
     // Rank 0: the image and the stats, as one process writes them.
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
@@ -233,6 +318,7 @@ int renderShared(const MpiJob& job, const Options& options, const Scene& scene, 
     report.rays = result.rays;
     report.memory.hostPeakBytes = peakResidentBytes();
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (convergence) writeConvergence(options, *convergence, report, settings, job.size());
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
         const std::string spp =
@@ -257,17 +343,12 @@ int renderShared(const MpiJob& job, const Options& options, const Scene& scene, 
 
 int run(Options options, const MpiJob& job) {
     if (job.shared()) {
-        // One image and one stats file, from rank 0; the others say only what goes wrong.
-        if (!options.reportPath.empty() || !options.referencePath.empty()) {
-            throw UsageError(
-                "--report and --reference take checkpoints of one process's render; they are not "
-                "supported under mpirun with " +
-                std::to_string(job.size()) + " ranks");
-        }
+        // One image, one stats file and one report, from rank 0; the others say only what goes wrong.
         if (job.rank() != 0) {
             options.quiet = true;
             options.outputPath.clear();
             options.statsPath.clear();
+            if (!options.reportPath.empty()) options.reportPath = "-";  // a report, written by rank 0
         }
     }
     checkPaths(options);
@@ -360,19 +441,7 @@ int run(Options options, const MpiJob& job) {
     // Error against run time: a reference from a file, or a long render made here with another seed.
     std::optional<ConvergenceReport> convergence;
     if (!options.referencePath.empty()) {
-        Image reference;
-        try {
-            reference = readImage(options.referencePath);
-        } catch (const ImageError& e) {
-            throw UsageError(std::string("--reference: ") + e.what());
-        }
-        if (reference.width != settings.width || reference.height != settings.height) {
-            throw UsageError("--reference: " + options.referencePath + " is " +
-                             std::to_string(reference.width) + "x" + std::to_string(reference.height) +
-                             ", the render " + std::to_string(settings.width) + "x" +
-                             std::to_string(settings.height));
-        }
-        convergence.emplace(std::move(reference), "file " + options.referencePath);
+        convergence.emplace(referenceFromFile(options, settings));
     } else if (!options.reportPath.empty()) {
         RenderSettings referenceSettings = settings;
         referenceSettings.samplesPerPixel = settings.samplesPerPixel * kReferenceSampleFactor;
@@ -409,24 +478,7 @@ int run(Options options, const MpiJob& job) {
         std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(), kept.c_str());
         return kExitRuntimeFailure;
     }
-    if (convergence && !options.reportPath.empty()) {
-        nlohmann::json context = {
-            {"scene", options.scenePath},
-            {"device", report.device},
-            {"device_name", report.gpu ? report.gpu->deviceName : std::string("cpu reference")},
-            {"width", settings.width},
-            {"height", settings.height},
-            {"spp", report.samplesRendered},
-            {"seed", settings.seed}};
-        convergence->write(options.reportPath, context);
-    }
-    if (convergence && !options.quiet && !convergence->points().empty()) {
-        const ConvergencePoint& last = convergence->points().back();
-        std::fprintf(
-            stderr,
-            "vkrt: error against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
-            last.rmse, last.relMse, 100.0 * last.fractionOff);
-    }
+    if (convergence) writeConvergence(options, *convergence, report, settings, 1);
     if (!options.quiet) {
         const double mrays = static_cast<double>(result.rays.total()) / (report.renderMs / 1000.0) / 1e6;
         const std::string spp = report.mostSamplesRendered > report.samplesRendered

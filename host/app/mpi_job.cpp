@@ -104,6 +104,28 @@ bool MpiJob::barrierUnlessAbandoned([[maybe_unused]] const std::atomic<bool>& fl
 #endif
 }
 
+bool MpiJob::anyRank(bool value) const {
+#ifdef VKRT_WITH_MPI
+    if (initialized_) {
+        int local = value ? 1 : 0, any = 0;
+        MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+        return any != 0;
+    }
+#endif
+    return value;
+}
+
+bool MpiJob::fromRoot(bool value) const {
+#ifdef VKRT_WITH_MPI
+    if (initialized_) {
+        int shared = value ? 1 : 0;
+        MPI_Bcast(&shared, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        return shared != 0;
+    }
+#endif
+    return value;
+}
+
 void MpiJob::sumToRoot([[maybe_unused]] double* values, [[maybe_unused]] size_t count) const {
 #ifdef VKRT_WITH_MPI
     if (initialized_) sumToRootInPieces(rank_, values, count, MPI_DOUBLE);
@@ -164,6 +186,18 @@ SharedCounter::SharedCounter([[maybe_unused]] const MpiJob& job) {
 }
 
 SharedCounter::~SharedCounter() = default;
+
+void SharedCounter::set(uint64_t value) {
+#ifdef VKRT_WITH_MPI
+    if (window_) {
+        uint64_t before = 0;
+        MPI_Fetch_and_op(&value, &before, MPI_UINT64_T, 0, 0, MPI_REPLACE, window_->window);
+        MPI_Win_flush(0, window_->window);
+        return;
+    }
+#endif
+    local_ = value;
+}
 
 void SharedCounter::free() {
 #ifdef VKRT_WITH_MPI

@@ -37,6 +37,10 @@ class MpiJob {
     // that died or aborted is never coming, and Open MPI tells the rest by SIGTERM, which sets the flag.
     // Returns whether every rank arrived.
     bool barrierUnlessAbandoned(const std::atomic<bool>& flag, double graceSeconds) const;
+    // Whether `value` is true on any rank; every rank learns it.
+    bool anyRank(bool value) const;
+    // Rank 0's `value`, on every rank.
+    bool fromRoot(bool value) const;
     // Element-wise sums of every rank's values, left in rank 0's (the others' are unchanged).
     void sumToRoot(double* values, size_t count) const;
     void sumToRoot(uint64_t* values, size_t count) const;
@@ -63,6 +67,8 @@ class SharedCounter {
 
     // Adds `amount` and returns the value before.
     uint64_t fetchAdd(uint64_t amount);
+    // Sets the counter (rank 0, while no rank adds to it: between barriers).
+    void set(uint64_t value);
     // Frees the window: every rank together.
     void free();
 

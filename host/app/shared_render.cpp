@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/checkpoint_schedule.h"
+
 #include <nlohmann/json.hpp>
 
 namespace vkrt {
@@ -51,19 +53,48 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
     stop.start();
     share.started = std::chrono::steady_clock::now();
     const uint64_t spp = samplesPerPixel;
+    // With checkpoints, phases: the samples of each phase [done, phaseEnd) are handed out, every rank renders
+    // its batches of them, and the ranks meet at its end for the checkpoint. Rank 0's schedule decides by time.
+    const bool phased = job.fromRoot(static_cast<bool>(options.checkpoint));
+    CheckpointSchedule schedule(samplesPerPixel, phased, options.checkpointEveryMs);
+    if (phased) share.sums.resize(options.pixels, glm::dvec4(0.0));
+    uint64_t done = 0;
+    uint64_t phaseEnd = phased ? schedule.passEnd(0) : spp;
     // The first batch is one sample: it measures the rank's speed.
     uint64_t count = 1;
     double samplesPerMs = 0.0;
     for (;;) {
         // Asked to stop between batches (every rank takes at least one): the others take no more either.
-        if (share.batches > 0 && stop.stop()) {
+        if (share.stopped == StopReason::None && share.batches > 0 && stop.stop()) {
             share.stopped = stop.reason();
             counter.fetchAdd(kClosed);
-            break;
         }
-        const uint64_t first = counter.fetchAdd(count);
-        if (first >= spp) break;
-        const uint64_t end = std::min(first + count, spp);
+        const uint64_t first = share.stopped != StopReason::None ? phaseEnd : counter.fetchAdd(count);
+        if (first >= phaseEnd) {
+            if (!phased) break;
+            // The phase's end, every rank together: stop if any rank stopped, else a checkpoint when due.
+            if (options.stopRequested &&
+                !job.barrierUnlessAbandoned(*options.stopRequested, options.abandonAfterSeconds)) {
+                share.abandoned = true;
+                return share;
+            }
+            if (job.anyRank(share.stopped != StopReason::None)) break;
+            done = phaseEnd;
+            if (job.rank() == 0) counter.set(done);
+            const double renderMs = schedule.renderMs();
+            if (job.fromRoot(job.rank() == 0 && schedule.due(static_cast<uint32_t>(done), renderMs))) {
+                std::vector<glm::dvec4> sums = share.sums;
+                job.sumToRoot(&sums[0].x, sums.size() * 4);
+                if (job.rank() == 0) {
+                    schedule.take(renderMs, [&] { options.checkpoint(static_cast<uint32_t>(done), renderMs, sums); });
+                }
+            }
+            job.barrier();  // the counter restarts at `done` before anyone adds to it
+            if (done >= spp) break;
+            phaseEnd = schedule.passEnd(static_cast<uint32_t>(done));
+            continue;
+        }
+        const uint64_t end = std::min(first + count, phaseEnd);
         if (progress) progress(end, spp);
         const auto batchStart = std::chrono::steady_clock::now();
         const RenderResult batch =
@@ -79,11 +110,11 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
         if (batch.stopped != StopReason::None) {
             share.stopped = batch.stopped;
             counter.fetchAdd(kClosed);
-            break;
+            continue;  // to the phase's end, where the ranks learn that one stopped
         }
         // The next batch: about batchTargetMs at this rank's speed, at most half of what is left per rank.
         samplesPerMs = static_cast<double>(end - first) / std::max(batchMs, 0.01);
-        const uint64_t left = spp - std::min(spp, end);
+        const uint64_t left = phaseEnd - std::min(phaseEnd, end);
         const double byTime = std::floor(samplesPerMs * options.batchTargetMs);
         const double byShare = std::floor(static_cast<double>(left) / (2.0 * job.size()));
         count = static_cast<uint64_t>(std::max(1.0, std::min(byTime, byShare)));

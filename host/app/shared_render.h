@@ -48,6 +48,13 @@ struct ShareOptions {
     // (when a rank fails, Open MPI ends the others by SIGTERM, and they must not wait for it forever).
     const std::atomic<bool>* stopRequested = nullptr;
     double abandonAfterSeconds = 5.0;
+    // Error against run time (--report): called on rank 0 with the sums of samples [0, samples) of every
+    // pixel at every power of two of samples and at the end (and, with checkpointEveryMs > 0, after any phase
+    // that crosses that much render time), the checkpoint schedule one process follows. The ranks then render
+    // in phases that end at those sample counts, every rank together, and wait for each other at each.
+    std::function<void(uint32_t samples, double renderMs, const std::vector<glm::dvec4>& sums)> checkpoint;
+    double checkpointEveryMs = 0.0;  // the same on every rank
+    size_t pixels = 0;  // the image's, for the checkpoints' sums
 };
 
 // Every rank renders its share of samplesPerPixel samples of every pixel. Collective: every rank calls it,
