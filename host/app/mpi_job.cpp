@@ -13,6 +13,7 @@
 namespace vkrt {
 namespace {
 
+#ifdef VKRT_WITH_MPI
 // Whether an MPI launcher started this process: Open MPI's mpirun, PMIx and PMI (MPICH's Hydra, Slurm).
 bool launchedByMpi() {
     for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"}) {
@@ -21,7 +22,6 @@ bool launchedByMpi() {
     return false;
 }
 
-#ifdef VKRT_WITH_MPI
 // MPI counts are ints: large buffers go in pieces of this many elements.
 constexpr size_t kMaxElementsPerCall = size_t{1} << 28;
 
