@@ -7,13 +7,16 @@
 The scene (default scenes/cornell.gltf, 128 x 128, 64 spp, path traced) is rendered by one vkrt process with
 `--threads 1` and by `mpirun -np RANKS vkrt --threads 1`, alternately, `--runs` times each after one warm-up
 run apiece. Prints JSON: the medians, minima and maxima of the render time (`render_ms` of `--stats`: for the
-ranks, from their common start to the end of the last batch) and of the whole command's wall time (loading,
-the BVH and, under mpirun, the launch included), and the ratios of the medians, ranks over one process: with
-N ranks on N free cores the render's ratio approaches 1/N.
+ranks, from their common start to the sums reduced on rank 0), of the whole command's wall time (loading, the
+BVH and, under mpirun, the launch included) and of its CPU time (every process's, the launcher's too), and the
+ratios of the medians, ranks over one process: with N ranks on N free cores the render's ratio approaches 1/N,
+and the CPU time's ratio stays near 1 (what sharing costs). On a busy machine the first says little, the
+second still something.
 """
 import argparse
 import json
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -39,13 +42,16 @@ def mpirun_prefix(ranks):
 def run(command, environment, folder):
     stats = os.path.join(folder, "stats.json")
     full = command + ["--quiet", "--stats", stats, "--out", os.path.join(folder, "image.pfm")]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = subprocess.run(full, capture_output=True, text=True, env={**os.environ, **environment})
     wall_ms = (time.perf_counter() - start) * 1000.0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_ms = ((after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)) * 1000.0
     if result.returncode != 0:
         sys.exit(f"mpi_benchmark: {' '.join(full)} failed: {result.stderr.strip()}")
     with open(stats) as file:
-        return json.load(file), wall_ms
+        return json.load(file), wall_ms, cpu_ms
 
 
 def summary(values):
@@ -73,18 +79,19 @@ def main():
     render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + (extra or DEFAULT_RENDER)
     launcher, environment = mpirun_prefix(args.ranks)
 
-    times = {"one": {"render": [], "wall": []}, "ranks": {"render": [], "wall": []}}
+    times = {name: {"render": [], "wall": [], "cpu": []} for name in ("one", "ranks")}
     with tempfile.TemporaryDirectory() as folder:
         run(render, {}, folder)  # warm-up: caches, the shader cache on the GPU
-        stats, _ = run(launcher + render, environment, folder)
+        stats, _, _ = run(launcher + render, environment, folder)
         if stats.get("ranks") != args.ranks:
             sys.exit(f"mpi_benchmark: {args.vkrt} did not share the render among {args.ranks} ranks "
                      "(built without MPI?)")
         for _ in range(args.runs):
             for name, command, env in (("one", render, {}), ("ranks", launcher + render, environment)):
-                stats, wall_ms = run(command, env, folder)
+                stats, wall_ms, cpu_ms = run(command, env, folder)
                 times[name]["render"].append(stats["render_ms"])
                 times[name]["wall"].append(wall_ms)
+                times[name]["cpu"].append(cpu_ms)
 
     result = {
         "scene": os.path.relpath(args.scene),
@@ -92,11 +99,13 @@ def main():
         "vkrt_options": render[1:],
         "ranks": args.ranks,
         "runs": args.runs,
-        "one_process": {"render_ms": summary(times["one"]["render"]), "wall_ms": summary(times["one"]["wall"])},
-        "shared": {"render_ms": summary(times["ranks"]["render"]), "wall_ms": summary(times["ranks"]["wall"])},
+        "one_process": {key + "_ms": summary(times["one"][key]) for key in ("render", "wall", "cpu")},
+        "shared": {key + "_ms": summary(times["ranks"][key]) for key in ("render", "wall", "cpu")},
+        "load_average": os.getloadavg()[0],
     }
     result["render_ratio"] = result["shared"]["render_ms"]["median"] / result["one_process"]["render_ms"]["median"]
     result["wall_ratio"] = result["shared"]["wall_ms"]["median"] / result["one_process"]["wall_ms"]["median"]
+    result["cpu_ratio"] = result["shared"]["cpu_ms"]["median"] / result["one_process"]["cpu_ms"]["median"]
     text = json.dumps(result, indent=2)
     print(text)
     if args.out:
