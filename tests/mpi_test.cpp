@@ -143,6 +143,20 @@ TEST(Mpi, FailingRankEndsTheJobWithoutOutput) {
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// Ranks given different renders (here sizes) would add up nonsense: bad usage, exit 2, nothing written.
+TEST(Mpi, RanksMustRenderTheSameImage) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "never.png";
+    const test::CommandResult job =
+        test::runCommand(mpirun() + " -np 1 " + vkrt() + " " + render("cpu", out) + " : -np 1 " + vkrt() +
+                         " " + render("cpu", out, 25));
+    EXPECT_EQ(job.exitCode, 2) << job.output;
+    EXPECT_NE(job.output.find("every rank needs the same scene and render options"), std::string::npos)
+        << job.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // A rank whose device is lost part way ends the job too: a shared render is all or nothing.
 TEST(Mpi, LostDeviceOnOneRankEndsTheJobWithoutOutput) {
     SKIP_WITHOUT_MPI();

@@ -261,6 +261,20 @@ int renderShared(const MpiJob& job, const Options& options, const Scene& scene, 
     shareOptions.stopRequested = &gStopRequested;
     shareOptions.pixels = pixels;
 
+    // Every rank must render the same image (on whatever device): a different size would not even add up.
+    const std::string renderOf =
+        options.scenePath + ", " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + ", " +
+        std::to_string(settings.samplesPerPixel) + " spp, seed " + std::to_string(settings.seed) + ", " +
+        integratorName(settings.integrator) + " depth " + std::to_string(settings.maxDepth) + ", camera " +
+        setup.camera.name;
+    const std::vector<std::string> renders = job.gatherToRoot(renderOf);
+    for (size_t rank = 1; rank < renders.size(); ++rank) {
+        if (renders[rank] != renders[0]) {
+            throw UsageError("rank " + std::to_string(rank) + " renders " + renders[rank] + ", rank 0 " +
+                             renders[0] + ": every rank needs the same scene and render options");
+        }
+    }
+
     // Error against run time (rank 0): a reference from a file, or a render shared as the render is, with
     // another seed and 16 times the samples.
     std::optional<ConvergenceReport> convergence;
