@@ -356,16 +356,16 @@ int renderShared(const MpiJob& job, const Options& options, const Scene& scene, 
 }
 
 int run(Options options, const MpiJob& job) {
-    if (job.shared()) {
-        // One image, one stats file and one report, from rank 0; the others say only what goes wrong.
-        if (job.rank() != 0) {
-            options.quiet = true;
-            options.outputPath.clear();
-            options.statsPath.clear();
-            if (!options.reportPath.empty()) options.reportPath = "-";  // a report, written by rank 0
-        }
+    // One image, one stats file and one report, from rank 0, which alone checks where they go; the others say
+    // only what goes wrong.
+    Options checked = options;
+    if (job.rank() != 0) {
+        options.quiet = true;
+        checked.outputPath.clear();
+        checked.statsPath.clear();
+        checked.reportPath.clear();
     }
-    checkPaths(options);
+    checkPaths(checked);
     const auto loadStart = std::chrono::steady_clock::now();
     LoadOptions loadOptions;
     loadOptions.shutter = options.shutter;
