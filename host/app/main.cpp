@@ -551,7 +551,7 @@ int main(int argc, char** argv) {
         std::signal(SIGTERM, onStopSignal);
         return run(std::move(options), job);
     } catch (const InterruptedBeforeRender&) {
-        return fail(job, kExitSignalBase + gSignal,
+        return fail(job, kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM),
                     "interrupted while rendering the reference for --report; nothing written");
     } catch (const UsageError& e) {
         return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
