@@ -8,6 +8,7 @@ packages=(
     libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev # math, glTF, JSON, images
     libcli11-dev                                                            # command line
     libgtest-dev                                                            # tests
+    libopenmpi-dev openmpi-bin                                              # one render across processes (optional)
     clang libfuzzer-14-dev                                                  # fuzzing the loader
     libembree-dev                                                           # benchmark anchor (optional)
 )

@@ -1,5 +1,6 @@
 #include "app/render_stats.h"
 
+#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
@@ -54,6 +55,24 @@ nlohmann::json toJson(const RunReport& r) {
                                {"height", e.height},
                                {"rotation_degrees", e.rotationDegrees},
                                {"strength", e.strength}};
+    }
+    json["ranks"] = std::max<size_t>(1, r.ranks.size());
+    if (!r.ranks.empty()) {
+        nlohmann::json perRank = nlohmann::json::array();
+        for (size_t i = 0; i < r.ranks.size(); ++i) {
+            const RunReport::Rank& k = r.ranks[i];
+            perRank.push_back(
+                {{"rank", i},
+                 {"device", k.device},
+                 {"device_name", k.deviceName},
+                 {"spp", k.samples},
+                 {"spp_max", k.samplesMax},
+                 {"batches", k.batches},
+                 {"rays",
+                  {{"primary", k.rays.primary}, {"shadow", k.rays.shadow}, {"secondary", k.rays.secondary}}},
+                 {"render_ms", k.renderMs}});
+        }
+        json["per_rank"] = perRank;
     }
     if (r.gpu) {
         const RunReport::Gpu& g = *r.gpu;

@@ -75,6 +75,18 @@ struct RunReport {
         bool boundGeometry = false;
     };
     std::optional<Gpu> gpu;
+
+    // Under MPI, every rank's share of the render, in rank order (empty for one process).
+    struct Rank {
+        std::string device;      // "gpu" or "cpu"
+        std::string deviceName;  // the Vulkan device's name, or "cpu reference"
+        uint64_t samples = 0;    // samples per pixel it rendered (at least; at most samplesMax)
+        uint64_t samplesMax = 0;
+        uint32_t batches = 0;
+        RayCounters rays;
+        double renderMs = 0.0;
+    };
+    std::vector<Rank> ranks;
 };
 
 nlohmann::json toJson(const RunReport& report);

@@ -231,21 +231,39 @@ constexpr uint32_t kMaxSamplesPerPass = 64;
 RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
                                        double checkpointEveryMs, StopCondition stop) const {
     stop.start();
+    std::vector<glm::dvec4> sums(static_cast<size_t>(settings_.width) * settings_.height, glm::dvec4(0.0));
+    RenderResult result = renderRange(0, static_cast<uint32_t>(settings_.samplesPerPixel), sums, progress,
+                                      checkpoint, checkpointEveryMs, stop);
+    result.image = averageOf(sums, settings_.width, settings_.height);
+    return result;
+}
+
+RenderResult ReferenceRenderer::renderSamples(uint32_t firstSample, uint32_t endSample,
+                                              std::vector<glm::dvec4>& sums,
+                                              const StopCondition& stop) const {
+    sums.resize(static_cast<size_t>(settings_.width) * settings_.height, glm::dvec4(0.0));
+    return renderRange(firstSample, endSample, sums, {}, {}, 0.0, stop);
+}
+
+RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSample,
+                                            std::vector<glm::dvec4>& sums, const ProgressCallback& progress,
+                                            const CheckpointCallback& checkpoint, double checkpointEveryMs,
+                                            const StopCondition& stop) const {
     RenderResult result;
-    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
-    const uint64_t pixels = static_cast<uint64_t>(settings_.width) * settings_.height;
-    std::vector<glm::dvec4> sums(pixels, glm::dvec4(0.0));
+    const uint32_t first = firstSample;
+    const uint32_t samples = endSample - firstSample;
     const unsigned threads = threadCount(settings_.threads);
-    CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
+    CheckpointSchedule schedule(endSample, static_cast<bool>(checkpoint), checkpointEveryMs);
 
     // Passes of samples over all rows, ending where the schedule says. Per pixel the samples are summed in
     // the same order either way, so the image does not depend on the passes.
-    uint32_t done = 0;
-    uint32_t most = 0;
-    while (done < spp && result.stopped == StopReason::None) {
+    uint32_t done = first;
+    uint32_t most = first;
+    while (done < endSample && result.stopped == StopReason::None) {
         // Passes double from one sample up to kMaxSamplesPerPass: the first image comes soon, and a pixel's
         // share of a pass stays short enough that stopping waits for little.
-        const uint32_t end = std::min(schedule.passEnd(done), done + std::clamp(done, 1u, kMaxSamplesPerPass));
+        const uint32_t end =
+            std::min(schedule.passEnd(done), done + std::clamp(done - first, 1u, kMaxSamplesPerPass));
         std::atomic<StopReason> stopped{StopReason::None};
         std::atomic<uint64_t> pixelsDone{0};
         std::atomic<uint64_t> rowsDone{0};
@@ -261,7 +279,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
             for (int x = 0; x < settings_.width; ++x) {
                 if (stopped.load(std::memory_order_relaxed) != StopReason::None) return;
                 // Every render gets at least one pixel's samples, however soon it is asked to stop.
-                if (const StopReason reason = stop.reason(); reason != StopReason::None && (done > 0 || pixelsDone > 0)) {
+                if (const StopReason reason = stop.reason();
+                    reason != StopReason::None && (done > first || pixelsDone > 0)) {
                     stopped = reason;
                     return;
                 }
@@ -272,8 +291,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
             const uint64_t rows = ++rowsDone;
             if (progress) {
                 std::lock_guard<std::mutex> lock(progressLock);
-                progress(static_cast<uint64_t>(done) * settings_.height + rows * (end - done),
-                         static_cast<uint64_t>(spp) * settings_.height);
+                progress(static_cast<uint64_t>(done - first) * settings_.height + rows * (end - done),
+                         static_cast<uint64_t>(samples) * settings_.height);
             }
         });
         for (const WorkerCounters& c : counters) {
@@ -295,9 +314,8 @@ RenderResult ReferenceRenderer::render(const ProgressCallback& progress, const C
             });
         }
     }
-    result.image = averageOf(sums, settings_.width, settings_.height);
-    result.fewestSamples = done;
-    result.mostSamples = std::max(done, most);
+    result.fewestSamples = done - first;
+    result.mostSamples = std::max(done, most) - first;
     return result;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "bvh/bvh_traversal.h"
 #include "bvh/flat_bvh.h"
@@ -33,6 +34,13 @@ class ReferenceRenderer {
     RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
                         double checkpointEveryMs = 0.0, StopCondition stop = {}) const;
 
+    // Adds samples [firstSample, endSample) of every pixel into `sums` (rgb sums and finite-sample counts,
+    // one per pixel, row by row), or stops part way when `stop` says so (its clock is the caller's: not
+    // restarted). The result has no image; its sample counts are those of this range. Renders shared among
+    // processes are made of such ranges: a sample's value does not depend on who renders it.
+    RenderResult renderSamples(uint32_t firstSample, uint32_t endSample, std::vector<glm::dvec4>& sums,
+                               const StopCondition& stop = {}) const;
+
     // The pieces, public for tests.
     // Film coordinates in pixels, (0, 0) top-left; (lensU, lensV) in [0, 1)^2 picks the lens point.
     Ray cameraRay(double filmX, double filmY, double lensU = 0.5, double lensV = 0.5) const;
@@ -46,6 +54,9 @@ class ReferenceRenderer {
                            RayCounters& counters) const;
 
   private:
+    RenderResult renderRange(uint32_t firstSample, uint32_t endSample, std::vector<glm::dvec4>& sums,
+                             const ProgressCallback& progress, const CheckpointCallback& checkpoint,
+                             double checkpointEveryMs, const StopCondition& stop) const;
     shading::ShadingContext shadingContext(uint32_t pixel, uint32_t sample) const;
     shading::HitPoint hitPointOf(const Ray& ray, const SurfaceHit& hit, double time) const;
     // The nearest surface along `ray` that is there (alpha), as the GPU's traceVisible finds it.

@@ -153,7 +153,7 @@ void GpuRenderer::copyToHost() {
         const size_t pixels = static_cast<size_t>(count) * width;
         accumulation_.download(chunk.data(), count * rowBytes, (first - tileRowStart_) * rowBytes);
         // The compensated sum is (sum - lost), evaluated in double.
-        glm::dvec4* sums = sums_.data() + static_cast<size_t>(first) * width;
+        glm::dvec4* sums = sums_ + static_cast<size_t>(first) * width;
         for (size_t i = 0; i < pixels; ++i)
             sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
         for (uint32_t row = first; row < first + count; ++row) rowSamplesCopied_[row] = rowSamples_[row];
@@ -178,10 +178,8 @@ double GpuRenderer::nextDispatchUnits() const {
 }
 
 StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
-                                   const StopCondition& stop, const ProgressCallback& progress,
-                                   RayCounters& rays) {
-    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
-    const uint32_t height = static_cast<uint32_t>(settings_.height);
+                                   uint64_t totalUnits, const StopCondition& stop,
+                                   const ProgressCallback& progress, RayCounters& rays) {
     const uint32_t samplesPerDispatch =
         settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
     // Batches of samples over bands of rows.
@@ -201,7 +199,7 @@ StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t fir
             unitsDone_ += static_cast<uint64_t>(rows) * samples;
             readCounters(rays);
             row += rows;
-            if (progress) progress(unitsDone_, static_cast<uint64_t>(spp) * height);
+            if (progress) progress(unitsDone_, totalUnits);
             // Stopping here leaves some rows with more samples than others; pixels are averaged over their
             // own sample counts.
             if (const StopReason reason = stop.reason(); reason != StopReason::None) return reason;
@@ -215,26 +213,43 @@ StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t fir
 RenderResult GpuRenderer::render(const ProgressCallback& progress, const CheckpointCallback& checkpoint,
                                  double checkpointEveryMs, StopCondition stop) {
     stop.start();
+    std::vector<glm::dvec4> sums(static_cast<size_t>(settings_.width) * settings_.height, glm::dvec4(0.0));
+    RenderResult result = renderRange(0, static_cast<uint32_t>(settings_.samplesPerPixel), sums, progress,
+                                      checkpoint, checkpointEveryMs, stop);
+    result.image = averageOf(sums, settings_.width, settings_.height);
+    return result;
+}
+
+RenderResult GpuRenderer::renderSamples(uint32_t firstSample, uint32_t endSample,
+                                        std::vector<glm::dvec4>& sums, const StopCondition& stop) {
+    sums.resize(static_cast<size_t>(settings_.width) * settings_.height, glm::dvec4(0.0));
+    RenderResult result = renderRange(firstSample, endSample, sums, {}, {}, 0.0, stop);
+    if (result.stopped == StopReason::DeviceLost) throw DeviceLostError(report_.deviceLost);
+    return result;
+}
+
+RenderResult GpuRenderer::renderRange(uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums,
+                                      const ProgressCallback& progress, const CheckpointCallback& checkpoint,
+                                      double checkpointEveryMs, const StopCondition& stop) {
     RenderResult result;
     const uint32_t height = static_cast<uint32_t>(settings_.height);
-    const uint32_t spp = static_cast<uint32_t>(settings_.samplesPerPixel);
-    CheckpointSchedule schedule(spp, static_cast<bool>(checkpoint), checkpointEveryMs);
-    sums_.assign(static_cast<size_t>(settings_.width) * height, glm::dvec4(0.0));
+    const uint64_t totalUnits = static_cast<uint64_t>(end - first) * height;
+    CheckpointSchedule schedule(end, static_cast<bool>(checkpoint), checkpointEveryMs);
+    sums_ = sums.data();
     rowSamples_.assign(height, 0);
     rowSamplesCopied_.assign(height, 0);
     // The device's sums are added into the host's at tile changes, checkpoints, the end, and by time
-    // (copyDue). Dispatches are sized from the speed of the last (nextDispatchUnits); the first is one row.
+    // (copyDue). Dispatches are sized from the speed of the last (nextDispatchUnits); a renderer's first is
+    // one row, and later ranges start from the speed measured before.
     lastCopy_ = std::chrono::steady_clock::now();
     lastCopyMs_ = 0.0;
-    unitsPerMs_ = 0.0;
-    lastUnits_ = 1.0;
     unitsDone_ = 0;
-    uint32_t done = 0;  // samples every pixel has
+    uint32_t done = first;  // samples every pixel has
     try {
         // Passes end where the schedule says (every power of two, with checkpoints); within a pass, tile by
         // tile.
-        while (done < spp && result.stopped == StopReason::None) {
-            const uint32_t end = schedule.passEnd(done);
+        while (done < end && result.stopped == StopReason::None) {
+            const uint32_t passEnd = schedule.passEnd(done);
             for (uint32_t tile = 0; tile < height && result.stopped == StopReason::None;
                  tile += report_.memory.tileRows) {
                 if (tile != tileRowStart_) {
@@ -242,16 +257,17 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
                     tileRowStart_ = tile;
                 }
                 const uint32_t tileEnd = std::min(height, tile + report_.memory.tileRows);
-                result.stopped = renderTile(tile, tileEnd, done, end, stop, progress, result.rays);
+                result.stopped =
+                    renderTile(tile, tileEnd, done, passEnd, totalUnits, stop, progress, result.rays);
             }
             if (result.stopped != StopReason::None) break;
-            done = end;
+            done = passEnd;
             const double renderMs = schedule.renderMs();
             if (checkpoint && schedule.due(done, renderMs)) {
                 schedule.take(renderMs, [&] {
                     copyToHost();
                     checkpoint(done, renderMs, report_.gpuMs,
-                               averageOf(sums_, settings_.width, settings_.height));
+                               averageOf(sums, settings_.width, settings_.height));
                 });
             }
         }
@@ -261,11 +277,10 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
         report_.deviceLost = e.what();
         result.stopped = StopReason::DeviceLost;
     }
+    sums_ = nullptr;
     result.fewestSamples = *std::min_element(rowSamplesCopied_.begin(), rowSamplesCopied_.end());
     result.mostSamples = *std::max_element(rowSamplesCopied_.begin(), rowSamplesCopied_.end());
-    if (progress) progress(static_cast<uint64_t>(spp) * height, static_cast<uint64_t>(spp) * height);
-
-    result.image = averageOf(sums_, settings_.width, settings_.height);
+    if (progress) progress(totalUnits, totalUnits);
     report_.deviceMemoryBytes = context_.peakAllocatedBytes();
     return result;
 }

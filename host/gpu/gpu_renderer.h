@@ -65,12 +65,25 @@ class GpuRenderer {
     RenderResult render(const ProgressCallback& progress = {}, const CheckpointCallback& checkpoint = {},
                         double checkpointEveryMs = 0.0, StopCondition stop = {});
 
+    // Adds samples [firstSample, endSample) of every pixel into `sums` (rgb sums and finite-sample counts,
+    // one per pixel, row by row), or stops part way when `stop` says so (its clock is the caller's: not
+    // restarted). The result has no image; its sample counts are those of this range. Called again and again
+    // on one renderer (the pipeline is built once), as ranks sharing a render do: a sample's value does not
+    // depend on who renders it. A lost device throws DeviceLostError.
+    RenderResult renderSamples(uint32_t firstSample, uint32_t endSample, std::vector<glm::dvec4>& sums,
+                               const StopCondition& stop = {});
+
     const GpuRenderReport& report() const { return report_; }
     const SceneFeatures& features() const { return data_.features; }
     const std::vector<std::string>& defines() const { return defines_; }
     const std::vector<uint32_t>& spirv() const { return spirv_; }
 
   private:
+    // Samples [first, end) of every pixel into `sums`, in passes (checkpoints at the schedule's sample
+    // counts, counted from 0).
+    RenderResult renderRange(uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums,
+                             const ProgressCallback& progress, const CheckpointCallback& checkpoint,
+                             double checkpointEveryMs, const StopCondition& stop);
     // Records and runs one dispatch; returns its wall time in milliseconds.
     double runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint32_t rowStart, uint32_t rowCount);
     void readCounters(RayCounters& counters);
@@ -82,7 +95,7 @@ class GpuRenderer {
     // its size (the cost of a band depends on what it sees).
     double nextDispatchUnits() const;
     // Samples [first, end) of rows [tile, tileEnd); returns why it stopped early, if it did.
-    StopReason renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
+    StopReason renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end, uint64_t totalUnits,
                           const StopCondition& stop, const ProgressCallback& progress, RayCounters& rays);
 
     const VulkanContext& context_;
@@ -94,7 +107,8 @@ class GpuRenderer {
     std::unique_ptr<ComputePipeline> pipeline_;
     std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
     GpuBuffer accumulation_;            // one tile of the image: sum and compensation per pixel
-    std::vector<glm::dvec4> sums_;      // the whole image on the host: rgb sums and finite-sample counts
+    glm::dvec4* sums_ =
+        nullptr;  // the whole image on the host, the render's: rgb sums and finite-sample counts
     std::vector<uint32_t> rowSamples_;  // samples dispatched for each row
     std::vector<uint32_t> rowSamplesCopied_;  // of those, the ones in sums_
     GpuBuffer counters_;

@@ -196,17 +196,22 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
                                "): " + d.unusableBecause);
             chosen = options.deviceIndex;
         } else {
+            // The usable devices of the preferred type, in Vulkan's order; localRank picks among them.
             int bestRank = 1 << 30;
+            std::vector<int> preferred;
             for (size_t i = 0; i < devices.size(); ++i) {
                 if (!describe(devices[i], static_cast<int>(i)).usable) continue;
                 VkPhysicalDeviceProperties p;
                 vkGetPhysicalDeviceProperties(devices[i], &p);
                 if (typeRank(p.deviceType) < bestRank) {
                     bestRank = typeRank(p.deviceType);
-                    chosen = static_cast<int>(i);
+                    preferred.clear();
                 }
+                if (typeRank(p.deviceType) == bestRank) preferred.push_back(static_cast<int>(i));
             }
-            if (chosen < 0) throw GpuError("no Vulkan device supports what vkrt needs (see --list-devices)");
+            if (preferred.empty())
+                throw GpuError("no Vulkan device supports what vkrt needs (see --list-devices)");
+            chosen = preferred[static_cast<size_t>(std::max(options.localRank, 0)) % preferred.size()];
         }
         physicalDevice_ = devices[chosen];
         description_ = describe(physicalDevice_, chosen);

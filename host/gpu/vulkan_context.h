@@ -15,6 +15,9 @@ namespace vkrt {
 struct ContextOptions {
     bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its messages
     int deviceIndex = -1;     // -1: choose automatically
+    // Automatic choice among several devices of the preferred type: number localRank modulo their count (the
+    // node-local rank of an MPI job, so that ranks on one machine take different GPUs).
+    int localRank = 0;
 };
 
 struct DeviceDescription {

@@ -1,0 +1,237 @@
+// One render shared by the ranks of an MPI job (host/app/shared_render.h): the ranks split the sample
+// indices, so N ranks make the image one process makes with the same seed, to rounding, on either device and
+// with a CPU rank beside a GPU rank; rank 0 alone writes the image and the stats; a failing rank ends the job
+// with a non-zero exit and no file. The tests run `mpirun` and skip, saying so, without it or an MPI build.
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/mpi_job.h"
+#include "image/image_io.h"
+#include "image/image_metrics.h"
+#include "support/json_file.h"
+#include "support/reference_comparison.h"
+#include "support/run_command.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+using test::readJson;
+
+// The launcher's command line: Open MPI refuses root without its two variables and more ranks than cores
+// without --oversubscribe (this suite runs on 2 cores beside other tests).
+std::string mpirun() {
+    static const std::string command = [] {
+        if (test::runCommand("command -v mpirun").exitCode != 0) return std::string();
+        const bool openMpi =
+            test::runCommand("mpirun --version").output.find("Open MPI") != std::string::npos;
+        return openMpi
+                   ? std::string(
+                         "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe")
+                   : std::string("mpirun");
+    }();
+    return command;
+}
+
+#define SKIP_WITHOUT_MPI()                                                                           \
+    do {                                                                                             \
+        if (!MpiJob::built()) GTEST_SKIP() << "vkrt was built without MPI (Debian: libopenmpi-dev)"; \
+        if (mpirun().empty()) GTEST_SKIP() << "mpirun is not installed (Debian: openmpi-bin)";       \
+    } while (0)
+
+std::string vkrt() {
+    return std::string("'") + VKRT_BINARY + "'";
+}
+
+// A small render of the Cornell box; the CPU on one thread per rank (the machine's cores are few).
+std::string render(const std::string& device, const std::filesystem::path& out, int spp = 24) {
+    return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "' --device " + device +
+           " --width 48 --height 48 --spp " + std::to_string(spp) + " --seed 7 --threads 1 --out '" +
+           out.string() + "'";
+}
+
+// The same render in one process and in two ranks on `device`: equal to float rounding.
+void expectTwoRanksEqualOneProcess(const std::string& device) {
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult one = test::runVkrt(render(device, folder / "one.pfm") + " --quiet");
+    ASSERT_EQ(one.exitCode, 0) << one.output;
+    const test::CommandResult two = test::runCommand("VKRT_VALIDATE=1 " + mpirun() + " -np 2 " + vkrt() +
+                                                     " " + render(device, folder / "two.pfm") + " --stats '" +
+                                                     (folder / "two.json").string() + "'");
+    ASSERT_EQ(two.exitCode, 0) << two.output;
+    const Image a = readImage((folder / "one.pfm").string());
+    const Image b = readImage((folder / "two.pfm").string());
+    const ImageDifference d = compareImages(b, a, 1e-5, 1e-6);
+    EXPECT_EQ(d.fractionOff, 0.0) << "two ranks must render the samples one process does";
+    if (d.fractionOff > 0.0) test::saveForInspection(b, a, "mpi-two-ranks-" + device);
+
+    // Rank 0 wrote the stats of the whole render, with each rank's share.
+    const nlohmann::json stats = readJson(folder / "two.json");
+    EXPECT_EQ(stats["ranks"], 2);
+    EXPECT_EQ(stats["spp"], 24);
+    ASSERT_EQ(stats["per_rank"].size(), 2u);
+    uint64_t samples = 0, primary = 0;
+    for (const nlohmann::json& rank : stats["per_rank"]) {
+        EXPECT_EQ(rank["device"], device);
+        EXPECT_GT(rank["spp"].get<uint64_t>(), 0u) << "every rank takes at least one batch";
+        samples += rank["spp"].get<uint64_t>();
+        primary += rank["rays"]["primary"].get<uint64_t>();
+    }
+    EXPECT_EQ(samples, 24u) << "the ranks' samples are disjoint and cover the render";
+    EXPECT_EQ(primary, 48u * 48u * 24u);
+    EXPECT_EQ(stats["rays"]["primary"], primary);
+    // Only rank 0 speaks.
+    EXPECT_EQ(two.output.find("wrote"), two.output.rfind("wrote")) << two.output;
+}
+
+TEST(Mpi, TwoCpuRanksEqualOneProcess) {
+    SKIP_WITHOUT_MPI();
+    expectTwoRanksEqualOneProcess("cpu");
+}
+
+TEST(Mpi, TwoGpuRanksEqualOneProcess) {
+    SKIP_WITHOUT_MPI();
+    expectTwoRanksEqualOneProcess("gpu");
+}
+
+// MPMD: a CPU rank beside a GPU rank. Each sample is rendered by one of them, so the image matches the CPU
+// reference as the GPU's own renders do (the conformance thresholds), and both ranks did part of it.
+TEST(Mpi, CpuRankBesideGpuRank) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult one = test::runVkrt(render("cpu", folder / "one.pfm") + " --quiet");
+    ASSERT_EQ(one.exitCode, 0) << one.output;
+    const std::string stats = " --stats '" + (folder / "mixed.json").string() + "'";
+    const test::CommandResult mixed = test::runCommand(
+        "VKRT_VALIDATE=1 " + mpirun() + " -np 1 " + vkrt() + " " + render("cpu", folder / "mixed.pfm") +
+        stats + " : -np 1 " + vkrt() + " " + render("gpu", folder / "mixed.pfm") + stats);
+    ASSERT_EQ(mixed.exitCode, 0) << mixed.output;
+    const Image reference = readImage((folder / "one.pfm").string());
+    const Image image = readImage((folder / "mixed.pfm").string());
+    const ImageDifference d = test::compareWithReference(image, reference);
+    EXPECT_TRUE(test::withinReferenceThresholds(d))
+        << d.fractionOff * 100 << "% of pixels off, mean relative error " << d.meanRelativeError;
+
+    const nlohmann::json s = readJson(folder / "mixed.json");
+    EXPECT_EQ(s["ranks"], 2);
+    EXPECT_EQ(s["device"], "mixed");
+    ASSERT_EQ(s["per_rank"].size(), 2u);
+    EXPECT_EQ(s["per_rank"][0]["device"], "cpu");
+    EXPECT_EQ(s["per_rank"][0]["device_name"], "cpu reference");
+    EXPECT_EQ(s["per_rank"][1]["device"], "gpu");
+    EXPECT_GT(s["per_rank"][0]["spp"].get<int>(), 0);
+    EXPECT_GT(s["per_rank"][1]["spp"].get<int>(), 0);
+    EXPECT_EQ(s["per_rank"][0]["spp"].get<int>() + s["per_rank"][1]["spp"].get<int>(), 24);
+}
+
+// A rank that cannot start (a device that does not exist) ends the whole job, non-zero, and nothing is
+// written: rank 0 writes only at the end.
+TEST(Mpi, FailingRankEndsTheJobWithoutOutput) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "never.png";
+    const test::CommandResult job =
+        test::runCommand(mpirun() + " -np 1 " + vkrt() + " " + render("cpu", out, 100000) + " : -np 1 " +
+                         vkrt() + " " + render("gpu", out, 100000) + " --device-index 99");
+    EXPECT_NE(job.exitCode, 0) << job.output;
+    EXPECT_NE(job.output.find("vkrt: rank 1: error: --device-index 99"), std::string::npos) << job.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Ranks given different renders (here sizes) would add up nonsense: bad usage, exit 2, nothing written.
+TEST(Mpi, RanksMustRenderTheSameImage) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "never.png";
+    const test::CommandResult job =
+        test::runCommand(mpirun() + " -np 1 " + vkrt() + " " + render("cpu", out) + " : -np 1 " + vkrt() +
+                         " " + render("cpu", out, 25));
+    EXPECT_EQ(job.exitCode, 2) << job.output;
+    EXPECT_NE(job.output.find("every rank needs the same scene and render options"), std::string::npos)
+        << job.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// A rank whose device is lost part way ends the job too: a shared render is all or nothing.
+TEST(Mpi, LostDeviceOnOneRankEndsTheJobWithoutOutput) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const auto out = folder / "never.png";
+    const test::CommandResult job = test::runCommand(
+        mpirun() + " -np 1 " + vkrt() + " " + render("cpu", out, 100000) +
+        " : -np 1 env VKRT_SIMULATE_DEVICE_LOSS=3 " + vkrt() + " " + render("gpu", out, 100000));
+    EXPECT_NE(job.exitCode, 0) << job.output;
+    EXPECT_NE(job.output.find("vkrt: rank 1: error:"), std::string::npos) << job.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// --time-limit holds for every rank: a render that would take hours ends, and the image of the samples done
+// is written.
+TEST(Mpi, TimeLimitEndsEveryRank) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult job = test::runCommand(
+        mpirun() + " -np 2 " + vkrt() + " " + render("cpu", folder / "limited.pfm", 1000000) +
+        " --time-limit 1 --stats '" + (folder / "limited.json").string() + "'");
+    ASSERT_EQ(job.exitCode, 0) << job.output;
+    EXPECT_TRUE(std::filesystem::exists(folder / "limited.pfm"));
+    const nlohmann::json s = readJson(folder / "limited.json");
+    EXPECT_TRUE(s["stopped_by_time_limit"].get<bool>());
+    EXPECT_GE(s["spp"].get<int>(), 1);
+    EXPECT_LT(s["spp_max"].get<int>(), 1000000);
+    for (const nlohmann::json& rank : s["per_rank"]) EXPECT_LT(rank["render_ms"].get<double>(), 5000.0);
+}
+
+// Ctrl-C to mpirun: Open MPI sends the ranks SIGTERM a second later (and SIGKILL a second after that); they
+// stop within their batch, and rank 0 writes the samples done as an interrupted render.
+TEST(Mpi, InterruptKeepsTheSamplesDone) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const std::string job = mpirun() + " -np 2 " + vkrt() + " " +
+                            render("cpu", folder / "kept.pfm", 1000000) + " --stats '" +
+                            (folder / "kept.json").string() + "'";
+    const test::CommandResult run =
+        test::runCommand("bash -c \"" + job + " & pid=\\$!; sleep 3; kill -INT \\$pid; wait \\$pid\"");
+    EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
+    ASSERT_TRUE(std::filesystem::exists(folder / "kept.pfm")) << run.output;
+    const nlohmann::json s = readJson(folder / "kept.json");
+    EXPECT_TRUE(s["interrupted"].get<bool>());
+    EXPECT_GE(s["spp"].get<int>(), 1);
+    EXPECT_LT(s["spp_max"].get<int>(), 1000000);
+    EXPECT_EQ(s["ranks"], 2);
+}
+
+// --report across ranks: the ranks render in phases that end at the checkpoints, so every checkpoint's image
+// is the one process's (the errors agree to rounding), and the reference is shared as the render is.
+TEST(Mpi, ReportUnderTwoRanksEqualsOneProcess) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult one = test::runVkrt(render("cpu", folder / "one.pfm", 16) + " --report '" +
+                                                  (folder / "one.json").string() + "' --quiet");
+    ASSERT_EQ(one.exitCode, 0) << one.output;
+    const test::CommandResult two =
+        test::runCommand(mpirun() + " -np 2 " + vkrt() + " " + render("cpu", folder / "two.pfm", 16) +
+                         " --report '" + (folder / "two.json").string() + "'");
+    ASSERT_EQ(two.exitCode, 0) << two.output;
+    const nlohmann::json a = readJson(folder / "one.json");
+    const nlohmann::json b = readJson(folder / "two.json");
+    EXPECT_EQ(b["ranks"], 2);
+    ASSERT_EQ(a["checkpoints"].size(), 5u);  // 1, 2, 4, 8, 16 samples
+    ASSERT_EQ(b["checkpoints"].size(), a["checkpoints"].size());
+    for (size_t i = 0; i < a["checkpoints"].size(); ++i) {
+        const nlohmann::json& p = a["checkpoints"][i];
+        const nlohmann::json& q = b["checkpoints"][i];
+        EXPECT_EQ(p["samples"], q["samples"]);
+        EXPECT_NEAR(p["rmse"].get<double>(), q["rmse"].get<double>(), 1e-9 * p["rmse"].get<double>())
+            << "at " << p["samples"] << " samples";
+        EXPECT_NEAR(p["relmse"].get<double>(), q["relmse"].get<double>(), 1e-9 * p["relmse"].get<double>());
+    }
+}
+
+}  // namespace
+}  // namespace vkrt

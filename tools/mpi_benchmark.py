@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""One render in one process against the same render shared by MPI ranks, each single-threaded.
+
+    tools/mpi_benchmark.py --vkrt build/vkrt [--ranks 2] [--runs 5] [--device cpu] [--out FILE.json]
+                           [SCENE] [-- EXTRA VKRT OPTIONS]
+
+The scene (default scenes/cornell.gltf, 128 x 128, 64 spp, path traced) is rendered by one vkrt process with
+`--threads 1` and by `mpirun -np RANKS vkrt --threads 1`, alternately, `--runs` times each after one warm-up
+run apiece. Prints JSON: the medians, minima and maxima of the render time (`render_ms` of `--stats`: for the
+ranks, from their common start to the sums reduced on rank 0), of the whole command's wall time (loading, the
+BVH and, under mpirun, the launch included) and of its CPU time (every process's, the launcher's too), and the
+ratios of the medians, ranks over one process: with N ranks on N free cores the render's ratio approaches 1/N,
+and the CPU time's ratio stays near 1 (what sharing costs). On a busy machine the first says little, the
+second still something.
+"""
+import argparse
+import json
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+from vkrt_args import split_at_double_dash
+
+DEFAULT_SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")
+DEFAULT_RENDER = ["--width", "128", "--height", "128", "--spp", "64"]
+
+
+def mpirun_prefix(ranks):
+    """The launcher's command: Open MPI needs two variables to run as root and --oversubscribe beyond the cores."""
+    version = subprocess.run(["mpirun", "--version"], capture_output=True, text=True).stdout
+    if "Open MPI" in version:
+        return ["mpirun", "--oversubscribe", "-np", str(ranks)], {
+            "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
+    return ["mpirun", "-np", str(ranks)], {}
+
+
+def run(command, environment, folder):
+    stats = os.path.join(folder, "stats.json")
+    full = command + ["--quiet", "--stats", stats, "--out", os.path.join(folder, "image.pfm")]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    result = subprocess.run(full, capture_output=True, text=True, env={**os.environ, **environment})
+    wall_ms = (time.perf_counter() - start) * 1000.0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_ms = ((after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)) * 1000.0
+    if result.returncode != 0:
+        sys.exit(f"mpi_benchmark: {' '.join(full)} failed: {result.stderr.strip()}")
+    with open(stats) as file:
+        return json.load(file), wall_ms, cpu_ms
+
+
+def summary(values):
+    return {"median": statistics.median(values), "min": min(values), "max": max(values)}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--vkrt", required=True, help="the vkrt binary (built with MPI)")
+    parser.add_argument("--ranks", type=int, default=2, help="MPI ranks [2]")
+    parser.add_argument("--runs", type=int, default=5, help="timed runs of each [5]")
+    parser.add_argument("--device", default="cpu", choices=["cpu", "gpu"], help="[cpu]")
+    parser.add_argument("--out", help="also write the JSON here")
+    parser.add_argument("scene", nargs="?", default=DEFAULT_SCENE, help="glTF scene; options after -- go to vkrt")
+    argv, extra = split_at_double_dash(sys.argv[1:])
+    args = parser.parse_args(argv)
+    if args.runs < 1:
+        parser.error("--runs must be at least 1")
+    if args.ranks < 2:
+        parser.error("--ranks must be at least 2")
+    if not os.access(args.vkrt, os.X_OK):
+        parser.error(f"{args.vkrt} is not an executable")
+    if shutil.which("mpirun") is None:
+        parser.error("mpirun is not installed (Debian: openmpi-bin)")
+    render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + (extra or DEFAULT_RENDER)
+    launcher, environment = mpirun_prefix(args.ranks)
+
+    times = {name: {"render": [], "wall": [], "cpu": []} for name in ("one", "ranks")}
+    with tempfile.TemporaryDirectory() as folder:
+        run(render, {}, folder)  # warm-up: caches, the shader cache on the GPU
+        stats, _, _ = run(launcher + render, environment, folder)
+        if stats.get("ranks") != args.ranks:
+            sys.exit(f"mpi_benchmark: {args.vkrt} did not share the render among {args.ranks} ranks "
+                     "(built without MPI?)")
+        for _ in range(args.runs):
+            for name, command, env in (("one", render, {}), ("ranks", launcher + render, environment)):
+                stats, wall_ms, cpu_ms = run(command, env, folder)
+                times[name]["render"].append(stats["render_ms"])
+                times[name]["wall"].append(wall_ms)
+                times[name]["cpu"].append(cpu_ms)
+
+    result = {
+        "scene": os.path.relpath(args.scene),
+        "device": args.device,
+        "vkrt_options": render[1:],
+        "ranks": args.ranks,
+        "runs": args.runs,
+        "one_process": {key + "_ms": summary(times["one"][key]) for key in ("render", "wall", "cpu")},
+        "shared": {key + "_ms": summary(times["ranks"][key]) for key in ("render", "wall", "cpu")},
+        "load_average": os.getloadavg()[0],
+    }
+    result["render_ratio"] = result["shared"]["render_ms"]["median"] / result["one_process"]["render_ms"]["median"]
+    result["wall_ratio"] = result["shared"]["wall_ms"]["median"] / result["one_process"]["wall_ms"]["median"]
+    result["cpu_ratio"] = result["shared"]["cpu_ms"]["median"] / result["one_process"]["cpu_ms"]["median"]
+    text = json.dumps(result, indent=2)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as file:
+            file.write(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
