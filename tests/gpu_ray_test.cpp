@@ -263,16 +263,6 @@ glm::dmat4 shear(double a, double b) {
     return m;
 }
 
-// The truth table of a CSG object over `count` shapes whose inside is inside(state) (bit i of state: inside
-// shape i).
-std::array<uint32_t, 8> truthTable(uint32_t count, const std::function<bool(uint32_t)>& inside) {
-    std::array<uint32_t, 8> table{};
-    for (uint32_t state = 0; state < (1u << count); ++state) {
-        if (inside(state)) table[state >> 5] |= 1u << (state & 31u);
-    }
-    return table;
-}
-
 bool in(uint32_t state, int shape) {
     return ((state >> shape) & 1u) != 0u;
 }

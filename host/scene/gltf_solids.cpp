@@ -201,9 +201,7 @@ void SolidBuilder::finish(int root) {
     Solid solid;
     solid.firstShape = static_cast<uint32_t>(scene.shapes.size());
     solid.shapeCount = static_cast<uint32_t>(shapes_.size());
-    for (uint32_t state = 0; state < (1u << solid.shapeCount); ++state) {
-        if (inside(root, state)) solid.table[state >> 5] |= 1u << (state & 31u);
-    }
+    solid.table = truthTable(solid.shapeCount, [&](uint32_t state) { return inside(root, state); });
     for (size_t pose = 0; pose < poses_[0].size(); ++pose) {
         const Aabb b = bounds(root, pose);
         if (!b.empty()) solid.bounds.grow(b);

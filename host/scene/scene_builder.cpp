@@ -119,6 +119,14 @@ Shape makeShape(uint32_t type, uint32_t material, const glm::dmat4& toWorld) {
     return shape;
 }
 
+std::array<uint32_t, 8> truthTable(uint32_t count, const std::function<bool(uint32_t)>& inside) {
+    std::array<uint32_t, 8> table{};
+    for (uint32_t state = 0; state < (1u << count); ++state) {
+        if (inside(state)) table[state >> 5] |= 1u << (state & 31u);
+    }
+    return table;
+}
+
 void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<uint32_t, 8>& inside) {
     Solid solid;
     solid.firstShape = static_cast<uint32_t>(scene.shapes.size());

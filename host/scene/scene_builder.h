@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "scene/scene.h"
@@ -20,6 +21,10 @@ Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld);
 // A shape (VKRT_shape) of type `type` (shape_geometry.h's VKRT_SHAPE_*) placed by `toWorld`, which must be
 // invertible.
 Shape makeShape(uint32_t type, uint32_t material, const glm::dmat4& toWorld);
+
+// The truth table of a solid of `count` shapes (Solid::table): bit s is inside(s), for s < 2^count, where s's
+// set bits are the shapes a point is inside.
+std::array<uint32_t, 8> truthTable(uint32_t count, const std::function<bool(uint32_t)>& inside);
 
 // Appends a solid of `shapes` (at most VKRT_CSG_MAX_SHAPES; static, no motion) whose inside is `inside`: bit s
 // of the truth table, for s < 2^shapes.size(), says whether points inside exactly the shapes of s's set bits are

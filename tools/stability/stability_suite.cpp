@@ -768,14 +768,6 @@ gpu::GpuRay rayThrough(glm::dvec3 origin, glm::dvec3 target) {
     return {o, 0.0f, glm::normalize(p - o), 1e30f};
 }
 
-std::array<uint32_t, 8> truthTable(uint32_t count, const std::function<bool(uint32_t)>& inside) {
-    std::array<uint32_t, 8> table{};
-    for (uint32_t state = 0; state < (1u << count); ++state) {
-        if (inside(state)) table[state >> 5] |= 1u << (state & 31u);
-    }
-    return table;
-}
-
 bool in(uint32_t state, int shape) {
     return ((state >> shape) & 1u) != 0u;
 }
