@@ -132,25 +132,30 @@ TEST(MemoryCli, SizesAreCheckedAsTheyAreParsed) {
 }
 
 // The host estimate against what the process really takes: the growth of its peak resident memory from a
-// tiny render to a 1024 x 1024 one, on each device. The estimate may be generous, not short.
+// tiny render to a 1024 x 1024 one, on each device. The estimate may be generous, not short. A process's peak
+// varies from run to run by what the driver happens to allocate (lavapipe's varied by 30 MB between two runs
+// of the tiny render), never below what the render needs: each size's peak is the least of three runs.
 TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
     const auto folder = test::temporaryFolder();
     for (const char* device : {"cpu", "gpu"}) {
-        nlohmann::json stats[2];
+        double estimate[2] = {0.0, 0.0}, peak[2] = {0.0, 0.0};
         const int widths[2] = {16, 1024};
         for (int i = 0; i < 2; ++i) {
-            const auto json = folder / ("stats-" + std::to_string(i) + ".json");
-            const test::CommandResult r =
-                test::runVkrt(cornell() + " --device " + device + " --integrator whitted --spp 1 --width " +
-                              std::to_string(widths[i]) + " --out '" + (folder / "x.png").string() +
-                              "' --stats '" + json.string() + "' --quiet");
-            ASSERT_EQ(r.exitCode, 0) << r.output;
-            stats[i] = readJson(json)["memory"];
+            for (int run = 0; run < 3; ++run) {
+                const auto json = folder / ("stats-" + std::to_string(i) + ".json");
+                const test::CommandResult r = test::runVkrt(
+                    cornell() + " --device " + device + " --integrator whitted --spp 1 --width " +
+                    std::to_string(widths[i]) + " --out '" + (folder / "x.png").string() + "' --stats '" +
+                    json.string() + "' --quiet");
+                ASSERT_EQ(r.exitCode, 0) << r.output;
+                const nlohmann::json memory = readJson(json)["memory"];
+                estimate[i] = memory["host_estimate_bytes"].get<double>();
+                const double bytes = memory["host_peak_bytes"].get<double>();
+                peak[i] = run == 0 ? bytes : std::min(peak[i], bytes);
+            }
         }
-        const double estimated =
-            stats[1]["host_estimate_bytes"].get<double>() - stats[0]["host_estimate_bytes"].get<double>();
-        const double measured =
-            stats[1]["host_peak_bytes"].get<double>() - stats[0]["host_peak_bytes"].get<double>();
+        const double estimated = estimate[1] - estimate[0];
+        const double measured = peak[1] - peak[0];
         EXPECT_GE(estimated, 0.9 * measured) << device;
         EXPECT_LE(estimated, 1.6 * measured) << device;
     }
