@@ -72,6 +72,31 @@ TEST(Random, DimensionsPixelsAndSamplesAreUncorrelated) {
               0.01);
 }
 
+TEST(Random, SobolSecondDimensionIsItsGeneratorMatrix) {
+    // The definition: index bit k contributes the direction number v_k, v_0 = 2^31, v_(k+1) = v_k ^ (v_k >>
+    // 1) (Pascal's triangle mod 2); random.h computes the same bits by a zeta transform.
+    const auto byMatrix = [](uint32_t index) {
+        uint32_t result = 0u, v = 0x80000000u;
+        for (uint32_t bit = 0u; bit < 32u; ++bit, v ^= v >> 1u) {
+            if ((index >> bit) & 1u) result ^= v;
+        }
+        return result;
+    };
+    EXPECT_EQ(vkrtSobol2(0u), 0u);
+    EXPECT_EQ(vkrtSobol2(1u), 0x80000000u);
+    EXPECT_EQ(vkrtSobol2(2u), 0xc0000000u);
+    EXPECT_EQ(vkrtSobol2(3u), 0x40000000u);
+    for (uint32_t bit = 0u; bit < 32u; ++bit) ASSERT_EQ(vkrtSobol2(1u << bit), byMatrix(1u << bit)) << bit;
+    for (uint32_t index = 0u; index < (1u << 16); ++index)
+        ASSERT_EQ(vkrtSobol2(index), byMatrix(index)) << index;
+    uint32_t x = 1u;
+    for (int i = 0; i < (1 << 16); ++i) {
+        x = vkrtHash(x + 0x9e3779b9u);
+        ASSERT_EQ(vkrtSobol2(x), byMatrix(x)) << x;
+    }
+    EXPECT_EQ(vkrtSobol2(0xffffffffu), byMatrix(0xffffffffu));
+}
+
 TEST(Random, StratifiedDimensionsAreNetsAtEveryPowerOfTwoAndDecorrelated) {
     // Every power-of-two prefix of a pixel's samples puts exactly one point in each of the 2^k elementary
     // intervals of every shape (a (0,k,2)-net), for several dimension pairs and pixels.
