@@ -29,9 +29,12 @@ using uint = uint32_t;
 // guarantee it, whatever the input.
 #define VKRT_BVH_MAX_DEPTH 64
 
-// Hits closer than this relative distance apart are ties (coplanar faces, or surfaces closer than single
-// precision resolves); the primitive with the smaller scene index wins, on the GPU and the CPU alike, so
-// coplanar faces do not z-fight by rounding.
+// Hits closer together than this times |origin| + t (the largest origin coordinate plus the distance: the
+// magnitude of the numbers a hit's distance is computed from, which its rounding is relative to) are ties:
+// coplanar faces, or surfaces closer than single precision resolves there. The primitive with the smaller
+// scene index wins, on the GPU and the CPU alike, so coplanar faces do not z-fight by rounding, and rays that
+// start near a surface judge ties as precisely as the surface's coordinates allow (a window relative to t
+// alone shrank to nothing there, and the devices parted by rounding).
 #define VKRT_TIE_EPSILON 9.5367431640625e-7
 
 // The deepest ray tree (--max-depth); the GPU's stack of pending rays holds one more entry than this.

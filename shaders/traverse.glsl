@@ -77,11 +77,17 @@ uint vkrtLoopIterations = 0u;
 #define VKRT_COUNT_ITERATION()
 #endif
 
+// The width of a tie (shared.h's VKRT_TIE_EPSILON) at distance t along a ray whose origin's largest coordinate
+// is `originScale`: relative to the magnitude of the numbers the distance came from, as its rounding is.
+float tieWidth(float t, float originScale) {
+    return float(VKRT_TIE_EPSILON) * (originScale + t);
+}
+
 // How far hits still matter: the best hit so far, plus a tie's width for closest-hit walks (ties are won by
 // the smaller scene index, so a tie just beyond the best hit can still win).
-float searchLimit(Hit hit, float tMax, const int mode) {
+float searchLimit(Hit hit, float tMax, float originScale, const int mode) {
     if (mode != VKRT_TRACE_CLOSEST || hit.primitive == VKRT_NO_PRIMITIVE) return hit.t;
-    return min(tMax, hit.t * (1.0 + float(VKRT_TIE_EPSILON)));
+    return min(tMax, hit.t + tieWidth(hit.t, originScale));
 }
 
 // The path integrator's shadow rays stop at transmissive surfaces (surface_response.h's shadowTint).
@@ -145,7 +151,7 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
 // are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
-                   const int mode, inout Hit hit, inout vec3 transmittance) {
+                   float originScale, const int mode, inout Hit hit, inout vec3 transmittance) {
 #ifdef VKRT_HAS_SHAPES
     const GpuPrimitive primitive = primitiveAt(index);
     if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
@@ -157,7 +163,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
         const bool found = visitSolid(r, index, solidOf(primitive), tMin,
-                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(hit, tMax, mode), mode, t, u, v,
+                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(hit, tMax, originScale, mode), mode, t, u, v,
                                       transmittance);
         if (mode == VKRT_TRACE_SHADOW || !found) return found;
     } else
@@ -175,12 +181,12 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
             }
             return false;
         }
-        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(hit, tMax, mode), t)) {
+        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(hit, tMax, originScale, mode), t)) {
             return false;
         }
     } else
 #endif
-    if (!intersectTriangle(r, primitive, tMin, searchLimit(hit, tMax, mode), t, u, v)) {
+    if (!intersectTriangle(r, primitive, tMin, searchLimit(hit, tMax, originScale, mode), t, u, v)) {
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
@@ -189,7 +195,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     }
     if (mode == VKRT_TRACE_CLOSEST) {
         // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
-        const float tolerance = float(VKRT_TIE_EPSILON) * hit.t;
+        const float tolerance = tieWidth(hit.t, originScale);
         const bool first = hit.primitive == VKRT_NO_PRIMITIVE;
         if (first || t < hit.t - tolerance || primitive.sceneIndex < hit.sceneIndex) {
             hit = Hit(t, u, v, index, primitive.sceneIndex);
@@ -228,6 +234,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
 #define VKRT_POP(link, entry) link = stackLink[size], entry = stackEntry[size]
     int size = 0;
     uint link = 0u;  // the root, always an interior node
+    const float originScale = maxAbs(r.origin);
     complete = false;
     for (;;) {
         VKRT_COUNT_ITERATION();
@@ -237,7 +244,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             VKRT_COUNT_ITERATION();
             const WideBvhNode node = VKRT_NODE(link);
             const WideGrid grid = wideGrid(node);
-            const float limit = searchLimit(hit, tMax, mode);
+            const float limit = searchLimit(hit, tMax, originScale, mode);
             float key0, key1, key2, key3;
             uint link0, link1, link2, link3;
             testChild(node, grid, 0u, node.child0, r, tMin, limit, key0, link0);
@@ -267,7 +274,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             uint index = first;
             do {
                 VKRT_COUNT_ITERATION();
-                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, mode, hit, transmittance)) {
+                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, originScale, mode, hit, transmittance)) {
                     complete = true;
                     return true;
                 }
@@ -283,7 +290,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             --size;
             float entry;
             VKRT_POP(link, entry);
-            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(hit, tMax, mode)) break;
+            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(hit, tMax, originScale, mode)) break;
         }
     }
 #undef VKRT_PUSH

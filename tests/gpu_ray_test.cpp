@@ -382,14 +382,61 @@ TEST_F(Gpu, RaysMatchCpuOnShapesAndCsgObjectsAmongTriangles) {
 TEST_F(Gpu, RaysMatchCpuOnTheCsgScene) {
     // scenes/csg.gltf through the loader: the floor's two triangles and every shape and CSG object of the
     // scene, the rays aimed at the solids. They see 26 faces: the 30 of the scene's solids less the four
-    // bottom faces that lie on the floor, where the floor (the smaller primitive index) wins the tie. Rays
-    // that start inside a solid meet such a face and the floor a few hundredths of a unit away, where the
-    // two, stored in float about 3e-8 apart, lie further apart than the tie window (relative to the distance)
-    // is wide: the devices then part by rounding, about 3 rays in 10,000 (5 in 16,169 hits).
+    // bottom faces that lie on the floor, where the floor (the smaller primitive index) wins the tie, also
+    // for rays that start inside a solid and meet such a face and the floor, stored in float about 3e-8
+    // apart, a few hundredths of a unit away (the tie's width is relative to |origin| + t, not to t alone).
     const Scene scene = loadGltf((test::sourceDir() / "scenes/csg.gltf").string());
     Aabb solids;
     for (const Solid& solid : scene.solids) solids.grow(solid.bounds);
-    expectRaysMatchCpu(context(), scene, "csg.gltf", 26, solids, 5e-4);
+    expectRaysMatchCpu(context(), scene, "csg.gltf", 26, solids);
+}
+
+TEST_F(Gpu, SurfacesCloserThanTheRaysPrecisionAreTies) {
+    // Two parallel squares, the lower (triangles 0 and 1) `gap` below the upper (2 and 3), under rays coming
+    // down from 0.05 above them with origins `offset` (give or take 0.5) along x. A tie's width is
+    // VKRT_TIE_EPSILON (about 1e-6) times |origin| + t: surfaces closer than that are ties, which the smaller
+    // index (the lower square) wins on both devices; farther apart, the nearer (upper) one wins. The widths
+    // here are 1.5e-6 to 2.5e-6 at offset 2 and about 1e-3 at 1000, while the distance travelled is 0.05: a
+    // width relative to the distance alone (5e-8) would take the first case for no tie.
+    struct Case {
+        double offset, gap;
+        bool tie;
+    };
+    for (const Case c : {Case{2.0, 5e-7, true}, Case{2.0, 1e-4, false}, Case{1000.0, 1e-4, true},
+                         Case{1000.0, 5e-3, false}}) {
+        const float x0 = static_cast<float>(c.offset) - 1.0f, x1 = static_cast<float>(c.offset) + 1.0f;
+        const float top = static_cast<float>(c.gap);
+        const Scene scene = sceneOf({{{x0, 0, -1}, {x1, 0, -1}, {x1, 0, 1}, 0},
+                                     {{x0, 0, -1}, {x1, 0, 1}, {x0, 0, 1}, 0},
+                                     {{x0, top, -1}, {x1, top, -1}, {x1, top, 1}, 0},
+                                     {{x0, top, -1}, {x1, top, 1}, {x0, top, 1}, 0}});
+        const FlatBvh bvh = bvhFor(scene);
+        GpuRaycaster raycaster(context(), scene, bvh, test::shaderCacheDir());
+        std::vector<gpu::GpuRay> rays;
+        for (int i = 0; i < 64; ++i) {
+            for (int j = 0; j < 64; ++j) {
+                const glm::vec3 origin(static_cast<float>(c.offset + (i + 0.37) / 64.0 - 0.5), 0.05f,
+                                       static_cast<float>((j + 0.61) / 64.0 - 0.5));
+                const glm::vec3 direction = glm::normalize(
+                    glm::vec3(0.01f * static_cast<float>(i % 7), -1.0f, 0.01f * static_cast<float>(j % 5)));
+                rays.push_back({origin, 0.0f, direction, 1e30f});
+            }
+        }
+        const std::vector<gpu::GpuHit> gpuHits = raycaster.trace(rays, RaycastMode::Closest);
+        size_t gpuLower = 0, cpuLower = 0, misses = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            SurfaceHit cpu;
+            closestHit(scene, bvh, {glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)}, 1e30,
+                       kNoPrimitive, cpu);
+            misses += (cpu.primitive == kNoPrimitive) + (gpuHits[i].primitive == VKRT_NO_HIT);
+            cpuLower += cpu.primitive < 2u;
+            gpuLower += gpuHits[i].primitive < 2u;
+        }
+        const size_t expected = c.tie ? rays.size() : 0u;
+        EXPECT_EQ(misses, 0u) << "offset " << c.offset << ", gap " << c.gap;
+        EXPECT_EQ(cpuLower, expected) << "CPU: offset " << c.offset << ", gap " << c.gap;
+        EXPECT_EQ(gpuLower, expected) << "GPU: offset " << c.offset << ", gap " << c.gap;
+    }
 }
 
 TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {

@@ -2,6 +2,8 @@
 // visibility query, also the oracle that GPU traversal is tested against.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -47,10 +49,17 @@ inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const Ray
                                     tMax, hit.t);
 }
 
-// Whether a hit at `t` on primitive `index` wins over the best so far: nearer by more than the tie
-// tolerance, or a tie (VKRT_TIE_EPSILON) with a smaller index.
-inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex) {
-    const double tolerance = VKRT_TIE_EPSILON * bestT;
+// The width of a tie (VKRT_TIE_EPSILON) at distance t along a ray whose origin's largest coordinate is
+// `originScale`: relative to the magnitude of the numbers the distance came from, as the GPU's rounding is
+// (traverse.glsl's tieWidth).
+inline double tieWidth(double t, double originScale) {
+    return VKRT_TIE_EPSILON * (originScale + t);
+}
+
+// Whether a hit at `t` on primitive `index` wins over the best so far: nearer by more than a tie's width, or
+// a tie with a smaller index.
+inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex, double originScale) {
+    const double tolerance = tieWidth(bestT, originScale);
     return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
 }
 
@@ -59,14 +68,16 @@ inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex)
 inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
                              double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
     bool found = false;
+    const double originScale =
+        std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)});
     traverseBvh(bvh, ray, tMin, tMax, [&](uint32_t prim, double& limit) {
         TriangleHit candidate;
         if (prim != exclude && intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time) &&
-            (!found || winsOver(candidate.t, prim, hit.t, hit.primitive))) {
+            (!found || winsOver(candidate.t, prim, hit.t, hit.primitive, originScale))) {
             hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
             // Keep looking a tie's width beyond the best hit, where a tie can still win.
-            limit = std::min(tMax, hit.t * (1.0 + VKRT_TIE_EPSILON));
+            limit = std::min(tMax, hit.t + tieWidth(hit.t, originScale));
         }
         return false;
     });
