@@ -310,8 +310,6 @@ struct GpuHit {
 };
 
 #define VKRT_NO_HIT 0xffffffffu
-#define VKRT_RAYCAST_CLOSEST 0u
-#define VKRT_RAYCAST_ANY 1u
 #define VKRT_RAYCAST_WORKGROUP 64
 
 #ifndef __cplusplus
@@ -448,14 +446,13 @@ struct PassConstants {
 struct RaycastConstants {
     VKRT_ADDRESS(RayBuffer, rays);
     VKRT_ADDRESS(HitBuffer, hits);
-    uint count;
-    uint mode;  // VKRT_RAYCAST_CLOSEST or VKRT_RAYCAST_ANY
+    uint count;  // rays (the mode is the kernel's: raycast.comp)
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuRay) == 32 && offsetof(GpuRay, direction) == 16);
 static_assert(sizeof(GpuHit) == 16);
-static_assert(sizeof(RaycastConstants) == 24);
+static_assert(sizeof(RaycastConstants) == 24);  // 20 bytes in GLSL, padded to the addresses' alignment
 static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(offsetof(BvhNode, leftOrFirst) == 12, "std430: uint packs after vec3");
 static_assert(offsetof(BvhNode, boundsMax) == 16, "std430: vec3 aligns to 16 bytes");

@@ -23,29 +23,40 @@ double processCpuMs() {
 
 GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
                            const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines)
-    : context_(context), data_(packScene(scene, bvh)) {
+    : context_(context),
+      data_(packScene(scene, bvh)),
+      shaderCacheDir_(shaderCacheDir),
+      defines_(extraDefines) {
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     gpu::SceneParams params{};
     params.primitiveCount = static_cast<uint32_t>(data_.primitives.size());
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
     const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
-    std::vector<std::string> defines = extraDefines;
-    if (bound) defines.push_back("VKRT_BOUND_GEOMETRY");
-    if (context.wideGeometryLoads()) defines.push_back("VKRT_WIDE_LOADS");
-    if (data_.features.spheres) defines.push_back("VKRT_HAS_SPHERES");
-    if (data_.features.shapes) defines.push_back("VKRT_HAS_SHAPES");
-    if (data_.features.spheres && context.hasShaderFloat64()) defines.push_back("VKRT_SPHERE_FLOAT64");
-    const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir);
-    const auto bindings = sceneBuffers_->bindings(params_, bound);
-    pipeline_ =
-        std::make_unique<ComputePipeline>(context, shader.spirv, static_cast<uint32_t>(bindings.size()),
-                                          static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
-    pipeline_->bind(bindings);
+    if (bound) defines_.push_back("VKRT_BOUND_GEOMETRY");
+    if (context.wideGeometryLoads()) defines_.push_back("VKRT_WIDE_LOADS");
+    if (data_.features.spheres) defines_.push_back("VKRT_HAS_SPHERES");
+    if (data_.features.shapes) defines_.push_back("VKRT_HAS_SHAPES");
+    if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    bindings_ = sceneBuffers_->bindings(params_, bound);
     timer_ = std::make_unique<GpuTimer>(context);
 }
 
 GpuRaycaster::~GpuRaycaster() = default;
+
+ComputePipeline& GpuRaycaster::pipelineFor(RaycastMode mode) {
+    std::unique_ptr<ComputePipeline>& pipeline = pipelines_[mode == RaycastMode::Any ? 1 : 0];
+    if (!pipeline) {
+        std::vector<std::string> defines = defines_;
+        if (mode == RaycastMode::Any) defines.push_back("VKRT_RAYCAST_ANY_HIT");
+        const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir_);
+        pipeline =
+            std::make_unique<ComputePipeline>(context_, shader.spirv, static_cast<uint32_t>(bindings_.size()),
+                                              static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
+        pipeline->bind(bindings_);
+    }
+    return *pipeline;
+}
 
 std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
                                              RaycastTiming* timing) {
@@ -53,14 +64,15 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     if (rays.empty()) return hits;
     const GpuBuffer rayBuffer(context_, rays);
     const GpuBuffer hitBuffer(context_, rays.size() * sizeof(gpu::GpuHit));
+    ComputePipeline& pipeline = pipelineFor(mode);
     const gpu::RaycastConstants constants{rayBuffer.address(), hitBuffer.address(),
-                                          static_cast<uint32_t>(rays.size()), static_cast<uint32_t>(mode)};
+                                          static_cast<uint32_t>(rays.size())};
     const auto start = std::chrono::steady_clock::now();
     const double cpuStart = processCpuMs();
     context_.submitAndWait([&](VkCommandBuffer commands) {
         timer_->begin(commands);
-        pipeline_->dispatch(commands, &constants, sizeof(constants),
-                            (constants.count + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP, 1);
+        pipeline.dispatch(commands, &constants, sizeof(constants),
+                          (constants.count + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP, 1);
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "bvh/flat_bvh.h"
@@ -13,7 +14,7 @@
 
 namespace vkrt {
 
-enum class RaycastMode : uint32_t { Closest = VKRT_RAYCAST_CLOSEST, Any = VKRT_RAYCAST_ANY };
+enum class RaycastMode : uint32_t { Closest, Any };
 
 struct RaycastTiming {
     double gpuMs = 0.0;   // from timestamps (0 when the device has none)
@@ -34,11 +35,17 @@ class GpuRaycaster {
                                    RaycastTiming* timing = nullptr);
 
   private:
+    // The kernel of `mode` (raycast.comp has one per mode), compiled at its first use.
+    ComputePipeline& pipelineFor(RaycastMode mode);
+
     const VulkanContext& context_;
     GpuSceneData data_;
     std::unique_ptr<GpuSceneBuffers> sceneBuffers_;
     GpuBuffer params_;
-    std::unique_ptr<ComputePipeline> pipeline_;
+    std::string shaderCacheDir_;
+    std::vector<std::string> defines_;  // the scene's and the caller's, for both kernels
+    std::vector<const GpuBuffer*> bindings_;
+    std::unique_ptr<ComputePipeline> pipelines_[2];  // by RaycastMode
     std::unique_ptr<GpuTimer> timer_;
 };
 
