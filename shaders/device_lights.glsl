@@ -6,6 +6,16 @@
 #include "area_light.h"
 #include "punctual_light.h"
 
+#ifdef VKRT_HAS_SHAPES
+// Shapes, for shape_light.h: their type, material and maps at the sample's shutter time (solids.glsl).
+uint device_shapeType(uint shape) { return params.shapes.shapes[shape].type; }
+uint device_shapeMaterial(uint shape) { return params.shapes.shapes[shape].material; }
+void device_shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
+    shapeMaps(shape, toObject, toWorld);
+}
+#endif
+#include "shape_light.h"
+
 // Per invocation: shadow rays traced, and whether every BVH walk ran to its end (see traverse.glsl).
 uint vkrtShadowRays = 0u;
 bool vkrtWalksComplete = true;
@@ -56,23 +66,10 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
     const GpuPrimitive emitter = primitiveAt(light.primitive);
 #ifdef VKRT_HAS_SHAPES
     if (light.shape != VKRT_NO_PRIMITIVE) {
-        // A point of the shape; only points on the solid's surface emit (a CSG operand's others are inside or
-        // outside the solid).
-        const GpuShape shape = params.shapes.shapes[light.shape];
-        AffineRows toObject, toWorld;
-        shapeMaps(light.shape, toObject, toWorld);
-        uint face;
-        const vec3 local = sampleShapePoint(shape.type, toObject, u, v, face);
-        LightPoint p;
-        p.primitive = light.primitive;
-        p.material = shape.material;
-        p.position = affinePoint(toWorld, local);
-        const int side = solidSide(solidOf(emitter), light.shape, p.position);
-        p.normal = (side < 0 ? -1.0 : 1.0) *
-                   normalize(affineTransposedVector(toObject, shapeNormal(shape.type, face, local)));
-        p.uv = shapeUv(shape.type, face, local);
-        p.pdfArea = side == 0 ? 0.0 : light.pick * shapePointDensity(shape.type, face, local, toObject);
-        return p;
+        const GpuSolid solid = solidOf(emitter);
+        return sampleShapeLight(light.primitive, SolidOperands(solid.firstShape, solid.shapeCount, solid.tableLow,
+                                                               solid.tableHigh),
+                                light.shape, light.pick, u, v);
     }
 #endif
     LightPoint p;

@@ -1,6 +1,6 @@
 // The GPU's side of solids (VKRT_shape, VKRT_csg): their shapes' maps at the sample's shutter time and their
 // intervals along a ray, for traverse.glsl, the hit points and light sampling. The geometry itself is shared
-// with the CPU reference (shape_geometry.h). Requires `params` and geometry.glsl in scope.
+// with the CPU reference (shape_geometry.h), and so is sampling shapes as lights (shape_light.h). Requires `params` and geometry.glsl in scope.
 #ifndef VKRT_SOLIDS_GLSL
 #define VKRT_SOLIDS_GLSL
 
@@ -61,23 +61,6 @@ void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[V
         faceIn[i] = fa;
         faceOut[i] = fb;
     }
-}
-
-// Whether world point p, on shape `shape` of `solid`, lies on the solid's surface: 0 if not, 1 where the
-// solid's outside is the shape's, -1 where it is the shape's inside (a subtracted shape).
-int solidSide(GpuSolid solid, uint shape, vec3 p) {
-    uint state = 0u;
-    for (uint k = 0u; k < solid.shapeCount; ++k) {
-        const uint other = solid.firstShape + k;
-        if (other == shape) continue;
-        AffineRows toObject, toWorld;
-        shapeMaps(other, toObject, toWorld);
-        if (shapeContains(params.shapes.shapes[other].type, affinePoint(toObject, p))) state |= 1u << k;
-    }
-    const uint bit = 1u << (shape - solid.firstShape);
-    const bool insideWith = csgTable(solid.tableLow, solid.tableHigh, state | bit);
-    if (insideWith == csgTable(solid.tableLow, solid.tableHigh, state)) return 0;
-    return insideWith ? 1 : -1;
 }
 #endif
 

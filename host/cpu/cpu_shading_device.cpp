@@ -5,6 +5,7 @@
 
 #include "bvh/bvh_traversal.h"
 #include "cpu/closest_hit.h"
+#include "shape_light.h"
 
 namespace vkrt {
 
@@ -65,8 +66,14 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, dou
     const LightTable& lights = data_.lights;
     const size_t i = lights.find(pick);
     const uint32_t primitive = lights.primitives[i];
-    if (lights.shapes[i] != kNoPrimitive)
-        return sampleShapeLight(primitive, lights.shapes[i], lights.pick[i], u, v);
+    if (lights.shapes[i] != kNoPrimitive) {
+        const Solid& solid = data_.scene.solidOf(primitive);
+        const shading::SolidOperands operands{
+            solid.firstShape, solid.shapeCount,
+            glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]),
+            glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7])};
+        return shading::sampleShapeLight(*this, primitive, operands, lights.shapes[i], lights.pick[i], u, v);
+    }
     if (data_.scene.isSphere(primitive)) {
         const Sphere sphere = data_.scene.sphereAt(primitive, time_);
         shading::LightPoint p = shading::sampleSphereLight(primitive, glm::dvec3(sphere.center),
@@ -83,48 +90,12 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, dou
     return p;
 }
 
-int CpuShadingDevice::solidSide(uint32_t primitive, uint32_t shape, const glm::dvec3& point) const {
-    const Scene& scene = data_.scene;
-    const Solid& solid = scene.solidOf(primitive);
-    uint32_t state = 0;
-    for (uint32_t k = 0; k < solid.shapeCount; ++k) {
-        const uint32_t other = solid.firstShape + k;
-        if (other == shape) continue;
-        glm::dmat4 toWorld, toObject;
-        scene.shapeAt(other, time_, toWorld, toObject);
-        if (shading::shapeContains(scene.shapes[other].type, glm::dvec3(toObject * glm::dvec4(point, 1.0))))
-            state |= 1u << k;
-    }
-    const uint32_t bit = 1u << (shape - solid.firstShape);
-    const glm::uvec4 low(solid.table[0], solid.table[1], solid.table[2], solid.table[3]);
-    const glm::uvec4 high(solid.table[4], solid.table[5], solid.table[6], solid.table[7]);
-    const bool insideWith = shading::csgTable(low, high, state | bit),
-               insideWithout = shading::csgTable(low, high, state);
-    if (insideWith == insideWithout) return 0;
-    return insideWith ? 1 : -1;
-}
-
-shading::LightPoint CpuShadingDevice::sampleShapeLight(uint32_t primitive, uint32_t shape, double pick,
-                                                       double u, double v) const {
-    const Scene& scene = data_.scene;
-    const Shape& s = scene.shapes[shape];
-    glm::dmat4 toWorld, toObject;
-    scene.shapeAt(shape, time_, toWorld, toObject);
-    const shading::AffineRows rows = shading::affineRows(toObject);
-    uint32_t face;
-    const glm::dvec3 local = shading::sampleShapePoint(s.type, rows, u, v, face);
-    shading::LightPoint p;
-    p.primitive = primitive;
-    p.material = s.material;
-    p.position = glm::dvec3(toWorld * glm::dvec4(local, 1.0));
-    p.normal =
-        glm::normalize(shading::affineTransposedVector(rows, shading::shapeNormal(s.type, face, local)));
-    p.uv = shading::shapeUv(s.type, face, local);
-    // Only points on the solid's surface emit (a CSG operand's other points are inside or outside the solid).
-    const int side = solidSide(primitive, shape, p.position);
-    p.normal *= side < 0 ? -1.0 : 1.0;
-    p.pdfArea = side == 0 ? 0.0 : pick * shading::shapePointDensity(s.type, face, local, rows);
-    return p;
+void CpuShadingDevice::shapeMaps(uint32_t shape, shading::AffineRows& toObject,
+                                 shading::AffineRows& toWorld) const {
+    glm::dmat4 world, object;
+    data_.scene.shapeAt(shape, time_, world, object);
+    toObject = shading::affineRows(object);
+    toWorld = shading::affineRows(world);
 }
 
 double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,

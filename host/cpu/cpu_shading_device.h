@@ -65,13 +65,10 @@ class CpuShadingDevice {
     double lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,
                               const glm::dvec3& point, double cosLight) const;
 
-    // A point of a solid's shape picked with probability `pick` as a light; pdfArea 0 where the point is not
-    // on the solid's surface.
-    shading::LightPoint sampleShapeLight(uint32_t primitive, uint32_t shape, double pick, double u,
-                                         double v) const;
-    // Whether `point`, on shape `shape` of solid `primitive`, lies on the solid's surface: 0 if not, 1 where
-    // the solid's outside is the shape's, -1 where it is the shape's inside (a subtracted shape).
-    int solidSide(uint32_t primitive, uint32_t shape, const glm::dvec3& point) const;
+    // Shapes, for shape_light.h: their type, material and maps at the shutter time.
+    uint32_t shapeType(uint32_t shape) const { return data_.scene.shapes[shape].type; }
+    uint32_t shapeMaterial(uint32_t shape) const { return data_.scene.shapes[shape].material; }
+    void shapeMaps(uint32_t shape, shading::AffineRows& toObject, shading::AffineRows& toWorld) const;
 
     // The environment map (host/scene/environment_map.h).
     bool hasEnvironment() const { return data_.environment.hasEnvironment(); }

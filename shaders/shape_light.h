@@ -1,0 +1,71 @@
+// Emissive shapes of solids (VKRT_shape, VKRT_csg) as area lights, shared by both devices: a point of the
+// shape drawn uniformly over its canonical parts, its density per world area by Nanson's formula
+// (area_light.h's shapePointDensity), and whether it lies on its solid's surface at all (a CSG operand emits
+// only there). Each device gives its shapes through VKRT_DEVICE (shading_language.h): shapeType,
+// shapeMaterial, and shapeMaps (object-to-world and world-to-object at the sample's shutter time).
+#ifndef VKRT_SHAPE_LIGHT_H
+#define VKRT_SHAPE_LIGHT_H
+
+#include "area_light.h"
+#include "shading_language.h"
+#include "shape_geometry.h"
+
+#ifdef VKRT_HAS_SHAPES
+VKRT_SHADING_BEGIN
+
+// A solid as its lights see it: its shapes (the scene's firstShape to firstShape + shapeCount - 1) and its
+// truth table over their inside bits (shape_geometry.h's csgTable).
+struct SolidOperands {
+    uint firstShape;
+    uint shapeCount;
+    uvec4 tableLow;
+    uvec4 tableHigh;
+};
+
+// Whether world point `p`, on shape `shape` of `solid`, lies on the solid's surface: 0 if not, 1 where the
+// solid's outside is the shape's, -1 where it is the shape's inside (a subtracted shape). The point's side of
+// each other shape decides: the solid's inside bit with the shape's and without it differ exactly on the
+// surface.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN int solidSide(VKRT_DEVICE_PARAM VKRT_IN(SolidOperands) solid, uint shape, real3 p) {
+    uint state = 0u;
+    for (uint k = 0u; k < solid.shapeCount; ++k) {
+        const uint other = solid.firstShape + k;
+        if (other == shape) continue;
+        AffineRows toObject, toWorld;
+        VKRT_DEVICE(shapeMaps)(other, toObject, toWorld);
+        if (shapeContains(VKRT_DEVICE(shapeType)(other), affinePoint(toObject, p))) state |= 1u << k;
+    }
+    const bool insideWith =
+        csgTable(solid.tableLow, solid.tableHigh, state | (1u << (shape - solid.firstShape)));
+    if (insideWith == csgTable(solid.tableLow, solid.tableHigh, state)) return 0;
+    return insideWith ? 1 : -1;
+}
+
+// A point of shape `shape` of `solid` (scene primitive `primitive`), the light picked with probability
+// `pick`, from (u, v) in [0, 1)^2. Where the point is not on the solid's surface it carries nothing (pdfArea
+// 0); where the solid's outside is the shape's inside, the emitting side is the shape's inside.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN LightPoint sampleShapeLight(VKRT_DEVICE_PARAM uint primitive, VKRT_IN(SolidOperands) solid,
+                                    uint shape, real pick, real u, real v) {
+    const uint type = VKRT_DEVICE(shapeType)(shape);
+    AffineRows toObject, toWorld;
+    VKRT_DEVICE(shapeMaps)(shape, toObject, toWorld);
+    uint face;
+    const real3 local = sampleShapePoint(type, toObject, u, v, face);
+    LightPoint p;
+    p.primitive = primitive;
+    p.material = VKRT_DEVICE(shapeMaterial)(shape);
+    p.position = affinePoint(toWorld, local);
+    const int side = solidSide(VKRT_DEVICE_ARG solid, shape, p.position);
+    p.normal =
+        (side < 0 ? -1.0 : 1.0) * normalize(affineTransposedVector(toObject, shapeNormal(type, face, local)));
+    p.uv = shapeUv(type, face, local);
+    p.pdfArea = side == 0 ? 0.0 : pick * shapePointDensity(type, face, local, toObject);
+    return p;
+}
+
+VKRT_SHADING_END
+#endif  // VKRT_HAS_SHAPES
+
+#endif  // VKRT_SHAPE_LIGHT_H
