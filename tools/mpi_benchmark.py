@@ -34,17 +34,18 @@ def mpirun_prefix(ranks):
     """The launcher's command: Open MPI needs two variables to run as root and --oversubscribe beyond the cores."""
     version = subprocess.run(["mpirun", "--version"], capture_output=True, text=True).stdout
     if "Open MPI" in version:
-        return ["mpirun", "--oversubscribe", "-np", str(ranks)], {
+        return ["mpirun", "--oversubscribe", "--bind-to", "core:overload-allowed", "-np", str(ranks)], {
             "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
     return ["mpirun", "-np", str(ranks)], {}
 
 
-def run(command, environment, folder):
+def run(command, environment, folder, core=None):
     stats = os.path.join(folder, "stats.json")
     full = command + ["--quiet", "--stats", stats, "--out", os.path.join(folder, "image.pfm")]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    result = subprocess.run(full, capture_output=True, text=True, env={**os.environ, **environment})
+    pin = (lambda: os.sched_setaffinity(0, {core})) if core is not None else None
+    result = subprocess.run(full, capture_output=True, text=True, env={**os.environ, **environment}, preexec_fn=pin)
     wall_ms = (time.perf_counter() - start) * 1000.0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu_ms = ((after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)) * 1000.0
@@ -79,16 +80,19 @@ def main():
     render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + (extra or DEFAULT_RENDER)
     launcher, environment = mpirun_prefix(args.ranks)
 
+    # Open MPI binds each rank to a core; the one process is pinned to a core too, or the scheduler's moving it
+    # between cores makes its time vary by a third (2.4 to 3.3 s measured on a quiet 2-core machine).
+    core = min(os.sched_getaffinity(0))
     times = {name: {"render": [], "wall": [], "cpu": []} for name in ("one", "ranks")}
     with tempfile.TemporaryDirectory() as folder:
-        run(render, {}, folder)  # warm-up: caches, the shader cache on the GPU
+        run(render, {}, folder, core)  # warm-up: caches, the shader cache on the GPU
         stats, _, _ = run(launcher + render, environment, folder)
         if stats.get("ranks") != args.ranks:
             sys.exit(f"mpi_benchmark: {args.vkrt} did not share the render among {args.ranks} ranks "
                      "(built without MPI?)")
         for _ in range(args.runs):
-            for name, command, env in (("one", render, {}), ("ranks", launcher + render, environment)):
-                stats, wall_ms, cpu_ms = run(command, env, folder)
+            for name, command, env, pin in (("one", render, {}, core), ("ranks", launcher + render, environment, None)):
+                stats, wall_ms, cpu_ms = run(command, env, folder, pin)
                 times[name]["render"].append(stats["render_ms"])
                 times[name]["wall"].append(wall_ms)
                 times[name]["cpu"].append(cpu_ms)
@@ -99,6 +103,7 @@ def main():
         "vkrt_options": render[1:],
         "ranks": args.ranks,
         "runs": args.runs,
+        "one_process_core": core,
         "one_process": {key + "_ms": summary(times["one"][key]) for key in ("render", "wall", "cpu")},
         "shared": {key + "_ms": summary(times["ranks"][key]) for key in ("render", "wall", "cpu")},
         "load_average": os.getloadavg()[0],
