@@ -5,15 +5,12 @@
 #include <cmath>
 
 #include "common/checkpoint_schedule.h"
+#include "common/elapsed_time.h"
 
 #include <nlohmann/json.hpp>
 
 namespace vkrt {
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Added to the counter by a rank that stops: no batch is handed out after it.
 constexpr uint64_t kClosed = uint64_t{1} << 40;

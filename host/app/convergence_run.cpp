@@ -1,0 +1,72 @@
+#include "app/convergence_run.h"
+
+#include <cstdio>
+
+#include "image/image_io.h"
+
+namespace vkrt {
+namespace {
+
+// A reference made for a report without --reference has this many times the samples of the render.
+constexpr int kReferenceSampleFactor = 16;
+
+}  // namespace
+
+ConvergenceReport referenceFromFile(const Options& options, const RenderSettings& settings) {
+    Image reference;
+    try {
+        reference = readImage(options.referencePath);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--reference: ") + e.what());
+    }
+    if (reference.width != settings.width || reference.height != settings.height) {
+        throw UsageError("--reference: " + options.referencePath + " is " + std::to_string(reference.width) +
+                         "x" + std::to_string(reference.height) + ", the render " +
+                         std::to_string(settings.width) + "x" + std::to_string(settings.height));
+    }
+    return ConvergenceReport(std::move(reference), "file " + options.referencePath);
+}
+
+RenderSettings referenceRenderSettings(const RenderSettings& settings) {
+    RenderSettings referenceSettings = settings;
+    referenceSettings.samplesPerPixel = settings.samplesPerPixel * kReferenceSampleFactor;
+    referenceSettings.seed = settings.seed + 1;
+    return referenceSettings;
+}
+
+std::string announceRenderedReference(const Options& options, const RenderSettings& referenceSettings,
+                                      bool gpu, int ranks) {
+    const std::string by = ranks > 1 ? " on " + std::to_string(ranks) + " ranks" : std::string();
+    const std::string source = std::string(gpu ? "gpu" : "cpu") + " render made by this run" + by + ", " +
+                               std::to_string(referenceSettings.samplesPerPixel) + " spp, seed " +
+                               std::to_string(referenceSettings.seed);
+    if (!options.quiet) std::fprintf(stderr, "vkrt: reference: %s\n", source.c_str());
+    return source;
+}
+
+void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
+                      const RenderSettings& settings, int ranks) {
+    // The report, with what was rendered.
+    if (!options.reportPath.empty()) {
+        nlohmann::json context = {
+            {"scene", options.scenePath},
+            {"device", report.device},
+            {"device_name", report.gpu ? report.gpu->deviceName : std::string("cpu reference")},
+            {"width", settings.width},
+            {"height", settings.height},
+            {"spp", report.samplesRendered},
+            {"seed", settings.seed}};
+        if (ranks > 1) context["ranks"] = ranks;
+        convergence.write(options.reportPath, context);
+    }
+    // The error at the last checkpoint.
+    if (!options.quiet && !convergence.points().empty()) {
+        const ConvergencePoint& last = convergence.points().back();
+        std::fprintf(
+            stderr,
+            "vkrt: error against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
+            last.rmse, last.relMse, 100.0 * last.fractionOff);
+    }
+}
+
+}  // namespace vkrt

@@ -1,0 +1,112 @@
+#include "app/one_process_render.h"
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "app/convergence_run.h"
+#include "app/exit_codes.h"
+#include "app/gpu_run.h"
+#include "app/progress_bar.h"
+#include "app/render_summary.h"
+#include "app/stop_signal.h"
+#include "common/elapsed_time.h"
+#include "cpu/reference_renderer.h"
+#include "gpu/vulkan_check.h"
+#include "image/image_io.h"
+
+namespace vkrt {
+
+int renderOneProcess(const Options& options, const PreparedRender& prepared, RunReport& report) {
+    const Scene& scene = prepared.scene;
+    const RenderSettings& settings = prepared.setup.settings;
+    const Camera& camera = prepared.setup.camera;
+    const FlatBvh& flatBvh = prepared.bvh.flat;
+    const VulkanContext* context = prepared.context.get();
+
+    // One render on the chosen device; fills `runReport` when given.
+    auto render = [&](const RenderSettings& renderSettings, const char* label,
+                      const CheckpointCallback& checkpoint, RunReport* runReport) {
+        ProgressBar progress(label, !options.quiet);
+        const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
+        const auto renderStart = std::chrono::steady_clock::now();
+        // The time limit is the render's own; the reference of --report renders all its samples.
+        const StopCondition stop(&stopRequested(), runReport ? options.timeLimitSeconds : 0.0);
+        RenderResult rendered;
+        if (context) {
+            GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuRenderOptions(options));
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
+            // The reference of --report is all or nothing.
+            if (!runReport && rendered.stopped == StopReason::DeviceLost)
+                throw GpuError(renderer.report().deviceLost + " while rendering the reference for --report");
+            if (runReport) {
+                const GpuRenderReport& g = renderer.report();
+                runReport->memory.deviceEstimateBytes = g.memory.need.total();
+                runReport->memory.deviceBudgetBytes = g.memory.budgetBytes;
+                runReport->memory.tiles = g.memory.tiles;
+                runReport->memory.tileRows = g.memory.tileRows;
+                runReport->memory.hostCopies = g.hostCopies;
+                runReport->deviceLost = g.deviceLost;
+                runReport->gpu = gpuReportOf(options, *context, renderer);
+            }
+            throwOnValidationMessages(*context);
+        } else {
+            const ReferenceRenderer renderer(scene, flatBvh, camera, renderSettings);
+            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
+        }
+        if (runReport) {
+            runReport->renderMs = millisecondsSince(renderStart);
+            recordResult(rendered, *runReport);
+        }
+        progress.finish();
+        if (!runReport && rendered.stopped == StopReason::Requested) throw InterruptedBeforeRender{};
+        return rendered;
+    };
+
+    // Error against run time: a reference from a file, or a long render made here with another seed.
+    std::optional<ConvergenceReport> convergence;
+    if (!options.referencePath.empty()) {
+        convergence.emplace(referenceFromFile(options, settings));
+    } else if (!options.reportPath.empty()) {
+        const RenderSettings referenceSettings = referenceRenderSettings(settings);
+        const std::string source =
+            announceRenderedReference(options, referenceSettings, context != nullptr, 1);
+        convergence.emplace(render(referenceSettings, "reference", {}, nullptr).image, source);
+    }
+    CheckpointCallback checkpoint;
+    if (convergence) {
+        checkpoint = [&](uint32_t samples, double renderMs, double gpuMs, const Image& image) {
+            convergence->add(samples, renderMs, gpuMs, image);
+        };
+    }
+    const RenderResult result = render(settings, context ? "gpu" : "cpu", checkpoint, &report);
+
+    // The image and the stats; a lost device keeps the samples the host had copied, if any.
+    const bool deviceLost = result.stopped == StopReason::DeviceLost;
+    const bool anySamples = result.mostSamples > 0;
+    if (!deviceLost || anySamples)
+        writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    describeRun(options, scene, settings, camera, report);
+    writeStats(options, report);
+    if (deviceLost) {
+        const std::string kept =
+            anySamples ? "wrote the samples done (" + std::to_string(result.fewestSamples) + " to " +
+                             std::to_string(result.mostSamples) + " per pixel) to " + options.outputPath
+                       : std::string("no samples were kept, nothing written");
+        std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(), kept.c_str());
+        return kExitRuntimeFailure;
+    }
+
+    // The report and the summary.
+    if (convergence) writeConvergence(options, *convergence, report, settings, 1);
+    printRenderSummary(options, report, 1);
+    if (!options.quiet && result.fewestSamples == 0) {
+        std::fprintf(stderr,
+                     "vkrt: warning: the render stopped before every pixel had a sample; those "
+                     "are black\n");
+    }
+    return result.stopped == StopReason::Requested ? stoppedExitCode() : 0;
+}
+
+}  // namespace vkrt

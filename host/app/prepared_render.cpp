@@ -1,0 +1,97 @@
+#include "app/prepared_render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "app/gpu_run.h"
+#include "app/host_memory.h"
+#include "common/elapsed_time.h"
+#include "image/image_io.h"
+#include "scene/gltf_loader.h"
+#include "scene/shading_inputs.h"
+
+namespace vkrt {
+namespace {
+
+// The --environment map, decoded and checked; a file that cannot be used is bad input (exit code 2).
+EnvironmentMap loadEnvironment(const Options& options) {
+    Image image;
+    try {
+        image = readRadianceImage(options.environmentPath);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--environment: ") + e.what());
+    }
+    return makeEnvironmentMap(options.environmentPath, image.width, image.height, std::move(image.pixels),
+                              options.environmentRotation, options.environmentStrength);
+}
+
+// Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
+// records the estimate and what was available.
+void checkHostMemoryFor(const Options& options, const Scene& scene, const RenderSettings& settings,
+                        const VulkanContext* context, RunReport::Memory& memory) {
+    HostMemoryInputs inputs;
+    inputs.triangles = scene.triangles.size();
+    inputs.textureBytes = packedTextureBytes(scene);
+    inputs.width = settings.width;
+    inputs.height = settings.height;
+    inputs.gpu = context != nullptr;
+    inputs.deviceInHostMemory = context && context->description().type == "CPU";
+    if (inputs.deviceInHostMemory) {
+        inputs.deviceBudgetBytes = context->memoryBudget().bytes;
+        if (options.maxDeviceMemoryBytes > 0)
+            inputs.deviceBudgetBytes = std::min(inputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
+    }
+    inputs.report = !options.reportPath.empty() || !options.referencePath.empty();
+    inputs.outputPath = options.outputPath;
+    const MemoryNeed need = estimateHostMemory(inputs);
+    HostMemory available = availableHostMemory();
+    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
+        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    checkHostMemory(need, available);
+    memory.hostEstimateBytes = need.total();
+    memory.hostAvailableBytes = available.bytes;
+}
+
+// The scene's or the settings' warnings, one line each.
+void warn(const Options& options, const std::vector<std::string>& warnings) {
+    if (options.quiet) return;
+    for (const std::string& warning : warnings) {
+        std::fprintf(stderr, "vkrt: warning: %s: %s\n", options.scenePath.c_str(), warning.c_str());
+    }
+}
+
+}  // namespace
+
+PreparedRender prepareRender(const Options& options, const MpiJob& job, RunReport& report) {
+    PreparedRender prepared;
+
+    // The scene, its environment and the time they took.
+    const auto loadStart = std::chrono::steady_clock::now();
+    LoadOptions loadOptions;
+    loadOptions.shutter = options.shutter;
+    prepared.scene = loadGltf(options.scenePath, loadOptions);
+    if (!options.environmentPath.empty()) prepared.scene.environment = loadEnvironment(options);
+    addNeutralEnvironment(options.request, prepared.scene);
+    report.loadMs = millisecondsSince(loadStart);
+    warn(options, prepared.scene.warnings);
+
+    // Settings and camera from what was asked and what the scene holds.
+    prepared.setup = resolveRender(options.request, prepared.scene);
+    warn(options, prepared.setup.warnings);
+
+    // The Vulkan device, when rendering on the GPU.
+    if (options.device == DeviceKind::Gpu) prepared.context = makeVulkanContext(options, job.localRank());
+
+    // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
+    checkHostMemoryFor(options, prepared.scene, prepared.setup.settings, prepared.context.get(),
+                       report.memory);
+
+    // Acceleration structure.
+    prepared.bvh = buildSceneBvh(prepared.scene);
+    report.bvh = prepared.bvh.stats;
+    return prepared;
+}
+
+}  // namespace vkrt

@@ -1,0 +1,146 @@
+#include "app/rank_render.h"
+
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/convergence_run.h"
+#include "app/gpu_run.h"
+#include "app/progress_bar.h"
+#include "app/render_summary.h"
+#include "app/shared_render.h"
+#include "app/stop_signal.h"
+#include "common/elapsed_time.h"
+#include "cpu/reference_renderer.h"
+#include "image/image_io.h"
+
+namespace vkrt {
+
+int renderShared(const MpiJob& job, const Options& options, const PreparedRender& prepared,
+                 RunReport& report) {
+    const Scene& scene = prepared.scene;
+    const RenderSetup& setup = prepared.setup;
+    const FlatBvh& flatBvh = prepared.bvh.flat;
+    const VulkanContext* context = prepared.context.get();
+    const RenderSettings& settings = setup.settings;
+    const size_t pixels = static_cast<size_t>(settings.width) * settings.height;
+    RunReport::Rank mine;
+    mine.device = context ? "gpu" : "cpu";
+    std::optional<RunReport::Gpu> gpu;
+
+    // This rank's share of a render with `renderSettings` on its device; the renderer is made once for it.
+    auto share = [&](const RenderSettings& renderSettings, const char* label, const StopCondition& stop,
+                     const ShareOptions& shareOptions, bool forStats) {
+        ProgressBar progress(label, !options.quiet);
+        const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
+        const uint32_t spp = static_cast<uint32_t>(renderSettings.samplesPerPixel);
+        RankShare rankShare;
+        if (context) {
+            GpuRenderer renderer(*context, scene, flatBvh, setup.camera, renderSettings,
+                                 gpuRenderOptions(options));
+            rankShare = renderShare(
+                job, spp,
+                [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                    const RenderResult batch = renderer.renderSamples(first, end, sums, s);
+                    throwOnValidationMessages(*context);  // here, while the other ranks can still be ended
+                    return batch;
+                },
+                stop, onProgress, shareOptions);
+            if (forStats) {
+                gpu = gpuReportOf(options, *context, renderer);
+                mine.deviceName = gpu->deviceName;
+            }
+        } else {
+            const ReferenceRenderer renderer(scene, flatBvh, setup.camera, renderSettings);
+            rankShare = renderShare(
+                job, spp,
+                [&](uint32_t first, uint32_t end, std::vector<glm::dvec4>& sums, const StopCondition& s) {
+                    return renderer.renderSamples(first, end, sums, s);
+                },
+                stop, onProgress, shareOptions);
+            mine.deviceName = "cpu reference";
+        }
+        progress.finish();
+        // The others are gone (a rank failed and the launcher is ending the job): write nothing, wait for
+        // nothing.
+        if (rankShare.abandoned) std::_Exit(stoppedExitCode());
+        return rankShare;
+    };
+    ShareOptions shareOptions;
+    shareOptions.stopRequested = &stopRequested();
+    shareOptions.pixels = pixels;
+
+    // Every rank must render the same image (on whatever device): a different size would not even add up.
+    const std::string renderOf =
+        options.scenePath + ", " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+        ", " + std::to_string(settings.samplesPerPixel) + " spp, seed " + std::to_string(settings.seed) +
+        ", " + integratorName(settings.integrator) + " depth " + std::to_string(settings.maxDepth) +
+        ", camera " + setup.camera.name;
+    const std::vector<std::string> renders = job.gatherToRoot(renderOf);
+    for (size_t rank = 1; rank < renders.size(); ++rank) {
+        if (renders[rank] != renders[0]) {
+            throw UsageError("rank " + std::to_string(rank) + " renders " + renders[rank] + ", rank 0 " +
+                             renders[0] + ": every rank needs the same scene and render options");
+        }
+    }
+
+    // Error against run time (rank 0): a reference from a file, or a render shared as the render is, with
+    // another seed and 16 times the samples.
+    std::optional<ConvergenceReport> convergence;
+    if (!options.referencePath.empty()) {
+        if (job.rank() == 0) convergence.emplace(referenceFromFile(options, settings));
+    } else if (!options.reportPath.empty()) {
+        const RenderSettings referenceSettings = referenceRenderSettings(settings);
+        const std::string source =
+            announceRenderedReference(options, referenceSettings, context != nullptr, job.size());
+        // The reference renders all its samples (no time limit); an interrupt leaves nothing to keep.
+        RankShare reference =
+            share(referenceSettings, "reference", StopCondition(&stopRequested(), 0.0), shareOptions, false);
+        std::vector<RunReport::Rank> unused;
+        const RenderResult referenceImage =
+            combineShares(job, reference, mine, settings.width, settings.height, unused);
+        if (job.rank() == 0) {
+            if (referenceImage.stopped == StopReason::Requested) throw InterruptedBeforeRender{};
+            convergence.emplace(referenceImage.image, source);
+        }
+    }
+    if (convergence) {
+        shareOptions.checkpoint = [&](uint32_t samples, double renderMs,
+                                      const std::vector<glm::dvec4>& sums) {
+            convergence->add(samples, renderMs, 0.0, averageOf(sums, settings.width, settings.height));
+        };
+    }
+    shareOptions.checkpointEveryMs = options.reportEveryMs;  // every rank's phases end where rank 0's do
+
+    // The render itself, and every rank's share of it summed on rank 0.
+    RankShare rendered = share(settings, context ? "gpu" : "cpu",
+                               StopCondition(&stopRequested(), options.timeLimitSeconds), shareOptions, true);
+    mine.samples = rendered.fewest;
+    mine.samplesMax = rendered.most;
+    mine.batches = rendered.batches;
+    mine.rays = rendered.rays;
+    mine.renderMs = rendered.renderMs;
+    const RenderResult result =
+        combineShares(job, rendered, mine, settings.width, settings.height, report.ranks);
+    if (job.rank() != 0) return 0;
+    // The render took until the last rank's batch ended (the sums were reduced after it).
+    report.renderMs = millisecondsSince(rendered.started);
+
+    // Rank 0: the image and the stats, as one process writes them.
+    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    describeRun(options, scene, settings, setup.camera, report);
+    for (const RunReport::Rank& rank : report.ranks) {
+        if (rank.device != report.ranks.front().device) report.device = "mixed";
+    }
+    report.gpu = gpu;
+    recordResult(result, report);
+    writeStats(options, report);
+    if (convergence) writeConvergence(options, *convergence, report, settings, job.size());
+    printRenderSummary(options, report, job.size());
+    // An interrupt on another rank (mpirun forwards SIGTERM) ends the job as one on this one would.
+    if (result.stopped == StopReason::Requested) return stoppedExitCode();
+    return 0;
+}
+
+}  // namespace vkrt

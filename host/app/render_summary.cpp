@@ -1,0 +1,73 @@
+#include "app/render_summary.h"
+
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <string>
+
+#include "scene/shading_inputs.h"
+
+namespace vkrt {
+namespace {
+
+// The most resident memory the process has had, in bytes.
+uint64_t peakResidentBytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+}  // namespace
+
+void describeRun(const Options& options, const Scene& scene, const RenderSettings& settings,
+                 const Camera& camera, RunReport& report) {
+    report.scene = options.scenePath;
+    report.device = options.device == DeviceKind::Gpu ? "gpu" : "cpu";
+    report.camera = camera.name;
+    report.triangles = scene.triangles.size();
+    report.spheres = scene.spheres.size();
+    report.solids = scene.solids.size();
+    report.shapes = scene.shapes.size();
+    report.textureBytes = packedTextureBytes(scene);
+    report.settings = settings;
+    if (const EnvironmentMap& e = scene.environment; e.present()) {
+        report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};
+    }
+}
+
+void recordResult(const RenderResult& result, RunReport& report) {
+    report.samplesRendered = static_cast<int>(result.fewestSamples);
+    report.mostSamplesRendered = static_cast<int>(result.mostSamples);
+    report.stopped = result.stopped;
+    report.rays = result.rays;
+}
+
+void writeStats(const Options& options, RunReport& report) {
+    report.memory.hostPeakBytes = peakResidentBytes();
+    if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+}
+
+void printRenderSummary(const Options& options, const RunReport& report, int ranks) {
+    if (options.quiet) return;
+    // What was written, how many samples and how fast; on how many ranks, or on which GPU.
+    const double mrays = static_cast<double>(report.rays.total()) / (report.renderMs / 1000.0) / 1e6;
+    const std::string spp =
+        report.mostSamplesRendered > report.samplesRendered
+            ? std::to_string(report.samplesRendered) + " to " + std::to_string(report.mostSamplesRendered)
+            : std::to_string(report.samplesRendered);
+    const std::string where = ranks > 1    ? " on " + std::to_string(ranks) + " ranks"
+                              : report.gpu ? " on " + report.gpu->deviceName
+                                           : std::string();
+    std::fprintf(stderr, "vkrt: %swrote %s (%dx%d, %s spp) in %.0f ms, %.2f Mrays/s%s\n",
+                 report.stopped == StopReason::Requested ? "interrupted: " : "", options.outputPath.c_str(),
+                 report.settings.width, report.settings.height, spp.c_str(), report.renderMs, mrays,
+                 where.c_str());
+    // Each rank's share.
+    for (size_t i = 0; i < report.ranks.size(); ++i) {
+        const RunReport::Rank& r = report.ranks[i];
+        std::fprintf(stderr, "vkrt:   rank %zu: %s, %llu spp in %u batches, %.0f ms\n", i,
+                     r.deviceName.c_str(), static_cast<unsigned long long>(r.samples), r.batches, r.renderMs);
+    }
+}
+
+}  // namespace vkrt

@@ -1,0 +1,26 @@
+// What a finished render reports, by one process or by the ranks of an MPI job: the stats' account of the
+// scene, the settings and the result, the stats file, and the lines on stderr that sum the render up.
+#pragma once
+
+#include "app/options.h"
+#include "app/render_stats.h"
+#include "image/render_result.h"
+#include "scene/scene.h"
+
+namespace vkrt {
+
+// What the stats say of the scene and the settings, whoever rendered it.
+void describeRun(const Options& options, const Scene& scene, const RenderSettings& settings,
+                 const Camera& camera, RunReport& report);
+
+// The render's samples per pixel, why it stopped and its rays.
+void recordResult(const RenderResult& result, RunReport& report);
+
+// Records the process's peak resident memory and writes the --stats file, when asked.
+void writeStats(const Options& options, RunReport& report);
+
+// Unless --quiet: the line that says what was written, with the samples per pixel ("A to B" when the render
+// stopped part way through a pass), the time and the rays per second; under MPI one more line per rank.
+void printRenderSummary(const Options& options, const RunReport& report, int ranks);
+
+}  // namespace vkrt

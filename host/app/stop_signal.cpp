@@ -1,0 +1,45 @@
+#include "app/stop_signal.h"
+
+#include <unistd.h>
+
+#include <csignal>
+
+#include "app/exit_codes.h"
+#include "common/atomic_file.h"
+
+namespace vkrt {
+namespace {
+
+std::atomic<bool> gStopRequested{false};
+volatile std::sig_atomic_t gSignal = 0;
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void onStopSignal(int signal) {
+    // A second signal: remove the file being written, then end as the signal would have.
+    if (gSignal != 0) {
+        if (gTemporaryFileBeingWritten[0] != '\0') unlink(gTemporaryFileBeingWritten);
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+        return;
+    }
+    // The first: ask the render to stop.
+    gSignal = signal;
+    gStopRequested.store(true);
+}
+
+}  // namespace
+
+void handleStopSignals() {
+    std::signal(SIGINT, onStopSignal);
+    std::signal(SIGTERM, onStopSignal);
+}
+
+const std::atomic<bool>& stopRequested() {
+    return gStopRequested;
+}
+
+int stoppedExitCode() {
+    return kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM);
+}
+
+}  // namespace vkrt

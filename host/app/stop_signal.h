@@ -1,0 +1,22 @@
+// SIGINT and SIGTERM: the first ends the render after the dispatch or pixel in flight, and the samples done
+// are written as usual; a second ends the process at once.
+#pragma once
+
+#include <atomic>
+
+namespace vkrt {
+
+// Installs the handler of both signals.
+void handleStopSignals();
+
+// Set by the first signal; the renderers read it through their StopCondition.
+const std::atomic<bool>& stopRequested();
+
+// The exit code of a render that was stopped: 128 + the signal, as shells report it; SIGTERM's when no signal
+// reached this process (under mpirun an interrupt on another rank stops this one too).
+int stoppedExitCode();
+
+// Interrupted before the render itself began (while making the reference of --report): nothing to keep.
+struct InterruptedBeforeRender {};
+
+}  // namespace vkrt
