@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstdint>
 
+#include "common/elapsed_time.h"
+
 namespace vkrt {
 
 // Without checkpoints a render may run all its samples in one pass. With them, passes end at every power
@@ -56,10 +58,6 @@ class CheckpointSchedule {
     }
 
   private:
-    static double millisecondsSince(std::chrono::steady_clock::time_point start) {
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    }
-
     uint32_t samplesPerPixel_;
     bool checkpoints_;
     double everyMs_;

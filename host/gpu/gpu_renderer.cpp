@@ -5,14 +5,11 @@
 #include <cmath>
 
 #include "common/checkpoint_schedule.h"
+#include "common/elapsed_time.h"
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 uint32_t groupsFor(uint32_t count, uint32_t size) {
     return (count + size - 1) / size;
