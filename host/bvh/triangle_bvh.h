@@ -14,8 +14,9 @@ struct TriangleBvh {
     BvhStats stats;  // buildMs covers the build alone
 };
 
-// Each triangle's bounding box, in order: what the builder sorts.
-std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles);
+// Each triangle's bounding box, in order: what the builder sorts. Computed on `threads` threads (0: all
+// hardware threads), into memory backed by huge pages where the kernel allows it.
+std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles, int threads = 0);
 
 TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config = {});
 
