@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -22,7 +23,7 @@ namespace vkrt {
 namespace {
 
 // Every structural promise the GPU relies on, each failure naming the node.
-void expectValidBvh(const Bvh& bvh, const std::vector<Aabb>& bounds, const BvhConfig& config) {
+void expectValidBvh(const Bvh& bvh, std::span<const Aabb> bounds, const BvhConfig& config) {
     std::vector<int> seen(bounds.size(), 0);
     std::vector<std::pair<uint32_t, int>> stack{{0u, 1}};
     int depth = 0;
@@ -97,7 +98,7 @@ void expectSameTree(const Bvh& a, const Bvh& b, const char* what) {
 // fast builder must make exactly its tree.
 class ReferenceBuilder {
   public:
-    ReferenceBuilder(const std::vector<Aabb>& bounds, const BvhConfig& config)
+    ReferenceBuilder(std::span<const Aabb> bounds, const BvhConfig& config)
         : bounds_(bounds), config_(config) {
         for (const Aabb& b : bounds) centers_.push_back(b.center());
     }
@@ -194,7 +195,7 @@ class ReferenceBuilder {
         buildNode(left + 1, middle, end, level + 1);
     }
 
-    const std::vector<Aabb>& bounds_;
+    std::span<const Aabb> bounds_;
     const BvhConfig& config_;
     std::vector<glm::vec3> centers_;
     Bvh bvh_;
@@ -230,7 +231,7 @@ Closest throughBvh(const std::vector<Triangle>& triangles, const FlatBvh& bvh, c
 // Rays from random points around the mesh towards random points inside its bounds; most hit.
 void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, int rayCount,
                                       const char* name) {
-    const std::vector<Aabb> bounds = triangleBounds(triangles);
+    const HugePageVector<Aabb> bounds = triangleBounds(triangles);
     const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
     Aabb all;
     for (const Aabb& b : bounds) all.grow(b);
@@ -444,7 +445,7 @@ TEST(Bvh, DoubledCenterHoldsNoIndex) {
 TEST(Bvh, TriangleBoundsForEveryThreadCount) {
     const auto triangles = makeTriangleSoup(200000, 4);
     for (int threads : {1, 2, 3}) {
-        const std::vector<Aabb> bounds = triangleBounds(triangles, threads);
+        const HugePageVector<Aabb> bounds = triangleBounds(triangles, threads);
         ASSERT_EQ(bounds.size(), triangles.size());
         for (size_t i = 0; i < triangles.size(); ++i) {
             const Aabb expected = triangles[i].bounds();

@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
     for (int run = 0; run < runs; ++run) {
         const double cpuStart = processCpuMs();
         const auto start = std::chrono::steady_clock::now();
-        const std::vector<Aabb> bounds = triangleBounds(triangles, threads);
+        const HugePageVector<Aabb> bounds = triangleBounds(triangles, threads);
         const auto buildStart = std::chrono::steady_clock::now();
         const Bvh bvh = BinnedSahBuilder::build(bounds, config);
         buildTimes.push_back(millisecondsSince(buildStart));

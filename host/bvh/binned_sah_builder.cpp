@@ -68,9 +68,6 @@ class Builder {
 
     Bvh build() {
         const uint32_t count = static_cast<uint32_t>(bounds_.size());
-        // The leaves' primitive order, on huge pages (4 MB per million primitives).
-        bvh_.primIndices.reserve(count);
-        adviseHugePages(bvh_.primIndices.data(), count * sizeof(uint32_t));
         bvh_.primIndices.resize(count);
         refs_[0] = LargeBuffer<PrimRef>(count);
         refs_[1] = LargeBuffer<PrimRef>(count);
@@ -286,8 +283,6 @@ class Builder {
             offsets[s] = total - 1;  // local node i > 0 goes to offsets[s] + i
             total += built.counts[s] - 1;
         }
-        bvh_.nodes.reserve(total);
-        adviseHugePages(bvh_.nodes.data(), total * sizeof(BvhBuildNode));
         bvh_.nodes.resize(total);
         std::copy(topNodes_.begin(), topNodes_.end(), bvh_.nodes.begin());
         parallelFor(subtrees.size(), threads_, [&](size_t s, unsigned) {

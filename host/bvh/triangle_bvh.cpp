@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <span>
 
 #include "bvh/binned_sah_builder.h"
-#include "common/large_buffer.h"
 #include "common/parallel_for.h"
 
 namespace vkrt {
 
 namespace {
 
-TriangleBvh buildOver(const std::vector<Aabb>& bounds, const BvhConfig& config) {
+TriangleBvh buildOver(std::span<const Aabb> bounds, const BvhConfig& config) {
     const auto start = std::chrono::steady_clock::now();
     const Bvh bvh = BinnedSahBuilder::build(bounds, config);
     const double buildMs =
@@ -21,14 +21,10 @@ TriangleBvh buildOver(const std::vector<Aabb>& bounds, const BvhConfig& config) 
     return result;
 }
 
-// The bounds of primitives [0, count), boundsOf(i) for each, in parallel blocks. The array is asked for huge
-// pages before it is first written (large_buffer.h: page faults dominate filling fresh memory).
+// The bounds of primitives [0, count), boundsOf(i) for each, in parallel blocks.
 template <typename BoundsOf>
-std::vector<Aabb> primitiveBounds(size_t count, int threads, BoundsOf&& boundsOf) {
-    std::vector<Aabb> bounds;
-    bounds.reserve(count);
-    adviseHugePages(bounds.data(), count * sizeof(Aabb));
-    bounds.resize(count);
+HugePageVector<Aabb> primitiveBounds(size_t count, int threads, BoundsOf&& boundsOf) {
+    HugePageVector<Aabb> bounds(count);
     constexpr size_t kBlock = 64 * 1024;
     parallelFor((count + kBlock - 1) / kBlock, threadCount(threads), [&](size_t block, unsigned) {
         for (size_t i = block * kBlock, end = std::min(count, i + kBlock); i < end; ++i)
@@ -39,7 +35,7 @@ std::vector<Aabb> primitiveBounds(size_t count, int threads, BoundsOf&& boundsOf
 
 }  // namespace
 
-std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles, int threads) {
+HugePageVector<Aabb> triangleBounds(const std::vector<Triangle>& triangles, int threads) {
     return primitiveBounds(triangles.size(), threads, [&](size_t i) { return triangles[i].bounds(); });
 }
 
