@@ -429,6 +429,42 @@ TEST(Bvh, SmallNodeSplitMatchesBinning) {
     EXPECT_GT(splits, 2000);
 }
 
+// The branch-free partition: each side gets its references in the order they come (the right side
+// reversed when written downwards), and each side's centroid bounds are those of its references.
+TEST(Bvh, PartitionKeepsOrderAndGathersCentroidBounds) {
+    using namespace sah;
+    const auto soup = triangleBounds(makeTriangleSoup(1000, 13));
+    std::vector<PrimRef> refs;
+    for (uint32_t i = 0; i < soup.size(); ++i) refs.push_back(makePrimRef(soup[i], i));
+    auto goesLeft = [&](uint32_t i) { return refs[i].doubledCenter()[1] < 1.0f; };
+    for (const ptrdiff_t step : {ptrdiff_t{1}, ptrdiff_t{-1}}) {
+        std::vector<uint32_t> expectedLeft, expectedRight;
+        Box4 expectedLeftCenters, expectedRightCenters;
+        for (uint32_t i = 0; i < refs.size(); ++i) {
+            (goesLeft(i) ? expectedLeft : expectedRight).push_back(i);
+            (goesLeft(i) ? expectedLeftCenters : expectedRightCenters).grow(refs[i].doubledCenter());
+        }
+        std::vector<PrimRef> out(refs.size());
+        const uint32_t leftCount = static_cast<uint32_t>(expectedLeft.size());
+        PrimRef* rightOut = step > 0 ? out.data() + leftCount : out.data() + out.size() - 1;
+        Box4 leftCenters, rightCenters;
+        ASSERT_EQ(partitionRefs(refs.data(), 0, static_cast<uint32_t>(refs.size()), out.data(), rightOut,
+                                step, leftCenters, rightCenters, goesLeft),
+                  leftCount);
+        for (uint32_t k = 0; k < leftCount; ++k) ASSERT_EQ(out[k].index(), expectedLeft[k]) << "left " << k;
+        for (uint32_t k = 0; k < expectedRight.size(); ++k) {
+            const size_t at = step > 0 ? leftCount + k : out.size() - 1 - k;
+            ASSERT_EQ(out[at].index(), expectedRight[k]) << "right " << k << ", step " << step;
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_EQ(leftCenters.min[axis], expectedLeftCenters.min[axis]);
+            EXPECT_EQ(leftCenters.max[axis], expectedLeftCenters.max[axis]);
+            EXPECT_EQ(rightCenters.min[axis], expectedRightCenters.min[axis]);
+            EXPECT_EQ(rightCenters.max[axis], expectedRightCenters.max[axis]);
+        }
+    }
+}
+
 // The centroid that binning reads leaves out the index kept in lane 3 of a reference (read as a float, it
 // is a denormal for indices below 2^23, and arithmetic on it is slow).
 TEST(Bvh, DoubledCenterHoldsNoIndex) {

@@ -189,16 +189,10 @@ class Builder {
                 const PrimRef* in = refs_[buffer].get();
                 PrimRef* out = refs_[1 - buffer].get();
                 BlockPartition& part = parts[b];
-                uint32_t left = part.leftOut, right = part.rightOut;
-                for (uint32_t i = block.begin; i < block.end; ++i) {
-                    if (split.side->goesLeft(in[i])) {
-                        part.leftCenters.grow(in[i].doubledCenter());
-                        out[left++] = in[i];
-                    } else {
-                        part.rightCenters.grow(in[i].doubledCenter());
-                        out[right++] = in[i];
-                    }
-                }
+                const SplitSide side = *split.side;
+                partitionRefs(in, block.begin, block.end, out + part.leftOut, out + part.rightOut, 1,
+                              part.leftCenters, part.rightCenters,
+                              [&](uint32_t i) { return side.goesLeft(in[i]); });
             });
             for (uint32_t k = 0; k < level.size(); ++k) {
                 for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {

@@ -86,33 +86,13 @@ void SubtreeBuilder::buildNode(uint32_t node, uint32_t begin, uint32_t end, int 
     buildNode(left + 1, middle, end, level + 1, rightCenters, childRefs, childSpare);
 }
 
-// Every reference is written to both ends of the spare range and the end it belongs to advances: no branch
-// to mispredict. The right side comes out reversed, which no result depends on (leaves sort their
-// primitives; median splits break ties by index).
+// The right side is written from the end of the spare range down, so it comes out reversed, which no result
+// depends on (leaves sort their primitives; median splits break ties by index).
 template <typename GoesLeft>
 uint32_t SubtreeBuilder::partition(const PrimRef* refs, PrimRef* spare, uint32_t begin, uint32_t end,
                                    Box4& leftCenters, Box4& rightCenters, GoesLeft&& goesLeft) {
-    PrimRef* left = spare + begin;
-    PrimRef* right = spare + end - 1;
-    const Float4 empty = Float4{} + std::numeric_limits<float>::infinity();
-    Float4 leftMin = empty, leftMax = -empty, rightMin = empty, rightMax = -empty;
-    for (uint32_t i = begin; i < end; ++i) {
-        const PrimRef ref = refs[i];
-        const bool toLeftSide = goesLeft(i);
-        *left = ref;
-        *right = ref;
-        left += toLeftSide;
-        right -= !toLeftSide;
-        const Float4 center = ref.doubledCenter();
-        const Int4 toLeft = Int4{} - static_cast<int32_t>(toLeftSide);  // all ones or all zeros
-        leftMin = toLeft ? min4(leftMin, center) : leftMin;
-        leftMax = toLeft ? max4(leftMax, center) : leftMax;
-        rightMin = toLeft ? rightMin : min4(rightMin, center);
-        rightMax = toLeft ? rightMax : max4(rightMax, center);
-    }
-    leftCenters = Box4{leftMin, leftMax};
-    rightCenters = Box4{rightMin, rightMax};
-    return static_cast<uint32_t>(left - spare);
+    return begin + partitionRefs(refs, begin, end, spare + begin, spare + end - 1, -1, leftCenters,
+                                 rightCenters, goesLeft);
 }
 
 void SubtreeBuilder::makeLeaf(uint32_t node, const PrimRef* refs, uint32_t begin, uint32_t count) {
