@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_traversal.h"
 #include "bvh/flat_bvh.h"
+#include "bvh/sah_small_split.h"
 #include "bvh/triangle_bvh.h"
 #include "cpu/triangle_intersection.h"
 #include "random.h"
@@ -21,7 +23,7 @@ namespace vkrt {
 namespace {
 
 // Every structural promise the GPU relies on, each failure naming the node.
-void expectValidBvh(const Bvh& bvh, const std::vector<Aabb>& bounds, const BvhConfig& config) {
+void expectValidBvh(const Bvh& bvh, std::span<const Aabb> bounds, const BvhConfig& config) {
     std::vector<int> seen(bounds.size(), 0);
     std::vector<std::pair<uint32_t, int>> stack{{0u, 1}};
     int depth = 0;
@@ -96,7 +98,7 @@ void expectSameTree(const Bvh& a, const Bvh& b, const char* what) {
 // fast builder must make exactly its tree.
 class ReferenceBuilder {
   public:
-    ReferenceBuilder(const std::vector<Aabb>& bounds, const BvhConfig& config)
+    ReferenceBuilder(std::span<const Aabb> bounds, const BvhConfig& config)
         : bounds_(bounds), config_(config) {
         for (const Aabb& b : bounds) centers_.push_back(b.center());
     }
@@ -193,7 +195,7 @@ class ReferenceBuilder {
         buildNode(left + 1, middle, end, level + 1);
     }
 
-    const std::vector<Aabb>& bounds_;
+    std::span<const Aabb> bounds_;
     const BvhConfig& config_;
     std::vector<glm::vec3> centers_;
     Bvh bvh_;
@@ -229,7 +231,7 @@ Closest throughBvh(const std::vector<Triangle>& triangles, const FlatBvh& bvh, c
 // Rays from random points around the mesh towards random points inside its bounds; most hit.
 void expectClosestHitsMatchBruteForce(const std::vector<Triangle>& triangles, int rayCount,
                                       const char* name) {
-    const std::vector<Aabb> bounds = triangleBounds(triangles);
+    const HugePageVector<Aabb> bounds = triangleBounds(triangles);
     const FlatBvh bvh = flatten(BinnedSahBuilder::build(bounds));
     Aabb all;
     for (const Aabb& b : bounds) all.grow(b);
@@ -373,6 +375,121 @@ TEST(Bvh, SameTreeAsTheReferenceBuilder) {
             expectSameTree(bvh, reference, c.name);
         }
     }
+}
+
+// The split of a few primitives without bins (sah_small_split.h) is the one binning finds: same axis, bin and
+// cost, bit for bit, and the same bounds on each side. Random subsets of a soup, with duplicated primitives
+// and flat sets (an axis without extent) among them.
+TEST(Bvh, SmallNodeSplitMatchesBinning) {
+    using namespace sah;
+    const auto soup = triangleBounds(makeTriangleSoup(4000, 9, 0.3f));
+    const BvhConfig config;
+    Bins bins(config.binCount);
+    SmallNodeSplit small;
+    std::vector<float> rightArea;
+    std::vector<uint32_t> rightCount;
+    int splits = 0;
+    for (uint32_t trial = 0; trial < 3000; ++trial) {
+        auto r = [&](uint32_t d) { return vkrtRandom(21, trial, 0, d); };
+        const uint32_t count = 2 + trial % (SmallNodeSplit::kMaxCount - 1);
+        std::vector<PrimRef> refs;
+        Box4 bounds, centers;
+        for (uint32_t i = 0; i < count; ++i) {
+            // Every third trial repeats primitives; every fifth flattens them onto x = 0.5.
+            const uint32_t index =
+                static_cast<uint32_t>(r(i) * (trial % 3 == 0 ? 3 : soup.size())) % soup.size();
+            Aabb box = soup[index];
+            if (trial % 5 == 0) box.min.x = box.max.x = 0.5f;
+            refs.push_back(makePrimRef(box, index));
+            bounds.grow(refs.back().min, refs.back().max);
+            centers.grow(refs.back().doubledCenter());
+        }
+        const BinMapping mapping(centers, config.binCount);
+        bins.clear();
+        bins.add(refs.data(), 0, count, mapping);
+        const Split binned = findSahSplit(bins, bounds.toAabb(), centers, config, rightArea, rightCount);
+        const Split found = small.find(refs.data(), count, mapping, bounds.toAabb(), centers, config);
+        ASSERT_EQ(found.axis, binned.axis) << "trial " << trial;
+        if (binned.axis < 0) continue;
+        ++splits;
+        ASSERT_EQ(found.bin, binned.bin) << "trial " << trial;
+        ASSERT_EQ(std::bit_cast<uint32_t>(found.cost), std::bit_cast<uint32_t>(binned.cost))
+            << "trial " << trial;
+        Aabb left, right;
+        splitBounds(bins, binned, left, right);
+        EXPECT_TRUE(small.leftBounds().min == left.min && small.leftBounds().max == left.max)
+            << "trial " << trial;
+        EXPECT_TRUE(small.rightBounds().min == right.min && small.rightBounds().max == right.max)
+            << "trial " << trial;
+        for (uint32_t i = 0; i < count; ++i) {
+            EXPECT_EQ(small.goesLeft(i, found), mapping.binsOf(refs[i])[found.axis] <= found.bin)
+                << "trial " << trial << ", primitive " << i;
+        }
+    }
+    EXPECT_GT(splits, 2000);
+}
+
+// The branch-free partition: each side gets its references in the order they come (the right side
+// reversed when written downwards), and each side's centroid bounds are those of its references.
+TEST(Bvh, PartitionKeepsOrderAndGathersCentroidBounds) {
+    using namespace sah;
+    const auto soup = triangleBounds(makeTriangleSoup(1000, 13));
+    std::vector<PrimRef> refs;
+    for (uint32_t i = 0; i < soup.size(); ++i) refs.push_back(makePrimRef(soup[i], i));
+    auto goesLeft = [&](uint32_t i) { return refs[i].doubledCenter()[1] < 1.0f; };
+    for (const ptrdiff_t step : {ptrdiff_t{1}, ptrdiff_t{-1}}) {
+        std::vector<uint32_t> expectedLeft, expectedRight;
+        Box4 expectedLeftCenters, expectedRightCenters;
+        for (uint32_t i = 0; i < refs.size(); ++i) {
+            (goesLeft(i) ? expectedLeft : expectedRight).push_back(i);
+            (goesLeft(i) ? expectedLeftCenters : expectedRightCenters).grow(refs[i].doubledCenter());
+        }
+        std::vector<PrimRef> out(refs.size());
+        const uint32_t leftCount = static_cast<uint32_t>(expectedLeft.size());
+        PrimRef* rightOut = step > 0 ? out.data() + leftCount : out.data() + out.size() - 1;
+        Box4 leftCenters, rightCenters;
+        ASSERT_EQ(partitionRefs(refs.data(), 0, static_cast<uint32_t>(refs.size()), out.data(), rightOut,
+                                step, leftCenters, rightCenters, goesLeft),
+                  leftCount);
+        for (uint32_t k = 0; k < leftCount; ++k) ASSERT_EQ(out[k].index(), expectedLeft[k]) << "left " << k;
+        for (uint32_t k = 0; k < expectedRight.size(); ++k) {
+            const size_t at = step > 0 ? leftCount + k : out.size() - 1 - k;
+            ASSERT_EQ(out[at].index(), expectedRight[k]) << "right " << k << ", step " << step;
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_EQ(leftCenters.min[axis], expectedLeftCenters.min[axis]);
+            EXPECT_EQ(leftCenters.max[axis], expectedLeftCenters.max[axis]);
+            EXPECT_EQ(rightCenters.min[axis], expectedRightCenters.min[axis]);
+            EXPECT_EQ(rightCenters.max[axis], expectedRightCenters.max[axis]);
+        }
+    }
+}
+
+// The centroid that binning reads leaves out the index kept in lane 3 of a reference (read as a float, it
+// is a denormal for indices below 2^23, and arithmetic on it is slow).
+TEST(Bvh, DoubledCenterHoldsNoIndex) {
+    const sah::PrimRef ref = sah::makePrimRef(Aabb{{1, 2, 3}, {2, 4, 8}}, 12345);
+    const sah::Float4 center = ref.doubledCenter();
+    EXPECT_EQ(ref.index(), 12345u);
+    EXPECT_EQ(center[0], 3.0f);
+    EXPECT_EQ(center[1], 6.0f);
+    EXPECT_EQ(center[2], 11.0f);
+    EXPECT_EQ(std::bit_cast<uint32_t>(center[3]), 0u);
+}
+
+// Bounds computed in parallel blocks are each triangle's, in order, for any thread count.
+TEST(Bvh, TriangleBoundsForEveryThreadCount) {
+    const auto triangles = makeTriangleSoup(200000, 4);
+    for (int threads : {1, 2, 3}) {
+        const HugePageVector<Aabb> bounds = triangleBounds(triangles, threads);
+        ASSERT_EQ(bounds.size(), triangles.size());
+        for (size_t i = 0; i < triangles.size(); ++i) {
+            const Aabb expected = triangles[i].bounds();
+            ASSERT_TRUE(bounds[i].min == expected.min && bounds[i].max == expected.max)
+                << "triangle " << i << ", " << threads << " threads";
+        }
+    }
+    EXPECT_TRUE(triangleBounds({}, 2).empty());
 }
 
 TEST(Bvh, SahCostOfASingleLeafIsItsPrimitiveCount) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -22,7 +23,8 @@ struct WideStats {
 };
 
 // Walks the wide tree; each failure names the node and slot.
-void expectValidWideBvh(const std::vector<Aabb>& bounds, const BvhConfig& config = {}, WideStats* out = nullptr) {
+void expectValidWideBvh(std::span<const Aabb> bounds, const BvhConfig& config = {},
+                        WideStats* out = nullptr) {
     const FlatBvh flat = flatten(BinnedSahBuilder::build(bounds, config));
     const std::vector<gpu::WideBvhNode> wide = collapseToWide(flat);
     WideStats stats;

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bvh/binned_sah_builder.h"
+#include "bvh/triangle_bvh.h"
 #include "command_line.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
@@ -115,8 +116,7 @@ int main(int argc, char** argv) {
     for (int run = 0; run < runs; ++run) {
         const double cpuStart = processCpuMs();
         const auto start = std::chrono::steady_clock::now();
-        std::vector<Aabb> bounds(triangles.size());
-        for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = triangles[i].bounds();
+        const HugePageVector<Aabb> bounds = triangleBounds(triangles, threads);
         const auto buildStart = std::chrono::steady_clock::now();
         const Bvh bvh = BinnedSahBuilder::build(bounds, config);
         buildTimes.push_back(millisecondsSince(buildStart));

@@ -1,6 +1,7 @@
 #include "bvh/binned_sah_builder.h"
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -47,6 +48,14 @@ struct BlockPartition {
     uint32_t leftOut = 0, rightOut = 0;  // where the block's left and right primitives go
 };
 
+// The nodes of every subtree: subtree s's lie at nodes[first[s], first[s] + counts[s]), its root first,
+// children numbered from it.
+struct SubtreeNodes {
+    LargeBuffer<BvhBuildNode> nodes;
+    std::vector<size_t> first;
+    std::vector<uint32_t> counts;
+};
+
 class Builder {
   public:
     Builder(std::span<const Aabb> bounds, const BvhConfig& config, const BinnedSahSchedule& schedule)
@@ -71,12 +80,12 @@ class Builder {
         } else {
             subtrees.push_back(root);
         }
-        // Subtree s over refs[begin, end) builds into subtreeNodes[2 * begin, 2 * end): places that do
-        // not depend on the order in which subtrees finish.
-        LargeBuffer<BvhBuildNode> subtreeNodes(2 * static_cast<size_t>(count) + 1);
-        std::vector<uint32_t> nodeCounts(subtrees.size());
-        buildSubtrees(subtrees, subtreeNodes, nodeCounts);
-        assemble(subtrees, subtreeNodes, nodeCounts);
+        // Each subtree is built in its thread's scratch nodes (a few MB, in cache), then copied to the next
+        // free place in one shared array: its nodes, dense, whatever order the subtrees finish in.
+        SubtreeNodes built{LargeBuffer<BvhBuildNode>(2 * static_cast<size_t>(count) + 1),
+                           std::vector<size_t>(subtrees.size()), std::vector<uint32_t>(subtrees.size())};
+        buildSubtrees(subtrees, built);
+        assemble(subtrees, built);
         return std::move(bvh_);
     }
 
@@ -180,16 +189,10 @@ class Builder {
                 const PrimRef* in = refs_[buffer].get();
                 PrimRef* out = refs_[1 - buffer].get();
                 BlockPartition& part = parts[b];
-                uint32_t left = part.leftOut, right = part.rightOut;
-                for (uint32_t i = block.begin; i < block.end; ++i) {
-                    if (split.side->goesLeft(in[i])) {
-                        part.leftCenters.grow(in[i].doubledCenter());
-                        out[left++] = in[i];
-                    } else {
-                        part.rightCenters.grow(in[i].doubledCenter());
-                        out[right++] = in[i];
-                    }
-                }
+                const SplitSide side = *split.side;
+                partitionRefs(in, block.begin, block.end, out + part.leftOut, out + part.rightOut, 1,
+                              part.leftCenters, part.rightCenters,
+                              [&](uint32_t i) { return side.goesLeft(in[i]); });
             });
             for (uint32_t k = 0; k < level.size(); ++k) {
                 for (size_t b = firstBlock[k]; b < firstBlock[k + 1]; ++b) {
@@ -237,41 +240,49 @@ class Builder {
     }
 
     // Every subtree on one thread, the largest first, so that the last to finish are small.
-    void buildSubtrees(const std::vector<PendingNode>& subtrees, const LargeBuffer<BvhBuildNode>& nodes,
-                       std::vector<uint32_t>& nodeCounts) {
+    void buildSubtrees(const std::vector<PendingNode>& subtrees, SubtreeNodes& built) {
         std::vector<uint32_t> order(subtrees.size());
         std::iota(order.begin(), order.end(), 0u);
         std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
             return subtrees[a].end - subtrees[a].begin > subtrees[b].end - subtrees[b].begin;
         });
+        // A subtree over n primitives has at most 2n - 1 nodes.
+        const size_t scratchNodes =
+            subtrees.empty() ? 1 : 2 * size_t{subtrees[order[0]].end - subtrees[order[0]].begin} + 1;
         std::vector<std::optional<SubtreeBuilder>> builders(threads_);
+        std::vector<LargeBuffer<BvhBuildNode>> scratch(threads_);
+        std::atomic<size_t> used{0};
         parallelFor(order.size(), threads_, [&](size_t i, unsigned worker) {
-            if (!builders[worker]) builders[worker].emplace(config_, bvh_.primIndices.data());
-            const PendingNode& subtree = subtrees[order[i]];
-            nodeCounts[order[i]] = builders[worker]->build(
+            if (!builders[worker]) {
+                builders[worker].emplace(config_, bvh_.primIndices.data());
+                scratch[worker] = LargeBuffer<BvhBuildNode>(scratchNodes);
+            }
+            const uint32_t s = order[i];
+            const PendingNode& subtree = subtrees[s];
+            const uint32_t nodeCount = builders[worker]->build(
                 refs_[subtree.buffer].get(), refs_[1 - subtree.buffer].get(), subtree.begin, subtree.end,
-                subtree.level, topNodes_[subtree.node].bounds, subtree.centers,
-                nodes.get() + 2 * size_t{subtree.begin});
+                subtree.level, topNodes_[subtree.node].bounds, subtree.centers, scratch[worker].get());
+            const size_t at = used.fetch_add(nodeCount);
+            std::copy(scratch[worker].get(), scratch[worker].get() + nodeCount, built.nodes.get() + at);
+            built.first[s] = at;
+            built.counts[s] = nodeCount;
         });
     }
 
     // The top nodes, then each subtree's nodes after its root, in the order the subtrees were found.
-    void assemble(const std::vector<PendingNode>& subtrees, const LargeBuffer<BvhBuildNode>& nodes,
-                  const std::vector<uint32_t>& nodeCounts) {
+    void assemble(const std::vector<PendingNode>& subtrees, const SubtreeNodes& built) {
         std::vector<size_t> offsets(subtrees.size());
         size_t total = topNodes_.size();
         for (size_t s = 0; s < subtrees.size(); ++s) {
             offsets[s] = total - 1;  // local node i > 0 goes to offsets[s] + i
-            total += nodeCounts[s] - 1;
+            total += built.counts[s] - 1;
         }
-        bvh_.nodes.reserve(total);
-        adviseHugePages(bvh_.nodes.data(), total * sizeof(BvhBuildNode));
         bvh_.nodes.resize(total);
         std::copy(topNodes_.begin(), topNodes_.end(), bvh_.nodes.begin());
         parallelFor(subtrees.size(), threads_, [&](size_t s, unsigned) {
             const uint32_t offset = static_cast<uint32_t>(offsets[s]);
-            const BvhBuildNode* local = nodes.get() + 2 * size_t{subtrees[s].begin};
-            for (uint32_t i = 0; i < nodeCounts[s]; ++i) {
+            const BvhBuildNode* local = built.nodes.get() + built.first[s];
+            for (uint32_t i = 0; i < built.counts[s]; ++i) {
                 BvhBuildNode node = local[i];
                 if (!node.isLeaf()) node.leftOrFirst += offset;
                 bvh_.nodes[i == 0 ? subtrees[s].node : offset + i] = node;

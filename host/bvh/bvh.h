@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/large_buffer.h"
 #include "scene/scene.h"
 
 namespace vkrt {
@@ -27,8 +28,8 @@ struct BvhBuildNode {
 };
 
 struct Bvh {
-    std::vector<BvhBuildNode> nodes;    // nodes[0] is the root
-    std::vector<uint32_t> primIndices;  // leaves refer to ranges of this array
+    HugePageVector<BvhBuildNode> nodes;    // nodes[0] is the root
+    HugePageVector<uint32_t> primIndices;  // leaves refer to ranges of this array
 };
 
 struct BvhStats {

@@ -14,7 +14,7 @@ FlatBvh flatten(const Bvh& bvh) {
         const BvhBuildNode& node = bvh.nodes[i];
         flat.nodes[i] = gpu::BvhNode{node.bounds.min, node.leftOrFirst, node.bounds.max, node.primCount};
     }
-    flat.primIndices = bvh.primIndices;
+    flat.primIndices.assign(bvh.primIndices.begin(), bvh.primIndices.end());
     return flat;
 }
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -35,11 +36,16 @@ inline glm::vec3 toVec3(Float4 v) {
     return {v[0], v[1], v[2]};
 }
 
+// Lanes 0 to 2 of an Int4 mask.
+inline constexpr Int4 kXyzLanes = {-1, -1, -1, 0};
+
 // A primitive's bounds and its index, 32 bytes: what binning and partitioning read and move.
 struct PrimRef {
     Float4 min;  // lane 3: the primitive's index, as bits
     Float4 max;
-    Float4 doubledCenter() const { return min + max; }
+    // Lane 3 is zero: the index's bits read as a float are a denormal for indices below 2^23, and
+    // arithmetic on denormals is slow (a microcode assist per instruction on many x86 cores).
+    Float4 doubledCenter() const { return std::bit_cast<Float4>(std::bit_cast<Int4>(min) & kXyzLanes) + max; }
     uint32_t index() const { return std::bit_cast<uint32_t>(min[3]); }
 };
 
@@ -59,9 +65,10 @@ struct Box4 {
     void grow(Float4 point) { grow(point, point); }
     void grow(const Box4& box) { grow(box.min, box.max); }
     Aabb toAabb() const { return Aabb{toVec3(min), toVec3(max)}; }
-    // Aabb::surfaceArea's value, for a box that is not empty.
+    // Aabb::surfaceArea's value, for a box that is not empty. Lane 3 of `min` may hold a primitive index
+    // (a denormal, slow to subtract); it is cleared first.
     float surfaceArea() const {
-        const Float4 e = max - min;
+        const Float4 e = max - std::bit_cast<Float4>(std::bit_cast<Int4>(min) & kXyzLanes);
         return 2.0f * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
     }
 };
@@ -182,10 +189,17 @@ class Bins {
         }
     }
 
+    // The occupancy words from the counts (which only grow), each gathered in a register: an or into
+    // memory per bin would wait on the one before it.
     void markOccupied() {
         for (int axis = 0; axis < 3; ++axis) {
-            for (int b = 0; b < binCount_; ++b) {
-                occupied_[axis * words_ + b / 64] |= uint64_t{counts_[axis * binCount_ + b] > 0} << (b % 64);
+            const uint32_t* counts = &counts_[axis * binCount_];
+            for (int word = 0; word < words_; ++word) {
+                uint64_t bits = 0;
+                for (int b = 64 * word, end = std::min(binCount_, b + 64); b < end; ++b) {
+                    bits |= uint64_t{counts[b] > 0} << (b % 64);
+                }
+                occupied_[axis * words_ + word] = bits;
             }
         }
     }
@@ -202,6 +216,14 @@ struct Split {
     int bin = 0;    // primitives in bins [0, bin] go left
     float cost = std::numeric_limits<float>::infinity();
 };
+
+// The SAH cost of a plane: one traversal step, then each side's primitives weighted by the probability that
+// a ray through the node hits the side's box (surface area ratio; MacDonald and Booth 1990).
+inline float planeCost(const BvhConfig& config, float leftArea, uint32_t leftCount, float rightArea,
+                       uint32_t rightCount, float nodeArea) {
+    return config.traversalCost +
+           config.intersectionCost * (leftArea * leftCount + rightArea * rightCount) / nodeArea;
+}
 
 // The cheapest plane between bins by the SAH, the planes in order, axis by axis; a plane replaces the best
 // only with a strictly lower cost. Planes are priced after bins that hold primitives only: a plane after
@@ -231,10 +253,8 @@ inline Split findSahSplit(const Bins& bins, const Aabb& nodeBounds, const Box4& 
         int previous = -1;  // the last occupied bin to the left of the plane
         bins.forEachOccupied(axis, [&](int b) {
             if (previous >= 0) {
-                const float cost = config.traversalCost + config.intersectionCost *
-                                                              (accumulated.surfaceArea() * accumulatedCount +
-                                                               rightArea[b] * rightCount[b]) /
-                                                              nodeArea;
+                const float cost = planeCost(config, accumulated.surfaceArea(), accumulatedCount,
+                                             rightArea[b], rightCount[b], nodeArea);
                 if (cost < best.cost) best = Split{axis, previous, cost};
             }
             accumulated.grow(bins.box(axis, b));
@@ -248,8 +268,8 @@ inline Split findSahSplit(const Bins& bins, const Aabb& nodeBounds, const Box4& 
 // The bounds of the two sides of a split, from the bins: exactly those of the primitives on each side.
 inline void splitBounds(const Bins& bins, const Split& split, Aabb& left, Aabb& right) {
     Box4 leftBox, rightBox;
-    for (int b = 0; b < bins.binCount(); ++b)
-        (b <= split.bin ? leftBox : rightBox).grow(bins.box(split.axis, b));
+    bins.forEachOccupied(split.axis,
+                         [&](int b) { (b <= split.bin ? leftBox : rightBox).grow(bins.box(split.axis, b)); });
     left = leftBox.toAabb();
     right = rightBox.toAabb();
 }
@@ -261,6 +281,41 @@ struct SplitSide {
     int bin;
     bool goesLeft(const PrimRef& ref) const { return mapping.binsOf(ref)[axis] <= bin; }
 };
+
+// Moves refs[begin, end) to two sides: those for which goesLeft(i) to leftOut, leftOut + 1, ..., the others
+// to rightOut, rightOut + rightStep, ... (rightStep +1 or -1), in the order they come; gathers each side's
+// centroid bounds. Returns how many went left. No branch to mispredict: each reference is stored once, at
+// a selected address, and each side's bounds grow by the centroid or by an infinity that leaves them as
+// they are (min with +inf, max with -inf).
+template <typename GoesLeft>
+inline uint32_t partitionRefs(const PrimRef* refs, uint32_t begin, uint32_t end, PrimRef* leftOut,
+                              PrimRef* rightOut, ptrdiff_t rightStep, Box4& leftCenters, Box4& rightCenters,
+                              GoesLeft&& goesLeft) {
+    PrimRef* left = leftOut;
+    PrimRef* right = rightOut;
+    const Float4 infinity = Float4{} + std::numeric_limits<float>::infinity();
+    const Int4 signBit = Int4{} + std::numeric_limits<int32_t>::min();
+    Float4 leftMin = leftCenters.min, leftMax = leftCenters.max;
+    Float4 rightMin = rightCenters.min, rightMax = rightCenters.max;
+    for (uint32_t i = begin; i < end; ++i) {
+        const PrimRef ref = refs[i];
+        const bool toLeftSide = goesLeft(i);
+        *(toLeftSide ? left : right) = ref;
+        left += toLeftSide;
+        right += toLeftSide ? 0 : rightStep;
+        const Float4 center = ref.doubledCenter();
+        const Int4 toLeft = Int4{} - static_cast<int32_t>(toLeftSide);  // all ones or all zeros
+        const Float4 minusIfLeft = std::bit_cast<Float4>(std::bit_cast<Int4>(infinity) ^ (toLeft & signBit));
+        const Float4 plusIfLeft = -minusIfLeft;
+        leftMin = min4(leftMin, max4(center, minusIfLeft));
+        leftMax = max4(leftMax, min4(center, plusIfLeft));
+        rightMin = min4(rightMin, max4(center, plusIfLeft));
+        rightMax = max4(rightMax, min4(center, minusIfLeft));
+    }
+    leftCenters = Box4{leftMin, leftMax};
+    rightCenters = Box4{rightMin, rightMax};
+    return static_cast<uint32_t>(left - leftOut);
+}
 
 // Levels that a balanced (median-split) subtree over `count` primitives needs, itself included.
 inline int levelsNeeded(uint64_t count, int maxLeafSize) {

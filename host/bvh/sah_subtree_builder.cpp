@@ -31,43 +31,34 @@ void SubtreeBuilder::buildNode(uint32_t node, uint32_t begin, uint32_t end, int 
     PrimRef* childRefs = refs;  // where the children's references lie
     PrimRef* childSpare = spare;
     if (!mustBalance) {
+        // The SAH plane: binned (Wald 2007), or for a few primitives the same plane without bins.
         const BinMapping mapping(centers, config_.binCount);
-        bins_.clear();
-        bins_.add(refs, begin, end, mapping);
-        const Split split =
-            findSahSplit(bins_, nodes_[node].bounds, centers, config_, rightArea_, rightCount_);
+        const bool small = count <= SmallNodeSplit::kMaxCount;
+        Split split;
+        if (small) {
+            split = small_.find(refs + begin, count, mapping, nodes_[node].bounds, centers, config_);
+        } else {
+            bins_.clear();
+            bins_.add(refs, begin, end, mapping);
+            split = findSahSplit(bins_, nodes_[node].bounds, centers, config_, rightArea_, rightCount_);
+        }
         const float leafCost = config_.intersectionCost * static_cast<float>(count);
         if (count <= maxLeafSize && leafCost <= split.cost) {
             makeLeaf(node, refs, begin, count);
             return;
         }
         if (split.axis >= 0) {
-            // Every reference is written to both ends of the spare range and the end it belongs to
-            // advances: no branch to mispredict. The right side comes out reversed, which no result depends
-            // on (leaves sort their primitives; median splits break ties by index).
-            const SplitSide side{mapping, split.axis, split.bin};
-            PrimRef* left = spare + begin;
-            PrimRef* right = spare + end - 1;
-            const Float4 empty = Float4{} + std::numeric_limits<float>::infinity();
-            Float4 leftMin = empty, leftMax = -empty, rightMin = empty, rightMax = -empty;
-            for (uint32_t i = begin; i < end; ++i) {
-                const PrimRef ref = refs[i];
-                const bool goesLeft = side.goesLeft(ref);
-                *left = ref;
-                *right = ref;
-                left += goesLeft;
-                right -= !goesLeft;
-                const Float4 center = ref.doubledCenter();
-                const Int4 toLeft = Int4{} - static_cast<int32_t>(goesLeft);  // all ones or all zeros
-                leftMin = toLeft ? min4(leftMin, center) : leftMin;
-                leftMax = toLeft ? max4(leftMax, center) : leftMax;
-                rightMin = toLeft ? rightMin : min4(rightMin, center);
-                rightMax = toLeft ? rightMax : max4(rightMax, center);
+            if (small) {
+                middle = partition(refs, spare, begin, end, leftCenters, rightCenters,
+                                   [&](uint32_t i) { return small_.goesLeft(i - begin, split); });
+                leftBounds = small_.leftBounds();
+                rightBounds = small_.rightBounds();
+            } else {
+                const SplitSide side{mapping, split.axis, split.bin};
+                middle = partition(refs, spare, begin, end, leftCenters, rightCenters,
+                                   [&](uint32_t i) { return side.goesLeft(refs[i]); });
+                splitBounds(bins_, split, leftBounds, rightBounds);
             }
-            leftCenters = Box4{leftMin, leftMax};
-            rightCenters = Box4{rightMin, rightMax};
-            middle = static_cast<uint32_t>(left - spare);
-            splitBounds(bins_, split, leftBounds, rightBounds);
             childRefs = spare;
             childSpare = refs;
         }
@@ -93,6 +84,15 @@ void SubtreeBuilder::buildNode(uint32_t node, uint32_t begin, uint32_t end, int 
     nodes_[left + 1] = BvhBuildNode{rightBounds};
     buildNode(left, begin, middle, level + 1, leftCenters, childRefs, childSpare);
     buildNode(left + 1, middle, end, level + 1, rightCenters, childRefs, childSpare);
+}
+
+// The right side is written from the end of the spare range down, so it comes out reversed, which no result
+// depends on (leaves sort their primitives; median splits break ties by index).
+template <typename GoesLeft>
+uint32_t SubtreeBuilder::partition(const PrimRef* refs, PrimRef* spare, uint32_t begin, uint32_t end,
+                                   Box4& leftCenters, Box4& rightCenters, GoesLeft&& goesLeft) {
+    return begin + partitionRefs(refs, begin, end, spare + begin, spare + end - 1, -1, leftCenters,
+                                 rightCenters, goesLeft);
 }
 
 void SubtreeBuilder::makeLeaf(uint32_t node, const PrimRef* refs, uint32_t begin, uint32_t count) {

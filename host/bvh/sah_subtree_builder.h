@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bvh/sah_binning.h"
+#include "bvh/sah_small_split.h"
 
 namespace vkrt::sah {
 
@@ -25,12 +26,18 @@ class SubtreeBuilder {
     void buildNode(uint32_t node, uint32_t begin, uint32_t end, int level, const Box4& centers, PrimRef* refs,
                    PrimRef* spare);
     void makeLeaf(uint32_t node, const PrimRef* refs, uint32_t begin, uint32_t count);
+    // Moves refs[begin, end) to spare[begin, end), those for which goesLeft(i) first; gathers each side's
+    // centroid bounds; returns where the right side begins.
+    template <typename GoesLeft>
+    uint32_t partition(const PrimRef* refs, PrimRef* spare, uint32_t begin, uint32_t end, Box4& leftCenters,
+                       Box4& rightCenters, GoesLeft&& goesLeft);
 
     const BvhConfig& config_;
     uint32_t* primIndices_;
     BvhBuildNode* nodes_ = nullptr;
     uint32_t nodeCount_ = 0;
     Bins bins_;
+    SmallNodeSplit small_;
     std::vector<float> rightArea_;
     std::vector<uint32_t> rightCount_;
 };

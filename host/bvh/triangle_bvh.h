@@ -6,6 +6,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/flat_bvh.h"
+#include "common/large_buffer.h"
 
 namespace vkrt {
 
@@ -14,8 +15,9 @@ struct TriangleBvh {
     BvhStats stats;  // buildMs covers the build alone
 };
 
-// Each triangle's bounding box, in order: what the builder sorts.
-std::vector<Aabb> triangleBounds(const std::vector<Triangle>& triangles);
+// Each triangle's bounding box, in order: what the builder sorts. Computed on `threads` threads (0: all
+// hardware threads), on huge pages.
+HugePageVector<Aabb> triangleBounds(const std::vector<Triangle>& triangles, int threads = 0);
 
 TriangleBvh buildTriangleBvh(const std::vector<Triangle>& triangles, const BvhConfig& config = {});
 

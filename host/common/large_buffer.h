@@ -10,6 +10,7 @@
 #include <memory>
 #include <new>
 #include <type_traits>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -53,5 +54,42 @@ class LargeBuffer {
     };
     std::unique_ptr<T, Free> data_;
 };
+
+// The allocator of HugePageVector: arrays of 2 MiB or more are whole huge pages (aligned and rounded up to
+// them), so that no part of a large array faults 4 KiB at a time; smaller ones come from std::allocator.
+template <typename T>
+struct HugePageAllocator {
+    using value_type = T;
+    HugePageAllocator() = default;
+    template <typename U>
+    HugePageAllocator(const HugePageAllocator<U>&) {}
+
+    T* allocate(size_t count) {
+        const size_t bytes = count * sizeof(T);
+        if (bytes < kHugePageBytes) return std::allocator<T>{}.allocate(count);
+        const size_t rounded = (bytes + kHugePageBytes - 1) & ~(kHugePageBytes - 1);
+        void* data = std::aligned_alloc(kHugePageBytes, rounded);
+        if (!data) throw std::bad_alloc();
+        adviseHugePages(data, rounded);
+        return static_cast<T*>(data);
+    }
+    void deallocate(T* data, size_t count) {
+        if (count * sizeof(T) < kHugePageBytes) {
+            std::allocator<T>{}.deallocate(data, count);
+        } else {
+            std::free(data);
+        }
+    }
+    template <typename U>
+    bool operator==(const HugePageAllocator<U>&) const {
+        return true;
+    }
+};
+
+// A std::vector on huge pages: for arrays of millions of elements, such as the BVH's nodes, whose first
+// touch on 4 KiB pages costs more than filling them (a virtual machine measured 32 MB in 130 ms on 4 KiB
+// pages, 3 ms on huge pages).
+template <typename T>
+using HugePageVector = std::vector<T, HugePageAllocator<T>>;
 
 }  // namespace vkrt
