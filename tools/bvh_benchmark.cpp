@@ -22,6 +22,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/triangle_bvh.h"
 #include "command_line.h"
+#include "common/elapsed_time.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #ifdef VKRT_HAVE_EMBREE
@@ -30,9 +31,7 @@
 
 namespace {
 
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
+using vkrt::millisecondsSince;
 
 // CPU time used by every thread of this process so far, in milliseconds (Embree's workers included).
 double processCpuMs() {
