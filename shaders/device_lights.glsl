@@ -96,13 +96,7 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
 float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 point, float cosLight) {
 #ifdef VKRT_HAS_SHAPES
     if (shape != VKRT_NO_PRIMITIVE) {
-        AffineRows toObject, toWorld;
-        shapeMaps(shape, toObject, toWorld);
-        const GpuShape s = params.shapes.shapes[shape];
-        const vec3 local = affinePoint(toObject, point);
-        const vec3 toPoint = point - from;
-        return solidAnglePdfFromArea(s.lightPick * shapePointDensity(s.type, shapeFaceAt(s.type, local), local, toObject),
-                                     dot(toPoint, toPoint), cosLight);
+        return shapeLightSolidAnglePdf(shape, params.shapes.shapes[shape].lightPick, from, point, cosLight);
     }
 #endif
     const GpuPrimitive opened = VKRT_PRIMITIVE(primitive);

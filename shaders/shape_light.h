@@ -1,8 +1,9 @@
 // Emissive shapes of solids (VKRT_shape, VKRT_csg) as area lights, shared by both devices: a point of the
 // shape drawn uniformly over its canonical parts, its density per world area by Nanson's formula
 // (area_light.h's shapePointDensity), and whether it lies on its solid's surface at all (a CSG operand emits
-// only there). Each device gives its shapes through VKRT_DEVICE (shading_language.h): shapeType,
-// shapeMaterial, and shapeMaps (object-to-world and world-to-object at the sample's shutter time).
+// only there), and the density per solid angle with which it picks a point. Each device gives its shapes
+// through VKRT_DEVICE (shading_language.h): shapeType, shapeMaterial, and shapeMaps (object-to-world and
+// world-to-object at the sample's shutter time).
 #ifndef VKRT_SHAPE_LIGHT_H
 #define VKRT_SHAPE_LIGHT_H
 
@@ -63,6 +64,20 @@ VKRT_FN LightPoint sampleShapeLight(VKRT_DEVICE_PARAM uint primitive, VKRT_IN(So
     p.uv = shapeUv(type, face, local);
     p.pdfArea = side == 0 ? 0.0 : pick * shapePointDensity(type, face, local, toObject);
     return p;
+}
+
+// The density per solid angle, seen from `from`, with which sampleShapeLight picks `point` on shape `shape`,
+// whose light is picked with probability `pick`; `cosLight` is the cosine at the light.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real shapeLightSolidAnglePdf(VKRT_DEVICE_PARAM uint shape, real pick, real3 from, real3 point,
+                                     real cosLight) {
+    const uint type = VKRT_DEVICE(shapeType)(shape);
+    AffineRows toObject, toWorld;
+    VKRT_DEVICE(shapeMaps)(shape, toObject, toWorld);
+    const real3 local = affinePoint(toObject, point);
+    const real3 toPoint = point - from;
+    return solidAnglePdfFromArea(pick * shapePointDensity(type, shapeFaceAt(type, local), local, toObject),
+                                 dot(toPoint, toPoint), cosLight);
 }
 
 VKRT_SHADING_END

@@ -68,10 +68,8 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, dou
     const uint32_t primitive = lights.primitives[i];
     if (lights.shapes[i] != kNoPrimitive) {
         const Solid& solid = data_.scene.solidOf(primitive);
-        const shading::SolidOperands operands{
-            solid.firstShape, solid.shapeCount,
-            glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]),
-            glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7])};
+        const shading::SolidOperands operands{solid.firstShape, solid.shapeCount, solid.tableLow(),
+                                              solid.tableHigh()};
         return shading::sampleShapeLight(*this, primitive, operands, lights.shapes[i], lights.pick[i], u, v);
     }
     if (data_.scene.isSphere(primitive)) {
@@ -101,17 +99,8 @@ void CpuShadingDevice::shapeMaps(uint32_t shape, shading::AffineRows& toObject,
 double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,
                                             const glm::dvec3& point, double cosLight) const {
     const Scene& scene = data_.scene;
-    if (shape != kNoPrimitive) {
-        glm::dmat4 toWorld, toObject;
-        scene.shapeAt(shape, time_, toWorld, toObject);
-        const shading::AffineRows rows = shading::affineRows(toObject);
-        const glm::dvec3 local(toObject * glm::dvec4(point, 1.0));
-        const uint32_t face = shading::shapeFaceAt(scene.shapes[shape].type, local);
-        const glm::dvec3 offset = point - from;
-        return shading::solidAnglePdfFromArea(
-            data_.shapePick[shape] * shading::shapePointDensity(scene.shapes[shape].type, face, local, rows),
-            glm::dot(offset, offset), cosLight);
-    }
+    if (shape != kNoPrimitive)
+        return shading::shapeLightSolidAnglePdf(*this, shape, data_.shapePick[shape], from, point, cosLight);
     const double pick = shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission),
                                             primitiveArea(scene, primitive)) /
                         data_.lights.totalPower;

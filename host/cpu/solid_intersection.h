@@ -24,8 +24,8 @@ inline SolidIntervals solidIntervals(const Scene& scene, const Solid& solid, con
                                      const glm::dvec3& direction, double time) {
     SolidIntervals s;
     s.count = solid.shapeCount;
-    s.tableLow = glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]);
-    s.tableHigh = glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7]);
+    s.tableLow = solid.tableLow();
+    s.tableHigh = solid.tableHigh();
     for (uint32_t i = 0; i < solid.shapeCount; ++i) {
         glm::dmat4 toWorld, toObject;
         scene.shapeAt(solid.firstShape + i, time, toWorld, toObject);

@@ -93,9 +93,8 @@ void affineRowsOf(const glm::dmat4& m, glm::vec4& row0, glm::vec4& row1, glm::ve
 // The solids, their shapes and the shapes' poses, as the shader reads them.
 void packSolids(const Scene& scene, const LightTable& lights, GpuSceneData& data) {
     for (const Solid& solid : scene.solids) {
-        data.solids.push_back({solid.firstShape, solid.shapeCount, 0u, 0u,
-                               glm::uvec4(solid.table[0], solid.table[1], solid.table[2], solid.table[3]),
-                               glm::uvec4(solid.table[4], solid.table[5], solid.table[6], solid.table[7])});
+        data.solids.push_back(
+            {solid.firstShape, solid.shapeCount, 0u, 0u, solid.tableLow(), solid.tableHigh()});
     }
     for (const Shape& shape : scene.shapes) {
         gpu::GpuShape g{};

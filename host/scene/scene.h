@@ -91,6 +91,10 @@ struct Solid {
     uint32_t shapeCount = 0;
     std::array<uint32_t, 8> table{};  // bit s: points inside exactly the shapes of s's set bits are inside
     Aabb bounds;                      // over the whole shutter
+
+    // The table's bits 0 to 127 and 128 to 255, as the shared code reads it (shape_geometry.h's csgTable).
+    glm::uvec4 tableLow() const { return {table[0], table[1], table[2], table[3]}; }
+    glm::uvec4 tableHigh() const { return {table[4], table[5], table[6], table[7]}; }
 };
 
 // Per-vertex attributes of a triangle, kept apart from positions so traversal touches less memory.
