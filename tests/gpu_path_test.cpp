@@ -47,38 +47,50 @@ Scene glowingCube(float albedo) {
     return scene;
 }
 
+// Paths rendered from `position` looking along `forward` inside an enclosure whose walls all emit 1 and
+// reflect `albedo` diffusely (32 x 32, 64 spp, depth 256, no ambient light) see 1 / (1 - albedo) everywhere,
+// within 2% in every 8 x 8 block and 0.5% on average, on the GPU and the CPU. Returns both renders.
+test::RenderPair expectGlowingEnclosure(const VulkanContext& context, const Scene& scene, glm::dvec3 position,
+                                        glm::dvec3 forward, float albedo, const std::string& name) {
+    Camera camera;
+    camera.position = position;
+    camera.forward = glm::normalize(forward);
+    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = 1.4;
+    RenderSettings settings;
+    settings.integrator = Integrator::Path;
+    settings.maxDepth = 256;
+    settings.ambient = glm::dvec3(0.0);
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 64;
+    test::RenderPair pair =
+        test::renderGpuAndCpu(context, scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+    Image exact(settings.width, settings.height);
+    for (glm::vec3& p : exact.pixels) p = glm::vec3(static_cast<float>(1.0 / (1.0 - albedo)));
+    for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
+        const std::string which = std::string(result == &pair.gpu ? "gpu" : "cpu") + ", " + name;
+        EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
+        const BlockAgreement agreement = compareBlocks(result->image, exact, 8, 0.02, 0.0);
+        EXPECT_EQ(agreement.fractionWithin, 1.0) << which << ": worst block off by " << agreement.worstBlock;
+        EXPECT_NEAR(agreement.meanRatio.x, 1.0, 0.005) << which;
+    }
+    return pair;
+}
+
 TEST_F(Gpu, PathsInAGlowingEnclosureSeeOneOverOneMinusAlbedo) {
     // Every wall emits radiance 1 and reflects a fraction A diffusely: the radiance is 1 + A + A^2 + ... =
     // 1 / (1 - A) everywhere, 2 for A = 0.5 and 5 for A = 0.8. Light samples, cosine-sampled bounces, their
     // multiple importance sampling and Russian roulette all take part; any bias shows as a wrong level.
     for (const float albedo : {0.5f, 0.8f}) {
-        const Scene scene = glowingCube(albedo);
-        const FlatBvh bvh = bvhFor(scene);
-        Camera camera;
-        camera.position = {0.2, -0.1, 0.3};
-        camera.forward = glm::normalize(glm::dvec3(1.0, 0.7, 0.4));
-        camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-        camera.up = glm::cross(camera.right, camera.forward);
-        camera.yfov = 1.4;  // corners, edges and three faces in view
-        RenderSettings settings;
-        settings.integrator = Integrator::Path;
-        settings.maxDepth = 256;
-        settings.ambient = glm::dvec3(0.0);
-        settings.width = settings.height = 32;
-        settings.samplesPerPixel = 64;
-        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
-        const double expected = 1.0 / (1.0 - albedo);
-        Image exact(settings.width, settings.height);
-        for (glm::vec3& p : exact.pixels) p = glm::vec3(static_cast<float>(expected));
-        for (const RenderResult* result : {&gpu, &cpu}) {
-            const std::string which = std::string(result == &gpu ? "gpu" : "cpu") + ", albedo " + std::to_string(albedo);
-            EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
-            const BlockAgreement agreement = compareBlocks(result->image, exact, 8, 0.02, 0.0);
-            EXPECT_EQ(agreement.fractionWithin, 1.0) << which << ": worst block off by " << agreement.worstBlock;
-            EXPECT_NEAR(agreement.meanRatio.x, 1.0, 0.005) << which;
+        // Corners, edges and three faces in view.
+        const test::RenderPair renders =
+            expectGlowingEnclosure(context(), glowingCube(albedo), {0.2, -0.1, 0.3}, {1.0, 0.7, 0.4}, albedo,
+                                   "albedo " + std::to_string(albedo));
+        for (const RenderResult* result : {&renders.gpu, &renders.cpu}) {
             // Paths went far beyond Whitted's depth: at A = 0.8 Russian roulette continues them with probability
             // about 0.8 per bounce.
-            EXPECT_GT(result->rays.secondary, 3 * result->rays.primary) << which;
+            EXPECT_GT(result->rays.secondary, 3 * result->rays.primary) << "albedo " << albedo;
         }
     }
 }
@@ -101,31 +113,8 @@ TEST_F(Gpu, PathsInAGlowingCsgCavitySeeOneOverOneMinusAlbedo) {
               makeShape(VKRT_SHAPE_SPHERE, 1, glm::dmat4(1.0)), makeShape(VKRT_SHAPE_BOX, 1, pocket)},
              {1u << 1});
     finalizeScene(scene);
-    const FlatBvh bvh = bvhFor(scene);
-    Camera camera;
-    camera.position = {0.1, 0.05, -0.2};
-    camera.forward = glm::normalize(glm::dvec3(1.0, 0.2, 0.3));
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
-    camera.yfov = 1.4;  // the pocket and the sphere around it
-    RenderSettings settings;
-    settings.integrator = Integrator::Path;
-    settings.maxDepth = 256;
-    settings.ambient = glm::dvec3(0.0);
-    settings.width = settings.height = 32;
-    settings.samplesPerPixel = 64;
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
-    const double expected = 1.0 / (1.0 - albedo);
-    Image exact(settings.width, settings.height);
-    for (glm::vec3& p : exact.pixels) p = glm::vec3(static_cast<float>(expected));
-    for (const RenderResult* result : {&gpu, &cpu}) {
-        const std::string which = result == &gpu ? "gpu" : "cpu";
-        EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
-        const BlockAgreement agreement = compareBlocks(result->image, exact, 8, 0.02, 0.0);
-        EXPECT_EQ(agreement.fractionWithin, 1.0) << which << ": worst block off by " << agreement.worstBlock;
-        EXPECT_NEAR(agreement.meanRatio.x, 1.0, 0.005) << which;
-    }
+    // The pocket and the sphere around it.
+    expectGlowingEnclosure(context(), scene, {0.1, 0.05, -0.2}, {1.0, 0.2, 0.3}, albedo, "CSG cavity");
 }
 
 TEST_F(Gpu, PathsStopAtTheMaximumDepth) {
