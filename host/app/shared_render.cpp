@@ -98,10 +98,7 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
             renderBatch(static_cast<uint32_t>(first), static_cast<uint32_t>(end), share.sums, stop);
         const double batchMs = millisecondsSince(batchStart);
         ++share.batches;
-        share.rays.primary += batch.rays.primary;
-        share.rays.shadow += batch.rays.shadow;
-        share.rays.secondary += batch.rays.secondary;
-        share.rays.nonFiniteSamples += batch.rays.nonFiniteSamples;
+        share.rays += batch.rays;
         share.fewest += batch.fewestSamples;
         share.most += batch.mostSamples;
         if (batch.stopped != StopReason::None) {

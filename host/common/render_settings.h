@@ -50,6 +50,13 @@ struct RayCounters {
     uint64_t secondary = 0;  // reflection and refraction rays; a path's bounces
     uint64_t nonFiniteSamples = 0;
     uint64_t total() const { return primary + shadow + secondary; }
+    RayCounters& operator+=(const RayCounters& other) {
+        primary += other.primary;
+        shadow += other.shadow;
+        secondary += other.secondary;
+        nonFiniteSamples += other.nonFiniteSamples;
+        return *this;
+    }
 };
 
 }  // namespace vkrt

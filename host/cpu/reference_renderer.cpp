@@ -295,12 +295,7 @@ RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSa
                          static_cast<uint64_t>(samples) * settings_.height);
             }
         });
-        for (const WorkerCounters& c : counters) {
-            result.rays.primary += c.rays.primary;
-            result.rays.shadow += c.rays.shadow;
-            result.rays.secondary += c.rays.secondary;
-            result.rays.nonFiniteSamples += c.rays.nonFiniteSamples;
-        }
+        for (const WorkerCounters& c : counters) result.rays += c.rays;
         // A pass cut short leaves some pixels with `end` samples and the rest with `done`.
         result.stopped = stopped;
         if (pixelsDone > 0) most = end;
