@@ -67,10 +67,10 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");
     }
     // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
-    // they make about 6 to 16% slower to run on lavapipe, more than the shorter pipeline creation saves in
-    // any but the shortest render (README, "Traversal and build").
+    // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp; README,
+    // "Traversal and build").
     const SpirvOptimization optimization =
-        settings.integrator == Integrator::Path ? SpirvOptimization::None : SpirvOptimization::Performance;
+        settings.integrator == Integrator::Path ? SpirvOptimization::Inline : SpirvOptimization::Performance;
     const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir, optimization);
     spirv_ = shader.spirv;
     report_.compileMs = shader.compileMs;

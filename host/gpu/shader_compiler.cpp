@@ -50,7 +50,9 @@ uint64_t fnv1a(const std::string& text, uint64_t hash = 1469598103934665603ull) 
 std::string cacheKeyFor(const std::string& mainFile, const std::string& mainText, const std::string& preamble,
                         SpirvOptimization optimization) {
     // SPIR-V run through spirv-opt (optimizeSpirv) has keys of its own, so caches from before are not reused.
-    const char* optimizer = optimization == SpirvOptimization::Performance ? " spirv-opt -O" : "";
+    const char* optimizer = optimization == SpirvOptimization::Performance ? " spirv-opt -O"
+                            : optimization == SpirvOptimization::Inline    ? " spirv-opt inline"
+                                                                           : "";
     uint64_t hash =
         fnv1a(std::to_string(GLSLANG_VERSION_MAJOR) + "." + std::to_string(GLSLANG_VERSION_MINOR) + "." +
               std::to_string(GLSLANG_VERSION_PATCH) + optimizer);
@@ -77,12 +79,29 @@ bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) 
 // spirv-opt's performance passes (spirv-opt -O): functions inlined, loads and stores of locals forwarded,
 // dead code removed. glslang runs them only for HLSL or with optimizeSize. On lavapipe the module is about
 // half the size and pipeline creation (spirv_to_nir and NIR's passes, the bulk of a render's fixed cost)
-// takes a quarter to a third of the time (README, issue 13); the path kernel runs 6 to 16% slower with them,
-// so the renderer leaves it unoptimised; real GPUs' drivers are not measured yet. The passes leave
-// NoContraction (GLSL `precise`) arithmetic as written. Returns the input unchanged if the optimizer fails.
-std::vector<uint32_t> optimizeSpirv(const std::vector<uint32_t>& spirv) {
+// takes a quarter to a third of the time (README, issue 13). The path kernel runs slower with them, because
+// of one of them: the SSA rewrite of locals stored more than once (eliminate-local-multi-store) alone made
+// it 1.8 times as slow (gpu_ms 1420 against 790 on the Whitted scene), its loop-carried state turned into
+// phis. Inline runs the passes before that one: every function inlined into main, locals stored once
+// forwarded. Pipeline creation then takes a quarter of the unoptimised module's time (100 against 370 ms) and
+// the kernel runs as fast. Real GPUs' drivers are not measured yet. The passes leave NoContraction (GLSL
+// `precise`) arithmetic as written. Returns the input unchanged if the optimizer fails.
+std::vector<uint32_t> optimizeSpirv(const std::vector<uint32_t>& spirv, SpirvOptimization optimization) {
     spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_2);
-    optimizer.RegisterPerformancePasses();
+    if (optimization == SpirvOptimization::Performance) {
+        optimizer.RegisterPerformancePasses();
+    } else {
+        optimizer.RegisterPass(spvtools::CreateWrapOpKillPass())
+            .RegisterPass(spvtools::CreateDeadBranchElimPass())
+            .RegisterPass(spvtools::CreateMergeReturnPass())
+            .RegisterPass(spvtools::CreateInlineExhaustivePass())
+            .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass())
+            .RegisterPass(spvtools::CreateAggressiveDCEPass())
+            .RegisterPass(spvtools::CreatePrivateToLocalPass())
+            .RegisterPass(spvtools::CreateLocalSingleBlockLoadStoreElimPass())
+            .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
+            .RegisterPass(spvtools::CreateAggressiveDCEPass());
+    }
     std::vector<uint32_t> optimized;
     if (!optimizer.Run(spirv.data(), spirv.size(), &optimized) || optimized.empty()) return spirv;
     return optimized;
@@ -159,7 +178,8 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
     options.optimizeSize = false;
     std::vector<uint32_t> unoptimized;
     glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), unoptimized, &options);
-    result.spirv = optimization == SpirvOptimization::Performance ? optimizeSpirv(unoptimized) : unoptimized;
+    result.spirv =
+        optimization == SpirvOptimization::None ? unoptimized : optimizeSpirv(unoptimized, optimization);
     result.compileMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 

@@ -26,9 +26,10 @@ struct CompiledShader {
     std::string cacheKey;
 };
 
-// What runs on the SPIR-V after glslang: spirv-opt's performance passes (the default; see shader_compiler.cpp),
-// or nothing (every function still there under its name, as the specialisation test reads them).
-enum class SpirvOptimization { Performance, None };
+// What runs on the SPIR-V after glslang: spirv-opt's performance passes (the default; see
+// shader_compiler.cpp), only its inlining and the forwarding of locals stored once (Inline), or nothing
+// (every function still there under its name, as the specialisation test reads them).
+enum class SpirvOptimization { Performance, Inline, None };
 
 // The folder for cached SPIR-V: $VKRT_SHADER_CACHE, else $XDG_CACHE_HOME/vkrt, else ~/.cache/vkrt.
 // An empty string turns the cache off.
