@@ -11,6 +11,9 @@
 // VKRT_HAS_ALPHA, VKRT_HAS_ENVIRONMENT, VKRT_HAS_SHAPES.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
+#ifdef VKRT_SUBGROUP_COUNTERS
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 
 #include "shared.h"
 #include "random.h"
@@ -311,6 +314,19 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
 }
 #endif
 
+// Adds this invocation's `count` to ray counter `counter`. Every invocation adding to the same word serialises
+// the atomics: on lavapipe a path kernel that does nothing else took 4 times as long with one atomic per
+// invocation and counter (307 against 76 ms for 64 samples of 256 x 256). Where the device can sum across a
+// subgroup, one invocation adds the subgroup's total.
+void addToCounter(uint counter, uint count) {
+#ifdef VKRT_SUBGROUP_COUNTERS
+    const uint total = subgroupAdd(count);
+    if (subgroupElect() && total > 0u) atomicAdd(params.counters.counters[counter], total);
+#else
+    if (count > 0u) atomicAdd(params.counters.counters[counter], count);
+#endif
+}
+
 void main() {
     const uint width = params.width;
     const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + gl_GlobalInvocationID.y);
@@ -360,8 +376,8 @@ void main() {
     lost = (next - total) - corrected;
     params.accumulation.pixels[2u * slot] = next;
     params.accumulation.pixels[2u * slot + 1u] = lost;
-    atomicAdd(params.counters.counters[VKRT_COUNTER_PRIMARY], primaryRays);
-    atomicAdd(params.counters.counters[VKRT_COUNTER_SHADOW], vkrtShadowRays);
-    atomicAdd(params.counters.counters[VKRT_COUNTER_SECONDARY], secondaryRays);
-    if (nonFinite > 0u) atomicAdd(params.counters.counters[VKRT_COUNTER_NONFINITE], nonFinite);
+    addToCounter(VKRT_COUNTER_PRIMARY, primaryRays);
+    addToCounter(VKRT_COUNTER_SHADOW, vkrtShadowRays);
+    addToCounter(VKRT_COUNTER_SECONDARY, secondaryRays);
+    addToCounter(VKRT_COUNTER_NONFINITE, nonFinite);
 }

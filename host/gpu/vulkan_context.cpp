@@ -231,6 +231,10 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         properties2.pNext = &properties11;
         vkGetPhysicalDeviceProperties2(physicalDevice_, &properties2);
         maxAllocationBytes_ = properties11.maxMemoryAllocationSize;
+        const VkSubgroupFeatureFlags subgroupSums =
+            VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+        subgroupArithmetic_ = (properties11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+                              (properties11.subgroupSupportedOperations & subgroupSums) == subgroupSums;
         memoryBudget_ = hasDeviceExtension(physicalDevice_, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
         queueFamily_ = static_cast<uint32_t>(computeQueueFamily(physicalDevice_, &timestampValidBits_));
 

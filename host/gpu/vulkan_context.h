@@ -60,6 +60,9 @@ class VulkanContext {
     // Whether kernels should read geometry as 64-bit words (VKRT_WIDE_LOADS, shaders/geometry.glsl): a
     // gain on CPU devices (lavapipe), which gather one component at a time; real GPUs keep plain reads.
     bool wideGeometryLoads() const { return shaderInt64_ && description_.type == "CPU"; }
+    // Whether compute shaders may sum across a subgroup (subgroupAdd, subgroupElect): kernels then add their
+    // ray counts with one atomic per subgroup (VKRT_SUBGROUP_COUNTERS, shaders/trace.comp).
+    bool hasSubgroupArithmetic() const { return subgroupArithmetic_; }
     double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
 
     // Validation-layer warnings and errors seen so far (0 when validation is off).
@@ -99,6 +102,7 @@ class VulkanContext {
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
     bool shaderInt64_ = false;
+    bool subgroupArithmetic_ = false;
     bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
     int deviceHeap_ = -1;
     uint64_t maxAllocationBytes_ = 0;
