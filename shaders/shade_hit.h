@@ -505,7 +505,11 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #endif
     if (!context.paths) local += inputs.occlusion * context.ambient * ambientReflectance;  // Whitted's alone
     const bool continues = ray.depth < context.maxDepth;
+#ifdef VKRT_HAS_TRACED_LOBES
     const bool lobeSampled = continues && ((surface.traced && !surface.mirror) || (surface.coatTraced && !surface.coatMirror));
+#else
+    const bool lobeSampled = false;  // a constant: directLight's weights against traced lobes compile out
+#endif
     const bool untracedSampled = continues && context.paths;
     local += directLight(VKRT_DEVICE_ARG context, ray.node, ray.media, frame, surface, lobeSampled, untracedSampled);
     result.radiance = local;
@@ -535,6 +539,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         }
     }
     if (!continues || !(surface.traced || surface.coatTraced)) return result;
+#ifdef VKRT_HAS_TRACED_LOBES  // else no lane gets here, but a SIMD device (lavapipe) would run it all, masked
 
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
@@ -626,6 +631,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                        coneWidthAt(ray, hit.position), ray.coneSpread);
     }
 #endif
+#endif  // VKRT_HAS_TRACED_LOBES
     return result;
 }
 

@@ -17,6 +17,7 @@
 
 #include "energy_compensation.h"
 #include "gpu/gpu_scene.h"
+#include "gpu/scene_features.h"
 #include "scene/environment_map.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/scene_builder.h"
@@ -310,6 +311,37 @@ TEST(EnergyCompensation, OnlyScenesWithRoughLobesGetTheTables) {
     plastic.specularFactor = 1.0f;
     EXPECT_TRUE(packed({coated}).features.roughSpecular);
     EXPECT_TRUE(packed({plastic}).features.roughSpecular);
+}
+
+TEST(SceneFeatures, OnlyScenesThatTraceALobeGetItsCode) {
+    // A lobe is traced (surface_response.h's `traced`) by metals, transmissive surfaces, specular reflection
+    // below roughness 1 and coats; a matte dielectric's specular reflection at roughness 1 is not, nor a
+    // smooth surface without specular reflection. A roughness texture can make roughness 1 smaller.
+    auto traces = [](const Material& material) {
+        Scene scene;
+        scene.materials = {material};
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
+        scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
+        return detectFeatures(scene).tracedLobes;
+    };
+    Material matte = test::lambertian(0.5f);
+    matte.specularFactor = 1.0f;  // glTF's default dielectric, roughness 1
+    EXPECT_FALSE(traces(test::lambertian(0.5f)));
+    EXPECT_FALSE(traces(matte));
+    Material smoothWithoutSpecular = test::lambertian(0.5f);
+    smoothWithoutSpecular.roughness = 0.0f;
+    EXPECT_FALSE(traces(smoothWithoutSpecular));
+    Material glossy = matte;
+    glossy.roughness = 0.9f;
+    EXPECT_TRUE(traces(glossy));
+    Material textured = matte;
+    textured.metallicRoughnessTexture.texture = 0;
+    EXPECT_TRUE(traces(textured));
+    EXPECT_TRUE(traces(furnaceMaterial(Surface::Metal, 1.0f)));
+    EXPECT_TRUE(traces(furnaceMaterial(Surface::Glass, 0.0f)));
+    Material coated = test::lambertian(0.5f);
+    coated.clearcoat = 1.0f;
+    EXPECT_TRUE(traces(coated));
 }
 
 }  // namespace

@@ -59,7 +59,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 20u);
+    EXPECT_EQ(full.features().defines().size(), 21u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts.
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
@@ -77,9 +77,9 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
         const std::string bytes(reinterpret_cast<const char*>(spirv.data()), spirv.size() * 4);
         return bytes.find(name) != std::string::npos;
     };
-    for (const char* function :
-         {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom", "sphereRoots", "concentricDisk",
-          "device_vertexColor", "sampleEnvironment", "environmentPdf", "csgCrossing", "shapeInterval"}) {
+    for (const char* function : {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom",
+                                 "sphereRoots", "concentricDisk", "device_vertexColor", "sampleEnvironment",
+                                 "environmentPdf", "csgCrossing", "shapeInterval", "visibleMicroNormal"}) {
         EXPECT_TRUE(names(fullNamed, function)) << function;
         EXPECT_FALSE(names(leanNamed, function))
             << function << " is compiled in but the scene does not need it";

@@ -34,7 +34,18 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::environment, "environment", "VKRT_HAS_ENVIRONMENT"},
     {&SceneFeatures::sheen, "sheen", "VKRT_HAS_SHEEN"},
     {&SceneFeatures::roughSpecular, "rough_specular", "VKRT_HAS_ROUGH_SPECULAR"},
+    {&SceneFeatures::tracedLobes, "traced_lobes", "VKRT_HAS_TRACED_LOBES"},
 };
+
+// Whether some point of `material` may trace a lobe (surface_response.h's `traced` and `coatTraced`): a
+// metal, a transmissive surface, a specular reflection below roughness 1, or a coat. Textures only scale
+// the factors, so a factor of 0 stays 0, and a roughness of 1 can fall only under a texture. A matte
+// dielectric (glTF's default roughness 1) keeps its faint specular reflection untraced.
+bool tracesLobe(const Material& material) {
+    const bool smooth = material.roughness < 1.0f || material.metallicRoughnessTexture.used();
+    return material.metallic > 0.0f || material.transmission > 0.0f ||
+           (material.specularFactor > 0.0f && smooth) || material.clearcoat > 0.0f;
+}
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
     const glm::vec3 face = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
@@ -101,6 +112,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.clearcoat |= material.clearcoat > 0.0f;
         features.sheen |= material.hasSheen();
         features.roughSpecular |= hasRoughSpecular(material);
+        features.tracedLobes |= tracesLobe(material);
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.
