@@ -438,10 +438,18 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
 // the coat, if any, which adds its own lobe about `coatNormal`. The traced lobes are weighted `tracedWeight`,
 // the others (diffuse, sheen, a specular lobe or coat that is not traced) `untracedWeight`: the multiple
 // importance sampling weights of a light sample against the strategies that also reach each lobe.
+//
+// A scene without rough or traced lobes (VKRT_HAS_ROUGH_SPECULAR, VKRT_HAS_TRACED_LOBES; scene_features.cpp)
+// has no metal, transmission, coat or KHR_materials_specular factor above 0: its specular lobe is 0 everywhere,
+// and its shader leaves the lobe out.
 VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
                              real3 toLight, real3 irradiance, real tracedWeight, real untracedWeight) {
+#if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)
     const real3 brdf = untracedWeight * s.diffuse / VKRT_PI +
                        (s.traced ? tracedWeight : untracedWeight) * specularBrdf(s, normal, toViewer, toLight);
+#else
+    const real3 brdf = untracedWeight * s.diffuse / VKRT_PI;
+#endif
     real3 reflected = brdf * irradiance * max(dot(normal, toLight), 0.0);  // 0 where only the coat faces it
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(s.sheenColor) > 0.0) {

@@ -9,6 +9,7 @@
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_CLEARCOAT
 #define VKRT_HAS_ENVIRONMENT
+#define VKRT_HAS_TRACED_LOBES  // reflectedLight's specular lobe (left out of Lambertian scenes' shaders)
 #include "shared.h"
 #include "shading_language.h"
 
