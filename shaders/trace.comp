@@ -236,8 +236,8 @@ RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout S
 
 #ifdef VKRT_PATHS
 // Radiance arriving along `ray` by a path: one ray per bounce, continued by continuePath. Counts the bounces in
-// `secondaryRays`. (Starting the next sample in the same loop when a path ends, as traceRayTrees does, was
-// slower on lavapipe: the camera ray's code then runs, masked, at every bounce, and paths vary less in length
+// `secondaryRays`. (Starting the next sample in the same loop when a path ends, as traceRayTrees does, was no
+// faster on lavapipe: the camera ray's code then runs, masked, at every bounce, and paths vary less in length
 // than ray trees do in size.)
 vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
     vec3 radiance = vec3(0.0);
