@@ -102,6 +102,27 @@ TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
     EXPECT_EQ(compareImages(a, b, 1e-6, 1e-8).fractionOff, 0.0);
 }
 
+TEST_F(Gpu, RayCountsAreTheSameSummedPerSubgroupOrPerInvocation) {
+    if (!context().hasSubgroupArithmetic()) GTEST_SKIP() << "the device cannot sum across subgroups";
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        RenderSettings settings = smallWhitted(3);
+        settings.integrator = integrator;
+        GpuRenderOptions perInvocation;
+        perInvocation.subgroupCounters = false;
+        const RenderResult a = renderGpu(scene, bvh, camera, settings, {});
+        const RenderResult b = renderGpu(scene, bvh, camera, settings, perInvocation);
+        EXPECT_EQ(a.rays.primary, static_cast<uint64_t>(settings.width) * settings.height * 3u);
+        EXPECT_GT(a.rays.secondary, 0u);
+        EXPECT_GT(a.rays.shadow, 0u);
+        EXPECT_EQ(a.rays.primary, b.rays.primary);
+        EXPECT_EQ(a.rays.secondary, b.rays.secondary);
+        EXPECT_EQ(a.rays.shadow, b.rays.shadow);
+        EXPECT_EQ(a.rays.nonFiniteSamples, b.rays.nonFiniteSamples);
+        EXPECT_EQ(compareImages(a.image, b.image, 1e-6, 1e-8).fractionOff, 0.0);
+    }
+}
+
 TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
     const RenderSettings settings = smallWhitted(6);

@@ -61,7 +61,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
     if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
     if (context.wideGeometryLoads()) defines_.push_back("VKRT_WIDE_LOADS");
-    if (context.hasSubgroupArithmetic()) defines_.push_back("VKRT_SUBGROUP_COUNTERS");
+    if (options.subgroupCounters && context.hasSubgroupArithmetic())
+        defines_.push_back("VKRT_SUBGROUP_COUNTERS");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {

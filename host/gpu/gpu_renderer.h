@@ -28,6 +28,7 @@ struct GpuRenderOptions {
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
     bool deviceAddressesOnly = false;  // read geometry through device addresses even when it could be bound
+    bool subgroupCounters = true;      // sum ray counts across subgroups where the device can (for tests)
     uint64_t maxDeviceMemoryBytes = 0;  // at most this much device memory (0: what the device offers)
     // The device's sums are added into the host's at least this often (and at checkpoints, tile changes and
     // the end), so that a lost device loses about this much work at most, but no more often than once per 20
