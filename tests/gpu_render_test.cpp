@@ -79,7 +79,8 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     };
     for (const char* function : {"beerLambert", "refractThrough", "sampleTexture", "arriveFrom",
                                  "sphereRoots", "concentricDisk", "device_vertexColor", "sampleEnvironment",
-                                 "environmentPdf", "csgCrossing", "shapeInterval", "visibleMicroNormal"}) {
+                                 "environmentPdf", "csgCrossing", "shapeInterval", "visibleMicroNormal",
+                                 "specularBrdf"}) {
         EXPECT_TRUE(names(fullNamed, function)) << function;
         EXPECT_FALSE(names(leanNamed, function))
             << function << " is compiled in but the scene does not need it";
