@@ -5,10 +5,8 @@
 // shading step at every hit is the one the CPU reference runs (shade_hit.h), drawing the same random numbers;
 // this file holds the GPU's own loops and its single-precision hit points.
 //
-// Features the scene lacks are compiled out: VKRT_HAS_SMOOTH_NORMALS, VKRT_HAS_TEXTURES,
-// VKRT_HAS_TRANSMISSION, VKRT_HAS_VOLUMES, VKRT_HAS_PUNCTUAL_LIGHTS, VKRT_HAS_AREA_LIGHTS, VKRT_HAS_SPHERES,
-// VKRT_HAS_MOTION, VKRT_HAS_DEPTH_OF_FIELD, VKRT_HAS_VERTEX_COLORS, VKRT_HAS_TEXCOORD1, VKRT_HAS_NORMAL_MAPS,
-// VKRT_HAS_ALPHA, VKRT_HAS_ENVIRONMENT, VKRT_HAS_SHAPES, VKRT_HAS_TRACED_LOBES (and the material extensions' own).
+// Features the scene lacks are compiled out: each VKRT_HAS_... define is one of host/gpu/scene_features.cpp's
+// (its kFeatures table lists them all), defined only when the scene needs it.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 #ifdef VKRT_SUBGROUP_COUNTERS
