@@ -279,7 +279,8 @@ VKRT_FN SurfaceResponse surfaceResponse(VKRT_IN(SurfaceMaterial) material, VKRT_
     s.mirror = inputs.roughness < VKRT_MIRROR_ROUGHNESS;
     // A matte opaque dielectric (roughness 1, glTF's default) keeps its faint sheen to the lights and the
     // ambient term: tracing a ray per hit for it would double the cost of every diffuse scene. A dielectric
-    // without specular reflection (KHR_materials_specular factor 0) has no lobe to trace.
+    // without specular reflection (KHR_materials_specular factor 0) has no lobe to trace. (The GPU's shader
+    // leaves the traced lobes' code out where no material can trace one: scene_features.cpp's tracesLobe.)
     s.traced = s.metallic > 0.0 || s.transmission > 0.0 || (inputs.roughness < 1.0 && inputs.specular > 0.0);
     s.clearcoat = inputs.clearcoat;
     s.coatAlpha = ggxAlpha(inputs.clearcoatRoughness);
