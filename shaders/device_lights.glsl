@@ -37,7 +37,7 @@ vec3 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint ex
 uint device_punctualLightCount() { return params.punctualLightCount; }
 
 PunctualLightParams device_punctualLight(uint i) {
-    const GpuPunctualLight light = params.lights.lights[i];
+    const GpuPunctualLight light = gpuLightAt(i);
     PunctualLightParams p;
     p.type = light.type;
     p.position = light.position;
@@ -59,10 +59,10 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
     uint lo = 0u, hi = params.areaLightCount - 1u;
     while (lo < hi) {
         const uint mid = (lo + hi) / 2u;
-        if (params.areaLights.areaLights[mid].cdf > pick) hi = mid;
+        if (gpuAreaLightCdf(mid) > pick) hi = mid;
         else lo = mid + 1u;
     }
-    const GpuAreaLight light = params.areaLights.areaLights[lo];
+    const GpuAreaLight light = gpuAreaLightAt(lo);
     const GpuPrimitive emitter = primitiveAt(light.primitive);
 #ifdef VKRT_HAS_SHAPES
     if (light.shape != VKRT_NO_PRIMITIVE) {
@@ -101,7 +101,7 @@ float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 poin
 #endif
     const GpuPrimitive opened = VKRT_PRIMITIVE(primitive);
     const GpuPrimitive now = primitiveAt(primitive);
-    const vec3 emission = params.materials.materials[opened.material].emission;
+    const vec3 emission = gpuMaterialAt(opened.material).emission;
     const vec3 offset = point - from;
 #ifdef VKRT_HAS_SPHERES
     if (opened.kind == VKRT_PRIMITIVE_SPHERE) {

@@ -27,7 +27,7 @@ vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
         return barycentric(t.corners01.xy, t.corners01.zw, t.corner2.xy, hitUv);
     }
 #endif
-    const GpuShading s = params.shading.shading[primitive];
+    const GpuShading s = gpuShadingAt(primitive);
     return barycentric(vec2(s.normalU0.w, s.v012.x), vec2(s.normalU1.w, s.v012.y), vec2(s.normalU2.w, s.v012.z), hitUv);
 }
 
@@ -73,7 +73,7 @@ float device_ggxDielectricAlbedoTable(uint entry) { return params.ggxDielectricA
 #include "surface_response.h"
 
 SurfaceMaterial device_material(uint index) {
-    const GpuMaterial m = params.materials.materials[index];
+    const GpuMaterial m = gpuMaterialAt(index);
     SurfaceMaterial s;
     s.baseColor = m.baseColor;
     s.metallic = m.metallic;

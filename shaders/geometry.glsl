@@ -1,51 +1,105 @@
-// Where the kernels read BVH nodes and primitives. When both arrays fit the device's storage-buffer range
-// (VKRT_BOUND_GEOMETRY), they are bound as storage buffers, which lavapipe reads about a quarter faster
-// than through 64-bit buffer device addresses; larger scenes read them through the addresses in
-// SceneParams, which have no such limit. Requires `params` in scope.
+// Where the kernels read BVH nodes and primitives, three ways (host/gpu/gpu_scene.h SceneAccess):
+// - VKRT_TEXEL_SCENE: both arrays, and the others every hit reads (materials, lights, vertex normals),
+//   bound as uniform texel buffers of 4 x 32-bit words.
+//   lavapipe reads a storage buffer one component at a time, lane by lane, in a loop that tests each lane; it
+//   fetches a texel for all eight lanes at once with vector loads. Selected for CPU devices (issue 13: README,
+//   "Traversal and build").
+// - VKRT_BOUND_GEOMETRY: both bound as storage buffers, which lavapipe read about a quarter faster than
+//   through 64-bit device addresses; selected for GPUs where the arrays fit the storage-buffer range.
+// - neither: through the device addresses in SceneParams, which have no size limit.
+// Requires `params` in scope.
 #ifndef VKRT_GEOMETRY_GLSL
 #define VKRT_GEOMETRY_GLSL
 
+#if defined(VKRT_TEXEL_SCENE)
+layout(binding = VKRT_BINDING_NODES) uniform usamplerBuffer nodeTexels;            // 4 texels a node
+layout(binding = VKRT_BINDING_PRIMITIVES) uniform usamplerBuffer primitiveTexels;  // 3 texels a primitive
 
-#ifdef VKRT_BOUND_GEOMETRY
-layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
-layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
-#define VKRT_PRIMITIVE(i) boundPrimitives[i]
-#else
-#define VKRT_PRIMITIVE(i) params.primitives.primitives[i]
-#endif
-
-#if defined(VKRT_BOUND_GEOMETRY) && defined(VKRT_WIDE_LOADS)
-// The traversal's reads as 64-bit words (the same bytes, a second view of the same bindings). llvmpipe
-// gathers a load one component at a time, lane by lane, so half the components is nearly half the cost:
-// 1.1-1.4x on ray_benchmark (issue 13). Selected for CPU devices with shaderInt64 (gpu_raycaster.cpp).
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodeWords { u64vec4 boundNodeWords[]; };
-layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitiveWords { u64vec2 boundPrimitiveWords[]; };
-
-// A 64-byte wide node as two loads of four words each (llvmpipe loads a vector in one pass over the lanes).
+// The 56 bytes of a 64-byte wide node that the walk reads (shared.h WideBvhNode).
 WideBvhNode vkrtNodeAt(uint i) {
-    const u64vec4 w0 = boundNodeWords[2u * i], w1 = boundNodeWords[2u * i + 1u];
-    const uvec2 a = unpackUint2x32(w0.x), b = unpackUint2x32(w0.y), c = unpackUint2x32(w0.z), d = unpackUint2x32(w0.w);
-    const uvec2 e = unpackUint2x32(w1.x), f = unpackUint2x32(w1.y), g = unpackUint2x32(w1.z);
-    return WideBvhNode(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(b.x), b.y, c.x, c.y, d.x, d.y,
-                       e.x, e.y, f.x, f.y, g.x, g.y, 0u, 0u);
+    const int t = int(4u * i);
+    const uvec4 a = texelFetch(nodeTexels, t), b = texelFetch(nodeTexels, t + 1), c = texelFetch(nodeTexels, t + 2);
+    const uvec2 d = texelFetch(nodeTexels, t + 3).xy;
+    return WideBvhNode(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z), a.w, b.x, b.y, b.z, b.w,
+                       c.x, c.y, c.z, c.w, d.x, d.y, 0u, 0u);
 }
 
 GpuPrimitive vkrtPrimitiveAt(uint i) {
-    const u64vec2 w0 = boundPrimitiveWords[3u * i], w1 = boundPrimitiveWords[3u * i + 1u];
-    const u64vec2 w2 = boundPrimitiveWords[3u * i + 2u];
-    const uvec2 a = unpackUint2x32(w0.x), b = unpackUint2x32(w0.y), c = unpackUint2x32(w1.x);
-    const uvec2 d = unpackUint2x32(w1.y), e = unpackUint2x32(w2.x), f = unpackUint2x32(w2.y);
-    return GpuPrimitive(uintBitsToFloat(uvec3(a, b.x)), b.y, uintBitsToFloat(uvec3(c, d.x)), d.y,
-                        uintBitsToFloat(uvec3(e, f.x)), f.y);
+    const int t = int(3u * i);
+    const uvec4 a = texelFetch(primitiveTexels, t), b = texelFetch(primitiveTexels, t + 1);
+    const uvec4 c = texelFetch(primitiveTexels, t + 2);
+    return GpuPrimitive(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
 }
 #define VKRT_NODE(i) vkrtNodeAt(i)
+#define VKRT_PRIMITIVE(i) vkrtPrimitiveAt(i)
+
+layout(binding = VKRT_BINDING_MATERIALS) uniform usamplerBuffer materialTexels;  // 12 texels a material
+
+// Material `i` (shared.h GpuMaterial, whose members fall in 16-byte groups).
+GpuMaterial gpuMaterialAt(uint i) {
+    const int t = int(12u * i);
+    // Twelve fetches written out: lavapipe does not unroll loops, and a loop would index an array.
+    const uvec4 w[12] = uvec4[12](texelFetch(materialTexels, t), texelFetch(materialTexels, t + 1),
+                                  texelFetch(materialTexels, t + 2), texelFetch(materialTexels, t + 3),
+                                  texelFetch(materialTexels, t + 4), texelFetch(materialTexels, t + 5),
+                                  texelFetch(materialTexels, t + 6), texelFetch(materialTexels, t + 7),
+                                  texelFetch(materialTexels, t + 8), texelFetch(materialTexels, t + 9),
+                                  texelFetch(materialTexels, t + 10), texelFetch(materialTexels, t + 11));
+    return GpuMaterial(uintBitsToFloat(w[0].xyz), uintBitsToFloat(w[0].w), uintBitsToFloat(w[1].xyz),
+                       uintBitsToFloat(w[1].w), uintBitsToFloat(w[2].xyz), uintBitsToFloat(w[2].w),
+                       uintBitsToFloat(w[3].x), uintBitsToFloat(w[3].y), uintBitsToFloat(w[3].z), w[3].w,
+                       ivec4(w[4]).x, ivec4(w[4]).y, ivec4(w[4]).z, ivec4(w[4]).w,
+                       uintBitsToFloat(w[5].x), int(w[5].y), int(w[5].z), w[5].w,
+                       uintBitsToFloat(w[6].xyz), uintBitsToFloat(w[6].w),
+                       int(w[7].x), uintBitsToFloat(w[7].y), uintBitsToFloat(w[7].z), uintBitsToFloat(w[7].w),
+                       int(w[8].x), w[8].y, uintBitsToFloat(w[8].z), uintBitsToFloat(w[8].w),
+                       int(w[9].x), int(w[9].y), int(w[9].z), uintBitsToFloat(w[9].w),
+                       uintBitsToFloat(w[10].xyz), uintBitsToFloat(w[10].w),
+                       int(w[11].x), int(w[11].y), w[11].z, w[11].w);
+}
+
+layout(binding = VKRT_BINDING_LIGHTS) uniform usamplerBuffer lightTexels;          // 4 texels a light
+layout(binding = VKRT_BINDING_AREA_LIGHTS) uniform usamplerBuffer areaLightTexels;  // 2 texels an area light
+layout(binding = VKRT_BINDING_SHADING) uniform usamplerBuffer shadingTexels;       // 4 texels a primitive
+
+GpuPunctualLight gpuLightAt(uint i) {
+    const int t = int(4u * i);
+    const uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1), c = texelFetch(lightTexels, t + 2);
+    const uvec4 d = texelFetch(lightTexels, t + 3);
+    return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                            uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), d.y, d.z, d.w);
+}
+
+GpuAreaLight gpuAreaLightAt(uint i) {
+    const uvec4 a = texelFetch(areaLightTexels, int(2u * i)), b = texelFetch(areaLightTexels, int(2u * i + 1u));
+    return GpuAreaLight(a.x, uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w), b.x, b.y, b.z, b.w);
+}
+
+// The cumulative power of area light `i` (GpuAreaLight's cdf): the light table's binary search reads only that.
+float gpuAreaLightCdf(uint i) { return uintBitsToFloat(texelFetch(areaLightTexels, int(2u * i)).y); }
+
+GpuShading gpuShadingAt(uint i) {
+    const int t = int(4u * i);
+    return GpuShading(uintBitsToFloat(texelFetch(shadingTexels, t)), uintBitsToFloat(texelFetch(shadingTexels, t + 1)),
+                      uintBitsToFloat(texelFetch(shadingTexels, t + 2)), uintBitsToFloat(texelFetch(shadingTexels, t + 3)));
+}
 #elif defined(VKRT_BOUND_GEOMETRY)
+layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
+layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
 #define VKRT_NODE(i) boundNodes[i]
+#define VKRT_PRIMITIVE(i) boundPrimitives[i]
 #define vkrtPrimitiveAt(i) boundPrimitives[i]
 #else
 #define VKRT_NODE(i) params.nodes.nodes[i]
+#define VKRT_PRIMITIVE(i) params.primitives.primitives[i]
 #define vkrtPrimitiveAt(i) params.primitives.primitives[i]
+#endif
+#ifndef VKRT_TEXEL_SCENE
+#define gpuMaterialAt(i) params.materials.materials[i]
+#define gpuLightAt(i) params.lights.lights[i]
+#define gpuAreaLightAt(i) params.areaLights.areaLights[i]
+#define gpuAreaLightCdf(i) params.areaLights.areaLights[i].cdf
+#define gpuShadingAt(i) params.shading.shading[i]
 #endif
 
 // Motion blur (VKRT_HAS_MOTION): every ray of a sample sees the scene at one shutter time in [0, 1]. The

@@ -47,9 +47,15 @@ using uint = uint32_t;
 // The descriptors: a storage buffer holding SceneParams. Everything else is reached through the buffer
 // device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
 #define VKRT_BINDING_PARAMS 0
-// With VKRT_BOUND_GEOMETRY (see geometry.glsl), nodes and primitives are bound here as well.
+// With VKRT_BOUND_GEOMETRY or VKRT_TEXEL_SCENE (see geometry.glsl), nodes and primitives are bound here as
+// well, and with VKRT_TEXEL_SCENE the arrays every hit reads: materials, lights and vertex normals.
 #define VKRT_BINDING_NODES 1
 #define VKRT_BINDING_PRIMITIVES 2
+#define VKRT_BINDING_MATERIALS 3
+#define VKRT_BINDING_LIGHTS 4
+#define VKRT_BINDING_AREA_LIGHTS 5
+#define VKRT_BINDING_SHADING 6
+#define VKRT_TEXEL_BINDINGS 6  // bindings 1 to 6
 
 // Ray counters, indices into the counter buffer.
 #define VKRT_COUNTER_PRIMARY 0

@@ -154,7 +154,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         surface = hitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1, primitive.v2, hit.u, hit.v);
         p.geometricNormal = normalize(cross(primitive.v1 - primitive.v0, primitive.v2 - primitive.v0));
 #ifdef VKRT_HAS_SMOOTH_NORMALS
-        const GpuShading shading = params.shading.shading[hit.primitive];
+        const GpuShading shading = gpuShadingAt(hit.primitive);
         p.normal = normalize(barycentric(shading.normalU0.xyz, shading.normalU1.xyz, shading.normalU2.xyz, vec2(hit.u, hit.v)));
 #ifdef VKRT_HAS_MOTION
         // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.

@@ -63,7 +63,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts.
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
-                    define == "VKRT_WIDE_LOADS" || define == "VKRT_SUBGROUP_COUNTERS")
+                    define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS")
             << define;
     }
     EXPECT_LT(lean.spirv().size(), full.spirv().size());
@@ -90,17 +90,28 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(d.fractionOff, 0.0) << "leaving out unused paths must not change the image";
 }
 
-TEST_F(Gpu, BoundAndAddressedGeometryGiveTheSameImage) {
+TEST_F(Gpu, TexelStorageAndAddressedGeometryGiveTheSameImage) {
+    // Triangles and spheres, read as texels, from storage buffers and through device addresses.
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
     const RenderSettings settings = smallWhitted(2);
-    GpuRenderOptions addressed;
-    addressed.deviceAddressesOnly = true;
-    GpuRenderReport boundReport, addressedReport;
-    const Image a = renderGpu(scene, bvh, camera, settings, {}, &boundReport).image;
-    const Image b = renderGpu(scene, bvh, camera, settings, addressed, &addressedReport).image;
-    EXPECT_TRUE(boundReport.boundGeometry);
-    EXPECT_FALSE(addressedReport.boundGeometry);
-    EXPECT_EQ(compareImages(a, b, 1e-6, 1e-8).fractionOff, 0.0);
+    std::vector<Image> images;
+    for (const SceneAccess access : {SceneAccess::Texels, SceneAccess::Storage, SceneAccess::Addresses}) {
+        GpuRenderOptions options;
+        options.sceneAccess = access;
+        GpuRenderReport report;
+        images.push_back(renderGpu(scene, bvh, camera, settings, options, &report).image);
+        EXPECT_EQ(report.sceneAccess, access) << sceneAccessName(access);
+    }
+    EXPECT_EQ(compareImages(images[0], images[1], 1e-6, 1e-8).fractionOff, 0.0);
+    EXPECT_EQ(compareImages(images[0], images[2], 1e-6, 1e-8).fractionOff, 0.0);
+}
+
+TEST_F(Gpu, DevicesReadGeometryTheirBestWay) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    GpuRenderReport report;
+    renderGpu(scene, bvh, camera, smallWhitted(1), {}, &report);
+    const bool cpuDevice = context().description().type == "CPU";
+    EXPECT_EQ(report.sceneAccess, cpuDevice ? SceneAccess::Texels : SceneAccess::Storage);
 }
 
 TEST_F(Gpu, RayCountsAreTheSameSummedPerSubgroupOrPerInvocation) {
@@ -324,7 +335,7 @@ TEST_F(Gpu, LostDeviceKeepsWhatTheLastCopyHeld) {
 
 TEST_F(Gpu, FiveMillionTrianglesRender) {
     // 5M triangles: 240 MB of triangles and 320 MB of nodes, beyond lavapipe's 128 MiB storage-buffer
-    // range; buffer device addresses have no such limit.
+    // range, within its 128M texels of texel-buffer range; buffer device addresses have no limit.
     Scene scene;
     Material white;
     white.metallic = 0.0f;
@@ -347,13 +358,21 @@ TEST_F(Gpu, FiveMillionTrianglesRender) {
     settings.width = settings.height = 16;
     settings.samplesPerPixel = 1;
     settings.ambient = glm::dvec3(0.0);
-    GpuRenderReport report;
-    const RenderResult result = renderGpu(scene, bvh, frameBounds(scene.bounds, 1.0), settings, {}, &report);
-    EXPECT_GT(report.deviceMemoryBytes, 128ull << 20);
-    EXPECT_FALSE(report.boundGeometry) << "too large for one storage-buffer descriptor on lavapipe";
-    // The sphere faces the light head on: (rho + F0) / pi * I / d^2 with d = 4 (white, F0 = 0.04).
-    const glm::vec3 centre = result.image.at(8, 8);
-    EXPECT_NEAR(centre.x, 1.04 / M_PI * 25.0 / 16.0, 0.02);
+    // The device's own way (texels on lavapipe), then device addresses, which have no limit.
+    for (const SceneAccess access : {SceneAccess::Auto, SceneAccess::Addresses}) {
+        GpuRenderOptions options;
+        options.sceneAccess = access;
+        GpuRenderReport report;
+        const RenderResult result =
+            renderGpu(scene, bvh, frameBounds(scene.bounds, 1.0), settings, options, &report);
+        EXPECT_GT(report.deviceMemoryBytes, 128ull << 20);
+        if (context().properties().limits.maxStorageBufferRange < (300u << 20)) {
+            EXPECT_NE(report.sceneAccess, SceneAccess::Storage) << "beyond the storage-buffer range";
+        }
+        // The sphere faces the light head on: (rho + F0) / pi * I / d^2 with d = 4 (white, F0 = 0.04).
+        const glm::vec3 centre = result.image.at(8, 8);
+        EXPECT_NEAR(centre.x, 1.04 / M_PI * 25.0 / 16.0, 0.02) << sceneAccessName(report.sceneAccess);
+    }
 }
 
 }  // namespace

@@ -13,7 +13,9 @@
 // llvmpipe counts against its budget of 65535 per invocation), from a kernel built to count them.
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
 // alternately with the default kernel, and reports its rates and their ratio to the default's (A/B tests of
-// shader changes that a busy machine's noise would hide between processes).
+// shader changes that a busy machine's noise would hide between processes). A variant with
+// VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the geometry that way
+// (gpu_raycaster.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -281,6 +283,7 @@ int main(int argc, char** argv) {
             {"device", context.description().name},
             {"device_type", context.description().type},
             {"driver", context.description().driver},
+            {"scene_access", sceneAccessName(raycaster.sceneAccess())},
             {"host_threads", std::thread::hardware_concurrency()},
             {"runs", runs},
             {"bvh",

@@ -44,7 +44,7 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.deviceMemoryBytes = g.deviceMemoryBytes;
     gpu.dispatches = g.dispatches;
     gpu.longestDispatchMs = g.longestDispatchMs;
-    gpu.boundGeometry = g.boundGeometry;
+    gpu.sceneAccess = sceneAccessName(g.sceneAccess);
     return gpu;
 }
 

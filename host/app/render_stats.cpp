@@ -82,7 +82,7 @@ nlohmann::json toJson(const RunReport& r) {
         json["gpu_ms"] = g.gpuMs;
         json["mrays_per_gpu_s"] = g.gpuMs > 0.0 ? static_cast<double>(r.rays.total()) / g.gpuMs / 1e3 : 0.0;
         json["features"] = g.features;
-        json["geometry_access"] = g.boundGeometry ? "storage buffers" : "device addresses";
+        json["scene_access"] = g.sceneAccess;
         json["gpu_memory_bytes"] = g.deviceMemoryBytes;
         json["memory"]["device_estimate_bytes"] = r.memory.deviceEstimateBytes;
         json["memory"]["device_budget_bytes"] = r.memory.deviceBudgetBytes;

@@ -2,14 +2,30 @@
 
 #include <chrono>
 #include <string>
+#include <utility>
 
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
 
+namespace {
+
+VkDescriptorType descriptorType(BindingKind kind) {
+    return kind == BindingKind::Texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+}  // namespace
+
 ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv,
                                  uint32_t storageBuffers, uint32_t pushConstantBytes)
-    : context_(context), storageBuffers_(storageBuffers), pushConstantBytes_(pushConstantBytes) {
+    : ComputePipeline(context, spirv, std::vector<BindingKind>(storageBuffers, BindingKind::Storage),
+                      pushConstantBytes) {}
+
+ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv,
+                                 std::vector<BindingKind> bindingKinds, uint32_t pushConstantBytes)
+    : context_(context), bindings_(std::move(bindingKinds)), pushConstantBytes_(pushConstantBytes) {
+    const uint32_t count = static_cast<uint32_t>(bindings_.size());
     const auto start = std::chrono::steady_clock::now();
     const VkDevice device = context.device();
     if (pushConstantBytes > context.properties().limits.maxPushConstantsSize) {
@@ -22,12 +38,14 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
     moduleInfo.pCode = spirv.data();
     VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &module_));
 
-    std::vector<VkDescriptorSetLayoutBinding> bindings(storageBuffers);
-    for (uint32_t i = 0; i < storageBuffers; ++i) {
-        bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    std::vector<VkDescriptorSetLayoutBinding> bindings(count);
+    uint32_t texelBindings = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        bindings[i] = {i, descriptorType(bindings_[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        if (bindings_[i] == BindingKind::Texels) ++texelBindings;
     }
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = storageBuffers;
+    setInfo.bindingCount = count;
     setInfo.pBindings = bindings.data();
     VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout_));
 
@@ -47,11 +65,14 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
     pipelineInfo.layout = layout_;
     VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &pipeline_));
 
-    const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storageBuffers};
+    std::vector<VkDescriptorPoolSize> poolSizes;
+    if (count > texelBindings)
+        poolSizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count - texelBindings});
+    if (texelBindings > 0) poolSizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texelBindings});
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
+    poolInfo.poolSizeCount = static_cast<uint32_t>(poolSizes.size());
+    poolInfo.pPoolSizes = poolSizes.data();
     VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool_));
     VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     allocate.descriptorPool = pool_;
@@ -62,6 +83,7 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
 }
 
 ComputePipeline::~ComputePipeline() {
+    releaseViews();
     const VkDevice device = context_.device();
     vkDestroyDescriptorPool(device, pool_, nullptr);
     vkDestroyPipeline(device, pipeline_, nullptr);
@@ -70,22 +92,46 @@ ComputePipeline::~ComputePipeline() {
     vkDestroyShaderModule(device, module_, nullptr);
 }
 
+void ComputePipeline::releaseViews() {
+    for (const VkBufferView view : views_) vkDestroyBufferView(context_.device(), view, nullptr);
+    views_.clear();
+}
+
 void ComputePipeline::bind(const std::vector<const GpuBuffer*>& buffers) {
-    if (buffers.size() != storageBuffers_) {
-        throw GpuError("pipeline has " + std::to_string(storageBuffers_) + " storage-buffer bindings but " +
+    if (buffers.size() != bindings_.size()) {
+        throw GpuError("pipeline has " + std::to_string(bindings_.size()) + " bindings but " +
                        std::to_string(buffers.size()) + " buffers were given");
     }
+    releaseViews();
     std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+    std::vector<VkBufferView> views(buffers.size(), VK_NULL_HANDLE);
     std::vector<VkWriteDescriptorSet> writes(buffers.size());
+    constexpr VkDeviceSize kTexelBytes = 16;  // VK_FORMAT_R32G32B32A32_UINT
     for (uint32_t i = 0; i < buffers.size(); ++i) {
         if (!buffers[i] || !*buffers[i]) throw GpuError("binding " + std::to_string(i) + " has no buffer");
-        infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         writes[i].dstSet = set_;
         writes[i].dstBinding = i;
         writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
+        writes[i].descriptorType = descriptorType(bindings_[i]);
+        if (bindings_[i] == BindingKind::Storage) {
+            infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+            writes[i].pBufferInfo = &infos[i];
+            continue;
+        }
+        const VkDeviceSize texels = buffers[i]->size() / kTexelBytes;
+        if (texels > context_.properties().limits.maxTexelBufferElements) {
+            throw GpuError("binding " + std::to_string(i) + " holds " + std::to_string(texels) +
+                           " texels, more than the device's " +
+                           std::to_string(context_.properties().limits.maxTexelBufferElements));
+        }
+        VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        viewInfo.buffer = buffers[i]->handle();
+        viewInfo.format = VK_FORMAT_R32G32B32A32_UINT;
+        viewInfo.range = texels * kTexelBytes;
+        VK_CHECK(vkCreateBufferView(context_.device(), &viewInfo, nullptr, &views[i]));
+        views_.push_back(views[i]);
+        writes[i].pTexelBufferView = &views[i];
     }
     vkUpdateDescriptorSets(context_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
                            nullptr);
@@ -99,7 +145,7 @@ void ComputePipeline::dispatch(VkCommandBuffer commands, const void* pushConstan
         throw GpuError("dispatch with " + std::to_string(pushConstantBytes) +
                        " bytes of push constants, pipeline takes " + std::to_string(pushConstantBytes_));
     }
-    if (!bound_ && storageBuffers_ > 0) throw GpuError("dispatch before its buffers were bound");
+    if (!bound_ && !bindings_.empty()) throw GpuError("dispatch before its buffers were bound");
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
     if (pushConstantBytes > 0) {

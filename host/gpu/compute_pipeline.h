@@ -1,5 +1,5 @@
-// One compute pipeline: a shader module, a descriptor set of storage buffers and a push-constant block.
-// dispatch() checks the push-constant size and that every binding has a buffer. The constructor's time is
+// One compute pipeline: a shader module, a descriptor set of buffers and a push-constant block. dispatch()
+// checks the push-constant size and that every binding has a buffer. The constructor's time is
 // kept: creating the pipeline is where the driver compiles SPIR-V to machine code (lavapipe's LLVM JIT).
 #pragma once
 
@@ -13,15 +13,25 @@
 
 namespace vkrt {
 
+// How a kernel reads one of its bindings: a storage buffer, or a uniform texel buffer of four 32-bit words a
+// texel (read only; `texelFetch` of a usamplerBuffer). lavapipe reads a storage buffer lane by lane, one
+// component at a time, but fetches texels for all its SIMD lanes with vector loads (shaders/geometry.glsl).
+enum class BindingKind { Storage, Texels };
+
 class ComputePipeline {
   public:
+    // `bindings[i]` says how binding i is read.
+    ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv,
+                    std::vector<BindingKind> bindings, uint32_t pushConstantBytes);
+    // `storageBuffers` storage-buffer bindings.
     ComputePipeline(const VulkanContext& context, const std::vector<uint32_t>& spirv, uint32_t storageBuffers,
                     uint32_t pushConstantBytes);
     ~ComputePipeline();
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;
 
-    // Binds buffers[i] to binding i; the count must equal the pipeline's storage-buffer count.
+    // Binds buffers[i] to binding i (a texel binding views the whole buffer as texels); the count must equal
+    // the pipeline's binding count.
     void bind(const std::vector<const GpuBuffer*>& buffers);
 
     // Records binding the pipeline, its descriptors and push constants, and the dispatch.
@@ -32,8 +42,10 @@ class ComputePipeline {
     double createMs() const { return createMs_; }
 
   private:
+    void releaseViews();
+
     const VulkanContext& context_;
-    uint32_t storageBuffers_;
+    std::vector<BindingKind> bindings_;
     uint32_t pushConstantBytes_;
     bool bound_ = false;
     double createMs_ = 0.0;
@@ -43,6 +55,7 @@ class ComputePipeline {
     VkPipeline pipeline_ = VK_NULL_HANDLE;
     VkDescriptorPool pool_ = VK_NULL_HANDLE;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
+    std::vector<VkBufferView> views_;  // of the texel bindings, as bound
 };
 
 }  // namespace vkrt

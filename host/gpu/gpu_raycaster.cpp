@@ -1,6 +1,8 @@
 #include "gpu/gpu_raycaster.h"
 
+#include <algorithm>
 #include <chrono>
+#include <utility>
 
 #include <sys/resource.h>
 
@@ -27,18 +29,27 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
       data_(packScene(scene, bvh)),
       shaderCacheDir_(shaderCacheDir),
       defines_(extraDefines) {
+    // A geometry define among the caller's is a request for that way of reading geometry.
+    SceneAccess wanted = SceneAccess::Auto;
+    for (const auto& [define, access] : {std::pair{"VKRT_TEXEL_SCENE", SceneAccess::Texels},
+                                         std::pair{"VKRT_BOUND_GEOMETRY", SceneAccess::Storage},
+                                         std::pair{"VKRT_ADDRESSED_SCENE", SceneAccess::Addresses}}) {
+        const auto found = std::find(defines_.begin(), defines_.end(), define);
+        if (found == defines_.end()) continue;
+        wanted = access;
+        defines_.erase(found);
+    }
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
     gpu::SceneParams params{};
     params.primitiveCount = static_cast<uint32_t>(data_.primitives.size());
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
-    const bool bound = sceneBuffers_->geometryFitsDescriptors(context);
-    if (bound) defines_.push_back("VKRT_BOUND_GEOMETRY");
-    if (context.wideGeometryLoads()) defines_.push_back("VKRT_WIDE_LOADS");
+    sceneAccess_ = sceneBuffers_->sceneAccess(context, wanted);
+    for (const std::string& define : GpuSceneBuffers::accessDefines(sceneAccess_)) defines_.push_back(define);
     if (data_.features.spheres) defines_.push_back("VKRT_HAS_SPHERES");
     if (data_.features.shapes) defines_.push_back("VKRT_HAS_SHAPES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
-    bindings_ = sceneBuffers_->bindings(params_, bound);
+    bindings_ = sceneBuffers_->bindings(params_, sceneAccess_);
     timer_ = std::make_unique<GpuTimer>(context);
 }
 
@@ -50,9 +61,9 @@ ComputePipeline& GpuRaycaster::pipelineFor(RaycastMode mode) {
         std::vector<std::string> defines = defines_;
         if (mode == RaycastMode::Any) defines.push_back("VKRT_RAYCAST_ANY_HIT");
         const CompiledShader shader = compileShader("raycast.comp", defines, shaderCacheDir_);
-        pipeline =
-            std::make_unique<ComputePipeline>(context_, shader.spirv, static_cast<uint32_t>(bindings_.size()),
-                                              static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
+        pipeline = std::make_unique<ComputePipeline>(context_, shader.spirv,
+                                                     GpuSceneBuffers::bindingKinds(sceneAccess_),
+                                                     static_cast<uint32_t>(sizeof(gpu::RaycastConstants)));
         pipeline->bind(bindings_);
     }
     return *pipeline;

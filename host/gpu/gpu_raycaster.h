@@ -25,10 +25,14 @@ struct RaycastTiming {
 class GpuRaycaster {
   public:
     // `extraDefines` compile into the kernel besides the scene's (VKRT_COUNT_ITERATIONS: hits carry the
-    // walk's loop iterations in u, raycast.comp).
+    // walk's loop iterations in u, raycast.comp). A geometry define among them (VKRT_TEXEL_SCENE,
+    // VKRT_BOUND_GEOMETRY) asks for that way of reading geometry (gpu_scene.h SceneAccess) instead of the
+    // device's best, where the scene fits it; VKRT_ADDRESSED_SCENE asks for device addresses.
     GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
                  const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines = {});
     ~GpuRaycaster();
+
+    SceneAccess sceneAccess() const { return sceneAccess_; }
 
     // Hits are reported with scene triangle indices (not the GPU's leaf order).
     std::vector<gpu::GpuHit> trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
@@ -44,6 +48,7 @@ class GpuRaycaster {
     GpuBuffer params_;
     std::string shaderCacheDir_;
     std::vector<std::string> defines_;  // the scene's and the caller's, for both kernels
+    SceneAccess sceneAccess_ = SceneAccess::Addresses;
     std::vector<const GpuBuffer*> bindings_;
     std::unique_ptr<ComputePipeline> pipelines_[2];  // by RaycastMode
     std::unique_ptr<GpuTimer> timer_;

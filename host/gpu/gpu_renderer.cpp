@@ -58,9 +58,9 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (camera.projection == Projection::Perspective && camera.aperture > 0.0)
         data_.features.depthOfField = true;
     defines_ = data_.features.defines();
-    report_.boundGeometry = !options.deviceAddressesOnly && sceneBuffers_->geometryFitsDescriptors(context);
-    if (report_.boundGeometry) defines_.push_back("VKRT_BOUND_GEOMETRY");
-    if (context.wideGeometryLoads()) defines_.push_back("VKRT_WIDE_LOADS");
+    report_.sceneAccess = sceneBuffers_->sceneAccess(context, options.sceneAccess);
+    for (const std::string& define : GpuSceneBuffers::accessDefines(report_.sceneAccess))
+        defines_.push_back(define);
     if (options.subgroupCounters && context.hasSubgroupArithmetic())
         defines_.push_back("VKRT_SUBGROUP_COUNTERS");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
@@ -78,11 +78,11 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.compileMs = shader.compileMs;
     report_.shaderFromCache = shader.fromCache;
     report_.shaderKey = shader.cacheKey;
-    const auto bindings = sceneBuffers_->bindings(params_, report_.boundGeometry);
-    pipeline_ = std::make_unique<ComputePipeline>(context, spirv_, static_cast<uint32_t>(bindings.size()),
-                                                  static_cast<uint32_t>(sizeof(gpu::PassConstants)));
+    pipeline_ =
+        std::make_unique<ComputePipeline>(context, spirv_, GpuSceneBuffers::bindingKinds(report_.sceneAccess),
+                                          static_cast<uint32_t>(sizeof(gpu::PassConstants)));
     report_.pipelineMs = pipeline_->createMs();
-    pipeline_->bind(bindings);
+    pipeline_->bind(sceneBuffers_->bindings(params_, report_.sceneAccess));
 
     // The device has the scene now: the host's packed copy goes (all but the features).
     const SceneFeatures features = data_.features;

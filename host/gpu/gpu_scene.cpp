@@ -297,9 +297,7 @@ GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneDat
         if (values.empty()) return;
         buffers_.emplace_back(context, values);
         addresses_.*address = buffers_.back().address();
-        if (address == &gpu::SceneParams::nodes) nodeBuffer_ = static_cast<int>(buffers_.size()) - 1;
-        if (address == &gpu::SceneParams::primitives)
-            primitiveBuffer_ = static_cast<int>(buffers_.size()) - 1;
+        bufferIndex_.emplace_back(address, buffers_.size() - 1);
     });
 }
 
@@ -309,15 +307,82 @@ void GpuSceneBuffers::fillAddresses(gpu::SceneParams& params) const {
     visitArrays(none, [&](const char*, const auto&, auto address) { params.*address = addresses_.*address; });
 }
 
-bool GpuSceneBuffers::geometryFitsDescriptors(const VulkanContext& context) const {
-    if (nodeBuffer_ < 0 || primitiveBuffer_ < 0) return false;
-    const VkDeviceSize range = context.properties().limits.maxStorageBufferRange;
-    return buffers_[nodeBuffer_].size() <= range && buffers_[primitiveBuffer_].size() <= range;
+const char* sceneAccessName(SceneAccess access) {
+    switch (access) {
+        case SceneAccess::Texels:
+            return "texel buffers";
+        case SceneAccess::Storage:
+            return "storage buffers";
+        case SceneAccess::Addresses:
+            return "device addresses";
+        case SceneAccess::Auto:
+            break;
+    }
+    return "auto";
 }
 
-std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params, bool boundGeometry) const {
-    if (!boundGeometry) return {&params};
-    return {&params, &buffers_[nodeBuffer_], &buffers_[primitiveBuffer_]};
+const GpuBuffer* GpuSceneBuffers::bufferOf(uint64_t gpu::SceneParams::*address) const {
+    for (const auto& [array, index] : bufferIndex_)
+        if (array == address) return &buffers_[index];
+    return nullptr;
+}
+
+namespace {
+
+// The arrays bound with SceneAccess::Texels, in binding order from VKRT_BINDING_NODES on (shaders/shared.h).
+using P = gpu::SceneParams;
+constexpr uint64_t P::*kTexelArrays[] = {&P::nodes,  &P::primitives, &P::materials,
+                                         &P::lights, &P::areaLights, &P::shading};
+static_assert(std::size(kTexelArrays) == VKRT_TEXEL_BINDINGS);
+static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
+              VKRT_BINDING_SHADING == VKRT_BINDING_NODES + 5);
+
+}  // namespace
+
+SceneAccess GpuSceneBuffers::sceneAccess(const VulkanContext& context, SceneAccess wanted) const {
+    const GpuBuffer *nodes = bufferOf(&P::nodes), *primitives = bufferOf(&P::primitives);
+    if (!nodes || !primitives) return SceneAccess::Addresses;
+    const VkPhysicalDeviceLimits& limits = context.properties().limits;
+    if (wanted == SceneAccess::Auto)
+        wanted = context.description().type == "CPU" ? SceneAccess::Texels : SceneAccess::Storage;
+    if (wanted == SceneAccess::Texels) {
+        bool fits = true;
+        for (const auto array : kTexelArrays) {
+            const GpuBuffer* buffer = bufferOf(array);
+            fits = fits && (!buffer || buffer->size() / 16 <= limits.maxTexelBufferElements);
+        }
+        if (fits) return wanted;
+    }
+    const VkDeviceSize largest = std::max(nodes->size(), primitives->size());
+    if (wanted != SceneAccess::Addresses && largest <= limits.maxStorageBufferRange)
+        return SceneAccess::Storage;
+    return SceneAccess::Addresses;
+}
+
+std::vector<std::string> GpuSceneBuffers::accessDefines(SceneAccess access) {
+    if (access == SceneAccess::Texels) return {"VKRT_TEXEL_SCENE"};
+    if (access == SceneAccess::Storage) return {"VKRT_BOUND_GEOMETRY"};
+    return {};
+}
+
+std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params, SceneAccess access) const {
+    std::vector<const GpuBuffer*> buffers{&params};
+    if (access == SceneAccess::Storage) {
+        buffers.push_back(bufferOf(&P::nodes));
+        buffers.push_back(bufferOf(&P::primitives));
+    } else if (access == SceneAccess::Texels) {
+        // An array the scene lacks is never read; any buffer fills its binding.
+        for (const auto array : kTexelArrays) buffers.push_back(bufferOf(array) ? bufferOf(array) : &params);
+    }
+    return buffers;
+}
+
+std::vector<BindingKind> GpuSceneBuffers::bindingKinds(SceneAccess access) {
+    if (access == SceneAccess::Storage)
+        return {BindingKind::Storage, BindingKind::Storage, BindingKind::Storage};
+    std::vector<BindingKind> kinds{BindingKind::Storage};
+    if (access == SceneAccess::Texels) kinds.insert(kinds.end(), VKRT_TEXEL_BINDINGS, BindingKind::Texels);
+    return kinds;
 }
 
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,

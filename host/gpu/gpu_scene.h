@@ -2,11 +2,14 @@
 // textures, lights and the area-light table. Arrays for features the scene lacks stay empty.
 #pragma once
 
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "bvh/flat_bvh.h"
 #include "common/memory_need.h"
 #include "common/render_settings.h"
+#include "gpu/compute_pipeline.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/scene_features.h"
 #include "scene/scene.h"
@@ -54,6 +57,20 @@ MemoryNeed sceneBufferNeed(const GpuSceneData& data);
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
                                  const RenderSettings& settings);
 
+// How kernels read the scene's arrays (shaders/geometry.glsl), from the most widely possible to the fastest
+// on CPU devices:
+// - Addresses: everything through the device addresses in SceneParams (no size limit);
+// - Storage: nodes and primitives bound as storage buffers (VKRT_BOUND_GEOMETRY), within the device's
+//   storage-buffer range;
+// - Texels: nodes, primitives and the arrays every hit reads (materials, lights, vertex normals) bound as
+//   texel buffers (VKRT_TEXEL_SCENE), within the texel-buffer range. lavapipe fetches a texel for all SIMD
+//   lanes with vector loads, but reads storage buffers and addresses one lane at a time.
+// Auto: texels on CPU devices, storage buffers on GPUs; each only where the arrays fit, else the next one
+// down.
+enum class SceneAccess { Auto, Addresses, Storage, Texels };
+
+const char* sceneAccessName(SceneAccess access);
+
 // The scene's arrays in device buffers. Empty arrays (features the scene lacks) get no buffer and
 // address 0.
 class GpuSceneBuffers {
@@ -62,15 +79,22 @@ class GpuSceneBuffers {
     // Writes the buffer addresses into `params` (all but accumulation and counters).
     void fillAddresses(gpu::SceneParams& params) const;
 
-    // Whether nodes and primitives fit the device's storage-buffer range, so kernels can bind them
-    // (VKRT_BOUND_GEOMETRY in shaders/geometry.glsl) instead of reading through device addresses.
-    bool geometryFitsDescriptors(const VulkanContext& context) const;
-    // The storage buffers a kernel binds: SceneParams, then nodes and primitives when `boundGeometry`.
-    std::vector<const GpuBuffer*> bindings(const GpuBuffer& params, bool boundGeometry) const;
+    // How kernels on `context` read the scene: `wanted` where the arrays it binds fit the device's range
+    // (Auto: the device's best), else the next way down (texels, storage buffers, addresses).
+    SceneAccess sceneAccess(const VulkanContext& context, SceneAccess wanted = SceneAccess::Auto) const;
+    // The shader's define for `access` (none for addresses).
+    static std::vector<std::string> accessDefines(SceneAccess access);
+    // What a kernel binds: SceneParams (a storage buffer), then nodes and primitives (Storage), or the texel
+    // arrays from VKRT_BINDING_NODES on (Texels); bindingKinds says how each is read.
+    std::vector<const GpuBuffer*> bindings(const GpuBuffer& params, SceneAccess access) const;
+    static std::vector<BindingKind> bindingKinds(SceneAccess access);
 
   private:
     std::vector<GpuBuffer> buffers_;
-    int nodeBuffer_ = -1, primitiveBuffer_ = -1;  // indices into buffers_
+    // The buffer holding each array, by its address in SceneParams (absent: the array is empty).
+    const GpuBuffer* bufferOf(uint64_t gpu::SceneParams::*address) const;
+
+    std::vector<std::pair<uint64_t gpu::SceneParams::*, size_t>> bufferIndex_;  // into buffers_
     gpu::SceneParams addresses_{};
 };
 

@@ -247,11 +247,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         VkPhysicalDeviceFeatures supported{};
         vkGetPhysicalDeviceFeatures(physicalDevice_, &supported);
         shaderFloat64_ = supported.shaderFloat64 == VK_TRUE;
-        shaderInt64_ = supported.shaderInt64 == VK_TRUE;
         VkPhysicalDeviceFeatures enabled{};
         enabled.shaderFloat64 =
             supported.shaderFloat64;  // for spheres far larger than the view (sphere_geometry.h)
-        enabled.shaderInt64 = supported.shaderInt64;  // 64-bit geometry reads on CPU devices (geometry.glsl)
         VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         features12.bufferDeviceAddress = VK_TRUE;
         VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};

@@ -56,10 +56,6 @@ class VulkanContext {
     bool hasTimestamps() const { return timestampValidBits_ > 0; }
     // Whether shaders may use double precision (enabled when the device has it).
     bool hasShaderFloat64() const { return shaderFloat64_; }
-    bool hasShaderInt64() const { return shaderInt64_; }
-    // Whether kernels should read geometry as 64-bit words (VKRT_WIDE_LOADS, shaders/geometry.glsl): a
-    // gain on CPU devices (lavapipe), which gather one component at a time; real GPUs keep plain reads.
-    bool wideGeometryLoads() const { return shaderInt64_ && description_.type == "CPU"; }
     // Whether compute shaders may sum across a subgroup (subgroupAdd, subgroupElect): kernels then add their
     // ray counts with one atomic per subgroup (VKRT_SUBGROUP_COUNTERS, shaders/trace.comp).
     bool hasSubgroupArithmetic() const { return subgroupArithmetic_; }
@@ -101,7 +97,6 @@ class VulkanContext {
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
-    bool shaderInt64_ = false;
     bool subgroupArithmetic_ = false;
     bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
     int deviceHeap_ = -1;
