@@ -1,5 +1,5 @@
 // The GPU's side of the shared shading code for lights, shadow rays and ray offsets (VKRT_DEVICE in
-// shading_language.h). Requires `params`, geometry.glsl, ray.glsl and traverse.glsl in scope.
+// shading_language.h). Requires `params`, scene_arrays.glsl, ray.glsl and traverse.glsl in scope.
 #ifndef VKRT_DEVICE_LIGHTS_GLSL
 #define VKRT_DEVICE_LIGHTS_GLSL
 
@@ -128,11 +128,11 @@ uvec2 device_environmentSize() { return uvec2(params.environmentWidth, params.en
 
 vec2 device_environmentRotation() { return vec2(params.environmentCosRotation, params.environmentSinRotation); }
 
-vec3 device_environmentTexel(uint i) { return params.environmentTexels.texels[i].radiance; }
+vec3 device_environmentTexel(uint i) { return gpuEnvironmentTexelAt(i).radiance; }
 
-float device_environmentRowCdf(uint y) { return params.environmentRows.rowCdf[y]; }
+float device_environmentRowCdf(uint y) { return gpuEnvironmentRowCdf(y); }
 
-float device_environmentColumnCdf(uint i) { return params.environmentTexels.texels[i].columnCdf; }
+float device_environmentColumnCdf(uint i) { return gpuEnvironmentTexelAt(i).columnCdf; }
 
 #include "environment.h"
 #endif

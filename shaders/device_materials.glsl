@@ -1,6 +1,6 @@
 // The GPU's side of the shared shading code for materials and textures (VKRT_DEVICE in
-// shading_language.h): reads the scene's buffers. Requires `params` and geometry.glsl in scope. The texture
-// functions come first: the shared material code below calls them.
+// shading_language.h): reads the scene's buffers. Requires `params` and scene_arrays.glsl in scope. The
+// texture functions come first: the shared material code below calls them.
 #ifndef VKRT_DEVICE_MATERIALS_GLSL
 #define VKRT_DEVICE_MATERIALS_GLSL
 
@@ -10,11 +10,11 @@
 uint device_materialOf(uint primitive) { return VKRT_PRIMITIVE(primitive).material; }
 
 #ifdef VKRT_HAS_TEXTURES
-GpuTexture device_textureInfo(int index) { return params.textures.textures[index]; }
+GpuTexture device_textureInfo(int index) { return gpuTextureAt(index); }
 
-uint device_texel(uint index) { return params.texels.texels[index]; }
+uint device_texel(uint index) { return gpuImageTexel(index); }
 
-GpuTextureBinding device_textureBinding(int index) { return params.textureBindings.bindings[index]; }
+GpuTextureBinding device_textureBinding(int index) { return gpuTextureBindingAt(index); }
 
 // A triangle's texture coordinates of set `set` (0 or 1) at barycentrics hitUv; spheres and solids carry their own.
 vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {

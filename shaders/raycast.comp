@@ -15,7 +15,7 @@ layout(local_size_x = VKRT_RAYCAST_WORKGROUP) in;
 layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
 layout(push_constant) uniform Constants { RaycastConstants constants; };
 
-#include "geometry.glsl"
+#include "scene_arrays.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
 #include "device_materials.glsl"

@@ -47,15 +47,20 @@ using uint = uint32_t;
 // The descriptors: a storage buffer holding SceneParams. Everything else is reached through the buffer
 // device addresses inside it, so no buffer is bound (or created) for a feature the scene lacks.
 #define VKRT_BINDING_PARAMS 0
-// With VKRT_BOUND_GEOMETRY or VKRT_TEXEL_SCENE (see geometry.glsl), nodes and primitives are bound here as
-// well, and with VKRT_TEXEL_SCENE the arrays every hit reads: materials, lights and vertex normals.
+// With VKRT_BOUND_GEOMETRY or VKRT_TEXEL_SCENE (see scene_arrays.glsl), nodes and primitives are bound here
+// as well, and with VKRT_TEXEL_SCENE the other arrays a hit reads (host/gpu/gpu_scene.cpp kTexelArrays).
 #define VKRT_BINDING_NODES 1
 #define VKRT_BINDING_PRIMITIVES 2
 #define VKRT_BINDING_MATERIALS 3
 #define VKRT_BINDING_LIGHTS 4
 #define VKRT_BINDING_AREA_LIGHTS 5
 #define VKRT_BINDING_SHADING 6
-#define VKRT_TEXEL_BINDINGS 6  // bindings 1 to 6
+#define VKRT_BINDING_TEXTURES 7
+#define VKRT_BINDING_TEXTURE_BINDINGS 8
+#define VKRT_BINDING_TEXELS 9
+#define VKRT_BINDING_ENVIRONMENT 10
+#define VKRT_BINDING_ENVIRONMENT_ROWS 11
+#define VKRT_TEXEL_BINDINGS 11  // bindings 1 to 11
 
 // Ray counters, indices into the counter buffer.
 #define VKRT_COUNTER_PRIMARY 0
@@ -82,8 +87,8 @@ struct BvhNode {
 // the decoded box, as the GPU computes it in float (the product is exact, a power of two times a byte),
 // contains the child's own, so the slab test stays conservative. Links: VKRT_WIDE_EMPTY for an unused
 // slot, a node index for an interior child, (count << VKRT_WIDE_COUNT_SHIFT) | first for a leaf of `count`
-// primitives from `first`. Scalars only, padded to 64 bytes: lavapipe reads it in two 32-byte loads
-// (geometry.glsl), which beat seven 8-byte ones.
+// primitives from `first`. Scalars only, padded to 64 bytes: four texels of a texel buffer on CPU devices
+// (scene_arrays.glsl).
 #define VKRT_WIDE_EMPTY 0xffffffffu
 #define VKRT_WIDE_COUNT_SHIFT 28
 #define VKRT_WIDE_INDEX_MASK 0x0fffffffu

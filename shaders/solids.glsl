@@ -1,7 +1,7 @@
 // The GPU's side of solids (VKRT_shape, VKRT_csg): their shapes' maps at the sample's shutter time and their
 // intervals along a ray, for traverse.glsl, the hit points and light sampling. The geometry itself is shared
 // with the CPU reference (shape_geometry.h), and so is sampling shapes as lights (shape_light.h). Requires
-// `params` and geometry.glsl in scope.
+// `params` and scene_arrays.glsl in scope.
 #ifndef VKRT_SOLIDS_GLSL
 #define VKRT_SOLIDS_GLSL
 

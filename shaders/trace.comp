@@ -22,7 +22,7 @@ layout(local_size_x = VKRT_WORKGROUP_WIDTH, local_size_y = VKRT_WORKGROUP_HEIGHT
 layout(std430, binding = VKRT_BINDING_PARAMS) readonly buffer Params { SceneParams params; };
 layout(push_constant) uniform Pass { PassConstants pass; };
 
-#include "geometry.glsl"
+#include "scene_arrays.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
 #include "device_materials.glsl"

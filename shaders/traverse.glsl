@@ -1,7 +1,7 @@
 // BVH traversal: near child first, far child on a fixed stack whose size the builder's depth bound
 // guarantees (VKRT_BVH_MAX_DEPTH). One walk serves closest-hit, any-hit and shadow-transmittance queries;
 // callers pass the mode as a constant, so each inlined copy keeps only its own branch.
-// Requires `params` (SceneParams), geometry.glsl, intersect.glsl and device_materials.glsl in scope.
+// Requires `params` (SceneParams), scene_arrays.glsl, intersect.glsl and device_materials.glsl in scope.
 #ifndef VKRT_TRAVERSE_GLSL
 #define VKRT_TRAVERSE_GLSL
 

@@ -11,8 +11,8 @@ namespace vkrt {
 namespace {
 
 VkDescriptorType descriptorType(BindingKind kind) {
-    return kind == BindingKind::Texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
-                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    return kind == BindingKind::Storage ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                        : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 }
 
 }  // namespace
@@ -42,7 +42,7 @@ ComputePipeline::ComputePipeline(const VulkanContext& context, const std::vector
     uint32_t texelBindings = 0;
     for (uint32_t i = 0; i < count; ++i) {
         bindings[i] = {i, descriptorType(bindings_[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-        if (bindings_[i] == BindingKind::Texels) ++texelBindings;
+        if (bindings_[i] != BindingKind::Storage) ++texelBindings;
     }
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.bindingCount = count;
@@ -106,7 +106,6 @@ void ComputePipeline::bind(const std::vector<const GpuBuffer*>& buffers) {
     std::vector<VkDescriptorBufferInfo> infos(buffers.size());
     std::vector<VkBufferView> views(buffers.size(), VK_NULL_HANDLE);
     std::vector<VkWriteDescriptorSet> writes(buffers.size());
-    constexpr VkDeviceSize kTexelBytes = 16;  // VK_FORMAT_R32G32B32A32_UINT
     for (uint32_t i = 0; i < buffers.size(); ++i) {
         if (!buffers[i] || !*buffers[i]) throw GpuError("binding " + std::to_string(i) + " has no buffer");
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -119,7 +118,9 @@ void ComputePipeline::bind(const std::vector<const GpuBuffer*>& buffers) {
             writes[i].pBufferInfo = &infos[i];
             continue;
         }
-        const VkDeviceSize texels = buffers[i]->size() / kTexelBytes;
+        const bool words = bindings_[i] == BindingKind::Words;
+        const VkDeviceSize texelBytes = words ? 4 : 16;
+        const VkDeviceSize texels = buffers[i]->size() / texelBytes;
         if (texels > context_.properties().limits.maxTexelBufferElements) {
             throw GpuError("binding " + std::to_string(i) + " holds " + std::to_string(texels) +
                            " texels, more than the device's " +
@@ -127,8 +128,8 @@ void ComputePipeline::bind(const std::vector<const GpuBuffer*>& buffers) {
         }
         VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
         viewInfo.buffer = buffers[i]->handle();
-        viewInfo.format = VK_FORMAT_R32G32B32A32_UINT;
-        viewInfo.range = texels * kTexelBytes;
+        viewInfo.format = words ? VK_FORMAT_R32_UINT : VK_FORMAT_R32G32B32A32_UINT;
+        viewInfo.range = texels * texelBytes;
         VK_CHECK(vkCreateBufferView(context_.device(), &viewInfo, nullptr, &views[i]));
         views_.push_back(views[i]);
         writes[i].pTexelBufferView = &views[i];

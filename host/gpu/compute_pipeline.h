@@ -13,10 +13,11 @@
 
 namespace vkrt {
 
-// How a kernel reads one of its bindings: a storage buffer, or a uniform texel buffer of four 32-bit words a
-// texel (read only; `texelFetch` of a usamplerBuffer). lavapipe reads a storage buffer lane by lane, one
-// component at a time, but fetches texels for all its SIMD lanes with vector loads (shaders/geometry.glsl).
-enum class BindingKind { Storage, Texels };
+// How a kernel reads one of its bindings: a storage buffer, or a uniform texel buffer (read only;
+// `texelFetch` of a usamplerBuffer) of four 32-bit words a texel (Texels) or of one (Words). lavapipe reads a
+// storage buffer lane by lane, one component at a time, but fetches texels for all its SIMD lanes with vector
+// loads (shaders/scene_arrays.glsl).
+enum class BindingKind { Storage, Texels, Words };
 
 class ComputePipeline {
   public:

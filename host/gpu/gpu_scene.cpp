@@ -329,13 +329,24 @@ const GpuBuffer* GpuSceneBuffers::bufferOf(uint64_t gpu::SceneParams::*address) 
 
 namespace {
 
-// The arrays bound with SceneAccess::Texels, in binding order from VKRT_BINDING_NODES on (shaders/shared.h).
+// The arrays bound with SceneAccess::Texels, in binding order from VKRT_BINDING_NODES on (shaders/shared.h),
+// and how each is read: texels of four words, or single words (a texture's RGBA8 texels, a float table).
 using P = gpu::SceneParams;
-constexpr uint64_t P::*kTexelArrays[] = {&P::nodes,  &P::primitives, &P::materials,
-                                         &P::lights, &P::areaLights, &P::shading};
+struct TexelArray {
+    uint64_t P::*address;
+    BindingKind kind;
+};
+constexpr TexelArray kTexelArrays[] = {
+    {&P::nodes, BindingKind::Texels},         {&P::primitives, BindingKind::Texels},
+    {&P::materials, BindingKind::Texels},     {&P::lights, BindingKind::Texels},
+    {&P::areaLights, BindingKind::Texels},    {&P::shading, BindingKind::Texels},
+    {&P::textures, BindingKind::Texels},      {&P::textureBindings, BindingKind::Texels},
+    {&P::texels, BindingKind::Words},         {&P::environmentTexels, BindingKind::Texels},
+    {&P::environmentRows, BindingKind::Words}};
 static_assert(std::size(kTexelArrays) == VKRT_TEXEL_BINDINGS);
 static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
-              VKRT_BINDING_SHADING == VKRT_BINDING_NODES + 5);
+              VKRT_BINDING_SHADING == VKRT_BINDING_NODES + 5 &&
+              VKRT_BINDING_ENVIRONMENT_ROWS == VKRT_BINDING_NODES + 10);
 
 }  // namespace
 
@@ -347,9 +358,10 @@ SceneAccess GpuSceneBuffers::sceneAccess(const VulkanContext& context, SceneAcce
         wanted = context.description().type == "CPU" ? SceneAccess::Texels : SceneAccess::Storage;
     if (wanted == SceneAccess::Texels) {
         bool fits = true;
-        for (const auto array : kTexelArrays) {
-            const GpuBuffer* buffer = bufferOf(array);
-            fits = fits && (!buffer || buffer->size() / 16 <= limits.maxTexelBufferElements);
+        for (const TexelArray& array : kTexelArrays) {
+            const GpuBuffer* buffer = bufferOf(array.address);
+            const VkDeviceSize texelBytes = array.kind == BindingKind::Words ? 4 : 16;
+            fits = fits && (!buffer || buffer->size() / texelBytes <= limits.maxTexelBufferElements);
         }
         if (fits) return wanted;
     }
@@ -372,7 +384,10 @@ std::vector<const GpuBuffer*> GpuSceneBuffers::bindings(const GpuBuffer& params,
         buffers.push_back(bufferOf(&P::primitives));
     } else if (access == SceneAccess::Texels) {
         // An array the scene lacks is never read; any buffer fills its binding.
-        for (const auto array : kTexelArrays) buffers.push_back(bufferOf(array) ? bufferOf(array) : &params);
+        for (const TexelArray& array : kTexelArrays) {
+            const GpuBuffer* buffer = bufferOf(array.address);
+            buffers.push_back(buffer ? buffer : &params);
+        }
     }
     return buffers;
 }
@@ -381,7 +396,8 @@ std::vector<BindingKind> GpuSceneBuffers::bindingKinds(SceneAccess access) {
     if (access == SceneAccess::Storage)
         return {BindingKind::Storage, BindingKind::Storage, BindingKind::Storage};
     std::vector<BindingKind> kinds{BindingKind::Storage};
-    if (access == SceneAccess::Texels) kinds.insert(kinds.end(), VKRT_TEXEL_BINDINGS, BindingKind::Texels);
+    if (access == SceneAccess::Texels)
+        for (const TexelArray& array : kTexelArrays) kinds.push_back(array.kind);
     return kinds;
 }
 

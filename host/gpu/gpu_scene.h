@@ -57,14 +57,15 @@ MemoryNeed sceneBufferNeed(const GpuSceneData& data);
 gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
                                  const RenderSettings& settings);
 
-// How kernels read the scene's arrays (shaders/geometry.glsl), from the most widely possible to the fastest
-// on CPU devices:
+// How kernels read the scene's arrays (shaders/scene_arrays.glsl), from the most widely possible to the
+// fastest on CPU devices:
 // - Addresses: everything through the device addresses in SceneParams (no size limit);
 // - Storage: nodes and primitives bound as storage buffers (VKRT_BOUND_GEOMETRY), within the device's
 //   storage-buffer range;
-// - Texels: nodes, primitives and the arrays every hit reads (materials, lights, vertex normals) bound as
-//   texel buffers (VKRT_TEXEL_SCENE), within the texel-buffer range. lavapipe fetches a texel for all SIMD
-//   lanes with vector loads, but reads storage buffers and addresses one lane at a time.
+// - Texels: nodes, primitives and the arrays a hit reads (materials, lights, vertex normals, textures, the
+//   environment map) bound as texel buffers (VKRT_TEXEL_SCENE), within the texel-buffer range. lavapipe
+//   fetches a texel for all SIMD lanes with vector loads, but reads storage buffers and addresses one lane at
+//   a time.
 // Auto: texels on CPU devices, storage buffers on GPUs; each only where the arrays fit, else the next one
 // down.
 enum class SceneAccess { Auto, Addresses, Storage, Texels };

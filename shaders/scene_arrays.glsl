@@ -1,15 +1,15 @@
-// Where the kernels read BVH nodes and primitives, three ways (host/gpu/gpu_scene.h SceneAccess):
-// - VKRT_TEXEL_SCENE: both arrays, and the others every hit reads (materials, lights, vertex normals),
-//   bound as uniform texel buffers of 4 x 32-bit words.
-//   lavapipe reads a storage buffer one component at a time, lane by lane, in a loop that tests each lane; it
-//   fetches a texel for all eight lanes at once with vector loads. Selected for CPU devices (issue 13: README,
-//   "Traversal and build").
-// - VKRT_BOUND_GEOMETRY: both bound as storage buffers, which lavapipe read about a quarter faster than
-//   through 64-bit device addresses; selected for GPUs where the arrays fit the storage-buffer range.
+// Where the kernels read the scene's arrays, three ways (host/gpu/gpu_scene.h SceneAccess):
+// - VKRT_TEXEL_SCENE: the arrays a walk or a hit reads (nodes, primitives, materials, lights, vertex
+//   normals, textures, the environment map) bound as uniform texel buffers of 4 x 32-bit words (a texture's
+//   RGBA8 texels and the environment's row table as 32-bit words). lavapipe reads a storage buffer one
+//   component at a time, lane by lane, in a loop that tests each lane; it fetches a texel for all eight lanes
+//   at once with vector loads. Selected for CPU devices (issue 13: README, "Traversal and build").
+// - VKRT_BOUND_GEOMETRY: nodes and primitives bound as storage buffers, which lavapipe read about a quarter
+//   faster than through 64-bit device addresses; selected for GPUs where they fit the storage-buffer range.
 // - neither: through the device addresses in SceneParams, which have no size limit.
-// Requires `params` in scope.
-#ifndef VKRT_GEOMETRY_GLSL
-#define VKRT_GEOMETRY_GLSL
+// Each array has one accessor (VKRT_NODE, gpuMaterialAt, ...), the same in every way. Requires `params` in scope.
+#ifndef VKRT_SCENE_ARRAYS_GLSL
+#define VKRT_SCENE_ARRAYS_GLSL
 
 #if defined(VKRT_TEXEL_SCENE)
 layout(binding = VKRT_BINDING_NODES) uniform usamplerBuffer nodeTexels;            // 4 texels a node
@@ -83,6 +83,31 @@ GpuShading gpuShadingAt(uint i) {
     return GpuShading(uintBitsToFloat(texelFetch(shadingTexels, t)), uintBitsToFloat(texelFetch(shadingTexels, t + 1)),
                       uintBitsToFloat(texelFetch(shadingTexels, t + 2)), uintBitsToFloat(texelFetch(shadingTexels, t + 3)));
 }
+
+layout(binding = VKRT_BINDING_TEXTURES) uniform usamplerBuffer textureTexels;                // 1 texel a texture
+layout(binding = VKRT_BINDING_TEXTURE_BINDINGS) uniform usamplerBuffer textureBindingTexels;  // 2 texels a binding
+layout(binding = VKRT_BINDING_TEXELS) uniform usamplerBuffer imageWords;  // one 32-bit word (RGBA8) a texel
+layout(binding = VKRT_BINDING_ENVIRONMENT) uniform usamplerBuffer environmentTexels;     // 1 texel a map texel
+layout(binding = VKRT_BINDING_ENVIRONMENT_ROWS) uniform usamplerBuffer environmentRowWords;  // 1 word a row
+
+GpuTexture gpuTextureAt(int i) {
+    const uvec4 a = texelFetch(textureTexels, i);
+    return GpuTexture(a.x, a.y, a.z, a.w);
+}
+
+GpuTextureBinding gpuTextureBindingAt(int i) {
+    const uvec4 a = texelFetch(textureBindingTexels, 2 * i), b = texelFetch(textureBindingTexels, 2 * i + 1);
+    return GpuTextureBinding(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w);
+}
+
+uint gpuImageTexel(uint i) { return texelFetch(imageWords, int(i)).x; }
+
+GpuEnvironmentTexel gpuEnvironmentTexelAt(uint i) {
+    const uvec4 a = texelFetch(environmentTexels, int(i));
+    return GpuEnvironmentTexel(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w));
+}
+
+float gpuEnvironmentRowCdf(uint y) { return uintBitsToFloat(texelFetch(environmentRowWords, int(y)).x); }
 #elif defined(VKRT_BOUND_GEOMETRY)
 layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
@@ -100,6 +125,11 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 #define gpuAreaLightAt(i) params.areaLights.areaLights[i]
 #define gpuAreaLightCdf(i) params.areaLights.areaLights[i].cdf
 #define gpuShadingAt(i) params.shading.shading[i]
+#define gpuTextureAt(i) params.textures.textures[i]
+#define gpuTextureBindingAt(i) params.textureBindings.bindings[i]
+#define gpuImageTexel(i) params.texels.texels[i]
+#define gpuEnvironmentTexelAt(i) params.environmentTexels.texels[i]
+#define gpuEnvironmentRowCdf(y) params.environmentRows.rowCdf[y]
 #endif
 
 // Motion blur (VKRT_HAS_MOTION): every ray of a sample sees the scene at one shutter time in [0, 1]. The
