@@ -15,6 +15,7 @@
 #include "gpu/shader_compiler.h"
 #include "image/image_metrics.h"
 #include "scene/camera_selection.h"
+#include "scene/environment_map.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
@@ -90,20 +91,35 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(d.fractionOff, 0.0) << "leaving out unused paths must not change the image";
 }
 
-TEST_F(Gpu, TexelStorageAndAddressedGeometryGiveTheSameImage) {
-    // Triangles and spheres, read as texels, from storage buffers and through device addresses.
-    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
-    const RenderSettings settings = smallWhitted(2);
-    std::vector<Image> images;
-    for (const SceneAccess access : {SceneAccess::Texels, SceneAccess::Storage, SceneAccess::Addresses}) {
-        GpuRenderOptions options;
-        options.sceneAccess = access;
-        GpuRenderReport report;
-        images.push_back(renderGpu(scene, bvh, camera, settings, options, &report).image);
-        EXPECT_EQ(report.sceneAccess, access) << sceneAccessName(access);
+TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {
+    // Every array read each way: triangles, spheres and a punctual light (whitted), area lights (cornell),
+    // textures and vertex normals (textures), the environment map and its tables (environment).
+    for (const std::string file : {"whitted.gltf", "cornell.gltf", "textures.gltf", "environment.gltf"}) {
+        auto [scene, bvh, camera] = ownScene(file.c_str(), 4.0 / 3.0);
+        if (file == "environment.gltf") {
+            // A map brighter towards its top and one side, so that importance sampling reads its tables.
+            std::vector<glm::vec3> texels;
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 16; ++x)
+                    texels.push_back(glm::vec3(0.1f + (8 - y) * (x < 4 ? 2.0f : 0.3f)));
+            scene.environment = makeEnvironmentMap("test", 16, 8, texels, 30.0, 1.0);
+        }
+        for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+            RenderSettings settings = smallWhitted(2);
+            settings.integrator = integrator;
+            std::vector<Image> images;
+            for (const SceneAccess access :
+                 {SceneAccess::Texels, SceneAccess::Storage, SceneAccess::Addresses}) {
+                GpuRenderOptions options;
+                options.sceneAccess = access;
+                GpuRenderReport report;
+                images.push_back(renderGpu(scene, bvh, camera, settings, options, &report).image);
+                EXPECT_EQ(report.sceneAccess, access) << file << ": " << sceneAccessName(access);
+            }
+            EXPECT_EQ(compareImages(images[0], images[1], 1e-6, 1e-8).fractionOff, 0.0) << file;
+            EXPECT_EQ(compareImages(images[0], images[2], 1e-6, 1e-8).fractionOff, 0.0) << file;
+        }
     }
-    EXPECT_EQ(compareImages(images[0], images[1], 1e-6, 1e-8).fractionOff, 0.0);
-    EXPECT_EQ(compareImages(images[0], images[2], 1e-6, 1e-8).fractionOff, 0.0);
 }
 
 TEST_F(Gpu, DevicesReadGeometryTheirBestWay) {

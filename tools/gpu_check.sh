@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # vkrt on a real GPU, in one go: builds Release, checks that a GPU Vulkan device (not a CPU one such as
-# lavapipe) is there, runs the GPU conformance tests on it, the ray benchmark suite against Embree and the
-# convergence report (Cornell and Whitted, both integrators), and writes a summary: summary.json and
+# lavapipe) is there, runs the GPU conformance tests on it, the ray benchmark suite against Embree, storage
+# against texel reads of the scene (scene_access.json) and the convergence report (Cornell and Whitted, both
+# integrators), and writes a summary: summary.json and
 # summary.md (tables ready for the README) in the output folder. Meant to take under 8 minutes on 16 cores.
 #
 #   tools/gpu_check.sh [options] [OUT_DIR]        (OUT_DIR: gpu-check-out)
@@ -69,12 +70,14 @@ step() {
 }
 
 if [ $quick -eq 1 ]; then
-    : "${tests:=^(Gpu\.BoundAndAddressedGeometryGiveTheSameImage|Scenes/GpuImage\.MatchesCpuReference/cornell |Cli\.GpuRenderUnderValidationWritesGpuStats)}"
+    : "${tests:=^(Gpu\.TexelStorageAndAddressedScenesGiveTheSameImage|Scenes/GpuImage\.MatchesCpuReference/cornell |Cli\.GpuRenderUnderValidationWritesGpuStats)}"
     bench_args=(--runs 1 --size 128)
+    access_args=(--runs 1 --width 128 --height 128)
     conv_args=(--width 32 --gpu-spp 16 --cpu-spp 16 --reference-spp 64)
 else
     : "${tests:=^(Gpu|[A-Za-z]+/Gpu|Stability|ShadingFunctions|Cli|MemoryCli)}"
     bench_args=(--runs 3 --size 1024)
+    access_args=(--runs 3)
     conv_args=(--width 256 --gpu-spp 256 --cpu-spp 64 --reference-spp 1024)
 fi
 
@@ -147,6 +150,12 @@ benchmark_suite() {
         "${bench_args[@]}" >"$out/benchmark.md"
 }
 step benchmark_suite benchmark_suite
+# How the device reads the scene: its default (storage buffers on GPUs) against texel buffers, run for run on the
+# 1M-triangle sphere (lavapipe traces faster with texels; README, "Traversal and build").
+scene_access() {
+    "$build_dir/ray_benchmark" "${access_args[@]}" --variant VKRT_TEXEL_SCENE >"$out/scene_access.json"
+}
+step scene_access scene_access
 step convergence_report python3 tools/convergence_report.py --vkrt "$vkrt" --out-dir "$out/convergence" \
     --integrators path,whitted "${conv_args[@]}" scenes/cornell.gltf scenes/whitted.gltf
 
