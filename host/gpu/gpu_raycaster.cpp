@@ -29,7 +29,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
       data_(packScene(scene, bvh)),
       shaderCacheDir_(shaderCacheDir),
       defines_(extraDefines) {
-    // A geometry define among the caller's is a request for that way of reading geometry.
+    // A scene-access define among the caller's is a request for that way of reading the scene.
     SceneAccess wanted = SceneAccess::Auto;
     for (const auto& [define, access] : {std::pair{"VKRT_TEXEL_SCENE", SceneAccess::Texels},
                                          std::pair{"VKRT_BOUND_GEOMETRY", SceneAccess::Storage},
