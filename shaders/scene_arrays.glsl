@@ -7,7 +7,8 @@
 // - VKRT_BOUND_GEOMETRY: nodes and primitives bound as storage buffers, which lavapipe read about a quarter
 //   faster than through 64-bit device addresses; selected for GPUs where they fit the storage-buffer range.
 // - neither: through the device addresses in SceneParams, which have no size limit.
-// Each array has one accessor (VKRT_NODE, gpuMaterialAt, ...), the same in every way. Requires `params` in scope.
+// Each array has one accessor (VKRT_NODE, VKRT_PRIMITIVE, gpuMaterialAt, ...), the same in every way.
+// Requires `params` in scope.
 #ifndef VKRT_SCENE_ARRAYS_GLSL
 #define VKRT_SCENE_ARRAYS_GLSL
 
@@ -16,22 +17,23 @@ layout(binding = VKRT_BINDING_NODES) uniform usamplerBuffer nodeTexels;         
 layout(binding = VKRT_BINDING_PRIMITIVES) uniform usamplerBuffer primitiveTexels;  // 3 texels a primitive
 
 // The 56 bytes of a 64-byte wide node that the walk reads (shared.h WideBvhNode).
-WideBvhNode vkrtNodeAt(uint i) {
+WideBvhNode texelNodeAt(uint i) {
     const int t = int(4u * i);
-    const uvec4 a = texelFetch(nodeTexels, t), b = texelFetch(nodeTexels, t + 1), c = texelFetch(nodeTexels, t + 2);
+    const uvec4 a = texelFetch(nodeTexels, t), b = texelFetch(nodeTexels, t + 1);
+    const uvec4 c = texelFetch(nodeTexels, t + 2);
     const uvec2 d = texelFetch(nodeTexels, t + 3).xy;
     return WideBvhNode(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z), a.w, b.x, b.y, b.z, b.w,
                        c.x, c.y, c.z, c.w, d.x, d.y, 0u, 0u);
 }
 
-GpuPrimitive vkrtPrimitiveAt(uint i) {
+GpuPrimitive texelPrimitiveAt(uint i) {
     const int t = int(3u * i);
     const uvec4 a = texelFetch(primitiveTexels, t), b = texelFetch(primitiveTexels, t + 1);
     const uvec4 c = texelFetch(primitiveTexels, t + 2);
     return GpuPrimitive(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
 }
-#define VKRT_NODE(i) vkrtNodeAt(i)
-#define VKRT_PRIMITIVE(i) vkrtPrimitiveAt(i)
+#define VKRT_NODE(i) texelNodeAt(i)
+#define VKRT_PRIMITIVE(i) texelPrimitiveAt(i)
 
 layout(binding = VKRT_BINDING_MATERIALS) uniform usamplerBuffer materialTexels;  // 12 texels a material
 
@@ -64,8 +66,8 @@ layout(binding = VKRT_BINDING_SHADING) uniform usamplerBuffer shadingTexels;    
 
 GpuPunctualLight gpuLightAt(uint i) {
     const int t = int(4u * i);
-    const uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1), c = texelFetch(lightTexels, t + 2);
-    const uvec4 d = texelFetch(lightTexels, t + 3);
+    const uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1);
+    const uvec4 c = texelFetch(lightTexels, t + 2), d = texelFetch(lightTexels, t + 3);
     return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
                             uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), d.y, d.z, d.w);
 }
@@ -75,20 +77,25 @@ GpuAreaLight gpuAreaLightAt(uint i) {
     return GpuAreaLight(a.x, uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w), b.x, b.y, b.z, b.w);
 }
 
-// The cumulative power of area light `i` (GpuAreaLight's cdf): the light table's binary search reads only that.
+// The cumulative power of area light `i` (GpuAreaLight's cdf): the light table's binary search reads only
+// that.
 float gpuAreaLightCdf(uint i) { return uintBitsToFloat(texelFetch(areaLightTexels, int(2u * i)).y); }
 
 GpuShading gpuShadingAt(uint i) {
     const int t = int(4u * i);
-    return GpuShading(uintBitsToFloat(texelFetch(shadingTexels, t)), uintBitsToFloat(texelFetch(shadingTexels, t + 1)),
-                      uintBitsToFloat(texelFetch(shadingTexels, t + 2)), uintBitsToFloat(texelFetch(shadingTexels, t + 3)));
+    return GpuShading(uintBitsToFloat(texelFetch(shadingTexels, t)),
+                      uintBitsToFloat(texelFetch(shadingTexels, t + 1)),
+                      uintBitsToFloat(texelFetch(shadingTexels, t + 2)),
+                      uintBitsToFloat(texelFetch(shadingTexels, t + 3)));
 }
 
-layout(binding = VKRT_BINDING_TEXTURES) uniform usamplerBuffer textureTexels;                // 1 texel a texture
-layout(binding = VKRT_BINDING_TEXTURE_BINDINGS) uniform usamplerBuffer textureBindingTexels;  // 2 texels a binding
-layout(binding = VKRT_BINDING_TEXELS) uniform usamplerBuffer imageWords;  // one 32-bit word (RGBA8) a texel
-layout(binding = VKRT_BINDING_ENVIRONMENT) uniform usamplerBuffer environmentTexels;     // 1 texel a map texel
-layout(binding = VKRT_BINDING_ENVIRONMENT_ROWS) uniform usamplerBuffer environmentRowWords;  // 1 word a row
+// Textures (1 texel each), texture bindings (2 texels each), the textures' own texels (one 32-bit RGBA8 word
+// each), the environment map (1 texel a map texel) and its row table (1 word a row).
+layout(binding = VKRT_BINDING_TEXTURES) uniform usamplerBuffer textureTexels;
+layout(binding = VKRT_BINDING_TEXTURE_BINDINGS) uniform usamplerBuffer textureBindingTexels;
+layout(binding = VKRT_BINDING_TEXELS) uniform usamplerBuffer imageWords;
+layout(binding = VKRT_BINDING_ENVIRONMENT) uniform usamplerBuffer environmentTexels;
+layout(binding = VKRT_BINDING_ENVIRONMENT_ROWS) uniform usamplerBuffer environmentRowWords;
 
 GpuTexture gpuTextureAt(int i) {
     const uvec4 a = texelFetch(textureTexels, i);
@@ -113,11 +120,9 @@ layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBv
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
 #define VKRT_NODE(i) boundNodes[i]
 #define VKRT_PRIMITIVE(i) boundPrimitives[i]
-#define vkrtPrimitiveAt(i) boundPrimitives[i]
 #else
 #define VKRT_NODE(i) params.nodes.nodes[i]
 #define VKRT_PRIMITIVE(i) params.primitives.primitives[i]
-#define vkrtPrimitiveAt(i) params.primitives.primitives[i]
 #endif
 #ifndef VKRT_TEXEL_SCENE
 #define gpuMaterialAt(i) params.materials.materials[i]
@@ -138,7 +143,7 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 float vkrtShutterTime = 0.0;
 
 GpuPrimitive primitiveAt(uint i) {
-    GpuPrimitive p = vkrtPrimitiveAt(i);
+    GpuPrimitive p = VKRT_PRIMITIVE(i);
 #ifdef VKRT_HAS_MOTION
     const uint segments = params.motionSegments;
     const float x = vkrtShutterTime * float(segments);

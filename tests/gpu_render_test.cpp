@@ -122,7 +122,7 @@ TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {
     }
 }
 
-TEST_F(Gpu, DevicesReadGeometryTheirBestWay) {
+TEST_F(Gpu, DevicesReadTheSceneTheirBestWay) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     GpuRenderReport report;
     renderGpu(scene, bvh, camera, smallWhitted(1), {}, &report);

@@ -14,7 +14,7 @@
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
 // alternately with the default kernel, and reports its rates and their ratio to the default's (A/B tests of
 // shader changes that a busy machine's noise would hide between processes). A variant with
-// VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the geometry that way
+// VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the scene that way
 // (gpu_raycaster.h).
 #include <algorithm>
 #include <chrono>

@@ -72,7 +72,7 @@ struct RunReport {
         uint64_t deviceMemoryBytes = 0;
         uint32_t dispatches = 0;
         double longestDispatchMs = 0.0;
-        std::string sceneAccess;  // how kernels read the geometry (gpu_scene.h sceneAccessName)
+        std::string sceneAccess;  // how kernels read the scene (gpu_scene.h sceneAccessName)
     };
     std::optional<Gpu> gpu;
 

@@ -25,9 +25,9 @@ struct RaycastTiming {
 class GpuRaycaster {
   public:
     // `extraDefines` compile into the kernel besides the scene's (VKRT_COUNT_ITERATIONS: hits carry the
-    // walk's loop iterations in u, raycast.comp). A geometry define among them (VKRT_TEXEL_SCENE,
-    // VKRT_BOUND_GEOMETRY) asks for that way of reading geometry (gpu_scene.h SceneAccess) instead of the
-    // device's best, where the scene fits it; VKRT_ADDRESSED_SCENE asks for device addresses.
+    // walk's loop iterations in u, raycast.comp). A scene-access define among them (VKRT_TEXEL_SCENE,
+    // VKRT_BOUND_GEOMETRY, VKRT_ADDRESSED_SCENE) asks for that way of reading the scene (gpu_scene.h
+    // SceneAccess) instead of the device's best, where the scene fits it.
     GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
                  const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines = {});
     ~GpuRaycaster();

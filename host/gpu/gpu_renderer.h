@@ -27,7 +27,7 @@ struct GpuRenderOptions {
     double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
-    SceneAccess sceneAccess = SceneAccess::Auto;  // how kernels read geometry (where it fits)
+    SceneAccess sceneAccess = SceneAccess::Auto;  // how kernels read the scene (where it fits)
     bool subgroupCounters = true;      // sum ray counts across subgroups where the device can (for tests)
     uint64_t maxDeviceMemoryBytes = 0;  // at most this much device memory (0: what the device offers)
     // The device's sums are added into the host's at least this often (and at checkpoints, tile changes and
@@ -50,7 +50,7 @@ struct GpuRenderReport {
     DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
     std::string deviceLost;          // why the device was lost, when it was (the render then ends early)
-    SceneAccess sceneAccess = SceneAccess::Addresses;  // how the kernel read nodes and primitives
+    SceneAccess sceneAccess = SceneAccess::Addresses;  // how the kernel read the scene's arrays
 };
 
 class GpuRenderer {
