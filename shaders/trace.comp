@@ -258,8 +258,10 @@ vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
     return radiance;
 }
 #else
-// Samples [first, end) of the pixel at `xy`, each a ray tree walked depth first (the transmission pushed first,
-// so that the reflection, pushed last, is traced first, as on the CPU), added to `sum` as they finish.
+// Samples [first, end) of the pixel at `xy`, each a ray tree walked depth first (the reflection traced first, as
+// on the CPU), added to `sum` as they finish. The ray to trace next is held in registers, and only a transmission
+// waiting behind a reflection goes on the stack: each push and pop is a scatter and a gather of every member on
+// lavapipe, and keeping the other rays off it made the Whitted scene's GPU time 4% shorter (issue 13).
 //
 // One loop runs over every ray of every tree: an invocation whose tree ends starts its next sample in the next
 // iteration instead of idling until its neighbours' trees end too. SIMD lanes (llvmpipe's eight, a GPU's warp)
@@ -274,21 +276,27 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
     int size = 0;
     uint s = first, finished = 0u;
     vec3 radiance = vec3(0.0);
+    RayState ray;
+    bool queued = false;  // `ray` holds the tree's next ray, not yet traced
     for (;;) {
-        if (size == 0) {
-            // Sample s - 1 is done: add it, and start the next with its camera ray.
-            if (s > first) {
-                addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
-                ++finished;
+        if (!queued) {
+            if (size > 0) {
+                ray = stateOf(stack[--size]);
+            } else {
+                // Sample s - 1 is done: add it, and start the next with its camera ray.
+                if (s > first) {
+                    addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+                    ++finished;
+                }
+                if (s == end) break;
+                vkrtWalksComplete = true;
+                radiance = vec3(0.0);
+                ray = cameraRayState(camera, cone, xy, s, context);
+                ++primaryRays;
+                ++s;
             }
-            if (s == end) break;
-            vkrtWalksComplete = true;
-            radiance = vec3(0.0);
-            stack[size++] = taskOf(cameraRayState(camera, cone, xy, s, context));
-            ++primaryRays;
-            ++s;
         }
-        const RayState ray = stateOf(stack[--size]);
+        queued = false;
         Hit hit;
         HitPoint point;
         const bool found = traceVisible(ray, context, hit, point);
@@ -301,11 +309,17 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
         radiance += weight * shaded.radiance;
         if (shaded.transmits) {
             ++secondaryRays;
-            stack[size++] = taskOf(shaded.transmission);
+            if (shaded.reflects) {
+                stack[size++] = taskOf(shaded.transmission);
+            } else {
+                ray = shaded.transmission;
+                queued = true;
+            }
         }
         if (shaded.reflects) {
             ++secondaryRays;
-            stack[size++] = taskOf(shaded.reflection);
+            ray = shaded.reflection;
+            queued = true;
         }
     }
     nonFinite += (end - first) - finished;
