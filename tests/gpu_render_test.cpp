@@ -165,6 +165,23 @@ TEST_F(Gpu, ChunkingDoesNotChangeTheImage) {
     EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
 }
 
+TEST_F(Gpu, DispatchesGrowAcrossSweepsOfTheImage) {
+    // Dispatches double until they take the target time. The first sweep of 32 rows ends with one row left
+    // over (1 + 2 + 4 + 8 + 16 + 1); growth from there is capped by the largest dispatch so far, not that
+    // last one, so the next sweeps take all rows at 1, 2, 4 and 8 samples: 10 dispatches. Capped by the
+    // last, the ramp began again from one row after every sweep: 24.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 1.0);
+    RenderSettings settings = smallWhitted(16);
+    settings.height = 32;
+    GpuRenderOptions options;
+    options.targetDispatchMs = 1e9;
+    GpuRenderReport report;
+    const RenderResult result = renderGpu(scene, bvh, camera, settings, options, &report);
+    EXPECT_EQ(report.dispatches, 10u);
+    EXPECT_EQ(result.fewestSamples, 16u);
+    EXPECT_EQ(result.mostSamples, 16u);
+}
+
 TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;

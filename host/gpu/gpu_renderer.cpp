@@ -172,8 +172,8 @@ bool GpuRenderer::copyDue() const {
 }
 
 double GpuRenderer::nextDispatchUnits() const {
-    return unitsPerMs_ > 0.0 ? std::clamp(unitsPerMs_ * options_.targetDispatchMs, 1.0, 2.0 * lastUnits_)
-                             : lastUnits_;
+    return unitsPerMs_ > 0.0 ? std::clamp(unitsPerMs_ * options_.targetDispatchMs, 1.0, 2.0 * largestUnits_)
+                             : largestUnits_;
 }
 
 StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
@@ -193,8 +193,12 @@ StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t fir
             dirtyBegin_ = std::min(dirtyBegin_, row);
             dirtyEnd_ = std::max(dirtyEnd_, row + rows);
             for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
-            lastUnits_ = static_cast<double>(rows) * samples;
-            unitsPerMs_ = lastUnits_ / std::max(ms, 0.01);
+            // Growth is capped at twice the largest dispatch so far, not the last: the last of a sweep holds
+            // the rows left over, often one, and capping at twice that restarted the ramp from one row at
+            // every sweep (52 dispatches of 10 ms where 50 ms was the aim, issue 13).
+            const double units = static_cast<double>(rows) * samples;
+            largestUnits_ = std::max(largestUnits_, units);
+            unitsPerMs_ = units / std::max(ms, 0.01);
             unitsDone_ += static_cast<uint64_t>(rows) * samples;
             readCounters(rays);
             row += rows;

@@ -121,7 +121,7 @@ class GpuRenderer {
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;  // what the last copy cost
     double unitsPerMs_ = 0.0;  // rows x samples traced per millisecond, as last measured
-    double lastUnits_ = 1.0;   // rows x samples of the last dispatch
+    double largestUnits_ = 1.0;  // rows x samples of the largest dispatch so far
     uint64_t unitsDone_ = 0;   // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
