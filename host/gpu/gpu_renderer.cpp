@@ -196,10 +196,10 @@ StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t fir
             // Growth is capped at twice the largest dispatch so far, not the last: the last of a sweep holds
             // the rows left over, often one, and capping at twice that restarted the ramp from one row at
             // every sweep (52 dispatches of 10 ms where 50 ms was the aim, issue 13).
-            const double units = static_cast<double>(rows) * samples;
-            largestUnits_ = std::max(largestUnits_, units);
-            unitsPerMs_ = units / std::max(ms, 0.01);
-            unitsDone_ += static_cast<uint64_t>(rows) * samples;
+            const uint64_t units = static_cast<uint64_t>(rows) * samples;
+            largestUnits_ = std::max(largestUnits_, static_cast<double>(units));
+            unitsPerMs_ = static_cast<double>(units) / std::max(ms, 0.01);
+            unitsDone_ += units;
             readCounters(rays);
             row += rows;
             if (progress) progress(unitsDone_, totalUnits);

@@ -119,10 +119,10 @@ class GpuRenderer {
     uint32_t tileRowStart_ = 0;  // the tile the dispatches accumulate into
     uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
     std::chrono::steady_clock::time_point lastCopy_;
-    double lastCopyMs_ = 0.0;  // what the last copy cost
-    double unitsPerMs_ = 0.0;  // rows x samples traced per millisecond, as last measured
+    double lastCopyMs_ = 0.0;    // what the last copy cost
+    double unitsPerMs_ = 0.0;    // rows x samples traced per millisecond, as last measured
     double largestUnits_ = 1.0;  // rows x samples of the largest dispatch so far
-    uint64_t unitsDone_ = 0;   // rows x samples dispatched in this render
+    uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
 
