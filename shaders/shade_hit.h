@@ -107,6 +107,26 @@ struct ShadedHit {
     RayState scattered;
 };
 
+// Whether the traced lobes of `surface` are deltas (exact mirror and refraction), the base's and the coat's.
+// In a shader for a scene whose traced lobes are all mirrors (no VKRT_HAS_GLOSSY_LOBES: scene_features.cpp's
+// tracesGlossyLobe), always: sampling GGX's visible normals and the G2 / G1 weights then drop out of the
+// kernel, which a SIMD device (lavapipe) would otherwise run, masked, at every hit (issue 13).
+VKRT_FN bool tracesMirror(VKRT_IN(SurfaceResponse) surface) {
+#ifdef VKRT_HAS_GLOSSY_LOBES
+    return surface.mirror;
+#else
+    return true;
+#endif
+}
+
+VKRT_FN bool tracesMirrorCoat(VKRT_IN(SurfaceResponse) surface) {
+#ifdef VKRT_HAS_GLOSSY_LOBES
+    return surface.coatMirror;
+#else
+    return true;
+#endif
+}
+
 // The random-number node of a continuation of `ray` (`branch` 1: reflection, 2: transmission, 3: the untraced
 // lobes): Whitted's ray tree numbers its nodes as a binary heap (the children of k are 2k + 1 and 2k + 2); a
 // path has one node per bounce.
@@ -506,7 +526,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (!context.paths) local += inputs.occlusion * context.ambient * ambientReflectance;  // Whitted's alone
     const bool continues = ray.depth < context.maxDepth;
 #ifdef VKRT_HAS_TRACED_LOBES
-    const bool lobeSampled = continues && ((surface.traced && !surface.mirror) || (surface.coatTraced && !surface.coatMirror));
+    const bool lobeSampled = continues && ((surface.traced && !tracesMirror(surface)) ||
+                                           (surface.coatTraced && !tracesMirrorCoat(surface)));
 #else
     const bool lobeSampled = false;  // a constant: directLight's weights against traced lobes compile out
 #endif
@@ -543,9 +564,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
-    const real3 microNormal = surface.mirror ? normal
-                                             : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U),
-                                                                  normal, toViewer, surface.alpha);
+    const real3 microNormal = tracesMirror(surface)
+                                  ? normal
+                                  : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U),
+                                                       normal, toViewer, surface.alpha);
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
     // Reflection: Fresnel (energy compensated), times G2 / G1 for a sampled visible normal (Heitz 2018,
@@ -553,7 +575,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     real3 reflected = reflectAbout(toViewer, microNormal);
     real3 reflectWeight = compensatedFresnelAt(surface, cosMicro, eta);
     real reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
-    if (!surface.mirror) {
+    if (!tracesMirror(surface)) {
         const real cosIn = dot(normal, reflected);
         const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
         reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
@@ -569,23 +591,24 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         const real pick = coatPick(surface);
         const bool coatChosen =
             pick >= 1.0 || (pick > 0.0 && stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_PICK), 0u) < pick);
-        bool delta = surface.mirror;
+        bool delta = tracesMirror(surface);
         if (coatChosen) {
             const real3 coatNormal = frame.coatNormal;
             const real cosCoat = dot(coatNormal, toViewer);
             const real3 coatMicro =
-                surface.coatMirror ? coatNormal
-                                   : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
-                                                        toViewer, surface.coatAlpha);
+                tracesMirrorCoat(surface)
+                    ? coatNormal
+                    : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
+                                         toViewer, surface.coatAlpha);
             reflected = reflectAbout(toViewer, coatMicro);
             real weight = surface.clearcoat * coatFresnel(cosCoat) * surface.coatCompensation / pick;
-            if (!surface.coatMirror) {
+            if (!tracesMirrorCoat(surface)) {
                 const real cosIn = dot(coatNormal, reflected);
                 const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
                 weight *= above ? ggxG2(cosCoat, cosIn, surface.coatAlpha) / ggxG1(cosCoat, surface.coatAlpha) : 0.0;
             }
             reflectWeight = real3(weight);
-            delta = surface.coatMirror;
+            delta = tracesMirrorCoat(surface);
         } else {
             reflectWeight *= coatThrough / (1.0 - pick);
         }
@@ -614,7 +637,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     real3 direction = ray.direction;
     bool passes = maxComponent(transmitWeight) > 0.0;
     if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);
-    if (passes && volume && !surface.mirror) {
+    if (passes && volume && !tracesMirror(surface)) {
         const real cosIn = dot(normal, direction);
         passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
         if (passes) {

@@ -344,5 +344,38 @@ TEST(SceneFeatures, OnlyScenesThatTraceALobeGetItsCode) {
     EXPECT_TRUE(traces(coated));
 }
 
+TEST(SceneFeatures, OnlyScenesWithARoughTracedLobeGetItsSampling) {
+    // A traced lobe is sampled from GGX's visible normals unless it is a mirror (roughness below
+    // VKRT_MIRROR_ROUGHNESS, which a roughness texture only lowers further); a rough lobe that is not traced
+    // (a matte dielectric's) needs no sampling. The coat counts on its own roughness.
+    auto glossy = [](const Material& material) {
+        Scene scene;
+        scene.materials = {material};
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
+        scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
+        return detectFeatures(scene).glossyLobes;
+    };
+    Material matte = test::lambertian(0.5f);
+    matte.specularFactor = 1.0f;  // roughness 1, not traced
+    EXPECT_FALSE(glossy(matte));
+    EXPECT_FALSE(glossy(furnaceMaterial(Surface::Metal, 0.0f)));
+    EXPECT_FALSE(glossy(furnaceMaterial(Surface::Glass, 0.0f)));
+    Material texturedMirror = furnaceMaterial(Surface::Metal, 0.0f);
+    texturedMirror.metallicRoughnessTexture.texture = 0;
+    EXPECT_FALSE(glossy(texturedMirror));
+    EXPECT_TRUE(glossy(furnaceMaterial(Surface::Metal, VKRT_MIRROR_ROUGHNESS)));
+    EXPECT_TRUE(glossy(furnaceMaterial(Surface::Glass, 0.5f)));
+    Material texturedMatte = matte;  // a roughness texture can make roughness 1 smaller: traced, and rough
+    texturedMatte.metallicRoughnessTexture.texture = 0;
+    EXPECT_TRUE(glossy(texturedMatte));
+    Material mirrorCoat = furnaceMaterial(Surface::Metal, 0.0f);
+    mirrorCoat.clearcoat = 1.0f;
+    mirrorCoat.clearcoatRoughness = 0.0f;
+    EXPECT_FALSE(glossy(mirrorCoat));
+    Material roughCoat = mirrorCoat;
+    roughCoat.clearcoatRoughness = 0.3f;
+    EXPECT_TRUE(glossy(roughCoat));
+}
+
 }  // namespace
 }  // namespace vkrt

@@ -60,7 +60,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 21u);
+    EXPECT_EQ(full.features().defines().size(), 22u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts.
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
@@ -89,6 +89,33 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     const Image a = lean.render().image, b = full.render().image;
     const ImageDifference d = compareImages(a, b, 1e-5, 1e-7);
     EXPECT_EQ(d.fractionOff, 0.0) << "leaving out unused paths must not change the image";
+}
+
+TEST_F(Gpu, MirrorOnlyScenesLeaveGgxSamplingOut) {
+    // The Whitted scene traces a mirror and smooth glass: its shader has the traced lobes' code but not the
+    // sampling of GGX's visible normals and its weights (smaller than the same shader with them), and renders
+    // the image of the shader with every feature. The glossy scene's rough metal needs them.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+    const RenderSettings settings = smallWhitted(2);
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    GpuRenderer lean(context(), scene, bvh, camera, settings, options);
+    EXPECT_TRUE(lean.features().tracedLobes);
+    EXPECT_FALSE(lean.features().glossyLobes);
+    std::vector<std::string> glossyDefines = lean.defines();
+    glossyDefines.push_back("VKRT_HAS_GLOSSY_LOBES");
+    const size_t glossyBytes =
+        compileShader("trace.comp", glossyDefines, test::shaderCacheDir(), SpirvOptimization::Performance)
+            .spirv.size() *
+        4;
+    EXPECT_LT(lean.spirv().size() * 4 + 1024, glossyBytes);
+    options.allFeatures = true;
+    GpuRenderer full(context(), scene, bvh, camera, settings, options);
+    const ImageDifference d = compareImages(lean.render().image, full.render().image, 1e-5, 1e-7);
+    EXPECT_EQ(d.fractionOff, 0.0);
+
+    const auto [glossyScene, glossyBvh, glossyCamera] = ownScene("glossy.gltf", 1.6);
+    EXPECT_TRUE(detectFeatures(glossyScene).glossyLobes);
 }
 
 TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {

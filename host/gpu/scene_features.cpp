@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "microfacet.h"
 #include "scene/ggx_albedo_tables.h"
 
 namespace vkrt {
@@ -35,6 +36,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::sheen, "sheen", "VKRT_HAS_SHEEN"},
     {&SceneFeatures::roughSpecular, "rough_specular", "VKRT_HAS_ROUGH_SPECULAR"},
     {&SceneFeatures::tracedLobes, "traced_lobes", "VKRT_HAS_TRACED_LOBES"},
+    {&SceneFeatures::glossyLobes, "glossy_lobes", "VKRT_HAS_GLOSSY_LOBES"},
 };
 
 // Whether some point of `material` may trace a lobe (surface_response.h's `traced` and `coatTraced`): a
@@ -45,6 +47,16 @@ bool tracesLobe(const Material& material) {
     const bool smooth = material.roughness < 1.0f || material.metallicRoughnessTexture.used();
     return material.metallic > 0.0f || material.transmission > 0.0f ||
            (material.specularFactor > 0.0f && smooth) || material.clearcoat > 0.0f;
+}
+
+// Whether a lobe `material` traces can be rough rather than a mirror (surface_response.h's `mirror` and
+// `coatMirror` false where shade_hit.h traces): a traced base at roughness VKRT_MIRROR_ROUGHNESS or more, or
+// a coat likewise. A texture only scales a roughness factor down, so a factor below it stays a mirror. (A
+// coat over an untraced base counts the base's roughness too: conservative, as the base's lobe is still
+// worked out.)
+bool tracesGlossyLobe(const Material& material) {
+    return (tracesLobe(material) && material.roughness >= VKRT_MIRROR_ROUGHNESS) ||
+           (material.clearcoat > 0.0f && material.clearcoatRoughness >= VKRT_MIRROR_ROUGHNESS);
 }
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -113,6 +125,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.sheen |= material.hasSheen();
         features.roughSpecular |= hasRoughSpecular(material);
         features.tracedLobes |= tracesLobe(material);
+        features.glossyLobes |= tracesGlossyLobe(material);
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                !scene.tangents.empty();
         // COLOR_0's alpha multiplies the base colour's.
