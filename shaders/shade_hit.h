@@ -301,6 +301,7 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
     const real3 toViewer = frame.toViewer;
     const uint exclude = frame.excludeOnViewerSide;
     real3 sum = real3(0.0);
+    if (!reflectsLights(surface)) return sum;  // no shadow rays from mirrors and smooth glass
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
     const uint punctualLights = VKRT_DEVICE(punctualLightCount)();
     for (uint i = 0u; i < punctualLights; ++i) {

@@ -434,6 +434,20 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
     return pdf;
 }
 
+// Whether reflectedLight can be other than 0: the surface has a lobe that is not a delta (Lambert, a rough
+// specular lobe, sheen, a rough coat). A mirror or smooth glass reflects lights only by its traced rays, and
+// a shadow ray from it would add exactly 0.
+VKRT_FN bool reflectsLights(VKRT_IN(SurfaceResponse) s) {
+    bool reflects = maxComponent(s.diffuse) > 0.0 || !s.mirror;
+#ifdef VKRT_HAS_SHEEN
+    reflects = reflects || maxComponent(s.sheenColor) > 0.0;
+#endif
+#ifdef VKRT_HAS_CLEARCOAT
+    reflects = reflects || (s.clearcoat > 0.0 && !s.coatMirror);
+#endif
+    return reflects;
+}
+
 // Light arriving from `toLight` with irradiance `irradiance` (on a surface facing it), reflected towards the
 // viewer: Lambert plus the specular lobe, under the sheen, if any, which scales them and adds its own lobe, and
 // the coat, if any, which adds its own lobe about `coatNormal`. The traced lobes are weighted `tracedWeight`,

@@ -3,6 +3,7 @@
 // roughness, and the occlusion texture dims the ambient term alone.
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@ using test::Gpu;
 
 using test::addUnitSquare;
 using test::ambientOnly;
+using test::lambertian;
 using test::squareCamera;
 using test::textureOf;
 
@@ -200,6 +202,40 @@ TEST_F(GpuMaterials, SpecularFactorZeroIsLambertian) {
                 EXPECT_NEAR(image->at(8, 8).x, lambert, 1e-6);
             } else {
                 EXPECT_GT(image->at(8, 8).x, lambert + 1e-3);
+            }
+        }
+    }
+}
+
+TEST_F(GpuMaterials, MirrorsAndSmoothGlassCastNoShadowRays) {
+    // Under a directional light, every camera ray meets the square, and a surface with a lobe that reflects
+    // light (Lambert, rough metal) sends one shadow ray from its hit; a mirror and smooth (thin) glass
+    // reflect the light only by their traced rays, and send none. The same on both devices, with both
+    // integrators.
+    Material mirror = lambertian(0.8f), roughMetal = lambertian(0.8f), glass = lambertian(0.8f);
+    mirror.metallic = roughMetal.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    roughMetal.roughness = 0.5f;
+    glass.transmission = 1.0f;
+    glass.specularFactor = 1.0f;
+    glass.roughness = 0.0f;
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        for (const auto& [material, shadows] : {std::pair{lambertian(0.8f), true}, std::pair{mirror, false},
+                                                std::pair{roughMetal, true}, std::pair{glass, false}}) {
+            Scene scene;
+            PunctualLight sun;
+            sun.type = LightType::Directional;
+            sun.direction = glm::normalize(glm::vec3(0.2f, -0.3f, -1.0f));
+            sun.intensity = 2.0f;
+            scene.lights.push_back(sun);
+            RenderSettings settings = ambientOnly(8);
+            settings.integrator = integrator;
+            const auto [gpu, cpu] = renderSquare(scene, material, settings);
+            for (const RenderResult* result : {&gpu, &cpu}) {
+                EXPECT_EQ(result->rays.primary, 8u * 8u * 4u);
+                EXPECT_EQ(result->rays.shadow, shadows ? result->rays.primary : 0u)
+                    << "metallic " << material.metallic << ", roughness " << material.roughness
+                    << ", transmission " << material.transmission << (result == &gpu ? ", GPU" : ", CPU");
             }
         }
     }
