@@ -18,9 +18,11 @@
 #include "energy_compensation.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/scene_features.h"
+#include "scene/albedo_table_entries.h"
 #include "scene/environment_map.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/scene_builder.h"
+#include "scene/sheen_table.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
@@ -228,6 +230,20 @@ void addErrors(TableErrors& errors, double roughness, double eta, Table table) {
         exactAverage += cosView * exact;
     }
     errors.average = std::max(errors.average, std::abs(tableAverage / exactAverage - 1.0));
+}
+
+TEST(EnergyCompensation, BuiltTablesHoldTheIntegrals) {
+    // The tables are tabulated when vkrt is built (generate_albedo_tables): entries spread over each table,
+    // computed here again, are the same floats, and the renderers read those tables.
+    auto check = [](const char* name, const std::vector<float>& table, size_t entries,
+                    float (*entry)(size_t)) {
+        ASSERT_EQ(table.size(), entries) << name;
+        for (size_t e = 0; e < entries; e += 37) EXPECT_EQ(table[e], entry(e)) << name << " entry " << e;
+        EXPECT_EQ(table.back(), entry(entries - 1)) << name;
+    };
+    check("conductor", ggxAlbedoTable(), kGgxAlbedoEntries, ggxAlbedoEntry);
+    check("dielectric", ggxDielectricAlbedoTable(), kGgxDielectricAlbedoEntries, ggxDielectricAlbedoEntry);
+    check("sheen", sheenAlbedoTable(), kSheenAlbedoEntries, sheenAlbedoEntry);
 }
 
 TEST(EnergyCompensation, TablesInterpolateTheAlbedoIntegral) {

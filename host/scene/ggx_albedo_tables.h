@@ -1,6 +1,6 @@
 // The directional albedo tables of single-scattering GGX by which the renderers compensate its energy loss
-// (shaders/energy_compensation.h), computed once in double precision and read by both renderers; and which
-// materials need them.
+// (shaders/energy_compensation.h), tabulated in double precision when vkrt is built (albedo_table_entries.h)
+// and read by both renderers; and which materials need them.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,5 @@
-// The directional albedo table of KHR_materials_sheen's lobe (shaders/sheen.h), computed once in double
-// precision and read by both renderers.
+// The directional albedo table of KHR_materials_sheen's lobe (shaders/sheen.h), tabulated in double
+// precision when vkrt is built (albedo_table_entries.h) and read by both renderers.
 #pragma once
 
 #include <vector>
