@@ -225,7 +225,7 @@ VKRT_FN real mediumIor(VKRT_DEVICE_PARAM uvec2 media) {
 // Beer-Lambert absorption of the innermost volume over `distance` (infinity: the ray left the scene).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
-#ifdef VKRT_HAS_VOLUMES
+#ifdef VKRT_HAS_ABSORPTION  // else every volume's attenuation is 1 (scene_features.cpp's absorbs)
     const int top = innermostMedium(media);
     if (top >= 0) {
         VKRT_IN(SurfaceMaterial) medium = VKRT_DEVICE(material)(uint(top));

@@ -367,9 +367,9 @@ TEST(Cli, ShaderIsSpecialisedUnlessEveryFeatureIsAsked) {
     };
     const nlohmann::json scene = render("scene"), all = render("all");
     EXPECT_EQ(scene["features"], nlohmann::json::array({"area_lights"}));
-    for (const char* feature :
-         {"textures", "transmission", "volumes", "punctual_lights", "spheres", "shapes", "motion_blur",
-          "normal_maps", "alpha", "environment", "rough_specular", "traced_lobes", "glossy_lobes"}) {
+    for (const char* feature : {"textures", "transmission", "volumes", "absorption", "punctual_lights",
+                                "spheres", "shapes", "motion_blur", "normal_maps", "alpha", "environment",
+                                "rough_specular", "traced_lobes", "glossy_lobes"}) {
         EXPECT_NE(std::find(all["features"].begin(), all["features"].end(), feature), all["features"].end())
             << feature;
     }

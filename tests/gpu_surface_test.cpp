@@ -477,6 +477,19 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     scene.materials[0].sheenColor = glm::vec3(0.2f);
     const SceneFeatures after = detectFeatures(scene);
     EXPECT_TRUE(after.unlit && after.clearcoat && after.sheen);
+    // Beer's law only where a volume's light fades: a finite attenuation distance and a colour below 1.
+    Material glass = lambertian(1.0f);
+    glass.transmission = 1.0f;
+    glass.thickness = 1.0f;
+    scene.materials = {glass};
+    EXPECT_TRUE(detectFeatures(scene).volumes);
+    EXPECT_FALSE(detectFeatures(scene).absorption);  // attenuation distance infinite
+    scene.materials[0].attenuationDistance = 0.5f;
+    EXPECT_FALSE(detectFeatures(scene).absorption);  // attenuation colour white
+    scene.materials[0].attenuationColor = glm::vec3(1.0f, 0.9f, 1.0f);
+    EXPECT_TRUE(detectFeatures(scene).absorption);
+    scene.materials[0].thickness = 0.0f;  // thin-walled: no volume to fade in
+    EXPECT_FALSE(detectFeatures(scene).absorption);
 }
 
 }  // namespace

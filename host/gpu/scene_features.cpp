@@ -1,5 +1,6 @@
 #include "gpu/scene_features.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "microfacet.h"
@@ -19,6 +20,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::textures, "textures", "VKRT_HAS_TEXTURES"},
     {&SceneFeatures::transmission, "transmission", "VKRT_HAS_TRANSMISSION"},
     {&SceneFeatures::volumes, "volumes", "VKRT_HAS_VOLUMES"},
+    {&SceneFeatures::absorption, "absorption", "VKRT_HAS_ABSORPTION"},
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
     {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
@@ -57,6 +59,13 @@ bool tracesLobe(const Material& material) {
 bool tracesGlossyLobe(const Material& material) {
     return (tracesLobe(material) && material.roughness >= VKRT_MIRROR_ROUGHNESS) ||
            (material.clearcoat > 0.0f && material.clearcoatRoughness >= VKRT_MIRROR_ROUGHNESS);
+}
+
+// Whether light fades inside `material`'s volume: media.h's beerLambert is 1 everywhere for an infinite
+// (or NaN) attenuation distance and in every channel whose attenuation colour is 1 or more.
+bool absorbs(const Material& material) {
+    const glm::vec3 c = material.attenuationColor;
+    return std::isfinite(material.attenuationDistance) && std::min({c.r, c.g, c.b}) < 1.0f;
 }
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
@@ -136,6 +145,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
                                (material.metallic < 1.0f || material.metallicRoughnessTexture.used());
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
+        features.absorption |= transmits && material.hasVolume() && absorbs(material);
     }
     features.punctualLights = !scene.lights.empty();
     features.areaLights =
