@@ -107,21 +107,14 @@ struct ShadedHit {
     RayState scattered;
 };
 
-// Whether the traced lobes of `surface` are deltas (exact mirror and refraction), the base's and the coat's.
-// In a shader for a scene whose traced lobes are all mirrors (no VKRT_HAS_GLOSSY_LOBES: scene_features.cpp's
-// tracesGlossyLobe), always: sampling GGX's visible normals and the G2 / G1 weights then drop out of the
-// kernel, which a SIMD device (lavapipe) would otherwise run, masked, at every hit (issue 13).
-VKRT_FN bool tracesMirror(VKRT_IN(SurfaceResponse) surface) {
+// Whether a traced lobe whose `mirror` flag (SurfaceResponse's `mirror` or `coatMirror`) is given is traced
+// as a delta (exact mirror and refraction). In a shader for a scene whose traced lobes are all mirrors (no
+// VKRT_HAS_GLOSSY_LOBES: scene_features.cpp's tracesGlossyLobe), always: sampling GGX's visible normals and
+// the G2 / G1 weights then drop out of the kernel, which a SIMD device (lavapipe) would otherwise run,
+// masked, at every hit (issue 13).
+VKRT_FN bool tracedAsMirror(bool mirror) {
 #ifdef VKRT_HAS_GLOSSY_LOBES
-    return surface.mirror;
-#else
-    return true;
-#endif
-}
-
-VKRT_FN bool tracesMirrorCoat(VKRT_IN(SurfaceResponse) surface) {
-#ifdef VKRT_HAS_GLOSSY_LOBES
-    return surface.coatMirror;
+    return mirror;
 #else
     return true;
 #endif
@@ -527,8 +520,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (!context.paths) local += inputs.occlusion * context.ambient * ambientReflectance;  // Whitted's alone
     const bool continues = ray.depth < context.maxDepth;
 #ifdef VKRT_HAS_TRACED_LOBES
-    const bool lobeSampled = continues && ((surface.traced && !tracesMirror(surface)) ||
-                                           (surface.coatTraced && !tracesMirrorCoat(surface)));
+    const bool lobeSampled = continues && ((surface.traced && !tracedAsMirror(surface.mirror)) ||
+                                           (surface.coatTraced && !tracedAsMirror(surface.coatMirror)));
 #else
     const bool lobeSampled = false;  // a constant: directLight's weights against traced lobes compile out
 #endif
@@ -565,7 +558,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
-    const real3 microNormal = tracesMirror(surface)
+    const real3 microNormal = tracedAsMirror(surface.mirror)
                                   ? normal
                                   : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U),
                                                        normal, toViewer, surface.alpha);
@@ -576,7 +569,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     real3 reflected = reflectAbout(toViewer, microNormal);
     real3 reflectWeight = compensatedFresnelAt(surface, cosMicro, eta);
     real reflectPdf = 0.0;  // 0: a delta lobe, whose rays see lights at full weight
-    if (!tracesMirror(surface)) {
+    if (!tracedAsMirror(surface.mirror)) {
         const real cosIn = dot(normal, reflected);
         const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
         reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
@@ -592,24 +585,24 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         const real pick = coatPick(surface);
         const bool coatChosen =
             pick >= 1.0 || (pick > 0.0 && stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_PICK), 0u) < pick);
-        bool delta = tracesMirror(surface);
+        bool delta = tracedAsMirror(surface.mirror);
         if (coatChosen) {
             const real3 coatNormal = frame.coatNormal;
             const real cosCoat = dot(coatNormal, toViewer);
             const real3 coatMicro =
-                tracesMirrorCoat(surface)
+                tracedAsMirror(surface.coatMirror)
                     ? coatNormal
                     : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_COAT_U), coatNormal,
                                          toViewer, surface.coatAlpha);
             reflected = reflectAbout(toViewer, coatMicro);
             real weight = surface.clearcoat * coatFresnel(cosCoat) * surface.coatCompensation / pick;
-            if (!tracesMirrorCoat(surface)) {
+            if (!tracedAsMirror(surface.coatMirror)) {
                 const real cosIn = dot(coatNormal, reflected);
                 const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
                 weight *= above ? ggxG2(cosCoat, cosIn, surface.coatAlpha) / ggxG1(cosCoat, surface.coatAlpha) : 0.0;
             }
             reflectWeight = real3(weight);
-            delta = tracesMirrorCoat(surface);
+            delta = tracedAsMirror(surface.coatMirror);
         } else {
             reflectWeight *= coatThrough / (1.0 - pick);
         }
@@ -638,7 +631,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     real3 direction = ray.direction;
     bool passes = maxComponent(transmitWeight) > 0.0;
     if (passes && volume) passes = refractThrough(toViewer, microNormal, eta, direction);
-    if (passes && volume && !tracesMirror(surface)) {
+    if (passes && volume && !tracedAsMirror(surface.mirror)) {
         const real cosIn = dot(normal, direction);
         passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
         if (passes) {

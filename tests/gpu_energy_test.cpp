@@ -329,17 +329,20 @@ TEST(EnergyCompensation, OnlyScenesWithRoughLobesGetTheTables) {
     EXPECT_TRUE(packed({plastic}).features.roughSpecular);
 }
 
+// The features of a sphere of `material` in a scene with one texture (for materials that bind it).
+SceneFeatures sphereFeatures(const Material& material) {
+    Scene scene;
+    scene.materials = {material};
+    scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
+    scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
+    return detectFeatures(scene);
+}
+
 TEST(SceneFeatures, OnlyScenesThatTraceALobeGetItsCode) {
     // A lobe is traced (surface_response.h's `traced`) by metals, transmissive surfaces, specular reflection
     // below roughness 1 and coats; a matte dielectric's specular reflection at roughness 1 is not, nor a
     // smooth surface without specular reflection. A roughness texture can make roughness 1 smaller.
-    auto traces = [](const Material& material) {
-        Scene scene;
-        scene.materials = {material};
-        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
-        scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
-        return detectFeatures(scene).tracedLobes;
-    };
+    auto traces = [](const Material& material) { return sphereFeatures(material).tracedLobes; };
     Material matte = test::lambertian(0.5f);
     matte.specularFactor = 1.0f;  // glTF's default dielectric, roughness 1
     EXPECT_FALSE(traces(test::lambertian(0.5f)));
@@ -364,13 +367,7 @@ TEST(SceneFeatures, OnlyScenesWithARoughTracedLobeGetItsSampling) {
     // A traced lobe is sampled from GGX's visible normals unless it is a mirror (roughness below
     // VKRT_MIRROR_ROUGHNESS, which a roughness texture only lowers further); a rough lobe that is not traced
     // (a matte dielectric's) needs no sampling. The coat counts on its own roughness.
-    auto glossy = [](const Material& material) {
-        Scene scene;
-        scene.materials = {material};
-        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
-        scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
-        return detectFeatures(scene).glossyLobes;
-    };
+    auto glossy = [](const Material& material) { return sphereFeatures(material).glossyLobes; };
     Material matte = test::lambertian(0.5f);
     matte.specularFactor = 1.0f;  // roughness 1, not traced
     EXPECT_FALSE(glossy(matte));

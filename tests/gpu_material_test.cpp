@@ -37,6 +37,15 @@ class GpuMaterials : public Gpu {
     }
 };
 
+// A directional light shining along `direction` with illuminance `illuminance`.
+PunctualLight sunAlong(glm::vec3 direction, double illuminance) {
+    PunctualLight sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(direction);
+    sun.intensity = static_cast<float>(illuminance);
+    return sun;
+}
+
 // How many runs of bright and dark pixels a row crosses.
 int cellsAlongRow(const Image& image, int y) {
     int cells = 1;
@@ -148,13 +157,7 @@ TEST_F(GpuMaterials, OcclusionTextureDimsOnlyTheAmbientTerm) {
                     material.occlusionTexture.texture = 0;
                     material.occlusionStrength = strength;
                 }
-                if (!ambient) {
-                    PunctualLight sun;
-                    sun.type = LightType::Directional;
-                    sun.direction = glm::normalize(glm::dvec3(0.3, -0.2, -1.0));
-                    sun.intensity = 2.0f;
-                    scene.lights.push_back(sun);
-                }
+                if (!ambient) scene.lights.push_back(sunAlong(glm::vec3(0.3f, -0.2f, -1.0f), 2.0));
                 RenderSettings settings = ambientOnly(16);
                 if (!ambient) settings.ambient = glm::dvec3(0.0);
                 const auto [gpu, cpu] = renderSquare(scene, material, settings);
@@ -187,11 +190,7 @@ TEST_F(GpuMaterials, SpecularFactorZeroIsLambertian) {
         material.metallic = 0.0f;
         material.roughness = 0.3f;
         material.specularFactor = specular;
-        PunctualLight sun;
-        sun.type = LightType::Directional;
-        sun.direction = -toLight;
-        sun.intensity = static_cast<float>(illuminance);
-        scene.lights.push_back(sun);
+        scene.lights.push_back(sunAlong(-toLight, illuminance));
         RenderSettings settings = ambientOnly(16);
         settings.ambient = glm::dvec3(0.0);
         settings.background = glm::dvec3(0.0);
@@ -223,11 +222,7 @@ TEST_F(GpuMaterials, MirrorsAndSmoothGlassCastNoShadowRays) {
         for (const auto& [material, shadows] : {std::pair{lambertian(0.8f), true}, std::pair{mirror, false},
                                                 std::pair{roughMetal, true}, std::pair{glass, false}}) {
             Scene scene;
-            PunctualLight sun;
-            sun.type = LightType::Directional;
-            sun.direction = glm::normalize(glm::vec3(0.2f, -0.3f, -1.0f));
-            sun.intensity = 2.0f;
-            scene.lights.push_back(sun);
+            scene.lights.push_back(sunAlong(glm::vec3(0.2f, -0.3f, -1.0f), 2.0));
             RenderSettings settings = ambientOnly(8);
             settings.integrator = integrator;
             const auto [gpu, cpu] = renderSquare(scene, material, settings);
