@@ -27,8 +27,8 @@ struct CompiledShader {
 };
 
 // What runs on the SPIR-V after glslang: spirv-opt's performance passes (the default; see
-// shader_compiler.cpp), only its inlining and the forwarding of locals stored once (Inline), or nothing
-// (every function still there under its name, as the specialisation test reads them).
+// shader_compiler.cpp), only its inlining, scalar replacement and the forwarding of locals stored once
+// (Inline), or nothing (every function still there under its name, as the specialisation test reads them).
 enum class SpirvOptimization { Performance, Inline, None };
 
 // The folder for cached SPIR-V: $VKRT_SHADER_CACHE, else $XDG_CACHE_HOME/vkrt, else ~/.cache/vkrt.
