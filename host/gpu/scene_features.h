@@ -30,8 +30,7 @@ struct SceneFeatures {
     bool sheen = false;         // a material has KHR_materials_sheen
     bool roughSpecular = false;  // a rough GGX lobe, whose energy loss is compensated
     bool tracedLobes = false;    // a material traces a lobe: mirror, glossy, metal, transmission or coat rays
-    bool glossyLobes =
-        false;  // a traced lobe can be rough (sampled from GGX's visible normals), not a mirror
+    bool glossyLobes = false;    // a traced lobe can be rough (GGX visible-normal sampling), not a mirror
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
     bool environment = false;   // an environment map lights the scene (--environment)
 
