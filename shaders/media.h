@@ -62,11 +62,19 @@ VKRT_FN uvec2 mediaExited(uvec2 media, uint material) {
     return withMediumAt(media, size - 1, VKRT_NO_MEDIUM);
 }
 
+// Whether light fades inside a volume whose light keeps `attenuationColor` after `attenuationDistance`: a
+// finite distance and some channel below 1; otherwise beerLambert is 1 everywhere (and the GPU's shader for a
+// scene where no volume attenuates leaves absorption out: scene_features.cpp).
+VKRT_FN bool attenuates(real3 attenuationColor, real attenuationDistance) {
+    return !(isinf(attenuationDistance) || isnan(attenuationDistance)) &&
+           min(attenuationColor.x, min(attenuationColor.y, attenuationColor.z)) < 1.0;
+}
+
 // Beer-Lambert transmittance over `distance` inside a volume whose light keeps `attenuationColor` after
 // `attenuationDistance` (KHR_materials_volume; infinity: no absorption).
 VKRT_FN real3 beerLambert(real3 attenuationColor, real attenuationDistance, real distance) {
     real3 result = real3(1.0);
-    if (isinf(attenuationDistance) || isnan(attenuationDistance)) return result;
+    if (!attenuates(attenuationColor, attenuationDistance)) return result;
     for (int c = 0; c < 3; ++c) {
         const real color = attenuationColor[c];
         if (color >= 1.0) continue;

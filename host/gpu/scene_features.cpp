@@ -1,8 +1,8 @@
 #include "gpu/scene_features.h"
 
-#include <algorithm>
 #include <cmath>
 
+#include "media.h"
 #include "microfacet.h"
 #include "scene/ggx_albedo_tables.h"
 
@@ -61,11 +61,9 @@ bool tracesGlossyLobe(const Material& material) {
            (material.clearcoat > 0.0f && material.clearcoatRoughness >= VKRT_MIRROR_ROUGHNESS);
 }
 
-// Whether light fades inside `material`'s volume: media.h's beerLambert is 1 everywhere for an infinite
-// (or NaN) attenuation distance and in every channel whose attenuation colour is 1 or more.
+// Whether light fades inside `material`'s volume (media.h).
 bool absorbs(const Material& material) {
-    const glm::vec3 c = material.attenuationColor;
-    return std::isfinite(material.attenuationDistance) && std::min({c.r, c.g, c.b}) < 1.0f;
+    return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
 bool isFlat(const Triangle& t, const TriangleShading& s) {
