@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu/device_memory_plan.h"
+#include "gpu/dispatch_planner.h"
 #include "gpu/gpu_renderer.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/scene_features.h"
@@ -205,8 +206,144 @@ TEST_F(Gpu, DispatchesGrowAcrossSweepsOfTheImage) {
     GpuRenderReport report;
     const RenderResult result = renderGpu(scene, bvh, camera, settings, options, &report);
     EXPECT_EQ(report.dispatches, 10u);
+    EXPECT_EQ(report.mostSamplesInDispatch, 8u);
     EXPECT_EQ(result.fewestSamples, 16u);
     EXPECT_EQ(result.mostSamples, 16u);
+}
+
+TEST_F(Gpu, WhittedBatchesTakeSeveralSamplesOverFewerRows) {
+    // 128 x 64 pixels and dispatches of at least 8 rows: after the first sample's sweep (1, 2, 4, 8, 16, 32
+    // and 1 rows), the doubling allows 64 row-samples, taken as 8 samples over 8 rows rather than one sample
+    // over 64; the image is that of a render in one dispatch a sample.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 2.0);
+    RenderSettings settings = smallWhitted(16);
+    settings.width = 128;
+    settings.height = 64;
+    GpuRenderOptions options, oneSample;
+    options.targetDispatchMs = 1e9;
+    options.minDispatchInvocations = 128 * 8;
+    oneSample.targetDispatchMs = 1e-6;
+    GpuRenderReport report, oneSampleReport;
+    const Image a = renderGpu(scene, bvh, camera, settings, options, &report).image;
+    const Image b = renderGpu(scene, bvh, camera, settings, oneSample, &oneSampleReport).image;
+    EXPECT_EQ(report.mostSamplesInDispatch, 8u);
+    EXPECT_EQ(oneSampleReport.mostSamplesInDispatch, 1u);
+    EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
+}
+
+// One dispatch of a simulated render (DispatchPlanner without a device).
+struct PlannedDispatch {
+    uint32_t sample, samples, row, rows;
+    double ms;
+};
+
+// Samples [first, end) of an image of `height` rows, planned as GpuRenderer::renderTile does, each
+// row-sample costing costMs(row) milliseconds; `lostAt`: the dispatch (from 0) that reports lost samples.
+std::vector<PlannedDispatch> planRender(DispatchPlanner& planner, uint32_t height, uint32_t first,
+                                        uint32_t end, uint32_t most, double (*costMs)(uint32_t),
+                                        int lostAt = -1) {
+    std::vector<PlannedDispatch> dispatches;
+    for (uint32_t s = first; s < end;) {
+        const uint32_t samples = planner.batchSamples(s, std::min(end - s, most), 0, height);
+        for (uint32_t row = 0; row < height;) {
+            const uint32_t rows = planner.rows(row, height, samples);
+            double ms = 0.0;
+            for (uint32_t r = row; r < row + rows; ++r) ms += samples * costMs(r);
+            planner.record(row, rows, samples, ms);
+            if (static_cast<int>(dispatches.size()) == lostAt) planner.samplesLost();
+            dispatches.push_back({s, samples, row, rows, ms});
+            row += rows;
+        }
+        s += samples;
+    }
+    return dispatches;
+}
+
+double evenCost(uint32_t) {
+    return 0.01;
+}
+// A band of rows ten times as costly as the rest (glass in front of sky).
+double bandedCost(uint32_t row) {
+    return row >= 96 && row < 160 ? 0.1 : 0.01;
+}
+
+TEST(DispatchPlanner, FirstSampleSweepsEveryRowBeforeBatchesTakeSeveral) {
+    // 256 rows at 0.01 ms a row-sample: a whole image at one sample takes 2.56 ms, under the 50 ms a
+    // dispatch is for, so later batches take 16 samples over at least 16 rows.
+    DispatchPlanner planner(256, 50.0, 16);
+    const std::vector<PlannedDispatch> dispatches = planRender(planner, 256, 0, 49, 16, evenCost);
+    ASSERT_FALSE(dispatches.empty());
+    EXPECT_EQ(dispatches.front().rows, 1u);  // the first: one row at one sample
+    EXPECT_EQ(dispatches.front().samples, 1u);
+    uint32_t rowsAtFirstSample = 0;
+    for (const PlannedDispatch& d : dispatches) {
+        if (d.sample == 0) {
+            EXPECT_EQ(d.samples, 1u);
+            rowsAtFirstSample += d.rows;
+        }
+    }
+    EXPECT_EQ(rowsAtFirstSample, 256u);
+    // Growth: at most twice the largest dispatch before, in rows x samples.
+    double largest = 1.0;
+    for (const PlannedDispatch& d : dispatches) {
+        EXPECT_LE(d.rows * d.samples, 2.0 * largest) << d.sample << " " << d.row;
+        largest = std::max(largest, static_cast<double>(d.rows * d.samples));
+    }
+    EXPECT_EQ(dispatches.back().samples, 16u);
+    EXPECT_EQ(dispatches.back().rows, 256u);  // 16 samples of the whole image fit in 50 ms
+}
+
+TEST(DispatchPlanner, BatchesTakeSamplesBeforeRows) {
+    // 0.3 ms a row-sample: 50 ms hold about 166 row-samples, fewer than the image's 256 rows. A batch then
+    // takes 16 samples over a few rows (at least 8) rather than one sample over 166 rows.
+    DispatchPlanner planner(256, 50.0, 8);
+    const auto slow = [](uint32_t) { return 0.3; };
+    const std::vector<PlannedDispatch> dispatches = planRender(planner, 256, 0, 33, 16, +slow);
+    for (const PlannedDispatch& d : dispatches) {
+        if (d.sample == 0) continue;
+        EXPECT_EQ(d.samples, 16u) << d.sample;
+        EXPECT_LE(d.ms, 50.0 + 1e-9) << d.sample << " " << d.row;
+        if (d.row + d.rows < 256) {
+            EXPECT_GE(d.rows, 8u) << d.sample << " " << d.row;
+        }
+    }
+}
+
+TEST(DispatchPlanner, CostlyBandsGetFewerRows) {
+    // Rows 96 to 159 cost ten times the rest. Each row keeps the cost of the dispatch that last traced it, so
+    // after the first sweep the band's dispatches hold fewer rows, and none of several rows runs to twice the
+    // target (a dispatch that mixes the band with cheaper rows leaves them all its mean cost, so the
+    // estimates stay that coarse).
+    DispatchPlanner planner(256, 5.0, 1);
+    const std::vector<PlannedDispatch> dispatches = planRender(planner, 256, 0, 9, 2, bandedCost);
+    double bandRows = 0.0, otherRows = 0.0;
+    int band = 0, other = 0;
+    for (const PlannedDispatch& d : dispatches) {
+        if (d.sample == 0 || d.row + d.rows == 256) continue;  // the first sweep, and sweeps' last dispatches
+        if (d.rows > 1) {
+            EXPECT_LT(d.ms, 10.0) << d.sample << " " << d.row << " " << d.rows;
+        }
+        const bool inBand = d.row >= 96 && d.row + d.rows <= 160;
+        (inBand ? bandRows : otherRows) += d.rows;
+        ++(inBand ? band : other);
+    }
+    ASSERT_GT(band, 0);
+    ASSERT_GT(other, 0);
+    EXPECT_LT(bandRows / band, 0.5 * otherRows / other);
+}
+
+TEST(DispatchPlanner, LostSamplesMakeBatchesOfOneSample) {
+    DispatchPlanner planner(64, 50.0, 4);
+    // Lost samples reported at the tenth dispatch, in the batches after the first sweep.
+    const std::vector<PlannedDispatch> dispatches = planRender(planner, 64, 0, 40, 16, evenCost, 9);
+    ASSERT_GT(dispatches.size(), 10u);
+    EXPECT_GT(dispatches[9].samples, 1u);
+    const uint32_t batchAfterLoss = dispatches[9].sample + dispatches[9].samples;
+    for (const PlannedDispatch& d : dispatches) {
+        if (d.sample >= batchAfterLoss) {
+            EXPECT_EQ(d.samples, 1u) << d.sample;
+        }
+    }
 }
 
 TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {

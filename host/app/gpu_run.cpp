@@ -44,6 +44,7 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.deviceMemoryBytes = g.deviceMemoryBytes;
     gpu.dispatches = g.dispatches;
     gpu.longestDispatchMs = g.longestDispatchMs;
+    gpu.mostSamplesInDispatch = g.mostSamplesInDispatch;
     gpu.sceneAccess = sceneAccessName(g.sceneAccess);
     return gpu;
 }

@@ -95,7 +95,9 @@ nlohmann::json toJson(const RunReport& r) {
                           {"pipeline_ms", g.pipelineMs},
                           {"spirv_bytes", g.spirvBytes},
                           {"key", g.shaderKey}};
-        json["dispatches"] = {{"count", g.dispatches}, {"longest_ms", g.longestDispatchMs}};
+        json["dispatches"] = {{"count", g.dispatches},
+                              {"longest_ms", g.longestDispatchMs},
+                              {"most_samples", g.mostSamplesInDispatch}};
     }
     return json;
 }

@@ -24,6 +24,17 @@ constexpr uint32_t kMaxPathSamplesPerDispatch = 1;
 
 const SceneFeatures kAllFeatures = SceneFeatures::all();
 
+// Invocations a dispatch keeps when it takes several samples a pixel: a CPU device (lavapipe) runs a few SIMD
+// groups per core at once, a GPU tens of thousands of invocations (an H200's 132 multiprocessors hold 2048
+// each).
+uint32_t dispatchInvocationsFor(const VkPhysicalDeviceProperties& properties) {
+    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4096u : 1u << 18;
+}
+
+uint32_t fewestRowsFor(uint32_t invocations, uint32_t width) {
+    return (invocations + width - 1) / width;
+}
+
 }  // namespace
 
 GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
@@ -32,7 +43,12 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     : context_(context),
       settings_(settings),
       options_(options),
-      data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)) {
+      data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
+      planner_(
+          static_cast<uint32_t>(settings.height), options.targetDispatchMs,
+          fewestRowsFor(options.minDispatchInvocations > 0 ? options.minDispatchInvocations
+                                                           : dispatchInvocationsFor(context.properties()),
+                        static_cast<uint32_t>(settings.width))) {
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -119,6 +135,7 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
     report_.gpuMs += timer_->elapsedMs();
     ++report_.dispatches;
     report_.longestDispatchMs = std::max(report_.longestDispatchMs, wallMs);
+    report_.mostSamplesInDispatch = std::max(report_.mostSamplesInDispatch, sampleCount);
     return wallMs;
 }
 
@@ -171,36 +188,26 @@ bool GpuRenderer::copyDue() const {
     return sinceCopy >= options_.hostCopyEveryMs && sinceCopy >= 20.0 * lastCopyMs_;
 }
 
-double GpuRenderer::nextDispatchUnits() const {
-    return unitsPerMs_ > 0.0 ? std::clamp(unitsPerMs_ * options_.targetDispatchMs, 1.0, 2.0 * largestUnits_)
-                             : largestUnits_;
-}
-
 StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
                                    uint64_t totalUnits, const StopCondition& stop,
                                    const ProgressCallback& progress, RayCounters& rays) {
     const uint32_t samplesPerDispatch =
         settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
-    // Batches of samples over bands of rows.
+    // Batches of samples over bands of rows, sized by the planner (dispatch_planner.h).
     for (uint32_t s = first; s < end;) {
         const uint32_t samples =
-            static_cast<uint32_t>(std::clamp(nextDispatchUnits() / (tileEnd - tile), 1.0,
-                                             static_cast<double>(std::min(end - s, samplesPerDispatch))));
+            planner_.batchSamples(s, std::min(end - s, samplesPerDispatch), tile, tileEnd);
         for (uint32_t row = tile; row < tileEnd;) {
-            const uint32_t rows = static_cast<uint32_t>(
-                std::clamp(nextDispatchUnits() / samples, 1.0, static_cast<double>(tileEnd - row)));
+            const uint32_t rows = planner_.rows(row, tileEnd, samples);
             const double ms = runDispatch(s, samples, row, rows);
+            planner_.record(row, rows, samples, ms);
             dirtyBegin_ = std::min(dirtyBegin_, row);
             dirtyEnd_ = std::max(dirtyEnd_, row + rows);
             for (uint32_t r = row; r < row + rows; ++r) rowSamples_[r] += samples;
-            // Growth is capped at twice the largest dispatch so far, not the last: the last of a sweep holds
-            // the rows left over, often one, and capping at twice that restarted the ramp from one row at
-            // every sweep (52 dispatches of 10 ms where 50 ms was the aim, issue 13).
-            const uint64_t units = static_cast<uint64_t>(rows) * samples;
-            largestUnits_ = std::max(largestUnits_, static_cast<double>(units));
-            unitsPerMs_ = static_cast<double>(units) / std::max(ms, 0.01);
-            unitsDone_ += units;
+            unitsDone_ += static_cast<uint64_t>(rows) * samples;
+            const uint64_t lost = rays.nonFiniteSamples;
             readCounters(rays);
+            if (rays.nonFiniteSamples > lost) planner_.samplesLost();
             row += rows;
             if (progress) progress(unitsDone_, totalUnits);
             // Stopping here leaves some rows with more samples than others; pixels are averaged over their
@@ -242,7 +249,7 @@ RenderResult GpuRenderer::renderRange(uint32_t first, uint32_t end, std::vector<
     rowSamples_.assign(height, 0);
     rowSamplesCopied_.assign(height, 0);
     // The device's sums are added into the host's at tile changes, checkpoints, the end, and by time
-    // (copyDue). Dispatches are sized from the speed of the last (nextDispatchUnits); a renderer's first is
+    // (copyDue). Dispatches are sized from the times measured so far (planner_); a renderer's first is
     // one row, and later ranges start from the speed measured before.
     lastCopy_ = std::chrono::steady_clock::now();
     lastCopyMs_ = 0.0;

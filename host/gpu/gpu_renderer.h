@@ -13,6 +13,7 @@
 #include "common/render_settings.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device_memory_plan.h"
+#include "gpu/dispatch_planner.h"
 #include "gpu/gpu_buffer.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
@@ -25,6 +26,10 @@ namespace vkrt {
 
 struct GpuRenderOptions {
     double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
+    // Invocations a dispatch keeps at least (whole rows) when it takes several samples a pixel, so that the
+    // device still has enough of them to run at once; 0: chosen from the device (4096 on a CPU device such as
+    // lavapipe, 2^18 on a GPU).
+    uint32_t minDispatchInvocations = 0;
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
     SceneAccess sceneAccess = SceneAccess::Auto;  // how kernels read the scene (where it fits)
@@ -46,6 +51,7 @@ struct GpuRenderReport {
     std::string shaderKey;
     uint32_t dispatches = 0;
     double longestDispatchMs = 0.0;
+    uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
     DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
@@ -92,9 +98,6 @@ class GpuRenderer {
     void copyToHost();
     // Whether a copy is due by time (GpuRenderOptions::hostCopyEveryMs).
     bool copyDue() const;
-    // Rows x samples for the next dispatch: about targetDispatchMs at the last one's speed, at most twice
-    // its size (the cost of a band depends on what it sees).
-    double nextDispatchUnits() const;
     // Samples [first, end) of rows [tile, tileEnd); returns why it stopped early, if it did.
     StopReason renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end, uint64_t totalUnits,
                           const StopCondition& stop, const ProgressCallback& progress, RayCounters& rays);
@@ -120,8 +123,7 @@ class GpuRenderer {
     uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;    // what the last copy cost
-    double unitsPerMs_ = 0.0;    // rows x samples traced per millisecond, as last measured
-    double largestUnits_ = 1.0;  // rows x samples of the largest dispatch so far
+    DispatchPlanner planner_;    // rows x samples a dispatch, from the times measured so far
     uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
