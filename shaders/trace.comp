@@ -9,7 +9,7 @@
 // (its kFeatures table lists them all), defined only when the scene needs it.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
-#ifdef VKRT_SUBGROUP_COUNTERS
+#if defined(VKRT_SUBGROUP_COUNTERS) || defined(VKRT_COUNT_LOOP_PASSES)
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
 
@@ -189,6 +189,7 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
     uint exclude = ray.exclude;
     float tMin = 0.0;
     for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
+        VKRT_COUNT_ITERATION();
         point = hitPointOf(ray, hit);
         if (!passesThrough(context, ray, layer, point)) return true;
         exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
@@ -240,6 +241,7 @@ RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout S
 vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
     vec3 radiance = vec3(0.0);
     for (;;) {
+        VKRT_COUNT_ITERATION();
         Hit hit;
         HitPoint point;
         const bool found = traceVisible(ray, context, hit, point);
@@ -279,6 +281,7 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
     RayState ray;
     bool queued = false;  // `ray` holds the tree's next ray, not yet traced
     for (;;) {
+        VKRT_COUNT_ITERATION();
         if (!queued) {
             if (size > 0) {
                 ray = stateOf(stack[--size]);
@@ -368,6 +371,7 @@ void main() {
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`
 #ifdef VKRT_PATHS
     for (uint s = pass.sampleStart; s < pass.sampleStart + pass.sampleCount; ++s) {
+        VKRT_COUNT_ITERATION();
         vkrtWalksComplete = true;
         const RayState primary = cameraRayState(camera, cone, xy, s, context);
         ++primaryRays;
@@ -392,4 +396,11 @@ void main() {
     addToCounter(VKRT_COUNTER_SHADOW, vkrtShadowRays);
     addToCounter(VKRT_COUNTER_SECONDARY, secondaryRays);
     addToCounter(VKRT_COUNTER_NONFINITE, nonFinite);
+#ifdef VKRT_COUNT_LOOP_PASSES
+    // The SIMD group's loop passes a sample, for the host's choice of samples a dispatch (dispatch_planner.h).
+    const uint passes = subgroupMax(vkrtLoopPasses);
+    if (subgroupElect() && pass.sampleCount > 0u) {
+        atomicMax(params.counters.counters[VKRT_COUNTER_LOOP_PASSES], (passes + pass.sampleCount - 1u) / pass.sampleCount);
+    }
+#endif
 }

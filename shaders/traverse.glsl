@@ -69,10 +69,15 @@ void orderChildren(inout float keyA, inout uint linkA, inout float keyB, inout u
 }
 
 // With VKRT_COUNT_ITERATIONS (ray_benchmark --count-iterations), every pass of every loop of the walk is
-// counted, as llvmpipe counts them against its budget of 65535 per invocation.
+// counted, as llvmpipe counts them against its budget of 65535 per invocation. With VKRT_COUNT_LOOP_PASSES
+// (the render kernel on lavapipe), the passes of the walk's and the kernel's loops that the SIMD group runs:
+// one lane of those taking part counts each, so that their sum over the subgroup is the group's count.
 #ifdef VKRT_COUNT_ITERATIONS
 uint vkrtLoopIterations = 0u;
 #define VKRT_COUNT_ITERATION() ++vkrtLoopIterations
+#elif defined(VKRT_COUNT_LOOP_PASSES)
+uint vkrtLoopPasses = 0u;
+#define VKRT_COUNT_ITERATION() ++vkrtLoopPasses
 #else
 #define VKRT_COUNT_ITERATION()
 #endif

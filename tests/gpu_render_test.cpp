@@ -63,9 +63,11 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
     EXPECT_EQ(full.features().defines().size(), 23u);
     for (const std::string& define : lean.defines()) {
-        // Besides the scene's features, only how the device reads geometry and adds its ray counts.
+        // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
+        // lavapipe the count of loop passes (for llvmpipe's loop budget).
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
-                    define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS")
+                    define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS" ||
+                    define == "VKRT_COUNT_LOOP_PASSES")
             << define;
     }
     EXPECT_LT(lean.spirv().size(), full.spirv().size());
@@ -228,6 +230,11 @@ TEST_F(Gpu, WhittedBatchesTakeSeveralSamplesOverFewerRows) {
     const Image b = renderGpu(scene, bvh, camera, settings, oneSample, &oneSampleReport).image;
     EXPECT_EQ(report.mostSamplesInDispatch, 8u);
     EXPECT_EQ(oneSampleReport.mostSamplesInDispatch, 1u);
+    // lavapipe: the kernel counted its loop passes, and the batches kept within half of llvmpipe's budget.
+    if (context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+        EXPECT_GT(report.loopPassesPerSample, 0u);
+        EXPECT_LE(report.mostSamplesInDispatch * report.loopPassesPerSample, VKRT_LLVMPIPE_LOOP_BUDGET / 2);
+    }
     EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
 }
 
@@ -330,6 +337,23 @@ TEST(DispatchPlanner, CostlyBandsGetFewerRows) {
     ASSERT_GT(band, 0);
     ASSERT_GT(other, 0);
     EXPECT_LT(bandRows / band, 0.5 * otherRows / other);
+}
+
+TEST(DispatchPlanner, LoopBudgetBoundsTheSamplesOfABatch) {
+    // With llvmpipe's budget, batches take one sample until the kernel has reported the loop passes a sample
+    // takes, then as many as fit half the budget: 65535 / 2 / 3000 = 10.
+    DispatchPlanner planner(64, 1e9, 1, 65535);
+    EXPECT_EQ(planner.batchSamples(5, 16, 0, 64), 1u);
+    planner.loopPassesPerSample(3000);
+    planner.record(0, 64, 1, 1.0);  // leaves the time budget room for the 16 samples
+    planner.record(0, 64, 1, 1.0);
+    EXPECT_EQ(planner.batchSamples(5, 16, 0, 64), 10u);
+    planner.loopPassesPerSample(40000);  // even one sample over half the budget: one
+    EXPECT_EQ(planner.batchSamples(5, 16, 0, 64), 1u);
+    DispatchPlanner unbudgeted(64, 1e9, 1);
+    unbudgeted.record(0, 64, 1, 1.0);
+    unbudgeted.record(0, 64, 1, 1.0);
+    EXPECT_EQ(unbudgeted.batchSamples(5, 16, 0, 64), 16u);
 }
 
 TEST(DispatchPlanner, LostSamplesMakeBatchesOfOneSample) {

@@ -45,6 +45,7 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.dispatches = g.dispatches;
     gpu.longestDispatchMs = g.longestDispatchMs;
     gpu.mostSamplesInDispatch = g.mostSamplesInDispatch;
+    gpu.loopPassesPerSample = g.loopPassesPerSample;
     gpu.sceneAccess = sceneAccessName(g.sceneAccess);
     return gpu;
 }

@@ -97,7 +97,8 @@ nlohmann::json toJson(const RunReport& r) {
                           {"key", g.shaderKey}};
         json["dispatches"] = {{"count", g.dispatches},
                               {"longest_ms", g.longestDispatchMs},
-                              {"most_samples", g.mostSamplesInDispatch}};
+                              {"most_samples", g.mostSamplesInDispatch},
+                              {"loop_passes_per_sample", g.loopPassesPerSample}};
     }
     return json;
 }

@@ -4,8 +4,17 @@
 
 namespace vkrt {
 
-DispatchPlanner::DispatchPlanner(uint32_t height, double targetMs, uint32_t fewestRows)
-    : targetMs_(targetMs), fewestRows_(std::max(fewestRows, 1u)), rowMs_(height, 0.0) {}
+DispatchPlanner::DispatchPlanner(uint32_t height, double targetMs, uint32_t fewestRows, uint32_t loopBudget)
+    : targetMs_(targetMs),
+      fewestRows_(std::max(fewestRows, 1u)),
+      rowMs_(height, 0.0),
+      loopBudget_(loopBudget) {}
+
+void DispatchPlanner::loopPassesPerSample(uint32_t passes) {
+    // Half the budget: the count leaves out a few short loops (light samples, table searches), and samples of
+    // one pixel differ.
+    if (loopBudget_ > 0 && passes > 0) budgetSamples_ = std::max(1u, loopBudget_ / 2 / passes);
+}
 
 double DispatchPlanner::units() const {
     // Before any dispatch: the smallest, one row at one sample. Growth is capped at twice the largest
@@ -18,6 +27,7 @@ double DispatchPlanner::units() const {
 uint32_t DispatchPlanner::batchSamples(uint32_t sample, uint32_t most, uint32_t tile,
                                        uint32_t tileEnd) const {
     if (oneSampleAtATime_) return 1;
+    if (loopBudget_ > 0) most = std::min(most, budgetSamples_);
     const uint32_t tileRows = tileEnd - tile;
     const double rowsPerBatch = sample == 0 ? tileRows : std::min(fewestRows_, tileRows);
     return static_cast<uint32_t>(

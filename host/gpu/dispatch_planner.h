@@ -11,8 +11,9 @@ namespace vkrt {
 class DispatchPlanner {
   public:
     // An image of `height` rows, dispatches of about `targetMs`; a batch of several samples a pixel keeps at
-    // least `fewestRows` rows a dispatch (enough invocations for the device to run at once).
-    DispatchPlanner(uint32_t height, double targetMs, uint32_t fewestRows);
+    // least `fewestRows` rows a dispatch (enough invocations for the device to run at once). `loopBudget`:
+    // the loop passes an invocation may take in a dispatch (llvmpipe's), 0 for none.
+    DispatchPlanner(uint32_t height, double targetMs, uint32_t fewestRows, uint32_t loopBudget = 0);
 
     // Samples a pixel for the batch that starts at sample `sample` over rows [tile, tileEnd): at most
     // `most`. The render's first sample sweeps every row before any row gets a second, so that a render
@@ -33,6 +34,10 @@ class DispatchPlanner {
     // iterations of all of an invocation's samples together). Batches take one sample from then on.
     void samplesLost() { oneSampleAtATime_ = true; }
 
+    // With a loop budget, the most loop passes a sample has taken so far (the kernel's count). Until one is
+    // known, batches take one sample; then as many as fit half the budget.
+    void loopPassesPerSample(uint32_t passes);
+
   private:
     // Rows x samples the target time holds at the recent speed, within the growth cap.
     double units() const;
@@ -43,6 +48,8 @@ class DispatchPlanner {
     double recentUnits_ = 0.0, recentMs_ = 0.0;  // decaying sums of recent dispatches' sizes and times
     double largestUnits_ = 1.0;                  // rows x samples of the largest dispatch so far
     bool oneSampleAtATime_ = false;
+    uint32_t loopBudget_ = 0;
+    uint32_t budgetSamples_ = 1;  // samples a batch within the loop budget
 };
 
 }  // namespace vkrt

@@ -15,12 +15,11 @@ uint32_t groupsFor(uint32_t count, uint32_t size) {
     return (count + size - 1) / size;
 }
 
-// At most this many samples per pixel in one dispatch: llvmpipe cuts off an invocation's loops after 65535
-// iterations in total, so one invocation must not trace too many. A path can bounce up to --max-depth times,
-// each bounce a BVH walk and its shadow rays, so a path has an invocation to itself: a long path cut short
-// would be dropped (and counted), and dropping long paths more often than short ones would bias the image.
+// At most this many samples per pixel in one dispatch. On lavapipe, fewer: llvmpipe cuts off an invocation's
+// loops after VKRT_LLVMPIPE_LOOP_BUDGET passes in total, and a sample cut short is dropped (and counted);
+// dropping long paths or ray trees more often than short ones would bias the image, so the planner keeps a
+// batch's samples within the budget by the loop passes the kernel reports a sample takes.
 constexpr uint32_t kMaxSamplesPerDispatch = 16;
-constexpr uint32_t kMaxPathSamplesPerDispatch = 1;
 
 const SceneFeatures kAllFeatures = SceneFeatures::all();
 
@@ -28,7 +27,7 @@ const SceneFeatures kAllFeatures = SceneFeatures::all();
 // groups per core at once, a GPU tens of thousands of invocations (an H200's 132 multiprocessors hold 2048
 // each).
 uint32_t dispatchInvocationsFor(const VkPhysicalDeviceProperties& properties) {
-    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4096u : 1u << 18;
+    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 16384u : 1u << 18;
 }
 
 uint32_t fewestRowsFor(uint32_t invocations, uint32_t width) {
@@ -44,11 +43,13 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       settings_(settings),
       options_(options),
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
+      loopBudgeted_(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU),
       planner_(
           static_cast<uint32_t>(settings.height), options.targetDispatchMs,
           fewestRowsFor(options.minDispatchInvocations > 0 ? options.minDispatchInvocations
                                                            : dispatchInvocationsFor(context.properties()),
-                        static_cast<uint32_t>(settings.width))) {
+                        static_cast<uint32_t>(settings.width)),
+          loopBudgeted_ ? VKRT_LLVMPIPE_LOOP_BUDGET : 0u) {
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -79,6 +80,9 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         defines_.push_back(define);
     if (options.subgroupCounters && context.hasSubgroupArithmetic())
         defines_.push_back("VKRT_SUBGROUP_COUNTERS");
+    // llvmpipe's loop budget covers all of an invocation's samples in a dispatch: the kernel reports the loop
+    // passes a sample takes, and the planner keeps batches within the budget.
+    if (loopBudgeted_ && context.hasSubgroupArithmetic()) defines_.push_back("VKRT_COUNT_LOOP_PASSES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {
@@ -152,6 +156,9 @@ void GpuRenderer::readCounters(RayCounters& counters) {
     counters.shadow += delta[VKRT_COUNTER_SHADOW];
     counters.secondary += delta[VKRT_COUNTER_SECONDARY];
     counters.nonFiniteSamples += delta[VKRT_COUNTER_NONFINITE];
+    // A maximum over the render, not a sum (VKRT_COUNT_LOOP_PASSES).
+    report_.loopPassesPerSample = now[VKRT_COUNTER_LOOP_PASSES];
+    if (now[VKRT_COUNTER_LOOP_PASSES] > 0) planner_.loopPassesPerSample(now[VKRT_COUNTER_LOOP_PASSES]);
 }
 
 void GpuRenderer::copyToHost() {
@@ -191,12 +198,10 @@ bool GpuRenderer::copyDue() const {
 StopReason GpuRenderer::renderTile(uint32_t tile, uint32_t tileEnd, uint32_t first, uint32_t end,
                                    uint64_t totalUnits, const StopCondition& stop,
                                    const ProgressCallback& progress, RayCounters& rays) {
-    const uint32_t samplesPerDispatch =
-        settings_.integrator == Integrator::Path ? kMaxPathSamplesPerDispatch : kMaxSamplesPerDispatch;
     // Batches of samples over bands of rows, sized by the planner (dispatch_planner.h).
     for (uint32_t s = first; s < end;) {
         const uint32_t samples =
-            planner_.batchSamples(s, std::min(end - s, samplesPerDispatch), tile, tileEnd);
+            planner_.batchSamples(s, std::min(end - s, kMaxSamplesPerDispatch), tile, tileEnd);
         for (uint32_t row = tile; row < tileEnd;) {
             const uint32_t rows = planner_.rows(row, tileEnd, samples);
             const double ms = runDispatch(s, samples, row, rows);

@@ -52,6 +52,7 @@ struct GpuRenderReport {
     uint32_t dispatches = 0;
     double longestDispatchMs = 0.0;
     uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
+    uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a SIMD group took a sample; else 0
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
     DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
@@ -123,6 +124,7 @@ class GpuRenderer {
     uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;    // what the last copy cost
+    bool loopBudgeted_ = false;  // a CPU device: llvmpipe's loop budget (VKRT_LLVMPIPE_LOOP_BUDGET) applies
     DispatchPlanner planner_;    // rows x samples a dispatch, from the times measured so far
     uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
