@@ -67,7 +67,7 @@ using uint = uint32_t;
 #define VKRT_COUNTER_SHADOW 1
 #define VKRT_COUNTER_SECONDARY 2
 #define VKRT_COUNTER_NONFINITE 3
-#define VKRT_COUNTER_LOOP_PASSES 4  // not a sum: the most loop passes a SIMD group took a sample (llvmpipe)
+#define VKRT_COUNTER_LOOP_PASSES 4  // not a sum: the most loop passes a lane took a sample (lavapipe)
 #define VKRT_COUNTER_COUNT 5
 // llvmpipe (lavapipe) ends all loops of a SIMD group after this many passes in total, per dispatch.
 #define VKRT_LLVMPIPE_LOOP_BUDGET 65535

@@ -397,7 +397,8 @@ void main() {
     addToCounter(VKRT_COUNTER_SECONDARY, secondaryRays);
     addToCounter(VKRT_COUNTER_NONFINITE, nonFinite);
 #ifdef VKRT_COUNT_LOOP_PASSES
-    // The SIMD group's loop passes a sample, for the host's choice of samples a dispatch (dispatch_planner.h).
+    // The most loop passes a lane of the SIMD group took a sample, for the host's choice of samples a dispatch
+    // (dispatch_planner.h).
     const uint passes = subgroupMax(vkrtLoopPasses);
     if (subgroupElect() && pass.sampleCount > 0u) {
         atomicMax(params.counters.counters[VKRT_COUNTER_LOOP_PASSES], (passes + pass.sampleCount - 1u) / pass.sampleCount);

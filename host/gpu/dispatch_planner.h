@@ -35,7 +35,7 @@ class DispatchPlanner {
     void samplesLost() { oneSampleAtATime_ = true; }
 
     // With a loop budget, the most loop passes a sample has taken so far (the kernel's count). Until one is
-    // known, batches take one sample; then as many as fit half the budget.
+    // known, batches take one sample; then as many as fit a quarter of the budget.
     void loopPassesPerSample(uint32_t passes);
 
   private:

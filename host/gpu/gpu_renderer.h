@@ -52,7 +52,7 @@ struct GpuRenderReport {
     uint32_t dispatches = 0;
     double longestDispatchMs = 0.0;
     uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
-    uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a SIMD group took a sample; else 0
+    uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample; else 0
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
     DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
