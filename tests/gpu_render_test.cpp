@@ -213,6 +213,18 @@ TEST_F(Gpu, DispatchesGrowAcrossSweepsOfTheImage) {
     EXPECT_EQ(result.mostSamples, 16u);
 }
 
+TEST_F(Gpu, DispatchTimeComesFromTheDevice) {
+    // 150 ms on lavapipe, which has no watchdog; 50 on a GPU; or what the options say.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+    const RenderSettings settings = smallWhitted(1);
+    const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    EXPECT_EQ(GpuRenderer(context(), scene, bvh, camera, settings).report().targetDispatchMs,
+              cpuDevice ? 150.0 : 50.0);
+    GpuRenderOptions options;
+    options.targetDispatchMs = 20.0;
+    EXPECT_EQ(GpuRenderer(context(), scene, bvh, camera, settings, options).report().targetDispatchMs, 20.0);
+}
+
 TEST_F(Gpu, WhittedBatchesTakeSeveralSamplesOverFewerRows) {
     // 128 x 64 pixels and dispatches of at least 8 rows: after the first sample's sweep (1, 2, 4, 8, 16, 32
     // and 1 rows), the doubling allows 64 row-samples, taken as 8 samples over 8 rows rather than one sample

@@ -44,6 +44,7 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.deviceMemoryBytes = g.deviceMemoryBytes;
     gpu.dispatches = g.dispatches;
     gpu.longestDispatchMs = g.longestDispatchMs;
+    gpu.targetDispatchMs = g.targetDispatchMs;
     gpu.mostSamplesInDispatch = g.mostSamplesInDispatch;
     gpu.loopPassesPerSample = g.loopPassesPerSample;
     gpu.sceneAccess = sceneAccessName(g.sceneAccess);

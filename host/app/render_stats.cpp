@@ -97,6 +97,7 @@ nlohmann::json toJson(const RunReport& r) {
                           {"key", g.shaderKey}};
         json["dispatches"] = {{"count", g.dispatches},
                               {"longest_ms", g.longestDispatchMs},
+                              {"target_ms", g.targetDispatchMs},
                               {"most_samples", g.mostSamplesInDispatch},
                               {"loop_passes_per_sample", g.loopPassesPerSample}};
     }

@@ -72,6 +72,7 @@ struct RunReport {
         uint64_t deviceMemoryBytes = 0;
         uint32_t dispatches = 0;
         double longestDispatchMs = 0.0;
+        double targetDispatchMs = 0.0;       // what each dispatch was sized to take
         uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel one dispatch traced
         uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample
         std::string sceneAccess;  // how kernels read the scene (gpu_scene.h sceneAccessName)

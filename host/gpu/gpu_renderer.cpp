@@ -32,6 +32,15 @@ uint32_t dispatchInvocationsFor(const VkPhysicalDeviceProperties& properties) {
     return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 16384u : 1u << 18;
 }
 
+// How long a dispatch should take: the options' figure, else the device's. A GPU's dispatches are short
+// enough that no watchdog fires and a stop request is seen soon. On lavapipe, which has no watchdog, longer
+// dispatches hold more samples a pixel: with 150 ms instead of 50, path-traced GPU time fell by 7% on the
+// Cornell box and 10% on the Whitted scene (medians of 4 alternate rounds); Whitted's was unchanged.
+double targetDispatchMsFor(const GpuRenderOptions& options, const VkPhysicalDeviceProperties& properties) {
+    if (options.targetDispatchMs > 0.0) return options.targetDispatchMs;
+    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 150.0 : 50.0;
+}
+
 uint32_t fewestRowsFor(uint32_t invocations, uint32_t width) {
     return (invocations + width - 1) / width;
 }
@@ -47,11 +56,12 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
       loopBudgeted_(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU),
       planner_(
-          static_cast<uint32_t>(settings.height), options.targetDispatchMs,
+          static_cast<uint32_t>(settings.height), targetDispatchMsFor(options, context.properties()),
           fewestRowsFor(options.minDispatchInvocations > 0 ? options.minDispatchInvocations
                                                            : dispatchInvocationsFor(context.properties()),
                         static_cast<uint32_t>(settings.width)),
           loopBudgeted_ ? VKRT_LLVMPIPE_LOOP_BUDGET : 0u) {
+    report_.targetDispatchMs = targetDispatchMsFor(options, context.properties());
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));

@@ -25,7 +25,9 @@
 namespace vkrt {
 
 struct GpuRenderOptions {
-    double targetDispatchMs = 50.0;  // each dispatch is sized to take about this long
+    // Each dispatch is sized to take about this long; 0: chosen from the device (50 ms on a GPU, 150 on a CPU
+    // device such as lavapipe; gpu_renderer.cpp's targetDispatchMsFor).
+    double targetDispatchMs = 0.0;
     // Invocations a dispatch keeps at least (whole rows) when it takes several samples a pixel, so that the
     // device still has enough of them to run at once; 0: chosen from the device (4096 on a CPU device such as
     // lavapipe, 2^18 on a GPU).
@@ -50,6 +52,8 @@ struct GpuRenderReport {
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
+    double targetDispatchMs =
+        0.0;  // what each dispatch was sized to take (GpuRenderOptions, or the device's)
     double longestDispatchMs = 0.0;
     uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
     uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample; else 0
