@@ -214,12 +214,12 @@ TEST_F(Gpu, DispatchesGrowAcrossSweepsOfTheImage) {
 }
 
 TEST_F(Gpu, DispatchTimeComesFromTheDevice) {
-    // 150 ms on lavapipe, which has no watchdog; 50 on a GPU; or what the options say.
+    // 100 ms on lavapipe, which has no watchdog; 50 on a GPU; or what the options say.
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
     const RenderSettings settings = smallWhitted(1);
     const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     EXPECT_EQ(GpuRenderer(context(), scene, bvh, camera, settings).report().targetDispatchMs,
-              cpuDevice ? 150.0 : 50.0);
+              cpuDevice ? 100.0 : 50.0);
     GpuRenderOptions options;
     options.targetDispatchMs = 20.0;
     EXPECT_EQ(GpuRenderer(context(), scene, bvh, camera, settings, options).report().targetDispatchMs, 20.0);

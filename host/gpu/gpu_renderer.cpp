@@ -34,11 +34,11 @@ uint32_t dispatchInvocationsFor(const VkPhysicalDeviceProperties& properties) {
 
 // How long a dispatch should take: the options' figure, else the device's. A GPU's dispatches are short
 // enough that no watchdog fires and a stop request is seen soon. On lavapipe, which has no watchdog, longer
-// dispatches hold more samples a pixel: with 150 ms instead of 50, path-traced GPU time fell by 7% on the
-// Cornell box and 10% on the Whitted scene (medians of 4 alternate rounds); Whitted's was unchanged.
+// dispatches hold more samples a pixel. The Whitted scene's GPU time with dispatches of 50, 100 and 150 ms
+// (medians of 6 and 5 alternate rounds): Whitted 362, 341 and 388 ms, paths 368, 352 and 323.
 double targetDispatchMsFor(const GpuRenderOptions& options, const VkPhysicalDeviceProperties& properties) {
     if (options.targetDispatchMs > 0.0) return options.targetDispatchMs;
-    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 150.0 : 50.0;
+    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 100.0 : 50.0;
 }
 
 uint32_t fewestRowsFor(uint32_t invocations, uint32_t width) {

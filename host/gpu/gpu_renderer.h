@@ -25,7 +25,7 @@
 namespace vkrt {
 
 struct GpuRenderOptions {
-    // Each dispatch is sized to take about this long; 0: chosen from the device (50 ms on a GPU, 150 on a CPU
+    // Each dispatch is sized to take about this long; 0: chosen from the device (50 ms on a GPU, 100 on a CPU
     // device such as lavapipe; gpu_renderer.cpp's targetDispatchMsFor).
     double targetDispatchMs = 0.0;
     // Invocations a dispatch keeps at least (whole rows) when it takes several samples a pixel, so that the
