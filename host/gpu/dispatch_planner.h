@@ -38,6 +38,9 @@ class DispatchPlanner {
     // known, batches take one sample; then as many as fit a quarter of the budget.
     void loopPassesPerSample(uint32_t passes);
 
+    double targetMs() const { return targetMs_; }
+    uint32_t loopBudget() const { return loopBudget_; }
+
   private:
     // Rows x samples the target time holds at the recent speed, within the growth cap.
     double units() const;

@@ -23,26 +23,26 @@ constexpr uint32_t kMaxSamplesPerDispatch = 16;
 
 const SceneFeatures kAllFeatures = SceneFeatures::all();
 
-// Invocations a dispatch keeps when it takes several samples a pixel. A CPU device (lavapipe) runs one SIMD
-// group per thread at a time, but shares the dispatch's workgroups out between its threads, and with 4,096
-// invocations (64 workgroups) the csg scene's paths took 10 to 12% longer: a few costly workgroups left a
-// thread waiting at each dispatch's end. A GPU holds tens of thousands at once (an H200's 132
-// multiprocessors 2,048 each).
-uint32_t dispatchInvocationsFor(const VkPhysicalDeviceProperties& properties) {
-    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 16384u : 1u << 18;
-}
-
-// How long a dispatch should take: the options' figure, else the device's. A GPU's dispatches are short
-// enough that no watchdog fires and a stop request is seen soon. On lavapipe, which has no watchdog, longer
-// dispatches hold more samples a pixel. The Whitted scene's GPU time with dispatches of 50, 100 and 150 ms
-// (medians of 6 and 5 alternate rounds): Whitted 362, 341 and 388 ms, paths 368, 352 and 323.
-double targetDispatchMsFor(const GpuRenderOptions& options, const VkPhysicalDeviceProperties& properties) {
-    if (options.targetDispatchMs > 0.0) return options.targetDispatchMs;
-    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 100.0 : 50.0;
-}
-
-uint32_t fewestRowsFor(uint32_t invocations, uint32_t width) {
-    return (invocations + width - 1) / width;
+// The dispatch planner for this device, with the options' limits or else the device's:
+// - the time a dispatch should take. A GPU's dispatches are short enough that no watchdog fires and a stop
+//   request is seen soon. On lavapipe, which has no watchdog, longer dispatches hold more samples a pixel:
+//   the Whitted scene's GPU time with dispatches of 50, 100 and 150 ms (medians of 6 and 5 alternate rounds)
+//   was 362, 341 and 388 ms with Whitted, 368, 352 and 323 with paths.
+// - the invocations a dispatch keeps when it takes several samples a pixel. lavapipe runs one SIMD group per
+//   thread at a time but shares a dispatch's workgroups out between its threads: with 4,096 invocations (64
+//   workgroups) the csg scene's paths took 10 to 12% longer, a few costly workgroups leaving a thread waiting
+//   at each dispatch's end. A GPU holds tens of thousands at once (an H200's 132 multiprocessors 2,048 each).
+// - llvmpipe's loop budget, on lavapipe only.
+DispatchPlanner plannerFor(const GpuRenderOptions& options, const VulkanContext& context,
+                           const RenderSettings& settings) {
+    const bool cpuDevice = context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    double targetMs = cpuDevice ? 100.0 : 50.0;
+    if (options.targetDispatchMs > 0.0) targetMs = options.targetDispatchMs;
+    uint32_t invocations = cpuDevice ? 16384u : 1u << 18;
+    if (options.minDispatchInvocations > 0) invocations = options.minDispatchInvocations;
+    const uint32_t width = static_cast<uint32_t>(settings.width);
+    return DispatchPlanner(static_cast<uint32_t>(settings.height), targetMs,
+                           (invocations + width - 1) / width, cpuDevice ? VKRT_LLVMPIPE_LOOP_BUDGET : 0u);
 }
 
 }  // namespace
@@ -54,14 +54,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       settings_(settings),
       options_(options),
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
-      loopBudgeted_(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU),
-      planner_(
-          static_cast<uint32_t>(settings.height), targetDispatchMsFor(options, context.properties()),
-          fewestRowsFor(options.minDispatchInvocations > 0 ? options.minDispatchInvocations
-                                                           : dispatchInvocationsFor(context.properties()),
-                        static_cast<uint32_t>(settings.width)),
-          loopBudgeted_ ? VKRT_LLVMPIPE_LOOP_BUDGET : 0u) {
-    report_.targetDispatchMs = targetDispatchMsFor(options, context.properties());
+      planner_(plannerFor(options, context, settings)) {
+    report_.targetDispatchMs = planner_.targetMs();
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -94,7 +88,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         defines_.push_back("VKRT_SUBGROUP_COUNTERS");
     // llvmpipe's loop budget covers all of an invocation's samples in a dispatch: the kernel reports the loop
     // passes a sample takes, and the planner keeps batches within the budget.
-    if (loopBudgeted_ && context.hasSubgroupArithmetic()) defines_.push_back("VKRT_COUNT_LOOP_PASSES");
+    if (planner_.loopBudget() > 0 && context.hasSubgroupArithmetic())
+        defines_.push_back("VKRT_COUNT_LOOP_PASSES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {

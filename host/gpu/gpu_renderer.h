@@ -26,7 +26,7 @@ namespace vkrt {
 
 struct GpuRenderOptions {
     // Each dispatch is sized to take about this long; 0: chosen from the device (50 ms on a GPU, 100 on a CPU
-    // device such as lavapipe; gpu_renderer.cpp's targetDispatchMsFor).
+    // device such as lavapipe; gpu_renderer.cpp's plannerFor).
     double targetDispatchMs = 0.0;
     // Invocations a dispatch keeps at least (whole rows) when it takes several samples a pixel, so that the
     // device still has enough of them to run at once; 0: chosen from the device (4096 on a CPU device such as
@@ -128,7 +128,6 @@ class GpuRenderer {
     uint32_t dirtyBegin_ = UINT32_MAX, dirtyEnd_ = 0;  // image rows dispatched since the last copy
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;    // what the last copy cost
-    bool loopBudgeted_ = false;  // a CPU device: llvmpipe's loop budget (VKRT_LLVMPIPE_LOOP_BUDGET) applies
     DispatchPlanner planner_;    // rows x samples a dispatch, from the times measured so far
     uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
