@@ -9,6 +9,7 @@
 
 #include "shared.h"
 #include "shading_language.h"
+#include "spread_workgroups.h"
 
 layout(local_size_x = VKRT_RAYCAST_WORKGROUP) in;
 
@@ -22,7 +23,9 @@ layout(push_constant) uniform Constants { RaycastConstants constants; };
 #include "traverse.glsl"
 
 void main() {
-    const uint index = gl_GlobalInvocationID.x;
+    // This workgroup's block of rays: columns of blocks, one for each of lavapipe's threads (spread_workgroups.h).
+    const uint block = spreadItem(gl_WorkGroupID.x, gl_WorkGroupID.y, gl_NumWorkGroups.y);
+    const uint index = block * VKRT_RAYCAST_WORKGROUP + gl_LocalInvocationID.x;
     if (index >= constants.count) return;
     const GpuRay ray = constants.rays.rays[index];
     Hit hit;

@@ -16,6 +16,7 @@
 #include "shared.h"
 #include "random.h"
 #include "shading_language.h"
+#include "spread_workgroups.h"
 
 layout(local_size_x = VKRT_WORKGROUP_WIDTH, local_size_y = VKRT_WORKGROUP_HEIGHT) in;
 
@@ -344,8 +345,11 @@ void addToCounter(uint counter, uint count) {
 
 void main() {
     const uint width = params.width;
-    const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + gl_GlobalInvocationID.y);
-    if (xy.x >= width || gl_GlobalInvocationID.y >= pass.rowCount) return;
+    // This workgroup's band of rows: columns of bands, one for each of lavapipe's threads (spread_workgroups.h).
+    const uint band = spreadItem(gl_WorkGroupID.y, gl_WorkGroupID.z, gl_NumWorkGroups.z);
+    const uint row = band * VKRT_WORKGROUP_HEIGHT + gl_LocalInvocationID.y;  // from the dispatch's first
+    const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + row);
+    if (xy.x >= width || row >= pass.rowCount) return;
     const uint pixel = xy.y * width + xy.x;
     const uint seed = params.seed;
     const CameraFrame camera = cameraFrame();

@@ -497,6 +497,28 @@ TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
     }
 }
 
+TEST_F(Gpu, SpreadWorkgroupsTraceEveryRayOnce) {
+    // 10,001 rays: 157 blocks of 64, the last part full, each traced by another workgroup than in order.
+    const Scene scene = sceneOf(makeUvSphere(glm::vec3(0.2f), 1.3f, 30, 60));
+    const FlatBvh bvh = bvhFor(scene);
+    GpuRaycaster inOrder(context(), scene, bvh, test::shaderCacheDir(), {}, WorkgroupOrder::InOrder);
+    GpuRaycaster spread(context(), scene, bvh, test::shaderCacheDir(), {}, WorkgroupOrder::Spread);
+    const std::vector<gpu::GpuRay> rays = testRays(scene.bounds, 10001);
+    for (const RaycastMode mode : {RaycastMode::Closest, RaycastMode::Any}) {
+        const std::vector<gpu::GpuHit> a = inOrder.trace(rays, mode), b = spread.trace(rays, mode);
+        size_t hits = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(a[i].primitive, b[i].primitive) << "ray " << i;
+            ASSERT_EQ(a[i].t, b[i].t) << "ray " << i;
+            hits += a[i].primitive != VKRT_NO_HIT;
+        }
+        EXPECT_GT(hits, rays.size() / 4);
+    }
+    const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    EXPECT_EQ(GpuRaycaster(context(), scene, bvh, test::shaderCacheDir()).workgroupOrder(),
+              cpuDevice ? WorkgroupOrder::Spread : WorkgroupOrder::InOrder);
+}
+
 TEST_F(Gpu, RaysMatchCpuTraversalOnRealModels) {
     if (!test::haveScenesReal()) GTEST_SKIP() << "no " << test::scenesReal();
     for (const char* model : {"khronos-Duck/glTF-Binary/Duck.glb", "khronos-Suzanne/glTF/Suzanne.gltf",

@@ -1,6 +1,7 @@
 // The GPU renderer's own machinery, under the validation layer: shader variants without unused features,
 // geometry bound as descriptors or reached by device address, dispatch chunking, the time limit, and a
 // 5M-triangle scene too large for one storage-buffer descriptor.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -14,11 +15,13 @@
 #include "gpu/gpu_scene.h"
 #include "gpu/scene_features.h"
 #include "gpu/shader_compiler.h"
+#include "gpu/workgroup_order.h"
 #include "image/image_metrics.h"
 #include "scene/camera_selection.h"
 #include "scene/environment_map.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
+#include "spread_workgroups.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/test_paths.h"
@@ -251,6 +254,35 @@ TEST_F(Gpu, WhittedBatchesTakeSeveralSamplesOverFewerRows) {
     EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
 }
 
+TEST_F(Gpu, SpreadWorkgroupsTakeEveryBandOnce) {
+    // 128 x 64 pixels; the dispatches double in size whatever they take, to batches of several samples over
+    // all 64 rows (eight bands of workgroups): each band taken by another workgroup than in order, the same
+    // dispatches, and the image the same to the bit.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 2.0);
+    RenderSettings settings = smallWhitted(16);
+    settings.width = 128;
+    settings.height = 64;
+    GpuRenderOptions inOrder;
+    inOrder.targetDispatchMs = 1e9;
+    inOrder.minDispatchInvocations = 128 * 64;
+    inOrder.workgroupOrder = WorkgroupOrder::InOrder;
+    GpuRenderOptions spread = inOrder;
+    spread.workgroupOrder = WorkgroupOrder::Spread;
+    GpuRenderReport inOrderReport, spreadReport, autoReport;
+    const Image a = renderGpu(scene, bvh, camera, settings, inOrder, &inOrderReport).image;
+    const Image b = renderGpu(scene, bvh, camera, settings, spread, &spreadReport).image;
+    EXPECT_EQ(inOrderReport.workgroupOrder, WorkgroupOrder::InOrder);
+    EXPECT_EQ(spreadReport.workgroupOrder, WorkgroupOrder::Spread);
+    EXPECT_EQ(inOrderReport.dispatches, spreadReport.dispatches);
+    EXPECT_GT(spreadReport.mostSamplesInDispatch, 1u);
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    for (size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << "pixel " << i;
+    // By the device: spread where lavapipe's threads each take one contiguous run of workgroups.
+    renderGpu(scene, bvh, camera, smallWhitted(1), {}, &autoReport);
+    const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    EXPECT_EQ(autoReport.workgroupOrder, cpuDevice ? WorkgroupOrder::Spread : WorkgroupOrder::InOrder);
+}
+
 // One dispatch of a simulated render (DispatchPlanner without a device).
 struct PlannedDispatch {
     uint32_t sample, samples, row, rows;
@@ -381,6 +413,46 @@ TEST(DispatchPlanner, LostSamplesMakeBatchesOfOneSample) {
             EXPECT_EQ(d.samples, 1u) << d.sample;
         }
     }
+}
+
+TEST(WorkgroupOrder, SpreadRunsTakeItemsFromTheWholeRange) {
+    for (uint32_t items = 1; items <= 600; ++items) {
+        for (uint32_t spreadFor = 1; spreadFor <= 32; ++spreadFor) {
+            // Every item once, by a workgroup of the grid; no column without items.
+            const SpreadGrid grid = spreadGrid(items, spreadFor);
+            ASSERT_LE(grid.columns, std::min(items, spreadFor));
+            ASSERT_LT(grid.perColumn * grid.columns - items, grid.columns)
+                << items << " items for " << spreadFor;
+            std::vector<bool> taken(items, false);
+            for (uint32_t column = 0; column < grid.columns; ++column) {
+                for (uint32_t k = 0; k < grid.perColumn; ++k) {
+                    const uint32_t item = shading::spreadItem(k, column, grid.columns);
+                    if (item >= items) continue;
+                    ASSERT_FALSE(taken[item])
+                        << items << " items for " << spreadFor << ": item " << item << " twice";
+                    taken[item] = true;
+                }
+            }
+            ASSERT_EQ(std::count(taken.begin(), taken.end(), true), static_cast<long>(items));
+            // Each thread's run reaches over the whole range, its items at most twice the thread count apart
+            // (in order, one thread's are one contiguous items / threads of the range); where the threads
+            // divide the count spread for (more processors than lavapipe's threads), at most twice that
+            // count.
+            if (items < 2 * spreadFor) continue;
+            EXPECT_LE(widestThreadGap(items, spreadFor, spreadFor), 2 * spreadFor) << items << " items";
+            for (uint32_t threads = 2; threads < spreadFor; ++threads) {
+                if (spreadFor % threads == 0) {
+                    EXPECT_LE(widestThreadGap(items, spreadFor, threads), 2 * spreadFor)
+                        << items << " items, " << threads << " threads";
+                }
+            }
+        }
+    }
+    // In order, the first of two threads takes the first half, and the second's items start half way.
+    EXPECT_EQ(widestThreadGap(64, 1, 2), 33u);
+    EXPECT_EQ(widestThreadGap(64, 2, 2), 2u);
+    EXPECT_EQ(spreadThreads(WorkgroupOrder::InOrder), 1u);
+    EXPECT_GE(spreadThreads(WorkgroupOrder::Spread), 1u);
 }
 
 TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {

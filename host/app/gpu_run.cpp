@@ -48,6 +48,7 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.mostSamplesInDispatch = g.mostSamplesInDispatch;
     gpu.loopPassesPerSample = g.loopPassesPerSample;
     gpu.sceneAccess = sceneAccessName(g.sceneAccess);
+    gpu.workgroupOrder = workgroupOrderName(g.workgroupOrder);
     return gpu;
 }
 

@@ -99,7 +99,8 @@ nlohmann::json toJson(const RunReport& r) {
                               {"longest_ms", g.longestDispatchMs},
                               {"target_ms", g.targetDispatchMs},
                               {"most_samples", g.mostSamplesInDispatch},
-                              {"loop_passes_per_sample", g.loopPassesPerSample}};
+                              {"loop_passes_per_sample", g.loopPassesPerSample},
+                              {"workgroup_order", g.workgroupOrder}};
     }
     return json;
 }

@@ -24,11 +24,13 @@ double processCpuMs() {
 }  // namespace
 
 GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
-                           const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines)
+                           const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines,
+                           WorkgroupOrder order)
     : context_(context),
       data_(packScene(scene, bvh)),
       shaderCacheDir_(shaderCacheDir),
-      defines_(extraDefines) {
+      defines_(extraDefines),
+      order_(workgroupOrderFor(order, context)) {
     // A scene-access define among the caller's is a request for that way of reading the scene.
     SceneAccess wanted = SceneAccess::Auto;
     for (const auto& [define, access] : {std::pair{"VKRT_TEXEL_SCENE", SceneAccess::Texels},
@@ -75,6 +77,13 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     if (rays.empty()) return hits;
     const GpuBuffer rayBuffer(context_, rays);
     const GpuBuffer hitBuffer(context_, rays.size() * sizeof(gpu::GpuHit));
+    // One dispatch, of at most 65,535 workgroups (every device's least limit).
+    const size_t blockCount = (rays.size() + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP;
+    if (blockCount > 65535u) {
+        throw GpuError(std::to_string(rays.size()) + " rays are more than one dispatch holds (" +
+                       std::to_string(65535u * VKRT_RAYCAST_WORKGROUP) + ")");
+    }
+    const SpreadGrid blocks = spreadGrid(static_cast<uint32_t>(blockCount), spreadThreads(order_));
     ComputePipeline& pipeline = pipelineFor(mode);
     const gpu::RaycastConstants constants{rayBuffer.address(), hitBuffer.address(),
                                           static_cast<uint32_t>(rays.size())};
@@ -82,8 +91,7 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     const double cpuStart = processCpuMs();
     context_.submitAndWait([&](VkCommandBuffer commands) {
         timer_->begin(commands);
-        pipeline.dispatch(commands, &constants, sizeof(constants),
-                          (constants.count + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP, 1);
+        pipeline.dispatch(commands, &constants, sizeof(constants), blocks.perColumn, blocks.columns);
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });

@@ -11,6 +11,7 @@
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/vulkan_context.h"
+#include "gpu/workgroup_order.h"
 
 namespace vkrt {
 
@@ -28,11 +29,15 @@ class GpuRaycaster {
     // walk's loop iterations in u, raycast.comp). A scene-access define among them (VKRT_TEXEL_SCENE,
     // VKRT_BOUND_GEOMETRY, VKRT_ADDRESSED_SCENE) asks for that way of reading the scene (gpu_scene.h
     // SceneAccess) instead of the device's best, where the scene fits it.
+    // `order`: which blocks of rays a dispatch's workgroups take (gpu/workgroup_order.h); Auto: by the
+    // device.
     GpuRaycaster(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
-                 const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines = {});
+                 const std::string& shaderCacheDir, const std::vector<std::string>& extraDefines = {},
+                 WorkgroupOrder order = WorkgroupOrder::Auto);
     ~GpuRaycaster();
 
     SceneAccess sceneAccess() const { return sceneAccess_; }
+    WorkgroupOrder workgroupOrder() const { return order_; }
 
     // Hits are reported with scene triangle indices (not the GPU's leaf order).
     std::vector<gpu::GpuHit> trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
@@ -49,6 +54,7 @@ class GpuRaycaster {
     std::string shaderCacheDir_;
     std::vector<std::string> defines_;  // the scene's and the caller's, for both kernels
     SceneAccess sceneAccess_ = SceneAccess::Addresses;
+    WorkgroupOrder order_;  // which block of rays each workgroup takes
     std::vector<const GpuBuffer*> bindings_;
     std::unique_ptr<ComputePipeline> pipelines_[2];  // by RaycastMode
     std::unique_ptr<GpuTimer> timer_;

@@ -29,9 +29,10 @@ const SceneFeatures kAllFeatures = SceneFeatures::all();
 //   the Whitted scene's GPU time with dispatches of 50, 100 and 150 ms (medians of 6 and 5 alternate rounds)
 //   was 362, 341 and 388 ms with Whitted, 368, 352 and 323 with paths.
 // - the invocations a dispatch keeps when it takes several samples a pixel. lavapipe runs one SIMD group per
-//   thread at a time but shares a dispatch's workgroups out between its threads: with 4,096 invocations (64
-//   workgroups) the csg scene's paths took 10 to 12% longer, a few costly workgroups leaving a thread waiting
-//   at each dispatch's end. A GPU holds tens of thousands at once (an H200's 132 multiprocessors 2,048 each).
+//   thread at a time and gives each thread one contiguous run of a dispatch's workgroups: with 4,096
+//   invocations (64 workgroups) the csg scene's paths took 10 to 12% longer, a few costly workgroups leaving
+//   a thread waiting at each dispatch's end (measured before the workgroups' bands were spread,
+//   workgroup_order.h). A GPU holds tens of thousands at once (an H200's 132 multiprocessors 2,048 each).
 // - llvmpipe's loop budget, on lavapipe only.
 DispatchPlanner plannerFor(const GpuRenderOptions& options, const VulkanContext& context,
                            const RenderSettings& settings) {
@@ -56,6 +57,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
       planner_(plannerFor(options, context, settings)) {
     report_.targetDispatchMs = planner_.targetMs();
+    report_.workgroupOrder = workgroupOrderFor(options.workgroupOrder, context);
+    spreadThreads_ = spreadThreads(report_.workgroupOrder);
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -127,6 +130,7 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         throw DeviceLostError("the device was lost (simulated at dispatch " +
                               std::to_string(options_.simulateDeviceLossAtDispatch) + ")");
     }
+    const SpreadGrid bands = spreadGrid(groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT), spreadThreads_);
     const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount, tileRowStart_};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
@@ -138,7 +142,7 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
         timer_->begin(commands);
         pipeline_->dispatch(commands, &pass, sizeof(pass), groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH),
-                            groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT));
+                            bands.perColumn, bands.columns);
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });
