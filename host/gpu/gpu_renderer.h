@@ -51,7 +51,7 @@ struct GpuRenderOptions {
 struct GpuRenderReport {
     double gpuMs = 0.0;  // summed timestamp intervals of the tracing dispatches (0 without timestamps)
     double compileMs = 0.0;   // GLSL to SPIR-V (glslang), or reading the SPIR-V from the cache
-    double pipelineMs = 0.0;  // creating the pipeline: the driver's own compilation (lavapipe: LLVM JIT)
+    double pipelineMs = 0.0;  // creating the pipeline: the driver's own compilation (lavapipe: its NIR passes)
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
