@@ -345,10 +345,11 @@ void addToCounter(uint counter, uint count) {
 
 void main() {
     const uint width = params.width;
-    // This workgroup's band of rows: columns of bands, one for each of lavapipe's threads (spread_workgroups.h).
-    const uint band = spreadItem(gl_WorkGroupID.y, gl_WorkGroupID.z, gl_NumWorkGroups.z);
-    const uint row = band * VKRT_WORKGROUP_HEIGHT + gl_LocalInvocationID.y;  // from the dispatch's first
-    const uvec2 xy = uvec2(gl_GlobalInvocationID.x, pass.rowStart + row);
+    // This workgroup's tile: in every band of rows, lavapipe's thread t takes tiles t, t + T, t + 2T, ... of
+    // the band's (spread_workgroups.h).
+    const uint tile = spreadItem(gl_WorkGroupID.x, gl_WorkGroupID.z, gl_NumWorkGroups.z);
+    const uint row = gl_GlobalInvocationID.y;  // from the dispatch's first
+    const uvec2 xy = uvec2(tile * VKRT_WORKGROUP_WIDTH + gl_LocalInvocationID.x, pass.rowStart + row);
     if (xy.x >= width || row >= pass.rowCount) return;
     const uint pixel = xy.y * width + xy.x;
     const uint seed = params.seed;

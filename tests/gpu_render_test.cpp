@@ -254,10 +254,10 @@ TEST_F(Gpu, WhittedBatchesTakeSeveralSamplesOverFewerRows) {
     EXPECT_EQ(compareImages(a, b, 1e-5, 1e-7).fractionOff, 0.0);
 }
 
-TEST_F(Gpu, SpreadWorkgroupsTakeEveryBandOnce) {
+TEST_F(Gpu, SpreadWorkgroupsTakeEveryTileOnce) {
     // 128 x 64 pixels; the dispatches double in size whatever they take, to batches of several samples over
-    // all 64 rows (eight bands of workgroups): each band taken by another workgroup than in order, the same
-    // dispatches, and the image the same to the bit.
+    // all 64 rows (16 tiles a band of eight rows): each tile taken by another workgroup than in order, the
+    // same dispatches, and the image the same to the bit.
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 2.0);
     RenderSettings settings = smallWhitted(16);
     settings.width = 128;

@@ -76,7 +76,7 @@ struct RunReport {
         uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel one dispatch traced
         uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample
         std::string sceneAccess;  // how kernels read the scene (gpu_scene.h sceneAccessName)
-        std::string workgroupOrder;  // which bands a dispatch's workgroups took (gpu/workgroup_order.h)
+        std::string workgroupOrder;  // which tiles a dispatch's workgroups took (gpu/workgroup_order.h)
     };
     std::optional<Gpu> gpu;
 

@@ -31,7 +31,7 @@ const SceneFeatures kAllFeatures = SceneFeatures::all();
 // - the invocations a dispatch keeps when it takes several samples a pixel. lavapipe runs one SIMD group per
 //   thread at a time and gives each thread one contiguous run of a dispatch's workgroups: with 4,096
 //   invocations (64 workgroups) the csg scene's paths took 10 to 12% longer, a few costly workgroups leaving
-//   a thread waiting at each dispatch's end (measured before the workgroups' bands were spread,
+//   a thread waiting at each dispatch's end (measured before the workgroups' tiles were spread,
 //   workgroup_order.h). A GPU holds tens of thousands at once (an H200's 132 multiprocessors 2,048 each).
 // - llvmpipe's loop budget, on lavapipe only.
 DispatchPlanner plannerFor(const GpuRenderOptions& options, const VulkanContext& context,
@@ -130,7 +130,7 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         throw DeviceLostError("the device was lost (simulated at dispatch " +
                               std::to_string(options_.simulateDeviceLossAtDispatch) + ")");
     }
-    const SpreadGrid bands = spreadGrid(groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT), spreadThreads_);
+    const SpreadGrid tiles = spreadGrid(groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH), spreadThreads_);
     const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount, tileRowStart_};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
@@ -141,8 +141,8 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
         timer_->begin(commands);
-        pipeline_->dispatch(commands, &pass, sizeof(pass), groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH),
-                            bands.perColumn, bands.columns);
+        pipeline_->dispatch(commands, &pass, sizeof(pass), tiles.perColumn,
+                            groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT), tiles.columns);
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });

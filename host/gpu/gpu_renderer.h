@@ -33,7 +33,8 @@ struct GpuRenderOptions {
     // device still has enough of them to run at once; 0: chosen from the device (16,384 on a CPU device such
     // as lavapipe, 2^18 on a GPU).
     uint32_t minDispatchInvocations = 0;
-    // Which bands of rows a dispatch's workgroups take (gpu/workgroup_order.h); Auto: by the device.
+    // Which tiles of a band of rows a dispatch's workgroups take (gpu/workgroup_order.h); Auto: by the
+    // device.
     WorkgroupOrder workgroupOrder = WorkgroupOrder::Auto;
     std::string shaderCacheDir = defaultShaderCacheDir();
     bool allFeatures = false;          // compile every feature path, needed or not (for tests)
@@ -65,7 +66,7 @@ struct GpuRenderReport {
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
     std::string deviceLost;          // why the device was lost, when it was (the render then ends early)
     SceneAccess sceneAccess = SceneAccess::Addresses;  // how the kernel read the scene's arrays
-    WorkgroupOrder workgroupOrder = WorkgroupOrder::InOrder;  // which bands the workgroups took
+    WorkgroupOrder workgroupOrder = WorkgroupOrder::InOrder;  // which tiles the workgroups took
 };
 
 class GpuRenderer {
@@ -133,7 +134,7 @@ class GpuRenderer {
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;    // what the last copy cost
     DispatchPlanner planner_;    // rows x samples a dispatch, from the times measured so far
-    uint32_t spreadThreads_;     // the threads the bands of a dispatch are spread for (workgroup_order.h)
+    uint32_t spreadThreads_;     // the threads a band's tiles are spread for (workgroup_order.h)
     uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
