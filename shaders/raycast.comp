@@ -27,6 +27,12 @@ void main() {
     const uint block = spreadItem(gl_WorkGroupID.x, gl_WorkGroupID.y, gl_NumWorkGroups.y);
     const uint index = block * VKRT_RAYCAST_WORKGROUP + gl_LocalInvocationID.x;
     if (index >= constants.count) return;
+#ifdef VKRT_RECORD_WORKGROUPS
+    // In place of the hit, the launch index of the workgroup that took the ray (tests of the order).
+    constants.hits.hits[index] =
+        GpuHit(float(gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y), VKRT_NO_HIT, 0.0, 0.0);
+    return;
+#endif
     const GpuRay ray = constants.rays.rays[index];
     Hit hit;
     bool complete = true;

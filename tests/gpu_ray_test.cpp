@@ -517,6 +517,21 @@ TEST_F(Gpu, SpreadWorkgroupsTraceEveryRayOnce) {
     const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     EXPECT_EQ(GpuRaycaster(context(), scene, bvh, test::shaderCacheDir()).workgroupOrder(),
               cpuDevice ? WorkgroupOrder::Spread : WorkgroupOrder::InOrder);
+    // Which workgroup, in launch order, took each block: spread, the k-th of column t took block k * T + t,
+    // so that lavapipe's thread t (its run of workgroups the t-th column) takes blocks from the whole range.
+    GpuRaycaster recording(context(), scene, bvh, test::shaderCacheDir(), {"VKRT_RECORD_WORKGROUPS"},
+                           WorkgroupOrder::Spread);
+    const uint32_t blocks =
+        (static_cast<uint32_t>(rays.size()) + VKRT_RAYCAST_WORKGROUP - 1) / VKRT_RAYCAST_WORKGROUP;
+    const uint32_t threads = spreadThreads(WorkgroupOrder::Spread);
+    const SpreadGrid grid = spreadGrid(blocks, threads);
+    const std::vector<gpu::GpuHit> launched = recording.trace(rays, RaycastMode::Closest);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const uint32_t block = static_cast<uint32_t>(i) / VKRT_RAYCAST_WORKGROUP;
+        const uint32_t column = block % grid.columns, k = block / grid.columns;
+        ASSERT_EQ(launched[i].t, static_cast<float>(k + grid.perColumn * column))
+            << "ray " << i << ", " << threads << " threads";
+    }
 }
 
 TEST_F(Gpu, RaysMatchCpuTraversalOnRealModels) {
