@@ -58,7 +58,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       planner_(plannerFor(options, context, settings)) {
     report_.targetDispatchMs = planner_.targetMs();
     report_.workgroupOrder = workgroupOrderFor(options.workgroupOrder, context);
-    spreadThreads_ = spreadThreads(report_.workgroupOrder);
+    tiles_ = spreadGrid(groupsFor(static_cast<uint32_t>(settings.width), VKRT_WORKGROUP_WIDTH),
+                        spreadThreads(report_.workgroupOrder));
     if (settings.integrator == Integrator::Whitted && settings.maxDepth > VKRT_MAX_RAY_DEPTH) {
         throw GpuError("--max-depth " + std::to_string(settings.maxDepth) + " exceeds the GPU's limit for " +
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
@@ -130,7 +131,6 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         throw DeviceLostError("the device was lost (simulated at dispatch " +
                               std::to_string(options_.simulateDeviceLossAtDispatch) + ")");
     }
-    const SpreadGrid tiles = spreadGrid(groupsFor(settings_.width, VKRT_WORKGROUP_WIDTH), spreadThreads_);
     const gpu::PassConstants pass{sampleStart, sampleCount, rowStart, rowCount, tileRowStart_};
     const auto start = std::chrono::steady_clock::now();
     context_.submitAndWait([&](VkCommandBuffer commands) {
@@ -141,8 +141,8 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
         vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
         timer_->begin(commands);
-        pipeline_->dispatch(commands, &pass, sizeof(pass), tiles.perColumn,
-                            groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT), tiles.columns);
+        pipeline_->dispatch(commands, &pass, sizeof(pass), tiles_.perColumn,
+                            groupsFor(rowCount, VKRT_WORKGROUP_HEIGHT), tiles_.columns);
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });

@@ -134,7 +134,7 @@ class GpuRenderer {
     std::chrono::steady_clock::time_point lastCopy_;
     double lastCopyMs_ = 0.0;    // what the last copy cost
     DispatchPlanner planner_;    // rows x samples a dispatch, from the times measured so far
-    uint32_t spreadThreads_;     // the threads a band's tiles are spread for (workgroup_order.h)
+    SpreadGrid tiles_;           // a band's tiles as the dispatch's workgroups take them (workgroup_order.h)
     uint64_t unitsDone_ = 0;     // rows x samples dispatched in this render
     GpuRenderReport report_;
 };
