@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -415,6 +417,30 @@ TEST(DispatchPlanner, LostSamplesMakeBatchesOfOneSample) {
     }
 }
 
+// The widest gap between the items one thread takes, over the threads, when `threads` threads split a
+// dispatch of `items` spread for `spreadFor` as lavapipe does (contiguous runs of workgroups / threads in
+// launch order, the remainder one at a time). The ends of the range count as items.
+uint32_t widestThreadGap(uint32_t items, uint32_t spreadFor, uint32_t threads) {
+    // Which thread takes each item (workgroups in launch order, column by column), then the items in order,
+    // each thread's gap since its last.
+    const SpreadGrid grid = spreadGrid(items, spreadFor);
+    const uint32_t groups = grid.perColumn * grid.columns, run = groups / threads;
+    std::vector<uint32_t> owner(items);
+    for (uint32_t g = 0; g < groups; ++g) {
+        const uint32_t item = shading::spreadItem(g % grid.perColumn, g / grid.perColumn, grid.columns);
+        if (item < items)
+            owner[item] = run > 0 && g < run * threads ? g / run : (g - run * threads) % threads;
+    }
+    std::vector<int64_t> last(threads, -1);
+    int64_t widest = 0;
+    for (uint32_t item = 0; item < items; ++item) {
+        widest = std::max(widest, item - last[owner[item]]);
+        last[owner[item]] = item;
+    }
+    for (const int64_t item : last) widest = std::max(widest, items - item);
+    return static_cast<uint32_t>(widest);
+}
+
 TEST(WorkgroupOrder, SpreadRunsTakeItemsFromTheWholeRange) {
     for (uint32_t items = 1; items <= 600; ++items) {
         for (uint32_t spreadFor = 1; spreadFor <= 32; ++spreadFor) {
@@ -451,8 +477,20 @@ TEST(WorkgroupOrder, SpreadRunsTakeItemsFromTheWholeRange) {
     // In order, the first of two threads takes the first half, and the second's items start half way.
     EXPECT_EQ(widestThreadGap(64, 1, 2), 33u);
     EXPECT_EQ(widestThreadGap(64, 2, 2), 2u);
+}
+
+TEST(WorkgroupOrder, SpreadForLavapipesThreads) {
+    // LP_NUM_THREADS when it is set (as lavapipe reads it), else one thread per processor; in order, one.
+    const char* before = std::getenv("LP_NUM_THREADS");
+    const std::string saved = before ? before : "";
+    setenv("LP_NUM_THREADS", "3", 1);
+    EXPECT_EQ(spreadThreads(WorkgroupOrder::Spread), 3u);
+    EXPECT_EQ(workgroupOrderName(WorkgroupOrder::Spread), "spread over 3 threads");
     EXPECT_EQ(spreadThreads(WorkgroupOrder::InOrder), 1u);
-    EXPECT_GE(spreadThreads(WorkgroupOrder::Spread), 1u);
+    EXPECT_EQ(workgroupOrderName(WorkgroupOrder::InOrder), "in order");
+    unsetenv("LP_NUM_THREADS");
+    EXPECT_EQ(spreadThreads(WorkgroupOrder::Spread), std::max(1u, std::thread::hardware_concurrency()));
+    if (before) setenv("LP_NUM_THREADS", saved.c_str(), 1);
 }
 
 TEST_F(Gpu, TimeLimitStopsAfterTheDispatchThatCrossesIt) {

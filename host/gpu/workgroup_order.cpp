@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <thread>
-#include <vector>
-
-#include "spread_workgroups.h"
 
 namespace vkrt {
 
@@ -34,27 +31,6 @@ SpreadGrid spreadGrid(uint32_t items, uint32_t threads) {
     grid.columns = std::max(1u, std::min(threads, items));
     grid.perColumn = (items + grid.columns - 1) / grid.columns;
     return grid;
-}
-
-uint32_t widestThreadGap(uint32_t items, uint32_t spreadFor, uint32_t threads) {
-    // Which thread takes each item (workgroups in launch order, column by column), then the items in order,
-    // each thread's gap since its last.
-    const SpreadGrid grid = spreadGrid(items, spreadFor);
-    const uint32_t groups = grid.perColumn * grid.columns, run = groups / threads;
-    std::vector<uint32_t> owner(items);
-    for (uint32_t g = 0; g < groups; ++g) {
-        const uint32_t item = shading::spreadItem(g % grid.perColumn, g / grid.perColumn, grid.columns);
-        if (item < items)
-            owner[item] = run > 0 && g < run * threads ? g / run : (g - run * threads) % threads;
-    }
-    std::vector<int64_t> last(threads, -1);
-    int64_t widest = 0;
-    for (uint32_t item = 0; item < items; ++item) {
-        widest = std::max(widest, item - last[owner[item]]);
-        last[owner[item]] = item;
-    }
-    for (const int64_t item : last) widest = std::max(widest, items - item);
-    return static_cast<uint32_t>(widest);
 }
 
 }  // namespace vkrt

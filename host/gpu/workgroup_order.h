@@ -34,9 +34,4 @@ struct SpreadGrid {
 };
 SpreadGrid spreadGrid(uint32_t items, uint32_t threads);
 
-// The widest gap between the items one thread takes, over the threads, when `threads` threads split a
-// dispatch of `items` spread for `spreadFor` as lavapipe does (contiguous runs of workgroups / threads in
-// launch order, the remainder one at a time). The ends of the range count as items.
-uint32_t widestThreadGap(uint32_t items, uint32_t spreadFor, uint32_t threads);
-
 }  // namespace vkrt
