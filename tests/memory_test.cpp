@@ -3,6 +3,7 @@
 // and a lost device (exit 1) keeping the samples the host had copied.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -159,6 +160,26 @@ TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
         EXPECT_GE(estimated, 0.9 * measured) << device;
         EXPECT_LE(estimated, 1.6 * measured) << device;
     }
+}
+
+// vkrt's heap on transparent huge pages (app/huge_page_heap.h), where the kernel gives them to memory advised
+// for them ("madvise", Debian's default): lavapipe's pipeline creation alone fills megabytes of it. Where the
+// kernel gives them to all memory, or to none, the stat cannot tell the heap's advice from the kernel's.
+TEST(MemoryCli, HeapIsOnHugePages) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer's allocator stands in front of glibc's";
+#endif
+    std::ifstream mode("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string modes;
+    std::getline(mode, modes);
+    if (modes.find("[madvise]") == std::string::npos) GTEST_SKIP() << "transparent huge pages: " << modes;
+    const auto folder = test::temporaryFolder();
+    const auto json = folder / "stats.json";
+    const test::CommandResult r =
+        test::runVkrt(cornell() + " --device gpu --integrator whitted --spp 1 --width 64 --out '" +
+                      (folder / "x.png").string() + "' --stats '" + json.string() + "' --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GE(readJson(json)["memory"]["host_huge_page_bytes"].get<uint64_t>(), uint64_t{2} << 20);
 }
 
 // A device that offers room for the scene and one row: one-row tiles of one dispatch each at 1 spp, so the

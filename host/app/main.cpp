@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/exit_codes.h"
+#include "app/huge_page_heap.h"
 #include "app/mpi_job.h"
 #include "app/one_process_render.h"
 #include "app/options.h"
@@ -55,6 +56,7 @@ int run(Options options, const MpiJob& job) {
 
 int main(int argc, char** argv) {
     using namespace vkrt;
+    useHugePageHeap();  // first, while the heap is small (huge_page_heap.h)
     // Under an MPI launcher the ranks share the render (shared_render.h); otherwise this is a job of one.
     const MpiJob job(argc, argv);
     try {

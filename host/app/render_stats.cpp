@@ -45,7 +45,8 @@ nlohmann::json toJson(const RunReport& r) {
         {"memory",
          {{"host_estimate_bytes", r.memory.hostEstimateBytes},
           {"host_available_bytes", r.memory.hostAvailableBytes},
-          {"host_peak_bytes", r.memory.hostPeakBytes}}},
+          {"host_peak_bytes", r.memory.hostPeakBytes},
+          {"host_huge_page_bytes", r.memory.hostHugePageBytes}}},
     };
     if (!r.deviceLost.empty()) json["device_lost_because"] = r.deviceLost;
     if (r.environment) {

@@ -48,6 +48,7 @@ struct RunReport {
         uint64_t hostEstimateBytes = 0;
         uint64_t hostAvailableBytes = 0;
         uint64_t hostPeakBytes = 0;        // the process's peak resident memory, scene and all
+        uint64_t hostHugePageBytes = 0;    // of its memory, what is on transparent huge pages at the end
         uint64_t deviceEstimateBytes = 0;  // GPU only
         uint64_t deviceBudgetBytes = 0;
         uint32_t tiles = 0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/huge_page_heap.h"
 #include "scene/shading_inputs.h"
 
 namespace vkrt {
@@ -44,6 +45,7 @@ void recordResult(const RenderResult& result, RunReport& report) {
 
 void writeStats(const Options& options, RunReport& report) {
     report.memory.hostPeakBytes = peakResidentBytes();
+    report.memory.hostHugePageBytes = hugePageBytes();
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
 }
 
