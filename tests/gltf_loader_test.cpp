@@ -1,4 +1,5 @@
 // Loading real glTF files: every third-party scene loads (or names what it lacks), with counts checked.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -13,6 +14,7 @@
 #include "scene/tangent_frames.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
+#include "texture_sampling.h"
 
 namespace vkrt {
 namespace {
@@ -213,6 +215,40 @@ TEST(Mipmaps, EveryTexelCountsAndColoursAverageAsLight) {
     checker.width = 4;
     checker.height = 1;
     EXPECT_EQ(mipmapChain(checker, true).size(), 2u);  // 2x1, then 1x1
+}
+
+TEST(Mipmaps, SrgbCodesAreTheFormulasForEveryPairOfBytes) {
+    // Every pair (a, b) of sRGB codes averaged, as a 2x2 box of two columns a and b: the level's code is the
+    // one the formula gives for the mean in linear light (mipmaps.cpp encodes by a table search, the formula
+    // deciding near each boundary). Linear data (alpha) rounds its mean, halves up.
+    Texture pairs;
+    pairs.width = pairs.height = 512;
+    pairs.rgba.resize(512 * 512 * 4);
+    for (int y = 0; y < 512; ++y) {
+        for (int x = 0; x < 512; ++x) {
+            const uint8_t value = static_cast<uint8_t>(x % 2 == 0 ? x / 2 : y / 2);
+            uint8_t* texel = &pairs.rgba[(static_cast<size_t>(y) * 512 + x) * 4];
+            texel[0] = texel[3] = value;
+            texel[1] = texel[2] = static_cast<uint8_t>(255 - value);
+        }
+    }
+    const std::vector<TextureLevel> levels = mipmapChain(pairs, true);
+    ASSERT_EQ(levels[0].width, 256);
+    auto expected = [](int a, int b) {
+        const double la = shading::srgbToLinear(a / 255.0), lb = shading::srgbToLinear(b / 255.0);
+        const double mean = 0.0 + 0.25 * la + 0.25 * lb + 0.25 * la + 0.25 * lb;  // the box's order
+        return static_cast<int>(std::clamp(std::lround(shading::linearToSrgb(mean) * 255.0), 0L, 255L));
+    };
+    int wrong = 0;
+    for (int b = 0; b < 256; ++b) {
+        for (int a = 0; a < 256; ++a) {
+            const uint8_t* texel = &levels[0].rgba[(static_cast<size_t>(b) * 256 + a) * 4];
+            wrong += texel[0] != expected(a, b);
+            wrong += texel[1] != expected(255 - a, 255 - b);
+            wrong += texel[3] != std::lround(0.5 * a + 0.5 * b);
+        }
+    }
+    EXPECT_EQ(wrong, 0);
 }
 
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {

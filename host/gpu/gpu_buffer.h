@@ -19,8 +19,8 @@ class GpuBuffer {
     GpuBuffer(const VulkanContext& context, VkDeviceSize bytes);
     // A buffer holding a copy of `data`.
     GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes);
-    template <typename T>
-    GpuBuffer(const VulkanContext& context, const std::vector<T>& values)
+    template <typename T, typename Allocator>
+    GpuBuffer(const VulkanContext& context, const std::vector<T, Allocator>& values)
         : GpuBuffer(context, values.data(), values.size() * sizeof(T)) {}
     ~GpuBuffer();
     GpuBuffer(GpuBuffer&& other) noexcept;

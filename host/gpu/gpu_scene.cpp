@@ -278,8 +278,8 @@ void visitArrays(const GpuSceneData& d, Visit&& visit) {
     visit("shape poses", d.shapePoses, &P::shapePoses);
 }
 
-template <typename T>
-uint64_t bytesOf(const std::vector<T>& values) {
+template <typename T, typename Allocator>
+uint64_t bytesOf(const std::vector<T, Allocator>& values) {
     return static_cast<uint64_t>(values.size()) * sizeof(T);
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bvh/flat_bvh.h"
+#include "common/large_buffer.h"
 #include "common/memory_need.h"
 #include "common/render_settings.h"
 #include "gpu/compute_pipeline.h"
@@ -31,7 +32,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures
-    std::vector<uint32_t> texels;
+    HugePageVector<uint32_t> texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
     std::vector<gpu::GpuEnvironmentTexel> environmentTexels;  // only with an environment

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "common/parallel_for.h"
 #include "texture_sampling.h"
 
 namespace vkrt {
@@ -24,6 +25,28 @@ uint8_t srgbEncode(double linear) {
     return static_cast<uint8_t>(std::clamp(std::lround(shading::linearToSrgb(linear) * 255.0), 0L, 255L));
 }
 
+// srgbEncode by a search of the 255 boundaries between bytes (a pow per channel was most of the time mipmaps
+// took). Within 1e-9 of a boundary, whose tabulated place may differ from the formula's in the last bits,
+// the formula decides, so every byte is the one srgbEncode gives.
+uint8_t srgbEncodeFast(double linear) {
+    static const std::array<double, 255> boundaries = [] {
+        std::array<double, 255> b{};  // b[k]: where bytes k and k + 1 meet, as linear light
+        for (int k = 0; k < 255; ++k) b[k] = shading::srgbToLinear((k + 0.5) / 255.0);
+        return b;
+    }();
+    const size_t k = std::upper_bound(boundaries.begin(), boundaries.end(), linear) - boundaries.begin();
+    const bool nearBoundary = (k > 0 && linear - boundaries[k - 1] < 1e-9) ||
+                              (k < boundaries.size() && boundaries[k] - linear < 1e-9);
+    return nearBoundary || !(linear >= 0.0) ? srgbEncode(linear) : static_cast<uint8_t>(k);
+}
+
+// A mean of bytes (in [0, 255], or a rounding above) to the nearest byte, halves up: std::lround's result for
+// such values, without its call.
+uint8_t roundToByte(double mean) {
+    const int whole = static_cast<int>(mean);  // mean >= 0: truncation is floor, and mean - whole is exact
+    return static_cast<uint8_t>(std::min(255, whole + (mean - whole >= 0.5 ? 1 : 0)));
+}
+
 // The source texels a destination texel covers along one axis when `from` texels become `to`: a box of
 // from / to texels (2, or between 2 and 3 for an odd size), each source texel weighted by its overlap.
 std::vector<std::vector<std::pair<int, double>>> boxWeights(int from, int to) {
@@ -39,43 +62,68 @@ std::vector<std::vector<std::pair<int, double>>> boxWeights(int from, int to) {
     return weights;
 }
 
-// The next level of `above`: each texel the mean of the texels of `above` it covers (a 2x2 box for even sizes,
-// a wider one with fractional weights for odd sizes, so every texel above counts equally).
-TextureLevel halve(const TextureLevel& above, bool srgb) {
-    TextureLevel level;
-    level.width = std::max(1, above.width / 2);
-    level.height = std::max(1, above.height / 2);
-    level.rgba.resize(static_cast<size_t>(level.width) * level.height * 4);
+// The level below the RGBA8 texels `above` (width x height) into `below`: each texel the mean of the texels
+// above it covers (a 2x2 box for even sizes, a wider one with fractional weights for odd sizes, so every
+// texel above counts equally). Rows are shared among `threads` threads.
+void halveInto(const uint8_t* above, int width, int height, uint8_t* below, bool srgb, unsigned threads) {
+    const int belowWidth = std::max(1, width / 2), belowHeight = std::max(1, height / 2);
     const std::array<double, 256>& decode = srgbDecodeTable();
-    const auto columns = boxWeights(above.width, level.width), rows = boxWeights(above.height, level.height);
-    for (int y = 0; y < level.height; ++y) {
-        for (int x = 0; x < level.width; ++x) {
+    const auto columns = boxWeights(width, belowWidth), rows = boxWeights(height, belowHeight);
+    // Small levels on this thread alone: starting threads would cost more.
+    const unsigned rowThreads = static_cast<size_t>(belowWidth) * belowHeight >= (1u << 14) ? threads : 1u;
+    parallelFor(static_cast<size_t>(belowHeight), rowThreads, [&](size_t y, unsigned) {
+        for (int x = 0; x < belowWidth; ++x) {
             for (int c = 0; c < 4; ++c) {
                 const bool colour = srgb && c < 3;
                 double mean = 0.0;
                 for (const auto& [sy, wy] : rows[y]) {
                     for (const auto& [sx, wx] : columns[x]) {
-                        const uint8_t value = above.rgba[(static_cast<size_t>(sy) * above.width + sx) * 4 + c];
+                        const uint8_t value = above[(static_cast<size_t>(sy) * width + sx) * 4 + c];
                         mean += wx * wy * (colour ? decode[value] : value);
                     }
                 }
-                level.rgba[(static_cast<size_t>(y) * level.width + x) * 4 + c] =
-                    colour ? srgbEncode(mean)
-                           : static_cast<uint8_t>(std::clamp(std::lround(mean), 0L, 255L));
+                below[(y * belowWidth + x) * 4 + c] = colour ? srgbEncodeFast(mean) : roundToByte(mean);
             }
         }
-    }
-    return level;
+    });
 }
 
 }  // namespace
 
+size_t mipmapChainTexels(int width, int height) {
+    size_t texels = 0;
+    while (width > 1 || height > 1) {
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        texels += static_cast<size_t>(width) * height;
+    }
+    return texels;
+}
+
+void writeMipmapChain(const Texture& texture, bool srgb, uint8_t* out, unsigned threads) {
+    const uint8_t* above = texture.rgba.data();
+    int width = texture.width, height = texture.height;
+    while (width > 1 || height > 1) {
+        halveInto(above, width, height, out, srgb, threads);
+        above = out;
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        out += static_cast<size_t>(width) * height * 4;
+    }
+}
+
 std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb) {
+    std::vector<uint8_t> chain(mipmapChainTexels(texture.width, texture.height) * 4);
+    writeMipmapChain(texture, srgb, chain.data(), 1);
     std::vector<TextureLevel> levels;
-    TextureLevel current{texture.width, texture.height, texture.rgba};
-    while (current.width > 1 || current.height > 1) {
-        current = halve(current, srgb);
-        levels.push_back(current);
+    size_t offset = 0;
+    for (int width = texture.width, height = texture.height; width > 1 || height > 1;) {
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        const size_t bytes = static_cast<size_t>(width) * height * 4;
+        levels.push_back(
+            {width, height, std::vector<uint8_t>(chain.begin() + offset, chain.begin() + offset + bytes)});
+        offset += bytes;
     }
     return levels;
 }

@@ -2,6 +2,7 @@
 // one texel), down to 1x1, every texel the mean of the 2x2 texels above it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,5 +21,12 @@ struct TextureLevel {
 // of its mean; alpha and linear data are averaged as stored. An odd size is halved by a box a little wider than
 // 2 texels with fractional weights, so every texel of the level above counts equally.
 std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb);
+
+// The texels of all the levels below level 0 of a width x height texture.
+size_t mipmapChainTexels(int width, int height);
+
+// mipmapChain's levels, one after the other, written to `out` (mipmapChainTexels x 4 bytes); each level's
+// rows are shared among `threads` threads (the caller's among them). The same bytes as mipmapChain's.
+void writeMipmapChain(const Texture& texture, bool srgb, uint8_t* out, unsigned threads);
 
 }  // namespace vkrt

@@ -1,8 +1,11 @@
 #include "scene/shading_inputs.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
+#include "common/parallel_for.h"
 #include "scene/mipmaps.h"
 #include "texture_sampling.h"
 
@@ -118,19 +121,15 @@ size_t packedTextureBytes(const Scene& scene) {
     size_t texels = 0;
     for (const Texture& t : scene.textures) {
         if (t.rgba.empty()) continue;
-        int width = t.width, height = t.height;
-        texels += static_cast<size_t>(width) * height;
-        // The levels mipmapChain makes: halved, rounded down, at least 1, down to 1 x 1.
-        while (t.mipmaps != MipmapMode::None && (width > 1 || height > 1)) {
-            width = std::max(1, width / 2);
-            height = std::max(1, height / 2);
-            texels += static_cast<size_t>(width) * height;
-        }
+        texels += static_cast<size_t>(t.width) * t.height;
+        if (t.mipmaps != MipmapMode::None) texels += mipmapChainTexels(t.width, t.height);
     }
     return texels * 4;
 }
 
 PackedTextures packTextures(const Scene& scene) {
+    // A texel's word holds red in its lowest byte: on a little-endian host, the RGBA bytes as they are.
+    static_assert(std::endian::native == std::endian::little, "texels are packed as little-endian words");
     // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
     std::vector<bool> srgb(scene.textures.size(), false);
     for (const Material& m : scene.materials) {
@@ -139,31 +138,35 @@ PackedTextures packTextures(const Scene& scene) {
             if (slot->used()) srgb[slot->texture] = true;
         }
     }
+    // Every level written once, in place: no copies of levels, no growing array (each copy first touches its
+    // pages, most of what packing took).
     PackedTextures packed;
-    auto append = [&](const std::vector<uint8_t>& rgba) {
-        for (size_t p = 0; p * 4 < rgba.size(); ++p) {
-            packed.texels.push_back(rgba[4 * p] | (rgba[4 * p + 1] << 8) | (rgba[4 * p + 2] << 16) |
-                                    (static_cast<uint32_t>(rgba[4 * p + 3]) << 24));
-        }
-    };
+    packed.texels.resize(packedTextureBytes(scene) / 4);
+    uint8_t* const bytes = reinterpret_cast<uint8_t*>(packed.texels.data());
+    size_t offset = 0;  // in texels
     for (size_t i = 0; i < scene.textures.size(); ++i) {
         const Texture& t = scene.textures[i];
         // Level 0, then the mipmaps, one after the other (texture_sampling.h finds level l's first texel).
-        const std::vector<TextureLevel> mipmaps =
-            t.mipmaps == MipmapMode::None || t.rgba.empty() ? std::vector<TextureLevel>{}
-                                                             : mipmapChain(t, srgb[i]);
+        const bool mipmapped = t.mipmaps != MipmapMode::None && !t.rgba.empty();
         const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
                                     : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
                                                                        : VKRT_MIPMAP_NONE;
-        const uint32_t levels = 1u + static_cast<uint32_t>(mipmaps.size());
+        uint32_t levels = 1;
+        for (int w = t.width, h = t.height; mipmapped && (w > 1 || h > 1); ++levels) {
+            w = std::max(1, w / 2);
+            h = std::max(1, h / 2);
+        }
         packed.textures.push_back(
-            {static_cast<uint32_t>(packed.texels.size()), static_cast<uint32_t>(t.width),
-             static_cast<uint32_t>(t.height),
+            {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
              wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
                  (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
                  (levels << VKRT_LEVELS_SHIFT)});
-        append(t.rgba);
-        for (const TextureLevel& level : mipmaps) append(level.rgba);
+        if (t.rgba.empty()) continue;
+        std::memcpy(bytes + offset * 4, t.rgba.data(), t.rgba.size());
+        offset += t.rgba.size() / 4;
+        if (!mipmapped) continue;
+        writeMipmapChain(t, srgb[i], bytes + offset * 4, threadCount(0));
+        offset += mipmapChainTexels(t.width, t.height);
     }
     return packed;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "common/large_buffer.h"
 #include "punctual_light.h"
 #include "scene/scene.h"
 #include "shared.h"
@@ -28,7 +29,7 @@ shading::CameraFrame cameraFrame(const Camera& camera, int width, int height);
 // described by where its texels start, its size and its sampler (shaders/texture_sampling.h).
 struct PackedTextures {
     std::vector<gpu::GpuTexture> textures;
-    std::vector<uint32_t> texels;
+    HugePageVector<uint32_t> texels;  // often a hundred MB and more: on huge pages
 };
 
 PackedTextures packTextures(const Scene& scene);
