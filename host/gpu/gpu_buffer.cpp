@@ -19,6 +19,13 @@ GpuBuffer::GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSiz
     if (bytes > 0) upload(data, bytes);
 }
 
+GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes,
+                     const std::function<void(void* mapped)>& write)
+    : context_(&context) {
+    create(bytes, false);
+    if (bytes > 0) writeWith(bytes, 0, write);
+}
+
 GpuBuffer::~GpuBuffer() {
     release();
 }
@@ -103,17 +110,22 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
 
 void GpuBuffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
     if (bytes == 0) return;
+    writeWith(bytes, offset, [&](void* mapped) { std::memcpy(mapped, data, bytes); });
+}
+
+void GpuBuffer::writeWith(VkDeviceSize bytes, VkDeviceSize offset,
+                          const std::function<void(void* mapped)>& write) {
     if (hostVisible_) {
         void* mapped = nullptr;
         VK_CHECK(vkMapMemory(context_->device(), memory_, offset, bytes, 0, &mapped));
-        std::memcpy(mapped, data, bytes);
+        write(mapped);
         vkUnmapMemory(context_->device(), memory_);
         return;
     }
     GpuBuffer staging;
     staging.context_ = context_;
     staging.create(bytes, true);
-    staging.upload(data, bytes);
+    staging.writeWith(bytes, 0, write);
     context_->submitAndWait([&](VkCommandBuffer commands) {
         const VkBufferCopy region{0, offset, bytes};
         vkCmdCopyBuffer(commands, staging.buffer_, buffer_, 1, &region);

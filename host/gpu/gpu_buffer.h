@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -19,9 +20,13 @@ class GpuBuffer {
     GpuBuffer(const VulkanContext& context, VkDeviceSize bytes);
     // A buffer holding a copy of `data`.
     GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes);
-    template <typename T, typename Allocator>
-    GpuBuffer(const VulkanContext& context, const std::vector<T, Allocator>& values)
+    template <typename T>
+    GpuBuffer(const VulkanContext& context, const std::vector<T>& values)
         : GpuBuffer(context, values.data(), values.size() * sizeof(T)) {}
+    // A buffer of `bytes` whose contents `write` puts straight into its mapped memory (a staging buffer's
+    // where the host cannot see the device's): no copy of them in host memory first.
+    GpuBuffer(const VulkanContext& context, VkDeviceSize bytes,
+              const std::function<void(void* mapped)>& write);
     ~GpuBuffer();
     GpuBuffer(GpuBuffer&& other) noexcept;
     GpuBuffer& operator=(GpuBuffer&& other) noexcept;
@@ -41,6 +46,8 @@ class GpuBuffer {
   private:
     void release();
     void create(VkDeviceSize bytes, bool preferHostVisible);
+    // Has `write` fill `bytes` from `offset`, mapped or through a staging buffer.
+    void writeWith(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
 
     const VulkanContext* context_ = nullptr;
     VkBuffer buffer_ = VK_NULL_HANDLE;

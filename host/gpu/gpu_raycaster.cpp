@@ -41,7 +41,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
         wanted = access;
         defines_.erase(found);
     }
-    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
+    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_, scene);
     gpu::SceneParams params{};
     params.primitiveCount = static_cast<uint32_t>(data_.primitives.size());
     sceneBuffers_->fillAddresses(params);

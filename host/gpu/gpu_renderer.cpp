@@ -71,7 +71,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.memory =
         planDeviceMemory(context, sceneBufferNeed(data_), width, height, options.maxDeviceMemoryBytes);
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
-    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_);
+    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_, scene);
     sceneBuffers_->fillAddresses(params);
     accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
     accumulation_.fillZero();

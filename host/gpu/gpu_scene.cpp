@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "camera.h"
 #include "scene/ggx_albedo_tables.h"
@@ -196,9 +197,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     if (data.features.textures) {
-        PackedTextures packed = packTextures(scene);
-        data.textures = std::move(packed.textures);
-        data.texels = std::move(packed.texels);
+        data.textures = describeTextures(scene);
+        data.texels.count = packedTextureBytes(scene) / 4;
     } else {
         data.textureBindings.clear();  // no material reads one
     }
@@ -278,9 +278,9 @@ void visitArrays(const GpuSceneData& d, Visit&& visit) {
     visit("shape poses", d.shapePoses, &P::shapePoses);
 }
 
-template <typename T, typename Allocator>
-uint64_t bytesOf(const std::vector<T, Allocator>& values) {
-    return static_cast<uint64_t>(values.size()) * sizeof(T);
+template <typename Values>
+uint64_t bytesOf(const Values& values) {
+    return static_cast<uint64_t>(values.size()) * sizeof(typename Values::value_type);
 }
 
 }  // namespace
@@ -291,11 +291,17 @@ MemoryNeed sceneBufferNeed(const GpuSceneData& data) {
     return need;
 }
 
-GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data) {
+GpuSceneBuffers::GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data, const Scene& scene) {
     buffers_.reserve(sceneBufferNeed(data).parts().size());
     visitArrays(data, [&](const char*, const auto& values, auto address) {
         if (values.empty()) return;
-        buffers_.emplace_back(context, values);
+        if constexpr (std::is_same_v<std::decay_t<decltype(values)>, TexelCount>) {
+            buffers_.emplace_back(context, bytesOf(values), [&](void* mapped) {
+                writeTexels(scene, data.textures, static_cast<uint32_t*>(mapped));
+            });
+        } else {
+            buffers_.emplace_back(context, values);
+        }
         addresses_.*address = buffers_.back().address();
         bufferIndex_.emplace_back(address, buffers_.size() - 1);
     });

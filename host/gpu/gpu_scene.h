@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "bvh/flat_bvh.h"
-#include "common/large_buffer.h"
 #include "common/memory_need.h"
 #include "common/render_settings.h"
 #include "gpu/compute_pipeline.h"
@@ -17,6 +16,16 @@
 #include "shared.h"
 
 namespace vkrt {
+
+// How many texels the scene's textures take. The texels themselves are not packed with the rest:
+// GpuSceneBuffers writes them from the scene straight into the device's buffer (its mapped memory on lavapipe
+// and other devices the host sees), so a hundred MB of texture is never first copied in host memory.
+struct TexelCount {
+    using value_type = uint32_t;
+    size_t count = 0;
+    size_t size() const { return count; }
+    bool empty() const { return count == 0; }
+};
 
 struct GpuSceneData {
     SceneFeatures features;
@@ -32,7 +41,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuMaterial> materials;
     std::vector<gpu::GpuTexture> textures;                // only with textures
     std::vector<gpu::GpuTextureBinding> textureBindings;  // the materials' texture slots, only with textures
-    HugePageVector<uint32_t> texels;
+    TexelCount texels;
     std::vector<gpu::GpuPunctualLight> lights;
     std::vector<gpu::GpuAreaLight> areaLights;
     std::vector<gpu::GpuEnvironmentTexel> environmentTexels;  // only with an environment
@@ -77,7 +86,8 @@ const char* sceneAccessName(SceneAccess access);
 // address 0.
 class GpuSceneBuffers {
   public:
-    GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data);
+    // `data` packed from `scene` (which gives the texels).
+    GpuSceneBuffers(const VulkanContext& context, const GpuSceneData& data, const Scene& scene);
     // Writes the buffer addresses into `params` (all but accumulation and counters).
     void fillAddresses(gpu::SceneParams& params) const;
 

@@ -127,7 +127,39 @@ size_t packedTextureBytes(const Scene& scene) {
     return texels * 4;
 }
 
-PackedTextures packTextures(const Scene& scene) {
+namespace {
+
+// Whether a texture has mipmap levels (below level 0) in the packed array.
+bool mipmapped(const Texture& t) {
+    return t.mipmaps != MipmapMode::None && !t.rgba.empty();
+}
+
+}  // namespace
+
+std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
+    std::vector<gpu::GpuTexture> textures;
+    size_t offset =
+        0;  // in texels: level 0, then the mipmaps (texture_sampling.h finds level l's first texel)
+    for (const Texture& t : scene.textures) {
+        const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
+                                    : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
+                                                                       : VKRT_MIPMAP_NONE;
+        uint32_t levels = 1;
+        for (int w = t.width, h = t.height; mipmapped(t) && (w > 1 || h > 1); ++levels) {
+            w = std::max(1, w / 2);
+            h = std::max(1, h / 2);
+        }
+        textures.push_back(
+            {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
+             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
+                 (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
+                 (levels << VKRT_LEVELS_SHIFT)});
+        offset += t.rgba.size() / 4 + (mipmapped(t) ? mipmapChainTexels(t.width, t.height) : 0);
+    }
+    return textures;
+}
+
+void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& textures, uint32_t* texels) {
     // A texel's word holds red in its lowest byte: on a little-endian host, the RGBA bytes as they are.
     static_assert(std::endian::native == std::endian::little, "texels are packed as little-endian words");
     // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
@@ -138,36 +170,21 @@ PackedTextures packTextures(const Scene& scene) {
             if (slot->used()) srgb[slot->texture] = true;
         }
     }
-    // Every level written once, in place: no copies of levels, no growing array (each copy first touches its
-    // pages, most of what packing took).
-    PackedTextures packed;
-    packed.texels.resize(packedTextureBytes(scene) / 4);
-    uint8_t* const bytes = reinterpret_cast<uint8_t*>(packed.texels.data());
-    size_t offset = 0;  // in texels
+    // Every level written once, in place: no copies of levels (each copy first touches its pages, most of
+    // what packing took).
     for (size_t i = 0; i < scene.textures.size(); ++i) {
         const Texture& t = scene.textures[i];
-        // Level 0, then the mipmaps, one after the other (texture_sampling.h finds level l's first texel).
-        const bool mipmapped = t.mipmaps != MipmapMode::None && !t.rgba.empty();
-        const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
-                                    : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
-                                                                       : VKRT_MIPMAP_NONE;
-        uint32_t levels = 1;
-        for (int w = t.width, h = t.height; mipmapped && (w > 1 || h > 1); ++levels) {
-            w = std::max(1, w / 2);
-            h = std::max(1, h / 2);
-        }
-        packed.textures.push_back(
-            {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
-             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
-                 (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
-                 (levels << VKRT_LEVELS_SHIFT)});
-        if (t.rgba.empty()) continue;
-        std::memcpy(bytes + offset * 4, t.rgba.data(), t.rgba.size());
-        offset += t.rgba.size() / 4;
-        if (!mipmapped) continue;
-        writeMipmapChain(t, srgb[i], bytes + offset * 4, threadCount(0));
-        offset += mipmapChainTexels(t.width, t.height);
+        uint8_t* const level0 = reinterpret_cast<uint8_t*>(texels + textures[i].firstTexel);
+        if (!t.rgba.empty()) std::memcpy(level0, t.rgba.data(), t.rgba.size());
+        if (mipmapped(t)) writeMipmapChain(t, srgb[i], level0 + t.rgba.size(), threadCount(0));
     }
+}
+
+PackedTextures packTextures(const Scene& scene) {
+    PackedTextures packed;
+    packed.textures = describeTextures(scene);
+    packed.texels.resize(packedTextureBytes(scene) / 4);
+    writeTexels(scene, packed.textures, packed.texels.data());
     return packed;
 }
 

@@ -34,6 +34,11 @@ struct PackedTextures {
 
 PackedTextures packTextures(const Scene& scene);
 
+// packTextures in two steps, for a caller that keeps the texels elsewhere (the GPU's mapped buffer): the
+// textures' descriptions, then their texels written to `texels` (packedTextureBytes of them).
+std::vector<gpu::GpuTexture> describeTextures(const Scene& scene);
+void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& textures, uint32_t* texels);
+
 // The bytes packTextures' texels take: every texture's RGBA8 texels with its mipmap levels.
 size_t packedTextureBytes(const Scene& scene);
 
