@@ -69,6 +69,17 @@ TEST(HostMemory, EstimateGrowsWithPixelsTrianglesAndTheWayItIsRendered) {
     EXPECT_EQ(estimate(), gpu + 1000u) << "but no more than its budget: beyond it, the image is tiled";
     in.report = true;
     EXPECT_EQ(estimate(), gpu + 1000u + 24000000u) << "the reference and checkpoint images";
+    // Textures: packed on the host for the CPU reference; for the GPU, written into its buffers, through a
+    // staging buffer unless the device's memory is the host's (and within its budget, then).
+    in = HostMemoryInputs{};
+    in.width = in.height = 1000;
+    in.outputPath = "x.pfm";
+    in.textureBytes = 100000000;
+    EXPECT_EQ(estimate(), pixelsOnly + 100000000u) << "the CPU reference's packed texels";
+    in.gpu = true;
+    EXPECT_EQ(estimate(), pixelsOnly + 100000000u) << "a GPU's staging buffer";
+    in.deviceInHostMemory = true;
+    EXPECT_EQ(estimate(), pixelsOnly + 100000000u + 1000000u * 32) << "lavapipe's texel buffer and accumulation";
 }
 
 TEST(HostMemory, AvailableMemoryIsReadFromTheSystem) {

@@ -47,8 +47,14 @@ MemoryNeed estimateHostMemory(const HostMemoryInputs& in) {
     // (the renderer is gone by then; the encoder works from the image).
     MemoryNeed rendering;
     rendering.add("BVH build", bvh);
-    if (in.gpu)
-        rendering.add("scene packed for the GPU", in.triangles * kGpuBytesPerTriangle + in.textureBytes);
+    // The texels: packed for the CPU reference; written straight into the GPU's buffers, mapped on a CPU
+    // device (counted with its buffers below), else through a staging buffer of their size.
+    if (in.gpu) {
+        rendering.add("scene packed for the GPU", in.triangles * kGpuBytesPerTriangle);
+        if (!in.deviceInHostMemory) rendering.add("texel staging buffer", in.textureBytes);
+    } else {
+        rendering.add("textures packed for the CPU reference", in.textureBytes);
+    }
     if (in.deviceInHostMemory) {
         rendering.add("device buffers in host memory (a CPU device)",
                       std::min(in.deviceBudgetBytes, in.triangles * kGpuBytesPerTriangle + in.textureBytes +
