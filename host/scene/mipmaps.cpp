@@ -62,11 +62,11 @@ std::vector<std::vector<std::pair<int, double>>> boxWeights(int from, int to) {
     return weights;
 }
 
-// The level below the RGBA8 texels `above` (width x height) into `below`: each texel the mean of the texels
-// above it covers (a 2x2 box for even sizes, a wider one with fractional weights for odd sizes, so every
-// texel above counts equally). Rows are shared among `threads` threads.
-void halveInto(const uint8_t* above, int width, int height, uint8_t* below, bool srgb, unsigned threads) {
-    const int belowWidth = std::max(1, width / 2), belowHeight = std::max(1, height / 2);
+// The level `below` (belowWidth x belowHeight) of the RGBA8 texels `above` (width x height): each texel the
+// mean of the texels above it covers (a 2x2 box for even sizes, a wider one with fractional weights for odd
+// sizes, so every texel above counts equally). Rows are shared among `threads` threads.
+void halveInto(const uint8_t* above, int width, int height, uint8_t* below, int belowWidth, int belowHeight,
+               bool srgb, unsigned threads) {
     const std::array<double, 256>& decode = srgbDecodeTable();
     const auto columns = boxWeights(width, belowWidth), rows = boxWeights(height, belowHeight);
     // Small levels on this thread alone: starting threads would cost more.
@@ -90,25 +90,30 @@ void halveInto(const uint8_t* above, int width, int height, uint8_t* below, bool
 
 }  // namespace
 
-size_t mipmapChainTexels(int width, int height) {
-    size_t texels = 0;
+std::vector<LevelSize> mipmapLevelSizes(int width, int height) {
+    std::vector<LevelSize> sizes;
     while (width > 1 || height > 1) {
         width = std::max(1, width / 2);
         height = std::max(1, height / 2);
-        texels += static_cast<size_t>(width) * height;
+        sizes.push_back({width, height});
     }
+    return sizes;
+}
+
+size_t mipmapChainTexels(int width, int height) {
+    size_t texels = 0;
+    for (const LevelSize& level : mipmapLevelSizes(width, height)) texels += level.texels();
     return texels;
 }
 
 void writeMipmapChain(const Texture& texture, bool srgb, uint8_t* out, unsigned threads) {
     const uint8_t* above = texture.rgba.data();
-    int width = texture.width, height = texture.height;
-    while (width > 1 || height > 1) {
-        halveInto(above, width, height, out, srgb, threads);
+    LevelSize aboveSize{texture.width, texture.height};
+    for (const LevelSize& level : mipmapLevelSizes(texture.width, texture.height)) {
+        halveInto(above, aboveSize.width, aboveSize.height, out, level.width, level.height, srgb, threads);
         above = out;
-        width = std::max(1, width / 2);
-        height = std::max(1, height / 2);
-        out += static_cast<size_t>(width) * height * 4;
+        aboveSize = level;
+        out += level.texels() * 4;
     }
 }
 
@@ -116,14 +121,11 @@ std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb) {
     std::vector<uint8_t> chain(mipmapChainTexels(texture.width, texture.height) * 4);
     writeMipmapChain(texture, srgb, chain.data(), 1);
     std::vector<TextureLevel> levels;
-    size_t offset = 0;
-    for (int width = texture.width, height = texture.height; width > 1 || height > 1;) {
-        width = std::max(1, width / 2);
-        height = std::max(1, height / 2);
-        const size_t bytes = static_cast<size_t>(width) * height * 4;
-        levels.push_back(
-            {width, height, std::vector<uint8_t>(chain.begin() + offset, chain.begin() + offset + bytes)});
-        offset += bytes;
+    auto next = chain.begin();
+    for (const LevelSize& level : mipmapLevelSizes(texture.width, texture.height)) {
+        const auto end = next + static_cast<std::ptrdiff_t>(level.texels() * 4);
+        levels.push_back({level.width, level.height, std::vector<uint8_t>(next, end)});
+        next = end;
     }
     return levels;
 }

@@ -22,6 +22,15 @@ struct TextureLevel {
 // 2 texels with fractional weights, so every texel of the level above counts equally.
 std::vector<TextureLevel> mipmapChain(const Texture& texture, bool srgb);
 
+// The sizes of the levels below a width x height level 0: each half the one before (rounded down, at least
+// 1), down to 1 x 1.
+struct LevelSize {
+    int width = 0;
+    int height = 0;
+    size_t texels() const { return static_cast<size_t>(width) * static_cast<size_t>(height); }
+};
+std::vector<LevelSize> mipmapLevelSizes(int width, int height);
+
 // The texels of all the levels below level 0 of a width x height texture.
 size_t mipmapChainTexels(int width, int height);
 

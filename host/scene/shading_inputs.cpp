@@ -144,11 +144,8 @@ std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
         const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
                                     : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
                                                                        : VKRT_MIPMAP_NONE;
-        uint32_t levels = 1;
-        for (int w = t.width, h = t.height; mipmapped(t) && (w > 1 || h > 1); ++levels) {
-            w = std::max(1, w / 2);
-            h = std::max(1, h / 2);
-        }
+        const uint32_t levels =
+            1u + (mipmapped(t) ? static_cast<uint32_t>(mipmapLevelSizes(t.width, t.height).size()) : 0u);
         textures.push_back(
             {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
              wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
