@@ -14,10 +14,10 @@ namespace vkrt {
 // First-touch page faults on 4 KiB pages, each costly on a virtual machine, were a large part of the host's
 // time (issue 13): lavapipe's pipeline creation, whose NIR passes allocate and zero their memory on this
 // thread, took 75 ms of the Whitted scene's render and takes 45 on huge pages; decoding DamagedHelmet's
-// textures took 830 ms and takes 195. The cost is resident memory: huge pages are resident whole, and the
-// helmet's peak grew from 309 to 371 MB on the CPU reference (459 to 543 with the GPU), the Whitted scene's
-// by 2 MB. glibc's own tunable (glibc.malloc.hugetlb=1) does the like for every arena, but is read from the
-// environment at start only.
+// textures took 830 ms and takes 195. The cost is resident memory where a block is touched in part (a huge
+// page is resident whole): with this alone the helmet's peak grew from 309 to 371 MB on the CPU reference
+// (459 to 543 with the GPU); with its textures packed in place too it is 306 (369). glibc's own tunable
+// (glibc.malloc.hugetlb=1) does the like for every arena, but is read from the environment at start only.
 void useHugePageHeap();
 
 // The process's anonymous memory on transparent huge pages now (AnonHugePages in /proc/self/smaps_rollup), in

@@ -117,16 +117,6 @@ shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
     return frame;
 }
 
-size_t packedTextureBytes(const Scene& scene) {
-    size_t texels = 0;
-    for (const Texture& t : scene.textures) {
-        if (t.rgba.empty()) continue;
-        texels += static_cast<size_t>(t.width) * t.height;
-        if (t.mipmaps != MipmapMode::None) texels += mipmapChainTexels(t.width, t.height);
-    }
-    return texels * 4;
-}
-
 namespace {
 
 // Whether a texture has mipmap levels (below level 0) in the packed array.
@@ -134,12 +124,23 @@ bool mipmapped(const Texture& t) {
     return t.mipmaps != MipmapMode::None && !t.rgba.empty();
 }
 
+// The texels a texture takes in the packed array: level 0, then its mipmaps.
+size_t packedTexels(const Texture& t) {
+    return t.rgba.size() / 4 + (mipmapped(t) ? mipmapChainTexels(t.width, t.height) : 0);
+}
+
 }  // namespace
+
+size_t packedTextureBytes(const Scene& scene) {
+    size_t texels = 0;
+    for (const Texture& t : scene.textures) texels += packedTexels(t);
+    return texels * 4;
+}
 
 std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
     std::vector<gpu::GpuTexture> textures;
-    size_t offset =
-        0;  // in texels: level 0, then the mipmaps (texture_sampling.h finds level l's first texel)
+    // Each texture's first texel: level 0, then its mipmaps (texture_sampling.h finds level l's first texel).
+    size_t offset = 0;
     for (const Texture& t : scene.textures) {
         const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
                                     : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
@@ -151,7 +152,7 @@ std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
              wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
                  (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
                  (levels << VKRT_LEVELS_SHIFT)});
-        offset += t.rgba.size() / 4 + (mipmapped(t) ? mipmapChainTexels(t.width, t.height) : 0);
+        offset += packedTexels(t);
     }
     return textures;
 }
