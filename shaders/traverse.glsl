@@ -154,6 +154,42 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
 }
 #endif
 
+// A shadow ray's crossings of a triangle or sphere in (tMin, tMax), nearest first (a sphere is crossed up to
+// twice): each filters `transmittance`; true once it is opaque. One call of crossSurface serves them all, in a
+// loop of one pass a crossing: on lavapipe every call site runs, masked, at every pass of the leaf loop whether
+// or not a lane crosses there (issue 13).
+bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin, float tMax,
+                    inout vec3 transmittance) {
+    float t0 = 0.0, t1 = 0.0, u = 0.0, v = 0.0;
+    uint crossings = 0u;
+    bool sphere = false;
+#ifdef VKRT_HAS_SPHERES
+    sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
+    if (sphere) {
+        float near, far;
+        if (sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, near, far)) {
+            const bool nearIn = near > tMin && near < tMax, farIn = far > tMin && far < tMax;
+            t0 = nearIn ? near : far;
+            t1 = far;
+            crossings = (nearIn ? 1u : 0u) + (farIn ? 1u : 0u);
+        }
+    } else
+#endif
+    if (intersectTriangle(r, primitive, tMin, tMax, t0, u, v)) {
+        crossings = 1u;
+    }
+    if (crossings == 0u) return false;
+    uint k = 0u;
+    do {
+        vec2 uv = vec2(u, v);
+#ifdef VKRT_HAS_SPHERES
+        if (sphere) uv = sphereUv(normalize(r.origin + (k == 0u ? t0 : t1) * r.direction - primitive.v0));
+#endif
+        if (crossSurface(index, primitive.material, uv.x, uv.y, transmittance)) return true;
+    } while (++k < crossings);
+    return false;
+}
+
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
 // are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
@@ -174,19 +210,11 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         if (mode == VKRT_TRACE_SHADOW || !found) return found;
     } else
 #endif
+    if (mode == VKRT_TRACE_SHADOW) {
+        return crossPrimitive(r, index, primitive, tMin, tMax, transmittance);
+    } else
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
-        if (mode == VKRT_TRACE_SHADOW) {
-            // A shadow ray crosses a sphere up to twice; each crossing filters the light.
-            float roots[2];
-            if (!sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, roots[0], roots[1])) return false;
-            for (int k = 0; k < 2; ++k) {
-                if (!(roots[k] > tMin && roots[k] < tMax)) continue;
-                const vec2 uv = sphereUv(normalize(r.origin + roots[k] * r.direction - primitive.v0));
-                if (crossSurface(index, primitive.material, uv.x, uv.y, transmittance)) return true;
-            }
-            return false;
-        }
         if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(hit, tMax, originScale, mode), t)) {
             return false;
         }
@@ -208,7 +236,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         }
         return false;
     }
-    return crossSurface(index, primitive.material, u, v, transmittance);
+    return false;
 }
 
 // Walks the BVH for hits in (tMin, tMax), skipping primitives excludeA and excludeB. CLOSEST and ANY fill
