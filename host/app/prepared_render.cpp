@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <future>
+#include <memory>
 #include <string>
 
 #include "app/gpu_run.h"
@@ -67,6 +69,14 @@ void warn(const Options& options, const std::vector<std::string>& warnings) {
 PreparedRender prepareRender(const Options& options, const MpiJob& job, RunReport& report) {
     PreparedRender prepared;
 
+    // The Vulkan device, when rendering on the GPU: made on another thread while the scene loads (loading the
+    // driver takes tens of milliseconds, lavapipe's LLVM among it). A load that throws waits for it first.
+    std::future<std::unique_ptr<VulkanContext>> context;
+    if (options.device == DeviceKind::Gpu) {
+        context = std::async(std::launch::async,
+                             [&options, rank = job.localRank()] { return makeVulkanContext(options, rank); });
+    }
+
     // The scene, its environment and the time they took.
     const auto loadStart = std::chrono::steady_clock::now();
     LoadOptions loadOptions;
@@ -81,8 +91,7 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
     prepared.setup = resolveRender(options.request, prepared.scene);
     warn(options, prepared.setup.warnings);
 
-    // The Vulkan device, when rendering on the GPU.
-    if (options.device == DeviceKind::Gpu) prepared.context = makeVulkanContext(options, job.localRank());
+    if (context.valid()) prepared.context = context.get();
 
     // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
     checkHostMemoryFor(options, prepared.scene, prepared.setup.settings, prepared.context.get(),

@@ -41,12 +41,12 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
         wanted = access;
         defines_.erase(found);
     }
+    sceneAccess_ = chooseSceneAccess(context, data_, wanted);
     sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_, scene);
     gpu::SceneParams params{};
     params.primitiveCount = static_cast<uint32_t>(data_.primitives.size());
     sceneBuffers_->fillAddresses(params);
     params_ = GpuBuffer(context, &params, sizeof(params));
-    sceneAccess_ = sceneBuffers_->sceneAccess(context, wanted);
     for (const std::string& define : GpuSceneBuffers::accessDefines(sceneAccess_)) defines_.push_back(define);
     if (data_.features.spheres) defines_.push_back("VKRT_HAS_SPHERES");
     if (data_.features.shapes) defines_.push_back("VKRT_HAS_SHAPES");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 
 #include "common/checkpoint_schedule.h"
 #include "common/elapsed_time.h"
@@ -65,27 +66,17 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
     }
     // What the render will hold on the device, planned before anything is allocated (MemoryError when it
-    // does not fit). Then upload what the scene uses; absent features keep a zero address and no buffer.
+    // does not fit). Then the shader variant, and the arrays the scene uses (absent features keep a zero address
+    // and no buffer).
     const uint32_t width = static_cast<uint32_t>(settings.width),
                    height = static_cast<uint32_t>(settings.height);
     report_.memory =
         planDeviceMemory(context, sceneBufferNeed(data_), width, height, options.maxDeviceMemoryBytes);
-    gpu::SceneParams params = makeSceneParams(data_, camera, settings);
-    sceneBuffers_ = std::make_unique<GpuSceneBuffers>(context, data_, scene);
-    sceneBuffers_->fillAddresses(params);
-    accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
-    accumulation_.fillZero();
-    counters_ = GpuBuffer(context, VKRT_COUNTER_COUNT * sizeof(uint32_t));
-    counters_.fillZero();
-    params.accumulation = accumulation_.address();
-    params.counters = counters_.address();
-    params_ = GpuBuffer(context, &params, sizeof(params));
-
     // The shader variant: the scene's features, the camera's lens, and how it reads geometry.
     if (camera.projection == Projection::Perspective && camera.aperture > 0.0)
         data_.features.depthOfField = true;
     defines_ = data_.features.defines();
-    report_.sceneAccess = sceneBuffers_->sceneAccess(context, options.sceneAccess);
+    report_.sceneAccess = chooseSceneAccess(context, data_, options.sceneAccess);
     for (const std::string& define : GpuSceneBuffers::accessDefines(report_.sceneAccess))
         defines_.push_back(define);
     if (options.subgroupCounters && context.hasSubgroupArithmetic())
@@ -99,6 +90,15 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (settings.pixelFilter != PixelFilter::Box) {
         defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");
     }
+
+    // The scene's buffers are written on another thread while this one makes the pipeline: the two are
+    // independent, and each takes a large part of a textured asset's start (DamagedHelmet on lavapipe: 112 MB
+    // of texels into fresh pages, and about 100 ms of the driver's NIR passes). The pipeline stays on this
+    // thread, whose heap is on huge pages (app/huge_page_heap.h). `data_` is only read until the writer is
+    // done; the future's destructor waits for it if the pipeline throws.
+    std::future<std::unique_ptr<GpuSceneBuffers>> written = std::async(
+        std::launch::async, [&] { return std::make_unique<GpuSceneBuffers>(context, data_, scene); });
+
     // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
     // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp; README,
     // "Traversal and build").
@@ -113,6 +113,17 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         std::make_unique<ComputePipeline>(context, spirv_, GpuSceneBuffers::bindingKinds(report_.sceneAccess),
                                           static_cast<uint32_t>(sizeof(gpu::PassConstants)));
     report_.pipelineMs = pipeline_->createMs();
+
+    sceneBuffers_ = written.get();
+    gpu::SceneParams params = makeSceneParams(data_, camera, settings);
+    sceneBuffers_->fillAddresses(params);
+    accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
+    accumulation_.fillZero();
+    counters_ = GpuBuffer(context, VKRT_COUNTER_COUNT * sizeof(uint32_t));
+    counters_.fillZero();
+    params.accumulation = accumulation_.address();
+    params.counters = counters_.address();
+    params_ = GpuBuffer(context, &params, sizeof(params));
     pipeline_->bind(sceneBuffers_->bindings(params_, report_.sceneAccess));
 
     // The device has the scene now: the host's packed copy goes (all but the features).

@@ -356,23 +356,28 @@ static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
 
 }  // namespace
 
-SceneAccess GpuSceneBuffers::sceneAccess(const VulkanContext& context, SceneAccess wanted) const {
-    const GpuBuffer *nodes = bufferOf(&P::nodes), *primitives = bufferOf(&P::primitives);
-    if (!nodes || !primitives) return SceneAccess::Addresses;
+SceneAccess chooseSceneAccess(const VulkanContext& context, const GpuSceneData& data, SceneAccess wanted) {
+    const auto bytesAt = [&](uint64_t P::*address) {
+        uint64_t bytes = 0;
+        visitArrays(data, [&](const char*, const auto& values, auto array) {
+            if (array == address) bytes = bytesOf(values);
+        });
+        return bytes;
+    };
+    const uint64_t nodes = bytesAt(&P::nodes), primitives = bytesAt(&P::primitives);
+    if (nodes == 0 || primitives == 0) return SceneAccess::Addresses;
     const VkPhysicalDeviceLimits& limits = context.properties().limits;
     if (wanted == SceneAccess::Auto)
         wanted = context.description().type == "CPU" ? SceneAccess::Texels : SceneAccess::Storage;
     if (wanted == SceneAccess::Texels) {
         bool fits = true;
         for (const TexelArray& array : kTexelArrays) {
-            const GpuBuffer* buffer = bufferOf(array.address);
-            const VkDeviceSize texelBytes = array.kind == BindingKind::Words ? 4 : 16;
-            fits = fits && (!buffer || buffer->size() / texelBytes <= limits.maxTexelBufferElements);
+            const uint64_t texelBytes = array.kind == BindingKind::Words ? 4 : 16;
+            fits = fits && bytesAt(array.address) / texelBytes <= limits.maxTexelBufferElements;
         }
         if (fits) return wanted;
     }
-    const VkDeviceSize largest = std::max(nodes->size(), primitives->size());
-    if (wanted != SceneAccess::Addresses && largest <= limits.maxStorageBufferRange)
+    if (wanted != SceneAccess::Addresses && std::max(nodes, primitives) <= limits.maxStorageBufferRange)
         return SceneAccess::Storage;
     return SceneAccess::Addresses;
 }

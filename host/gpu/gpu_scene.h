@@ -82,6 +82,12 @@ enum class SceneAccess { Auto, Addresses, Storage, Texels };
 
 const char* sceneAccessName(SceneAccess access);
 
+// How kernels on `context` read the scene packed in `data`: `wanted` where the arrays it binds fit the
+// device's range (Auto: the device's best), else the next way down (texels, storage buffers, addresses).
+// Decided from the arrays' sizes, so the shader can be made while the buffers are written.
+SceneAccess chooseSceneAccess(const VulkanContext& context, const GpuSceneData& data,
+                              SceneAccess wanted = SceneAccess::Auto);
+
 // The scene's arrays in device buffers. Empty arrays (features the scene lacks) get no buffer and
 // address 0.
 class GpuSceneBuffers {
@@ -91,9 +97,6 @@ class GpuSceneBuffers {
     // Writes the buffer addresses into `params` (all but accumulation and counters).
     void fillAddresses(gpu::SceneParams& params) const;
 
-    // How kernels on `context` read the scene: `wanted` where the arrays it binds fit the device's range
-    // (Auto: the device's best), else the next way down (texels, storage buffers, addresses).
-    SceneAccess sceneAccess(const VulkanContext& context, SceneAccess wanted = SceneAccess::Auto) const;
     // The shader's define for `access` (none for addresses).
     static std::vector<std::string> accessDefines(SceneAccess access);
     // What a kernel binds: SceneParams (a storage buffer), then nodes and primitives (Storage), or the texel
