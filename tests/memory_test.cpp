@@ -2,16 +2,21 @@
 // (exit 2) before anything is allocated, images rendered in tiles when only the accumulation does not fit,
 // and a lost device (exit 1) keeping the samples the host had copied.
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "app/host_memory.h"
+#include "app/huge_page_heap.h"
 #include "common/memory_need.h"
 #include "image/image_io.h"
+#include "support/huge_pages.h"
 #include "support/json_file.h"
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
@@ -180,10 +185,7 @@ TEST(MemoryCli, HeapIsOnHugePages) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "the sanitizer's allocator stands in front of glibc's";
 #endif
-    std::ifstream mode("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string modes;
-    std::getline(mode, modes);
-    if (modes.find("[madvise]") == std::string::npos) GTEST_SKIP() << "transparent huge pages: " << modes;
+    if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
     const auto folder = test::temporaryFolder();
     const auto json = folder / "stats.json";
     const test::CommandResult r =
@@ -191,6 +193,27 @@ TEST(MemoryCli, HeapIsOnHugePages) {
                       (folder / "x.png").string() + "' --stats '" + json.string() + "' --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_GE(readJson(json)["memory"]["host_huge_page_bytes"].get<uint64_t>(), uint64_t{2} << 20);
+}
+
+// Every thread allocates from the main thread's heap, on huge pages (huge_page_heap.h): a thread's arena of
+// its own would be on 4 KiB pages (the Vulkan context, made on a thread of its own, cost 1,600 more page
+// faults so).
+TEST(HugePageHeap, ThreadsAllocateFromTheHeapOnHugePages) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer's allocator stands in front of glibc's";
+#endif
+    if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
+    useHugePageHeap();
+    constexpr size_t kBytes = size_t{16} << 20;  // below the 32 MiB from which blocks are mapped on their own
+    char* block = nullptr;
+    std::thread([&] {
+        block = static_cast<char*>(std::malloc(kBytes));
+        if (block) std::memset(block, 1, kBytes);
+    }).join();
+    ASSERT_NE(block, nullptr);
+    const uintptr_t begin = reinterpret_cast<uintptr_t>(block);
+    EXPECT_GE(test::hugePageBytesIn(begin, begin + kBytes), kBytes - (size_t{4} << 20));
+    std::free(block);
 }
 
 // A device that offers room for the scene and one row: one-row tiles of one dispatch each at 1 spp, so the

@@ -22,7 +22,7 @@ void useHugePageHeap() {
     // mallopt returns 0 where a setting is refused (the sanitizers' allocators refuse all): the heap is then
     // left as it is.
     if (mallopt(M_TOP_PAD, kGrowthStep) == 0 || mallopt(M_TRIM_THRESHOLD, 1 << 30) == 0 ||
-        mallopt(M_MMAP_THRESHOLD, kOwnMappingFrom) == 0) {
+        mallopt(M_MMAP_THRESHOLD, kOwnMappingFrom) == 0 || mallopt(M_ARENA_MAX, 1) == 0) {
         return;
     }
     // Grow the heap by one step now, while its new pages are untouched, and advise them. (Through a volatile

@@ -6,7 +6,8 @@
 namespace vkrt {
 
 // Makes the main arena's heap grow 256 MiB at a time and never shrink, with allocations below 32 MiB taken
-// from it rather than from mappings of their own, and advises the next 256 MiB MADV_HUGEPAGE before any of
+// from it rather than from mappings of their own, and every thread's allocations from it (no arenas of the
+// threads' own, which would be on 4 KiB pages), and advises the next 256 MiB MADV_HUGEPAGE before any of
 // it is touched. Call it early in main, while the heap is small: what the heap holds beyond that first step
 // is on 4 KiB pages, as before. Where the kernel gives no huge pages, or another allocator stands in front of
 // glibc's (the sanitizers'), nothing changes.
@@ -16,7 +17,10 @@ namespace vkrt {
 // thread, took 75 ms of the Whitted scene's render and takes 45 on huge pages; decoding DamagedHelmet's
 // textures took 830 ms and takes 195. The cost is resident memory where a block is touched in part (a huge
 // page is resident whole): with this alone the helmet's peak grew from 309 to 371 MB on the CPU reference
-// (459 to 543 with the GPU); with its textures packed in place too it is 306 (369). glibc's own tunable
+// (459 to 543 with the GPU); with its textures packed in place too it is 306 (369). One arena: with the
+// Vulkan context made on a thread of its own (prepared_render.cpp), lavapipe's allocations there went to a
+// new arena, and the process took 1,600 more page faults and the pipeline 31 instead of 24 ms (Cornell box);
+// the CPU reference's render and the BVH build took as long with one arena as without. glibc's own tunable
 // (glibc.malloc.hugetlb=1) does the like for every arena, but is read from the environment at start only.
 void useHugePageHeap();
 

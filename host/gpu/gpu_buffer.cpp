@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include "common/large_buffer.h"
 #include "common/memory_need.h"
 #include "gpu/vulkan_check.h"
 
@@ -106,6 +107,17 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     addressInfo.buffer = buffer_;
     address_ = vkGetBufferDeviceAddress(context_->device(), &addressInfo);
+    // A CPU device's memory is the process's own, and first touching it 4 KiB at a time costs about 20 us a
+    // page on a virtual machine (README, "Traversal and build"): a large buffer asks for huge pages before it
+    // is written. DamagedHelmet's render on lavapipe, 112 MB of texels written into fresh memory: 528 -> 369
+    // ms.
+    if (hostVisible_ && size_ >= kHugePageBytes &&
+        context_->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+        void* mapped = nullptr;
+        VK_CHECK(vkMapMemory(context_->device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped));
+        adviseHugePages(mapped, size_);
+        vkUnmapMemory(context_->device(), memory_);
+    }
 }
 
 void GpuBuffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {

@@ -1,0 +1,37 @@
+// What the tests read of the kernel's transparent huge pages.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace vkrt::test {
+
+// The kernel's transparent huge pages are given where a program asks for them (madvise), and only there: then
+// a test can tell asking from not asking.
+inline bool hugePagesOnRequest() {
+    std::ifstream mode("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string modes;
+    std::getline(mode, modes);
+    return modes.find("[madvise]") != std::string::npos;
+}
+
+// The huge pages of [begin, end) now: AnonHugePages of every mapping in /proc/self/smaps that overlaps it.
+inline uint64_t hugePageBytesIn(uintptr_t begin, uintptr_t end) {
+    std::ifstream smaps("/proc/self/smaps");
+    uint64_t bytes = 0;
+    bool overlaps = false;
+    for (std::string line; std::getline(smaps, line);) {
+        unsigned long from = 0, to = 0, kib = 0;
+        // A mapping's first line starts "from-to perms"; its fields ("Name: value") follow.
+        if (line.find(':') > line.find(' ') && std::sscanf(line.c_str(), "%lx-%lx ", &from, &to) == 2) {
+            overlaps = from < end && to > begin;
+        } else if (overlaps && std::sscanf(line.c_str(), "AnonHugePages: %lu kB", &kib) == 1) {
+            bytes += uint64_t{kib} * 1024;
+        }
+    }
+    return bytes;
+}
+
+}  // namespace vkrt::test
