@@ -86,6 +86,24 @@ TEST(Cli, MissingDeviceIndexIsARuntimeFailure) {
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
 }
 
+// The scene loads while the device is made (prepared_render.cpp); a scene or camera that cannot be used is
+// still the error reported (exit 2), ahead of a device that cannot be had.
+TEST(Cli, BadSceneIsReportedBeforeAMissingDevice) {
+    const auto folder = test::temporaryFolder();
+    const auto broken = folder / "broken.gltf";
+    std::ofstream(broken) << "{ \"asset\": { \"version\": \"2.0\" }, \"nodes\": [";
+    const auto bad =
+        test::runVkrt("--scene " + quoted(broken) + " --device-index 200 --out " + quoted(folder / "x.png"));
+    EXPECT_EQ(bad.exitCode, 2) << bad.output;
+    EXPECT_NE(bad.output.find("broken.gltf"), std::string::npos) << bad.output;
+    EXPECT_EQ(bad.output.find("--list-devices"), std::string::npos) << bad.output;
+    const auto camera = test::runVkrt("--scene " + kCornell + " --camera 99 --device-index 200 --out " +
+                                      quoted(folder / "x.png"));
+    EXPECT_EQ(camera.exitCode, 2) << camera.output;
+    EXPECT_NE(camera.output.find("--camera 99"), std::string::npos) << camera.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+}
+
 TEST(Cli, GpuRenderUnderValidationWritesGpuStats) {
     const auto folder = test::temporaryFolder();
     const auto stats = folder / "stats.json";

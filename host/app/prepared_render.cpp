@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <future>
 #include <memory>
 #include <string>
@@ -69,29 +70,36 @@ void warn(const Options& options, const std::vector<std::string>& warnings) {
 PreparedRender prepareRender(const Options& options, const MpiJob& job, RunReport& report) {
     PreparedRender prepared;
 
-    // The Vulkan device, when rendering on the GPU: made on another thread while the scene loads (loading the
-    // driver takes tens of milliseconds, lavapipe's LLVM among it). A load that throws waits for it first.
-    std::future<std::unique_ptr<VulkanContext>> context;
+    // The scene, its environment and the time they took: loaded on another thread while this one makes the
+    // Vulkan device, when rendering on the GPU (loading the driver takes tens of milliseconds, lavapipe's
+    // LLVM among it). The device stays on this thread: made on another, lavapipe's pipeline creation took
+    // longer.
+    std::future<Scene> loaded = std::async(std::launch::async, [&options, &report] {
+        const auto loadStart = std::chrono::steady_clock::now();
+        LoadOptions loadOptions;
+        loadOptions.shutter = options.shutter;
+        Scene scene = loadGltf(options.scenePath, loadOptions);
+        if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
+        addNeutralEnvironment(options.request, scene);
+        report.loadMs = millisecondsSince(loadStart);
+        return scene;
+    });
+    std::exception_ptr contextError;
     if (options.device == DeviceKind::Gpu) {
-        context = std::async(std::launch::async,
-                             [&options, rank = job.localRank()] { return makeVulkanContext(options, rank); });
+        try {
+            prepared.context = makeVulkanContext(options, job.localRank());
+        } catch (...) {
+            contextError = std::current_exception();
+        }
     }
-
-    // The scene, its environment and the time they took.
-    const auto loadStart = std::chrono::steady_clock::now();
-    LoadOptions loadOptions;
-    loadOptions.shutter = options.shutter;
-    prepared.scene = loadGltf(options.scenePath, loadOptions);
-    if (!options.environmentPath.empty()) prepared.scene.environment = loadEnvironment(options);
-    addNeutralEnvironment(options.request, prepared.scene);
-    report.loadMs = millisecondsSince(loadStart);
+    prepared.scene = loaded.get();
     warn(options, prepared.scene.warnings);
 
-    // Settings and camera from what was asked and what the scene holds.
+    // Settings and camera from what was asked and what the scene holds. A scene or a request that cannot be
+    // rendered is reported before a device that cannot be had, as when the two were made in turn.
     prepared.setup = resolveRender(options.request, prepared.scene);
     warn(options, prepared.setup.warnings);
-
-    if (context.valid()) prepared.context = context.get();
+    if (contextError) std::rethrow_exception(contextError);
 
     // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
     checkHostMemoryFor(options, prepared.scene, prepared.setup.settings, prepared.context.get(),
