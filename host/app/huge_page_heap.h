@@ -17,11 +17,12 @@ namespace vkrt {
 // thread, took 75 ms of the Whitted scene's render and takes 45 on huge pages; decoding DamagedHelmet's
 // textures took 830 ms and takes 195. The cost is resident memory where a block is touched in part (a huge
 // page is resident whole): with this alone the helmet's peak grew from 309 to 371 MB on the CPU reference
-// (459 to 543 with the GPU); with its textures packed in place too it is 306 (369). One arena: with the
-// Vulkan context made on a thread of its own (prepared_render.cpp), lavapipe's allocations there went to a
-// new arena, and the process took 1,600 more page faults and the pipeline 31 instead of 24 ms (Cornell box);
-// the CPU reference's render and the BVH build took as long with one arena as without. glibc's own tunable
-// (glibc.malloc.hugetlb=1) does the like for every arena, but is read from the environment at start only.
+// (459 to 543 with the GPU); with its textures packed in place too it is 306 (369). One arena: the scene
+// loads, and the GPU's scene buffers are written, on threads of their own (prepared_render.cpp,
+// gpu_renderer.cpp), whose arenas would be on 4 KiB pages (a Vulkan context made on such a thread cost 1,600
+// more page faults); the CPU reference's render and the BVH build took as long with one arena as without.
+// glibc's own tunable (glibc.malloc.hugetlb=1) does the like for every arena, but is read from the
+// environment at start only.
 void useHugePageHeap();
 
 // The process's anonymous memory on transparent huge pages now (AnonHugePages in /proc/self/smaps_rollup), in
