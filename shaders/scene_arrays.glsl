@@ -3,7 +3,7 @@
 //   normals, textures, the environment map) bound as uniform texel buffers of 4 x 32-bit words (a texture's
 //   RGBA8 texels and the environment's row table as 32-bit words). lavapipe reads a storage buffer one
 //   component at a time, lane by lane, in a loop that tests each lane; it fetches a texel for all eight lanes
-//   at once with vector loads. Selected for CPU devices (issue 13: README, "Traversal and build").
+//   at once with vector loads. Selected for CPU devices (issue 13: docs/performance-log.md).
 // - VKRT_BOUND_GEOMETRY: nodes and primitives bound as storage buffers, which lavapipe read about a quarter
 //   faster than through 64-bit device addresses; selected for GPUs where they fit the storage-buffer range.
 // - neither: through the device addresses in SceneParams, which have no size limit.

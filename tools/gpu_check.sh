@@ -151,7 +151,7 @@ benchmark_suite() {
 }
 step benchmark_suite benchmark_suite
 # How the device reads the scene: its default (storage buffers on GPUs) against texel buffers, run for run on the
-# 1M-triangle sphere (lavapipe traces faster with texels; README, "Traversal and build").
+# 1M-triangle sphere (lavapipe traces faster with texels; docs/performance-log.md).
 scene_access() {
     "$build_dir/ray_benchmark" "${access_args[@]}" --variant VKRT_TEXEL_SCENE >"$out/scene_access.json"
 }

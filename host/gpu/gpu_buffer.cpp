@@ -108,9 +108,8 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     addressInfo.buffer = buffer_;
     address_ = vkGetBufferDeviceAddress(context_->device(), &addressInfo);
     // A CPU device's memory is the process's own, and first touching it 4 KiB at a time costs about 20 us a
-    // page on a virtual machine (README, "Traversal and build"): a large buffer asks for huge pages before it
-    // is written. DamagedHelmet's render on lavapipe, 112 MB of texels written into fresh memory: 528 -> 369
-    // ms.
+    // page on a virtual machine (docs/performance-log.md): a large buffer asks for huge pages before it is
+    // written. DamagedHelmet's render on lavapipe, 112 MB of texels written into fresh memory: 537 -> 294 ms.
     if (hostVisible_ && size_ >= kHugePageBytes &&
         context_->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
         void* mapped = nullptr;

@@ -101,8 +101,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
         std::launch::async, [&] { return std::make_unique<GpuSceneBuffers>(context, data_, scene); });
 
     // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
-    // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp; README,
-    // "Traversal and build").
+    // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp;
+    // docs/performance-log.md).
     const SpirvOptimization optimization =
         settings.integrator == Integrator::Path ? SpirvOptimization::Inline : SpirvOptimization::Performance;
     const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir, optimization);
