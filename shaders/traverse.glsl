@@ -181,6 +181,7 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
     if (crossings == 0u) return false;
     uint k = 0u;
     do {
+        VKRT_COUNT_ITERATION();
         vec2 uv = vec2(u, v);
 #ifdef VKRT_HAS_SPHERES
         if (sphere) uv = sphereUv(normalize(r.origin + (k == 0u ? t0 : t1) * r.direction - primitive.v0));

@@ -2,12 +2,16 @@
 // (exit 2) before anything is allocated, images rendered in tiles when only the accumulation does not fit,
 // and a lost device (exit 1) keeping the samples the host had copied.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -197,23 +201,34 @@ TEST(MemoryCli, HeapIsOnHugePages) {
 
 // Every thread allocates from the main thread's heap, on huge pages (huge_page_heap.h): a thread's arena of
 // its own would be on 4 KiB pages (the Vulkan context, made on a thread of its own, cost 1,600 more page
-// faults so).
+// faults so). In a child process, as in vkrt, where the heap is set up before any thread exists (glibc hands
+// a new thread an earlier thread's arena), and so that this process's malloc settings stay as they were.
 TEST(HugePageHeap, ThreadsAllocateFromTheHeapOnHugePages) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "the sanitizer's allocator stands in front of glibc's";
 #endif
     if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
-    useHugePageHeap();
     constexpr size_t kBytes = size_t{16} << 20;  // below the 32 MiB from which blocks are mapped on their own
-    char* block = nullptr;
-    std::thread([&] {
-        block = static_cast<char*>(std::malloc(kBytes));
-        if (block) std::memset(block, 1, kBytes);
-    }).join();
-    ASSERT_NE(block, nullptr);
-    const uintptr_t begin = reinterpret_cast<uintptr_t>(block);
-    EXPECT_GE(test::hugePageBytesIn(begin, begin + kBytes), kBytes - (size_t{4} << 20));
-    std::free(block);
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        useHugePageHeap();
+        char* block = nullptr;
+        std::thread([&] {
+            block = static_cast<char*>(std::malloc(kBytes));
+            if (block) std::memset(block, 1, kBytes);
+        }).join();
+        const uintptr_t begin = reinterpret_cast<uintptr_t>(block);
+        const uint64_t huge = block ? test::hugePageBytesIn(begin, begin + kBytes) : 0;
+        std::fprintf(stderr, "a thread's 16 MiB block: %llu bytes on huge pages\n",
+                     static_cast<unsigned long long>(huge));
+        _exit(huge >= kBytes - (size_t{4} << 20) ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0)
+        << "the thread's block is not on huge pages (see the child's line above)";
 }
 
 // A device that offers room for the scene and one row: one-row tiles of one dispatch each at 1 spp, so the

@@ -9,8 +9,9 @@ namespace vkrt {
 // from it rather than from mappings of their own, and every thread's allocations from it (no arenas of the
 // threads' own, which would be on 4 KiB pages), and advises the next 256 MiB MADV_HUGEPAGE before any of
 // it is touched. Call it early in main, while the heap is small: what the heap holds beyond that first step
-// is on 4 KiB pages, as before. Where the kernel gives no huge pages, or another allocator stands in front of
-// glibc's (the sanitizers'), nothing changes.
+// is on 4 KiB pages, as before, but for the large buffers of a CPU device, which ask for huge pages
+// themselves (gpu/gpu_buffer.cpp). Where the kernel gives no huge pages, or another allocator stands in front
+// of glibc's (the sanitizers'), nothing changes.
 //
 // First-touch page faults on 4 KiB pages, each costly on a virtual machine, were a large part of the host's
 // time (issue 13): lavapipe's pipeline creation, whose NIR passes allocate and zero their memory on this

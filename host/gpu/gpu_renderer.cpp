@@ -94,9 +94,10 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     // The scene's buffers are written on another thread while this one makes the pipeline: the two are
     // independent, and each takes a large part of a textured asset's start (DamagedHelmet on lavapipe: 112 MB
     // of texels, and about 100 ms of the driver's NIR passes; its render took 584 ms with the two in turn and
-    // 533 so, medians of 5). The pipeline is made on the thread that made the device (made elsewhere, lavapipe
-    // took longer to create it). `data_` is only read until the writer is done; the future's destructor waits
-    // for it if the pipeline throws.
+    // 533 so, medians of 5). The pipeline is made on the thread that made the device (made elsewhere,
+    // lavapipe took longer to create it). `data_` is only read until the writer is done. If the shader or the
+    // pipeline fails, the future's destructor waits for the writer, and that error is the one reported (a
+    // writer's own, such as a lack of device memory, is then dropped).
     std::future<std::unique_ptr<GpuSceneBuffers>> written = std::async(
         std::launch::async, [&] { return std::make_unique<GpuSceneBuffers>(context, data_, scene); });
 

@@ -34,4 +34,21 @@ inline uint64_t hugePageBytesIn(uintptr_t begin, uintptr_t end) {
     return bytes;
 }
 
+// Whether the mapping holding `address` is anonymous memory (no file behind it: inode 0 in /proc/self/maps).
+// Memory from a file or a memfd (shared memory) takes huge pages by other rules, and smaps does not count
+// them as AnonHugePages.
+inline bool anonymousMemoryAt(uintptr_t address) {
+    std::ifstream maps("/proc/self/maps");
+    for (std::string line; std::getline(maps, line);) {
+        unsigned long from = 0, to = 0, inode = 0;
+        char perms[8] = {}, offset[20] = {}, device[16] = {};
+        if (std::sscanf(line.c_str(), "%lx-%lx %7s %19s %15s %lu", &from, &to, perms, offset, device,
+                        &inode) == 6 &&
+            from <= address && address < to) {
+            return inode == 0;
+        }
+    }
+    return false;
+}
+
 }  // namespace vkrt::test
