@@ -66,8 +66,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
                        "Whitted ray trees of " + std::to_string(VKRT_MAX_RAY_DEPTH));
     }
     // What the render will hold on the device, planned before anything is allocated (MemoryError when it
-    // does not fit). Then the shader variant, and the arrays the scene uses (absent features keep a zero address
-    // and no buffer).
+    // does not fit). Then the shader variant, and the arrays the scene uses (absent features keep a zero
+    // address and no buffer).
     const uint32_t width = static_cast<uint32_t>(settings.width),
                    height = static_cast<uint32_t>(settings.height);
     report_.memory =
