@@ -82,8 +82,8 @@ bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) 
 // half the size and pipeline creation (spirv_to_nir and NIR's passes, the bulk of a render's fixed cost)
 // takes a quarter to a third of the time (docs/performance-log.md). The path kernel runs slower with them,
 // because of one of them: the SSA rewrite of locals stored more than once (eliminate-local-multi-store) alone
-// made it 1.8 times as slow (gpu_ms 1420 against 790 on the Whitted scene), its loop-carried state turned into
-// phis. Inline runs the passes before that one: every function inlined into main, locals stored once
+// made it 1.8 times as slow (gpu_ms 1420 against 790 on the Whitted scene), its loop-carried state turned
+// into phis. Inline runs the passes before that one: every function inlined into main, locals stored once
 // forwarded, and local structs split into their members (scalar replacement) and forwarded again. Pipeline
 // creation then takes a quarter of the unoptimised module's time (100 against 370 ms on the Cornell box,
 // before the scalar replacement, which cut it by another 12 to 40 ms: the Whitted scene's path kernel 137
