@@ -70,22 +70,24 @@ void warn(const Options& options, const std::vector<std::string>& warnings) {
 PreparedRender prepareRender(const Options& options, const MpiJob& job, RunReport& report) {
     PreparedRender prepared;
 
-    // The scene, its environment and the time they took: loaded on another thread while this one makes the
-    // Vulkan device, when rendering on the GPU (loading the driver takes tens of milliseconds, lavapipe's
-    // LLVM among it). The device stays on this thread: made on another, lavapipe's pipeline creation took
-    // longer.
-    std::future<Scene> loaded = std::async(std::launch::async, [&options, &report] {
-        const auto loadStart = std::chrono::steady_clock::now();
-        LoadOptions loadOptions;
-        loadOptions.shutter = options.shutter;
-        Scene scene = loadGltf(options.scenePath, loadOptions);
-        if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
-        addNeutralEnvironment(options.request, scene);
-        report.loadMs = millisecondsSince(loadStart);
-        return scene;
-    });
+    // The scene, its environment and the time they took: when rendering on the GPU, loaded on another thread
+    // while this one makes the Vulkan device (loading the driver takes tens of milliseconds, lavapipe's LLVM
+    // among it); on the CPU, here, when the future is read. The device stays on this thread: made on another,
+    // lavapipe's pipeline creation took longer.
+    const bool gpu = options.device == DeviceKind::Gpu;
+    std::future<Scene> loaded =
+        std::async(gpu ? std::launch::async : std::launch::deferred, [&options, &report] {
+            const auto loadStart = std::chrono::steady_clock::now();
+            LoadOptions loadOptions;
+            loadOptions.shutter = options.shutter;
+            Scene scene = loadGltf(options.scenePath, loadOptions);
+            if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
+            addNeutralEnvironment(options.request, scene);
+            report.loadMs = millisecondsSince(loadStart);
+            return scene;
+        });
     std::exception_ptr contextError;
-    if (options.device == DeviceKind::Gpu) {
+    if (gpu) {
         try {
             prepared.context = makeVulkanContext(options, job.localRank());
         } catch (...) {
