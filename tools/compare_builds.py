@@ -13,27 +13,11 @@ the medians from this one run.
 import argparse
 import json
 import os
-import statistics
-import subprocess
 import sys
 import tempfile
 
 from vkrt_args import split_at_double_dash
-
-
-def render(binary, scene, device, extra, folder):
-    stats = os.path.join(folder, "stats.json")
-    command = [binary, "--scene", scene, "--device", device, "--quiet", "--stats", stats,
-               "--out", os.path.join(folder, "image.pfm")] + extra
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.exit(f"compare_builds: {' '.join(command)} failed: {result.stderr.strip()}")
-    with open(stats) as file:
-        return json.load(file)
-
-
-def summary(values):
-    return {"median": statistics.median(values), "min": min(values), "max": max(values)}
+from vkrt_runs import render_stats, summary
 
 
 def main():
@@ -63,7 +47,8 @@ def main():
                 gpu_times = {"baseline": [], "candidate": []}
                 for run in range(args.runs + 1):
                     for name in ("baseline", "candidate"):
-                        stats = render(getattr(args, name), scene, device, extra, folder)
+                        stats = render_stats("compare_builds", [getattr(args, name), "--scene", scene, "--device", device] + extra,
+                                             folder)
                         if run == 0:
                             continue  # warm-up: shader cache, file cache
                         times[name].append(stats["render_ms"])

@@ -18,13 +18,13 @@ import json
 import os
 import resource
 import shutil
-import statistics
 import subprocess
 import sys
 import tempfile
 import time
 
 from vkrt_args import split_at_double_dash
+from vkrt_runs import summary
 
 DEFAULT_SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")
 DEFAULT_RENDER = ["--width", "128", "--height", "128", "--spp", "64"]
@@ -53,10 +53,6 @@ def run(command, environment, folder, core=None):
         sys.exit(f"mpi_benchmark: {' '.join(full)} failed: {result.stderr.strip()}")
     with open(stats) as file:
         return json.load(file), wall_ms, cpu_ms
-
-
-def summary(values):
-    return {"median": statistics.median(values), "min": min(values), "max": max(values)}
 
 
 def main():

@@ -30,12 +30,12 @@ writes every run to the JSON (`--out`), with the machine's load average before a
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
 
 from vkrt_args import split_at_double_dash
+from vkrt_runs import summary
 
 VARIANTS = ("scene", "all")
 # Cold renders are this small (width, spp): what making a shader costs does not depend on the image, and the
@@ -89,10 +89,6 @@ def cached(args, scene, integrator, variant, extra, folder, caches):
             "setup_cached_ms": shader["compile_ms"] + shader["pipeline_ms"], "render_ms": data["render_ms"],
             "gpu_ms": data["gpu_ms"], "rays": sum(data["rays"].values()), "mrays_per_s": data["mrays_per_s"],
             "mrays_per_gpu_s": data["mrays_per_gpu_s"], "device_name": data["device_name"], "driver": data["driver"]}
-
-
-def summary(values):
-    return {"median": statistics.median(values), "min": min(values), "max": max(values)}
 
 
 def markdown(rows):
