@@ -17,7 +17,7 @@ import os
 import sys
 import tempfile
 
-from vkrt_args import split_at_double_dash
+from vkrt_args import check_vkrt_and_scenes, integrators_from, split_at_double_dash
 from vkrt_runs import render_stats, summary
 
 DEVICES = ("gpu", "cpu")
@@ -51,14 +51,8 @@ def main():
         parser.error("--runs must be at least 1")
     if args.width < 1 or (args.height is not None and args.height < 1) or args.spp < 1:
         parser.error("--width, --height and --spp must be at least 1")
-    integrators = args.integrators.split(",")
-    if any(integrator not in ("path", "whitted") for integrator in integrators):
-        parser.error("--integrators takes path, whitted or both, comma-separated")
-    if not os.access(args.vkrt, os.X_OK):
-        parser.error(f"{args.vkrt} is not an executable")
-    for scene in args.scenes:
-        if not os.path.exists(scene):
-            parser.error(f"no scene at {scene}")
+    integrators = integrators_from(parser, args.integrators)
+    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
     size = ["--width", str(args.width), "--height", str(args.height or args.width), "--spp", str(args.spp)]
 
     rows = []

@@ -34,7 +34,7 @@ import subprocess
 import sys
 import tempfile
 
-from vkrt_args import split_at_double_dash
+from vkrt_args import check_vkrt_and_scenes, integrators_from, split_at_double_dash
 from vkrt_runs import summary
 
 VARIANTS = ("scene", "all")
@@ -126,14 +126,8 @@ def main():
     args = parser.parse_args(argv)
     if args.runs < 1 or args.cold_runs < 0:
         parser.error("--runs must be at least 1, --cold-runs at least 0")
-    integrators = [i for i in args.integrators.split(",") if i]
-    if not integrators or any(i not in ("path", "whitted") for i in integrators):
-        parser.error("--integrators takes path, whitted or path,whitted")
-    if not os.access(args.vkrt, os.X_OK):
-        parser.error(f"{args.vkrt} is not an executable")
-    for scene in args.scenes:
-        if not os.path.exists(scene):
-            parser.error(f"{scene}: no such file")
+    integrators = integrators_from(parser, args.integrators)
+    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
 
     configurations = [(s, i, v) for s in args.scenes for i in integrators for v in VARIANTS]
     runs = {c: [] for c in configurations}

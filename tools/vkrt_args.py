@@ -1,4 +1,5 @@
 """The command lines of the tools that run vkrt: their own options, then `--` and options passed to vkrt."""
+import os
 
 
 def split_at_double_dash(argv):
@@ -7,3 +8,21 @@ def split_at_double_dash(argv):
         return list(argv), []
     at = argv.index("--")
     return argv[:at], argv[at + 1:]
+
+
+def integrators_from(parser, text):
+    """The integrators that a comma-separated `--integrators` value names; a usage error unless each is path or
+    whitted."""
+    integrators = [i for i in text.split(",") if i]
+    if not integrators or any(i not in ("path", "whitted") for i in integrators):
+        parser.error("--integrators takes path, whitted or path,whitted")
+    return integrators
+
+
+def check_vkrt_and_scenes(parser, vkrt, scenes):
+    """A usage error unless `vkrt` is an executable and every scene is a file."""
+    if not os.access(vkrt, os.X_OK):
+        parser.error(f"{vkrt} is not an executable")
+    for scene in scenes:
+        if not os.path.exists(scene):
+            parser.error(f"{scene}: no such file")
