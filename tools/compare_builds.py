@@ -16,7 +16,7 @@ import os
 import sys
 import tempfile
 
-from vkrt_args import split_at_double_dash
+from vkrt_args import parse_with_vkrt_options
 from vkrt_runs import render_stats, summary
 
 
@@ -28,10 +28,7 @@ def main():
     parser.add_argument("--devices", default="gpu,cpu", help="comma-separated: gpu, cpu [gpu,cpu]")
     parser.add_argument("--out", help="also write the JSON here")
     parser.add_argument("scenes", nargs="+", help="glTF scenes; options after -- go to vkrt")
-    argv, extra = split_at_double_dash(sys.argv[1:])
-    args = parser.parse_args(argv)
-    if args.runs < 1:
-        parser.error("--runs must be at least 1")
+    args, extra = parse_with_vkrt_options(parser)
     args.devices = args.devices.split(",")
     if not args.devices or any(device not in ("gpu", "cpu") for device in args.devices):
         parser.error("--devices takes gpu, cpu or gpu,cpu")

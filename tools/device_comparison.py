@@ -17,7 +17,7 @@ import os
 import sys
 import tempfile
 
-from vkrt_args import check_vkrt_and_scenes, integrators_from, split_at_double_dash
+from vkrt_args import check_vkrt_and_scenes, integrators_from, parse_with_vkrt_options
 from vkrt_runs import render_stats, summary
 
 DEVICES = ("gpu", "cpu")
@@ -45,10 +45,7 @@ def main():
     parser.add_argument("--spp", type=int, default=16, help="samples per pixel [16]")
     parser.add_argument("--out", help="also write every run and the medians here as JSON")
     parser.add_argument("scenes", nargs="+", help="glTF scenes; options after -- go to vkrt")
-    argv, extra = split_at_double_dash(sys.argv[1:])
-    args = parser.parse_args(argv)
-    if args.runs < 1:
-        parser.error("--runs must be at least 1")
+    args, extra = parse_with_vkrt_options(parser)
     if args.width < 1 or (args.height is not None and args.height < 1) or args.spp < 1:
         parser.error("--width, --height and --spp must be at least 1")
     integrators = integrators_from(parser, args.integrators)

@@ -23,7 +23,7 @@ import sys
 import tempfile
 import time
 
-from vkrt_args import split_at_double_dash
+from vkrt_args import parse_with_vkrt_options
 from vkrt_runs import summary
 
 DEFAULT_SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")
@@ -63,10 +63,7 @@ def main():
     parser.add_argument("--device", default="cpu", choices=["cpu", "gpu"], help="[cpu]")
     parser.add_argument("--out", help="also write the JSON here")
     parser.add_argument("scene", nargs="?", default=DEFAULT_SCENE, help="glTF scene; options after -- go to vkrt")
-    argv, extra = split_at_double_dash(sys.argv[1:])
-    args = parser.parse_args(argv)
-    if args.runs < 1:
-        parser.error("--runs must be at least 1")
+    args, extra = parse_with_vkrt_options(parser)
     if args.ranks < 2:
         parser.error("--ranks must be at least 2")
     if not os.access(args.vkrt, os.X_OK):

@@ -34,7 +34,7 @@ import subprocess
 import sys
 import tempfile
 
-from vkrt_args import check_vkrt_and_scenes, integrators_from, split_at_double_dash
+from vkrt_args import check_vkrt_and_scenes, integrators_from, parse_with_vkrt_options
 from vkrt_runs import summary
 
 VARIANTS = ("scene", "all")
@@ -122,10 +122,9 @@ def main():
     parser.add_argument("--out", help="write every run and the medians here as JSON")
     parser.add_argument("--markdown", help="also write the table here")
     parser.add_argument("scenes", nargs="+", help="glTF scenes; options after -- go to vkrt")
-    argv, extra = split_at_double_dash(sys.argv[1:])
-    args = parser.parse_args(argv)
-    if args.runs < 1 or args.cold_runs < 0:
-        parser.error("--runs must be at least 1, --cold-runs at least 0")
+    args, extra = parse_with_vkrt_options(parser)
+    if args.cold_runs < 0:
+        parser.error("--cold-runs must be at least 0")
     integrators = integrators_from(parser, args.integrators)
     check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
 

@@ -1,5 +1,6 @@
 """The command lines of the tools that run vkrt: their own options, then `--` and options passed to vkrt."""
 import os
+import sys
 
 
 def split_at_double_dash(argv):
@@ -8,6 +9,16 @@ def split_at_double_dash(argv):
         return list(argv), []
     at = argv.index("--")
     return argv[:at], argv[at + 1:]
+
+
+def parse_with_vkrt_options(parser):
+    """(the tool's arguments parsed, vkrt's arguments): the command line split at `--`; a usage error unless the
+    tool's `--runs` is at least 1."""
+    argv, extra = split_at_double_dash(sys.argv[1:])
+    args = parser.parse_args(argv)
+    if args.runs < 1:
+        parser.error("--runs must be at least 1")
+    return args, extra
 
 
 def integrators_from(parser, text):
