@@ -5,6 +5,7 @@ build/ray_benchmark on each, writes all results to one JSON file and prints a Ma
 Embree (when ray_benchmark was built with it) side by side: medians over runs, ratios from the same run.
 
 Usage: tools/benchmark_suite.py [--ray-benchmark build/ray_benchmark] [--runs 5] [--size 1024] [--out FILE]
+                                [--model FILE]...
 """
 
 import argparse
@@ -22,10 +23,16 @@ def main():
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--size", type=int, default=1024)
     parser.add_argument("--out", default="benchmark.json")
+    parser.add_argument("--model", action="append",
+                        help="a glTF model to trace, in place of the default ones (2CylinderEngine where Debian's "
+                             "assimp-testmodels put it, the Cornell box); repeatable")
     args = parser.parse_args()
 
     inputs = [["--triangles", str(n)] for n in (100_000, 1_000_000, 2_000_000)]
-    inputs += [["--scene", m] for m in MODELS if os.path.exists(m)]
+    for m in args.model or []:
+        if not os.path.exists(m):
+            parser.error("no such model: %s" % m)
+    inputs += [["--scene", m] for m in (args.model or MODELS) if os.path.exists(m)]
     results = []
     for extra in inputs:
         command = [args.ray_benchmark, "--runs", str(args.runs), "--width", str(args.size), "--height", str(args.size)]

@@ -14,13 +14,21 @@
 #   --jobs N            build and test jobs [nproc]
 #   --debs DIR          first unpack every .deb in DIR into / and run ldconfig (root): the Vulkan loader on a
 #                       machine that has the NVIDIA driver but no libvulkan1
+#   --kit DIR           no build: take the programs, the test programs and their libraries from a kit that
+#                       tools/gpu_kit.sh made on Debian 12 (for a machine without the Debian packages or a
+#                       network, such as this project's lent NVIDIA machines). The kit is unpacked into
+#                       /tmp/vkrt-kit (replacing what is there) with src a link to this checkout, which should be
+#                       at the kit's commit; its debs/ are unpacked as with --debs when there is no Vulkan
+#                       loader. Without ctest, the test programs run directly, with gpu_check's suites as a
+#                       GoogleTest filter (--tests needs ctest).
+#   --tar FILE          at the end, also pack the output folder into FILE (.tar.gz): one file to bring back
 #
 # The device: with VK_DRIVER_FILES (or VK_ICD_FILENAMES) unset, the script looks for NVIDIA's ICD file
 # (nvidia_icd.json under /usr/share, /etc, /usr/local/share and /usr/local/nvidia/share: vulkan/icd.d) and
 # points the Vulkan loader at it alone, so that the tests, the benchmarks and the renders, which take the
 # best device (a discrete GPU first), cannot fall back to lavapipe. Set VK_DRIVER_FILES yourself for another
 # driver. Prerequisites are those of tools/install-deps.sh (the GPU tests run under the Khronos validation
-# layer, Debian's vulkan-validationlayers; Embree is optional).
+# layer, Debian's vulkan-validationlayers; Embree is optional), or, with --kit, Python 3, ldd and dpkg alone.
 #
 # Exit codes: 0 everything ran and the tests passed; 1 something failed (the summary says what); 2 no GPU
 # Vulkan device (the devices found are listed) or bad usage.
@@ -28,7 +36,7 @@ set -uo pipefail
 
 usage() { sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-allow_cpu=0 quick=0 build_dir=build-gpu-check tests="" jobs=$(nproc) debs="" out=""
+allow_cpu=0 quick=0 build_dir=build-gpu-check tests="" jobs=$(nproc) debs="" out="" kit="" tar=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --allow-cpu-device) allow_cpu=1 ;;
@@ -37,6 +45,8 @@ while [ $# -gt 0 ]; do
         --tests) tests=${2:?--tests needs a regular expression}; shift ;;
         --jobs) jobs=${2:?--jobs needs a number}; shift ;;
         --debs) debs=${2:?--debs needs a folder}; shift ;;
+        --kit) kit=${2:?--kit needs a folder}; shift ;;
+        --tar) tar=${2:?--tar needs a file}; shift ;;
         -h|--help) usage; exit 0 ;;
         -*) echo "gpu_check: unknown option $1 (see --help)" >&2; exit 2 ;;
         *) [ -z "$out" ] || { echo "gpu_check: one output folder only (see --help)" >&2; exit 2; }; out=$1 ;;
@@ -45,6 +55,10 @@ while [ $# -gt 0 ]; do
 done
 case "$jobs" in ''|*[!0-9]*) echo "gpu_check: --jobs takes a number" >&2; exit 2 ;; esac
 
+if [ -n "$kit" ]; then
+    [ -f "$kit/vkrt-gpu-kit.tar.xz" ] || { echo "gpu_check: $kit holds no kit (tools/gpu_kit.sh)" >&2; exit 2; }
+    kit=$(cd "$kit" && pwd)
+fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=$(mkdir -p "${out:-gpu-check-out}" && cd "${out:-gpu-check-out}" && pwd) || exit 2
 cd "$root" || exit 1
@@ -70,19 +84,46 @@ step() {
 }
 
 if [ $quick -eq 1 ]; then
+    gtest_filter=Gpu.TexelStorageAndAddressedScenesGiveTheSameImage:Scenes/GpuImage.MatchesCpuReference/cornell
+    gtest_filter+=:Cli.GpuRenderUnderValidationWritesGpuStats
     : "${tests:=^(Gpu\.TexelStorageAndAddressedScenesGiveTheSameImage|Scenes/GpuImage\.MatchesCpuReference/cornell |Cli\.GpuRenderUnderValidationWritesGpuStats)}"
     bench_args=(--runs 1 --size 128)
     access_args=(--runs 1 --width 128 --height 128)
     conv_args=(--width 32 --gpu-spp 16 --cpu-spp 16 --reference-spp 64)
 else
+    gtest_filter='Gpu*:*/Gpu*:Stability*:ShadingFunctions*:Cli*:MemoryCli*'
     : "${tests:=^(Gpu|[A-Za-z]+/Gpu|Stability|ShadingFunctions|Cli|MemoryCli)}"
     bench_args=(--runs 3 --size 1024)
     access_args=(--runs 3)
     conv_args=(--width 256 --gpu-spp 256 --cpu-spp 64 --reference-spp 1024)
 fi
 
-# The Vulkan loader, when it has to be brought (see --debs).
+# A kit: unpacked where it was built, with its libraries and validation layer in the search paths.
 ldconfig=$(command -v ldconfig || echo /sbin/ldconfig)
+if [ -n "$kit" ]; then
+    prefix=/tmp/vkrt-kit
+    kit_commit=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["commit"])' \
+        "$kit/manifest.json")
+    say "unpacking the kit (commit $kit_commit) into $prefix"
+    rm -rf "$prefix" && mkdir -p "$prefix" || exit 1
+    if command -v xz >/dev/null; then
+        tar -C "$prefix" -xJf "$kit/vkrt-gpu-kit.tar.xz" || exit 1
+    else
+        python3 -c 'import sys, tarfile; t = tarfile.open(sys.argv[1])
+t.extractall(sys.argv[2], **({"filter": "data"} if hasattr(tarfile, "data_filter") else {}))' \
+            "$kit/vkrt-gpu-kit.tar.xz" "$prefix" || exit 1
+    fi
+    ln -s "$root" "$prefix/src" || exit 1
+    build_dir=$prefix/build
+    export LD_LIBRARY_PATH="$prefix/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" VK_LAYER_PATH="$prefix/layers"
+    if [ -z "$debs" ] && ! "$ldconfig" -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null; then
+        debs=$kit/debs
+    fi
+    head=$(git -C "$root" rev-parse HEAD 2>/dev/null || true)
+    [ -z "$head" ] || [ "$head" = "$kit_commit" ] || say "note: the kit is of $kit_commit, this checkout $head"
+fi
+
+# The Vulkan loader, when it has to be brought (see --debs).
 if [ -n "$debs" ]; then
     for f in "$debs"/*.deb; do [ -e "$f" ] && dpkg -x "$f" / ; done
     "$ldconfig"
@@ -104,12 +145,21 @@ if [ $allow_cpu -eq 0 ] && [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ]; t
     done
 fi
 
-# Build (Release).
-if ! step configure cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release; then
-    say "cmake failed: are the dependencies installed (tools/install-deps.sh)?"
-    exit 1
+# Build (Release), or check that the kit's programs find every library they load.
+if [ -n "$kit" ]; then
+    missing=$(ldd "$build_dir/vkrt" "$build_dir/ray_benchmark" "$build_dir"/tests/*_test 2>&1 | grep 'not found' | sort -u)
+    if [ -n "$missing" ]; then
+        say "the kit's programs miss libraries here:"
+        echo "$missing" | sed 's/^/    /' >&2
+        exit 1
+    fi
+else
+    if ! step configure cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release; then
+        say "cmake failed: are the dependencies installed (tools/install-deps.sh)?"
+        exit 1
+    fi
+    step build cmake --build "$build_dir" -j "$jobs" || exit 1
 fi
-step build cmake --build "$build_dir" -j "$jobs" || exit 1
 vkrt="$build_dir/vkrt"
 
 # The device: listed, then the one vkrt and the tests take by default, probed with a small render.
@@ -135,19 +185,44 @@ fi
 say "device: $device_name ($device_type)"
 
 # The GPU conformance tests (each test process takes the same default device), under the validation layer.
-if probe --validate >>"$log" 2>&1; then
+# Without ctest (a kit on a machine without CMake), each test program runs the suites by GoogleTest's filter,
+# side by side, with its shader cache where ctest would set it.
+gtest_programs() {
+    mkdir -p "$out/gtest"
+    local status=0 pids=() p
+    for p in "$build_dir"/tests/*_test; do
+        VKRT_SHADER_CACHE="$build_dir/shader-cache" "$p" --gtest_filter="$gtest_filter" \
+            --gtest_output="xml:$out/gtest/$(basename "$p").xml" &
+        pids+=($!)
+        [ ${#pids[@]} -lt "$jobs" ] || { wait "${pids[0]}" || status=1; pids=("${pids[@]:1}"); }
+    done
+    for p in "${pids[@]}"; do wait "$p" || status=1; done
+    return $status
+}
+if ! probe --validate >>"$log" 2>&1; then
+    say "the GPU tests need the Khronos validation layer (Debian: vulkan-validationlayers); tests not run"
+    printf 'tests\tnot run\t0\n' >>"$steps"
+    failed=1
+elif command -v ctest >/dev/null; then
     step tests ctest --test-dir "$build_dir" -j "$jobs" -R "$tests" --output-on-failure \
         --output-junit "$out/tests.xml"
+elif [ -n "$kit" ]; then
+    say "no ctest here: the test programs run directly (GoogleTest filter $gtest_filter)"
+    step tests gtest_programs
 else
-    say "the GPU tests need the Khronos validation layer (Debian: vulkan-validationlayers); tests not run"
+    say "no ctest (CMake's): tests not run"
     printf 'tests\tnot run\t0\n' >>"$steps"
     failed=1
 fi
 
 # Ray throughput against Embree, and error against render time.
+models=()
+if [ -n "$kit" ] && [ -f "$prefix/models/2CylinderEngine.glb" ]; then
+    models=(--model "$prefix/models/2CylinderEngine.glb" --model scenes/cornell.gltf)
+fi
 benchmark_suite() {
     python3 tools/benchmark_suite.py --ray-benchmark "$build_dir/ray_benchmark" --out "$out/benchmark.json" \
-        "${bench_args[@]}" >"$out/benchmark.md"
+        "${bench_args[@]}" "${models[@]}" >"$out/benchmark.md"
 }
 step benchmark_suite benchmark_suite
 # How the device reads the scene: its default (storage buffers on GPUs) against texel buffers, run for run on the
@@ -161,7 +236,9 @@ step convergence_report python3 tools/convergence_report.py --vkrt "$vkrt" --out
 
 # The summary.
 elapsed=$(( $(date +%s) - start ))
-step summary python3 - "$out" "$elapsed" "$quick" "$(git -C "$root" describe --always --dirty 2>/dev/null)" <<'EOF'
+commit=$(git -C "$root" describe --always --dirty 2>/dev/null || true)
+[ -n "$commit" ] || [ -z "$kit" ] || commit="${kit_commit:0:12} (the kit's)"
+step summary python3 - "$out" "$elapsed" "$quick" "$commit" <<'EOF'
 import json, os, sys, xml.etree.ElementTree as ET
 out, elapsed, quick, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1", sys.argv[4]
 
@@ -180,19 +257,25 @@ for line in open(os.path.join(out, "steps.tsv")):
     summary["steps"].append({"step": name, "status": int(status) if status.isdigit() else status,
                              "seconds": int(seconds)})
 
+# ctest's JUnit file (status run, fail, notrun or disabled), or GoogleTest's own files from the test programs
+# run directly (status run or notrun, result skipped, a failure element on failure).
 tests = None
-if os.path.exists(os.path.join(out, "tests.xml")):
-    cases = ET.parse(os.path.join(out, "tests.xml")).getroot().iter("testcase")
+gtest = os.path.join(out, "gtest")
+reports = [os.path.join(out, "tests.xml")] if os.path.exists(os.path.join(out, "tests.xml")) else \
+    sorted(os.path.join(gtest, f) for f in os.listdir(gtest)) if os.path.isdir(gtest) else []
+if reports:
     tests = {"passed": 0, "failed": 0, "skipped": 0, "failures": []}
-    for case in cases:
-        status = case.get("status")
-        if status == "run":
-            tests["passed"] += 1
-        elif status == "fail":
-            tests["failed"] += 1
-            tests["failures"].append(case.get("name"))
-        else:
-            tests["skipped"] += 1
+    for report in reports:
+        for case in ET.parse(report).getroot().iter("testcase"):
+            name = case.get("name") if case.get("classname") in (None, case.get("name")) else \
+                case.get("classname") + "." + case.get("name")
+            if case.get("status") == "fail" or case.find("failure") is not None:
+                tests["failed"] += 1
+                tests["failures"].append(name)
+            elif case.get("status") == "run" and case.get("result") != "skipped":
+                tests["passed"] += 1
+            else:
+                tests["skipped"] += 1
 summary["tests"] = tests
 
 rays = []
@@ -238,4 +321,7 @@ EOF
 elapsed=$(( $(date +%s) - start ))
 say "done in ${elapsed} s; summary in $out/summary.md and $out/summary.json"
 [ $elapsed -le 480 ] || say "note: over the 8-minute budget"
+if [ -n "$tar" ]; then
+    tar -C "$(dirname "$out")" -czf "$tar" "$(basename "$out")" && say "packed into $tar" || failed=1
+fi
 exit $failed
