@@ -95,7 +95,8 @@ fi
 # unpacks with dpkg -x when that machine has no libvulkan.so.1).
 rm -rf "$kit/debs" && mkdir -p "$kit/debs"
 (cd "$kit/debs" && apt-get download -q -o APT::Sandbox::User=root \
-    libvulkan1 libglvnd0 libegl1 libgl1 libglx0 libopengl0 libgles2 >/dev/null) || { say "apt-get download of the Vulkan loader failed"; exit 1; }
+    libvulkan1 libglvnd0 libegl1 libgl1 libglx0 libopengl0 libgles2 >/dev/null) ||
+    { say "apt-get download of the Vulkan loader failed"; exit 1; }
 
 say "compressing"
 parts=(build lib layers)
