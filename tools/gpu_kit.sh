@@ -10,10 +10,11 @@
 # machine, with src a link to that machine's copy of the repository. KIT_DIR then holds:
 #   vkrt-gpu-kit.tar.xz  vkrt, ray_benchmark, the GPU test programs (gpu_check.sh's suites) and the build's
 #                        ctest files; the shared libraries they load beyond the C and C++ runtimes (lib/); the
-#                        Khronos validation layer with a manifest beside it (layers/); 2CylinderEngine (models/)
+#                        Khronos validation layer with a manifest beside it (layers/); 2CylinderEngine (models/);
+#                        the third-party scenes beside the checkout (../shared/scenes-real), for the tests of them
 #   debs/                the Vulkan loader and glvnd (NVIDIA's driver needs libGLdispatch), for dpkg -x there
 #   manifest.json        the commit, the paths, and what is in the archive
-# About 24 MB; 6 minutes on 2 cores (the build about 4, the compression about 2).
+# About 40 MB (24 without the third-party scenes); 6 to 7 minutes on 2 cores (the build about 4).
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
@@ -85,6 +86,12 @@ manifest = json.load(open("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_va
 manifest["layer"]["library_path"] = "./libVkLayer_khronos_validation.so"  # beside the manifest
 json.dump(manifest, open(sys.argv[1] + "/VkLayer_khronos_validation.json", "w"), indent=1)
 EOF
+# The tests of third-party scenes look for them beside the source tree, as here.
+if [ -d "$root/../shared/scenes-real" ]; then
+    mkdir -p "$stage/shared" && cp -r "$root/../shared/scenes-real" "$stage/shared/"
+else
+    say "note: no ../shared/scenes-real beside the checkout; the tests of third-party scenes will be skipped there"
+fi
 if [ -f "$engine" ]; then
     mkdir -p "$stage/models" && cp "$engine" "$stage/models/"
 else
@@ -101,6 +108,7 @@ rm -rf "$kit/debs" && mkdir -p "$kit/debs"
 say "compressing"
 parts=(build lib layers)
 [ -d "$stage/models" ] && parts+=(models)
+[ -d "$stage/shared" ] && parts+=(shared)
 tar -C "$stage" -cf - "${parts[@]}" | xz -9 -T0 >"$kit/vkrt-gpu-kit.tar.xz"
 python3 - "$kit" "$stage" "$commit" "$prefix" <<'EOF'
 import json, os, sys, time
