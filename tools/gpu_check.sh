@@ -147,7 +147,8 @@ fi
 
 # Build (Release), or check that the kit's programs find every library they load.
 if [ -n "$kit" ]; then
-    missing=$(ldd "$build_dir/vkrt" "$build_dir/ray_benchmark" "$build_dir"/tests/*_test 2>&1 | grep 'not found' | sort -u)
+    missing=$(ldd "$build_dir/vkrt" "$build_dir/ray_benchmark" "$build_dir"/tests/*_test 2>&1 |
+        grep 'not found' | sort -u)
     if [ -n "$missing" ]; then
         say "the kit's programs miss libraries here:"
         echo "$missing" | sed 's/^/    /' >&2
