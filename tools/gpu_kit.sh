@@ -61,7 +61,7 @@ cmake -S "$prefix/src" -B "$prefix/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$prefix/build" -j "$jobs" --target "${programs[@]}" "${test_programs[@]}" >/dev/null
 
 # The staging tree, laid out as gpu_check.sh unpacks it into $prefix: build/ (the programs where the build put
-# them, stripped, and every ctest file), lib/, layers/, models/.
+# them, stripped, and every ctest file), lib/, layers/, models/, shared/.
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 (cd "$prefix/build" && find . -name CTestTestfile.cmake -o -name '*_include.cmake' -o -name '*_tests.cmake') |
