@@ -1,15 +1,21 @@
 """Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
 
-Made for scenes/cornell.gltf, whose materials are all purely Lambertian (KHR_materials_specular with
-specularFactor 0) with an optional emission: the scene's geometry and camera come through Blender's own glTF
-importer, and every material is then rebuilt from the glTF file itself (read here as JSON, matched to
-Blender's materials by name) as
+Made for scenes/cornell.gltf and scenes/outdoor.gltf, whose materials are each one that Cycles means the same
+by: the scene's geometry and camera come through Blender's own glTF importer, and every material is then
+rebuilt from the glTF file itself (read here as JSON, matched to Blender's materials by name), so nothing of
+the importer's Principled BSDF conversion is left:
 
-    Diffuse BSDF (colour = baseColorFactor's RGB, roughness 0: Lambert)
-      + Emission (colour = emissiveFactor x KHR_materials_emissive_strength, strength 1)
+- purely Lambertian (KHR_materials_specular with specularFactor 0), with an optional emission:
+  Diffuse BSDF (colour = baseColorFactor's RGB, roughness 0: Lambert)
+    + Emission (colour = emissiveFactor x KHR_materials_emissive_strength, strength 1);
+- a white mirror (metallicFactor 1, roughnessFactor 0, baseColorFactor 1, 1, 1): Glossy BSDF, sharp, white.
+  glTF's metal takes its Fresnel term from its base colour, which is 1 at every angle for white;
+- smooth glass (KHR_materials_transmission factor 1, roughnessFactor 0, metallicFactor 0, a white base colour,
+  KHR_materials_ior, KHR_materials_volume without attenuation): Glass BSDF, sharp, white, the same index.
+  Both are the exact dielectric Fresnel term with refraction by Snell's law.
 
-so nothing of the importer's Principled BSDF conversion is left. Textures, metals, transmission and the
-other extensions are not supported: the script stops on a material that has them.
+Textures, other metals, rough or tinted glass and the other extensions are not supported: the script stops on
+a material that has them.
 
 Emission: vkrt's glTF emission is one-sided (only the front face emits), Cycles' Emission shader emits from
 both sides. In the Cornell box the lamp's back side faces the empty space above the hole in the ceiling,
@@ -19,6 +25,10 @@ something would not.
 Cycles' Emission of strength 1 and colour C makes a surface whose radiance is C (a pixel that sees it
 directly reads C), which is what glTF's emissiveFactor x emissiveStrength means.
 
+The world is black, or with --environment FILE (and --environment-strength, --environment-rotation, as
+vkrt's options) the equirectangular map as an Environment Texture with the closest texel (vkrt's lookup, so
+both mean the same piecewise-constant radiance), in the mapping docs/environment.md gives.
+
 Run it with Blender (Debian 12's blender 3.4.1 and python3-numpy, which Blender's glTF importer needs):
 
     blender -b --factory-startup -P tools/cycles_reference.py -- \\
@@ -26,11 +36,13 @@ Run it with Blender (Debian 12's blender 3.4.1 and python3-numpy, which Blender'
         --width 128 --height 128 --spp 16384 --seed 0
 
 The output is an OpenEXR file of scene-linear RGB (no view transform, no compositing, no denoising),
-32-bit float unless --half is given, ZIP-compressed, rows top to bottom as in any image file.
+32-bit float unless --half is given, ZIP-compressed, rows top to bottom as in any image file; --png FILE also
+writes it as an sRGB PNG, clamped, to look at.
 """
 
 import argparse
 import json
+import math
 import os
 import sys
 import time
@@ -52,37 +64,69 @@ def arguments():
     parser.add_argument("--threads", type=int, default=2, help="CPU threads")
     parser.add_argument("--bounces", type=int, default=1024, help="most bounces (Cycles allows 0 to 1024)")
     parser.add_argument("--half", action="store_true", help="write 16-bit half floats instead of 32-bit")
+    parser.add_argument("--png", help="also write the image here as an 8-bit sRGB PNG, clamped (vkrt's "
+                        "--tonemap clamp), for looking at")
+    parser.add_argument("--environment", help="an equirectangular .hdr or .exr map lighting the scene (vkrt's "
+                        "--environment); without it the world is black")
+    parser.add_argument("--environment-strength", type=float, default=1.0, help="the map's factor [1]")
+    parser.add_argument("--environment-rotation", type=float, default=0.0,
+                        help="degrees about glTF's +Y, as vkrt's option [0]")
     return parser.parse_args(argv)
 
 
+def material_kind(material):
+    """What `material` (a glTF material) is to Cycles: "lambert", "mirror" or "glass", or a list of what stops
+    it being any of them."""
+    pbr = material.get("pbrMetallicRoughness", {})
+    extensions = material.get("extensions", {})
+    problems = [key for key in ("baseColorTexture", "metallicRoughnessTexture") if key in pbr]
+    problems += [key for key in ("normalTexture", "emissiveTexture", "occlusionTexture") if key in material]
+    if material.get("alphaMode", "OPAQUE") != "OPAQUE":
+        problems.append("alphaMode %s" % material["alphaMode"])
+    base = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))[:3]
+    metallic, roughness = pbr.get("metallicFactor", 1.0), pbr.get("roughnessFactor", 1.0)
+    specular = extensions.get("KHR_materials_specular", {})
+    if "specularColorFactor" in specular or "specularTexture" in specular:
+        problems.append("specularColorFactor or specularTexture")
+    transmission = extensions.get("KHR_materials_transmission", {})
+    volume = extensions.get("KHR_materials_volume", {})
+    if problems:
+        return problems
+    if not transmission and metallic == 0.0 and specular.get("specularFactor", 1.0) == 0.0:
+        unknown = [key for key in extensions if key not in ("KHR_materials_emissive_strength",
+                                                            "KHR_materials_specular")]
+        return ["extension " + key for key in unknown] or "lambert"
+    if not transmission and not extensions and metallic == 1.0 and roughness == 0.0 and base == [1.0, 1.0, 1.0]:
+        return "mirror" if not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) else ["emission"]
+    if (transmission.get("transmissionFactor", 0.0) == 1.0 and "transmissionTexture" not in transmission and
+            metallic == 0.0 and roughness == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
+            not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and "attenuationDistance" not in volume and
+            set(extensions) <= {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"}):
+        return "glass"
+    return ["not purely Lambertian (KHR_materials_specular factor 0), a white mirror of roughness 0 or clear "
+            "smooth glass"]
+
+
 def gltf_materials(path):
-    """Diffuse colour and emitted radiance of every material of the glTF file, by name."""
+    """What every material of the glTF file is to Cycles, by name: its kind, and for a Lambertian one its
+    diffuse colour and emitted radiance, for glass its index of refraction."""
     with open(path) as f:
         gltf = json.load(f)
-    supported = {"KHR_materials_emissive_strength", "KHR_materials_specular"}
     materials = {}
     for index, material in enumerate(gltf.get("materials", [])):
         name = material.get("name", "material %d" % index)
-        pbr = material.get("pbrMetallicRoughness", {})
-        extensions = material.get("extensions", {})
-        problems = [key for key in ("baseColorTexture", "metallicRoughnessTexture") if key in pbr]
-        problems += [key for key in ("normalTexture", "emissiveTexture", "occlusionTexture")
-                     if key in material]
-        problems += [key for key in extensions if key not in supported]
-        if pbr.get("metallicFactor", 1.0) != 0.0:
-            problems.append("metallicFactor %s (not 0)" % pbr.get("metallicFactor", 1.0))
-        if extensions.get("KHR_materials_specular", {}).get("specularFactor", 1.0) != 0.0:
-            problems.append("no KHR_materials_specular with specularFactor 0 (not purely Lambertian)")
-        if "specularColorFactor" in extensions.get("KHR_materials_specular", {}):
-            problems.append("specularColorFactor")
-        if problems:
-            sys.exit("material %r is not a plain Lambertian emitter: %s" % (name, ", ".join(problems)))
+        kind = material_kind(material)
+        if isinstance(kind, list):
+            sys.exit("material %r is not one Cycles means the same by: %s" % (name, ", ".join(kind)))
         if name in materials:
             sys.exit("two materials are named %r: cannot match them to Blender's by name" % name)
+        extensions = material.get("extensions", {})
         strength = extensions.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
         materials[name] = {
-            "diffuse": list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]),
+            "kind": kind,
+            "diffuse": list(material.get("pbrMetallicRoughness", {}).get("baseColorFactor", [1.0, 1.0, 1.0]))[:3],
             "emission": [c * strength for c in material.get("emissiveFactor", [0.0, 0.0, 0.0])],
+            "ior": extensions.get("KHR_materials_ior", {}).get("ior", 1.5),
         }
     return gltf, materials
 
@@ -91,6 +135,21 @@ def rebuild_material(material, spec):
     material.use_nodes = True
     tree = material.node_tree
     tree.nodes.clear()
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    output.target = "ALL"
+    if spec["kind"] == "mirror":
+        glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+        glossy.distribution = "SHARP"
+        glossy.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        tree.links.new(glossy.outputs["BSDF"], output.inputs["Surface"])
+        return
+    if spec["kind"] == "glass":
+        glass = tree.nodes.new("ShaderNodeBsdfGlass")
+        glass.distribution = "SHARP"
+        glass.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        glass.inputs["IOR"].default_value = spec["ior"]
+        tree.links.new(glass.outputs["BSDF"], output.inputs["Surface"])
+        return
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
     diffuse.inputs["Roughness"].default_value = 0.0  # 0: Lambert (above 0 it is Oren-Nayar)
@@ -98,8 +157,6 @@ def rebuild_material(material, spec):
     emission.inputs["Color"].default_value = spec["emission"] + [1.0]
     emission.inputs["Strength"].default_value = 1.0
     add = tree.nodes.new("ShaderNodeAddShader")
-    output = tree.nodes.new("ShaderNodeOutputMaterial")
-    output.target = "ALL"
     tree.links.new(diffuse.outputs["BSDF"], add.inputs[0])
     tree.links.new(emission.outputs["Emission"], add.inputs[1])
     tree.links.new(add.outputs["Shader"], output.inputs["Surface"])
@@ -113,6 +170,33 @@ def black_world(scene):
     background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     background.inputs["Strength"].default_value = 0.0
     scene.world = world
+
+
+def environment_world(scene, path, strength, rotation_degrees):
+    """The map as vkrt's --environment means it (docs/environment.md): an Environment Texture, equirectangular,
+    closest texel, turned by the rotation about Blender's +Z (glTF's +Y) through a Mapping node of type Point
+    with Z rotation -R, times the strength."""
+    world = bpy.data.worlds.new("environment")
+    world.use_nodes = True
+    tree = world.node_tree
+    background = tree.nodes["Background"]
+    background.inputs["Strength"].default_value = strength
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = bpy.data.images.load(path)
+    texture.image.colorspace_settings.name = "Linear"  # radiance as stored
+    texture.interpolation = "Closest"
+    texture.projection = "EQUIRECTANGULAR"
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.vector_type = "POINT"
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, -math.radians(rotation_degrees))
+    tree.links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
+    tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    tree.links.new(texture.outputs["Color"], background.inputs["Color"])
+    world.cycles.sampling_method = "AUTOMATIC"  # importance sampled; unbiased either way
+    scene.world = world
+    print("environment %s: %d x %d texels, strength %g, rotation %g degrees"
+          % (path, texture.image.size[0], texture.image.size[1], strength, rotation_degrees))
 
 
 def camera_report(scene, gltf):
@@ -163,8 +247,10 @@ def main():
         if material.name not in specs:
             sys.exit("Blender material %r is not a material of %s" % (material.name, args.scene))
         rebuild_material(material, specs[material.name])
-        print("material %r: diffuse %s, emission %s" % (material.name, specs[material.name]["diffuse"],
-                                                       specs[material.name]["emission"]))
+        spec = specs[material.name]
+        print("material %r: %s" % (material.name, "diffuse %s, emission %s" % (spec["diffuse"], spec["emission"])
+                                   if spec["kind"] == "lambert" else
+                                   "glass of index %g" % spec["ior"] if spec["kind"] == "glass" else "white mirror"))
     missing = set(specs) - {m.name for m in used}
     if missing:
         print("note: glTF materials not used by any object:", ", ".join(sorted(missing)))
@@ -174,7 +260,11 @@ def main():
         sys.exit("expected one camera in the scene, found %d" % len(cameras))
     scene.camera = cameras[0]
     scene.camera.data.dof.use_dof = False
-    black_world(scene)
+    if args.environment:
+        environment_world(scene, os.path.abspath(args.environment), args.environment_strength,
+                          args.environment_rotation)
+    else:
+        black_world(scene)
 
     render = scene.render
     render.engine = "CYCLES"
@@ -256,6 +346,14 @@ def main():
     bpy.ops.render.render(write_still=True)
     seconds = time.perf_counter() - start
     print("wrote %s (%d bytes); render wall time %.1f s" % (out_path, os.path.getsize(out_path), seconds))
+    if args.png:
+        # The same pixels through the view transform Standard (the sRGB curve, values above 1 clamped).
+        image.file_format = "PNG"
+        image.color_mode = "RGB"
+        image.color_depth = "8"
+        image.compression = 100
+        bpy.data.images["Render Result"].save_render(os.path.abspath(args.png), scene=scene)
+        print("wrote %s" % args.png)
 
 
 main()

@@ -45,6 +45,12 @@ and a point light.
 dof.gltf: depth of field: a row of spheres receding over a checkerboard, the camera (a thin lens of radius
 0.12, described in the camera's extras) focused on the middle one.
 
+outdoor.gltf and soft-sky.hdr: for --environment scenes/soft-sky.hdr, and for a comparison with Blender Cycles
+(tests/references/outdoor-cycles.exr): a Lambertian ball, a mirror ball and a glass ball (triangle meshes with
+smooth normals) on a Lambertian floor, with no light of their own. Every material is one Cycles means the same
+by: Lambertian (KHR_materials_specular factor 0), a white metal of roughness 0 (its Fresnel term is exactly 1)
+and smooth glass of index 1.5 (the exact dielectric Fresnel term, and refraction into its volume).
+
 csg.gltf: analytic shapes and constructive solid geometry (VKRT_shape and VKRT_csg, docs/vkrt_shape.md) on a
 grey floor, lit by an emissive box (an area light) and a point light. At the back, the classic CSG pieces: a
 box minus a sphere (bites in the box's faces, in the sphere's orange), a glass lens (the intersection of two
@@ -476,6 +482,19 @@ def sky_texel(x, y, width=64, height=32):
     return tuple(round(h + (z - h) * t, 4) for h, z in zip(horizon, zenith))
 
 
+def soft_sky_texel(x, y, width=64, height=32):
+    """The sky of soft-sky.hdr: sky.hdr's without its sun, and a hazy glow of radiance about 6 within 20 degrees
+    of where the sun was (texel centres; docs/environment.md's mapping, u across and v down)."""
+    u, v = (x + 0.5) / width, (y + 0.5) / height
+    phi, theta = (u - 0.5) * 2.0 * math.pi, v * math.pi
+    direction = (math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi))
+    sun = (0.64, 0.56, 0.53)
+    cosine = sum(d * s for d, s in zip(direction, sun)) / math.sqrt(sum(s * s for s in sun))
+    if cosine > math.cos(math.radians(20.0)):
+        return (6.0, 5.5, 4.8)
+    return sky_texel(x, y, width, height)  # the sun's texels lie inside the glow
+
+
 def environment():
     radiance_hdr(os.path.join(OUTPUT, "sky.hdr"), 64, 32, sky_texel)
     g = GltfBuilder("vkrt tools/make_scenes.py")
@@ -494,6 +513,27 @@ def environment():
     camera = g.perspective_camera("environment-camera", math.radians(40.0), aspect_ratio=1.6)
     g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
     g.write(os.path.join(OUTPUT, "environment.gltf"))
+
+
+def outdoor():
+    radiance_hdr(os.path.join(OUTPUT, "soft-sky.hdr"), 64, 32, soft_sky_texel)
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.5, 0.5, 0.5), specular=0.0)
+    clay = g.material("clay", base_color=(0.8, 0.45, 0.3), specular=0.0)
+    mirror = g.material("mirror", base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0)
+    glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
+                       thickness=1.4)
+    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
+                 [0.0, 1.0, 0.0])
+    primitives = [(floor[0], None, floor[1], floor_material)]
+    for x, material in ((-1.6, clay), (0.0, mirror), (1.6, glass)):
+        sphere = uv_sphere([x, 0.7, 0.0], 0.7, 32, 64)
+        primitives.append((sphere[0], sphere[1], sphere[2], material))
+    g.node("outdoor", mesh=g.mesh("outdoor", primitives))
+    eye, target = [0.0, 1.7, 5.6], [0.0, 0.55, 0.0]
+    camera = g.perspective_camera("outdoor-camera", math.radians(40.0), aspect_ratio=1.0)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "outdoor.gltf"))
 
 
 def axis_angle(axis, degrees):
@@ -599,4 +639,5 @@ if __name__ == "__main__":
     textures()
     surfaces()
     environment()
+    outdoor()
     csg()

@@ -22,6 +22,11 @@ vkrt --scene scenes/motion-blur.gltf --width 512 --spp 256 --out "$out/motion-bl
 vkrt --scene scenes/textures.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/textures-cpu.png"
 vkrt --scene scenes/environment.gltf --width 512 --spp 256 --environment scenes/sky.hdr \
     --environment-rotation 40 --environment-strength 1.5 --out "$out/environment-cpu.png"
+vkrt --scene scenes/outdoor.gltf --width 512 --spp 256 --environment scenes/soft-sky.hdr --out "$out/outdoor-cpu.png"
+# Beside Cycles' image of it (tests/references/README.md makes docs/images/outdoor-cycles.png): the sRGB curve,
+# clamped, as Blender's Standard view transform.
+vkrt --scene scenes/outdoor.gltf --width 128 --spp 1024 --environment scenes/soft-sky.hdr --tonemap clamp \
+    --out "$out/outdoor-128-cpu.png"
 vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
 vkrt --scene scenes/csg.gltf --width 512 --spp 256 --out "$out/csg-cpu.png"
 
