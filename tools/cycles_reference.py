@@ -11,7 +11,8 @@ the importer's Principled BSDF conversion is left:
 - a white mirror (metallicFactor 1, roughnessFactor 0, baseColorFactor 1, 1, 1): Glossy BSDF, sharp, white.
   glTF's metal takes its Fresnel term from its base colour, which is 1 at every angle for white;
 - smooth glass (KHR_materials_transmission factor 1, roughnessFactor 0, metallicFactor 0, a white base colour,
-  KHR_materials_ior, KHR_materials_volume without attenuation): Glass BSDF, sharp, white, the same index.
+  KHR_materials_ior, KHR_materials_volume of some thickness, without attenuation: refraction into a solid,
+  not a thin wall): Glass BSDF, sharp, white, the same index.
   Both are the exact dielectric Fresnel term with refraction by Snell's law.
 
 Textures, other metals, rough or tinted glass and the other extensions are not supported: the script stops on
@@ -101,6 +102,7 @@ def material_kind(material):
     if (transmission.get("transmissionFactor", 0.0) == 1.0 and "transmissionTexture" not in transmission and
             metallic == 0.0 and roughness == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
             not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and "attenuationDistance" not in volume and
+            volume.get("thicknessFactor", 0.0) > 0.0 and
             set(extensions) <= {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"}):
         return "glass"
     return ["not purely Lambertian (KHR_materials_specular factor 0), a white mirror of roughness 0 or clear "
