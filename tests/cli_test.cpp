@@ -233,6 +233,17 @@ TEST(Cli, HeightFollowsTheCameraAspectRatio) {
     EXPECT_EQ(readImage(out.string()).height, 20);  // the Cornell camera's aspect ratio is 1
 }
 
+TEST(Cli, WithoutACameraTheImageIsSquare) {
+    const auto folder = test::temporaryFolder();
+    test::writeText(folder / "empty.gltf",
+                    R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})");
+    const auto out = folder / "e.pfm";
+    const auto result = test::runVkrt("--scene " + quoted(folder / "empty.gltf") +
+                                      " --device cpu --quiet --width 24 --spp 1 --out " + quoted(out));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_EQ(readImage(out.string()).height, 24);
+}
+
 // Emissive spheres light a scene as much as lights and emissive triangles do: no ambient fallback.
 TEST(Cli, SceneLitByEmissiveSpheresGetsNoLightsWarning) {
     const auto folder = test::temporaryFolder();

@@ -123,7 +123,7 @@ struct CommandLine {
                 shaderFeatures = "scene";
     std::vector<double> shutter;
     std::string ambient, background, integrator, maxMemory, maxDeviceMemory;
-    int height = 512;
+    int height = 0;  // --height, when given
     int maxDepth = 0;
     bool noMis = false;
 
@@ -149,7 +149,7 @@ struct CommandLine {
             ->type_name("H")
             ->check(kInteger)
             ->check(CLI::Range(1, 16384))
-            ->default_str("width / the camera's aspect ratio, else 512");
+            ->default_str("width / the camera's aspect ratio, else the width");
         app.add_option("--spp", s.samplesPerPixel, "samples per pixel (jittered, stratified)")
             ->type_name("N")
             ->check(kInteger)
@@ -309,7 +309,9 @@ struct CommandLine {
     // The values CLI11 leaves as text or that depend on one another.
     void finish() {
         RenderSettings& s = options.request.settings;
+        // Without --height a file camera's aspect ratio sets it (render_policy.cpp), else the image is square.
         if (app.count("--height")) options.request.height = height;
+        s.height = s.width;
         if (app.count("--max-depth")) options.request.maxDepth = maxDepth;
         if (!integrator.empty()) {
             options.request.integrator = integrator == "whitted" ? Integrator::Whitted : Integrator::Path;

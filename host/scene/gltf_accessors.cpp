@@ -90,6 +90,12 @@ struct ElementRun {
 
 }  // namespace
 
+AccessorReader::AccessorReader(const tinygltf::Model& model, std::string file)
+    : model_(model), file_(std::move(file)) {
+    for (const std::string& name : model.extensionsUsed) quantized_ |= name == "KHR_mesh_quantization";
+    for (const std::string& name : model.extensionsRequired) quantized_ |= name == "KHR_mesh_quantization";
+}
+
 void AccessorReader::fail(const std::string& message) const {
     throw SceneError(file_ + ": " + message);
 }
@@ -125,7 +131,10 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
         fail(name + " must use an unsigned integer component type");
     }
     if (!wantIndices && accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !accessor.normalized) {
-        fail(name + " must be FLOAT or normalized integers");
+        if (!quantized_) fail(name + " must be FLOAT or normalized integers (or use KHR_mesh_quantization)");
+        if (accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+            fail(name + " must be FLOAT or 8- or 16-bit integers");
+        }
     }
     const size_t elementSize = static_cast<size_t>(size) * components;
 

@@ -15,10 +15,13 @@ namespace vkrt {
 
 class AccessorReader {
   public:
-    AccessorReader(const tinygltf::Model& model, std::string file) : model_(model), file_(std::move(file)) {}
+    AccessorReader(const tinygltf::Model& model, std::string file);
 
     // Reads `components` values per element (VEC2 = 2, VEC3 = 3, ...). Float accessors are read as they
-    // are; normalized integer accessors are mapped to [0, 1] or [-1, 1] as the glTF spec says.
+    // are; normalized integer accessors are mapped to [0, 1] or [-1, 1] as the glTF spec says. Integers
+    // that are not normalized are read as their values where the file uses KHR_mesh_quantization (whose
+    // positions and texture coordinates are scaled back by the node's transform and the texture transform),
+    // and refused otherwise.
     std::vector<float> readFloats(int accessorIndex, int components, const std::string& what) const;
 
     // Reads a scalar unsigned-integer accessor (mesh indices).
@@ -34,6 +37,7 @@ class AccessorReader {
 
     const tinygltf::Model& model_;
     std::string file_;
+    bool quantized_ = false;  // the file uses KHR_mesh_quantization
 };
 
 }  // namespace vkrt

@@ -9,6 +9,7 @@
 
 #include "scene/gltf_animation.h"
 #include "scene/gltf_cameras.h"
+#include "scene/gltf_compression.h"
 #include "scene/gltf_context.h"
 #include "scene/gltf_extensions.h"
 #include "scene/gltf_materials.h"
@@ -192,18 +193,36 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     // and range (tinygltf skips what has the wrong type). JSON that does not parse is left to tinygltf to
     // describe.
     const bool binary = hasGlbMagic(path);
-    const nlohmann::json document = readGltfJson(path, binary);
+    nlohmann::json document = readGltfJson(path, binary);
+    bool rewritten = false;
     if (!document.is_discarded()) {
         if (const auto extension = unsupportedRequiredExtension(document))
             throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
         validateGltfJson(document, path);
+        rewritten = stubMeshoptFallbackBuffers(document);
     }
 
     tinygltf::TinyGLTF reader;
     tinygltf::Model model;
     std::string error, warning;
-    const bool ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path)
-                           : reader.LoadASCIIFromFile(&model, &error, &warning, path);
+    bool ok = false;
+    if (rewritten) {
+        // tinygltf reads the changed JSON (and a GLB's other chunks as they are) from memory.
+        const std::string directory = std::filesystem::path(path).parent_path().string();
+        const std::string text = document.dump();
+        if (binary) {
+            const std::string glb = replaceGlbJson(path, text);
+            ok = reader.LoadBinaryFromMemory(&model, &error, &warning,
+                                             reinterpret_cast<const unsigned char*>(glb.data()),
+                                             static_cast<unsigned int>(glb.size()), directory);
+        } else {
+            ok = reader.LoadASCIIFromString(&model, &error, &warning, text.data(),
+                                            static_cast<unsigned int>(text.size()), directory);
+        }
+    } else {
+        ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path)
+                    : reader.LoadASCIIFromFile(&model, &error, &warning, path);
+    }
     if (!ok || !error.empty()) {
         std::string message = error.empty() ? "not a valid glTF file" : error;
         // tinygltf's messages can span lines; the command line reports one.
@@ -211,6 +230,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         while (!message.empty() && message.back() == ' ') message.pop_back();
         throw SceneError(path + ": " + message);
     }
+    decompressMeshes(model, path);
     GltfConverter converter(model, path, options);
     return converter.convert();
 }

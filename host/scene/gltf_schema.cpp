@@ -548,6 +548,24 @@ nlohmann::json readGltfJson(const std::string& path, bool binary) {
     return Json::parse(text, nullptr, false);
 }
 
+std::string replaceGlbJson(const std::string& path, const std::string& json) {
+    std::ifstream file(path, std::ios::binary);
+    const std::string glb((std::istreambuf_iterator<char>(file)), {});
+    uint32_t length = 0;
+    for (int i = 0; glb.size() >= 20 && i < 4; ++i)
+        length |= static_cast<uint32_t>(static_cast<unsigned char>(glb[12 + i])) << (8 * i);
+    if (glb.size() < 20 || length > glb.size() - 20) throw SceneError(path + ": not a valid GLB file");
+    std::string chunk = json;
+    chunk.resize((chunk.size() + 3) / 4 * 4, ' ');  // chunks are 4-byte aligned; JSON pads with spaces
+    const std::string rest = glb.substr(20 + length);
+    auto word = [](size_t value) {
+        std::string bytes(4, '\0');
+        for (int i = 0; i < 4; ++i) bytes[i] = static_cast<char>((value >> (8 * i)) & 0xffu);
+        return bytes;
+    };
+    return glb.substr(0, 8) + word(20 + chunk.size() + rest.size()) + word(chunk.size()) + "JSON" + chunk + rest;
+}
+
 void validateGltfJson(const nlohmann::json& document, const std::string& path) {
     SchemaCheck(document, path).document();
 }

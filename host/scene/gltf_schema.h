@@ -13,6 +13,9 @@ namespace vkrt {
 // loader then lets tinygltf say what is wrong).
 nlohmann::json readGltfJson(const std::string& path, bool binary);
 
+// The GLB file at `path` with its JSON chunk replaced by `json` (its other chunks as they are).
+std::string replaceGlbJson(const std::string& path, const std::string& json);
+
 // Throws SceneError "path: meshes[0].primitives: expected an array" at the first property of the wrong type
 // or out of its range, or an index that names nothing.
 void validateGltfJson(const nlohmann::json& document, const std::string& path);

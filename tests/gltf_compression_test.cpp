@@ -1,0 +1,313 @@
+// Compressed and quantized meshes (EXT_meshopt_compression, KHR_mesh_quantization) load as the same triangles
+// as the plain file they were made from. The compressed files are made here, by meshoptimizer's own encoders,
+// from one small mesh.
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+#include <meshoptimizer.h>
+#include <nlohmann/json.hpp>
+
+#include "app/render_policy.h"
+#include "cpu/reference_renderer.h"
+#include "scene/gltf_loader.h"
+#include "scene/scene_error.h"
+#include "support/render_both.h"
+#include "support/temporary_folder.h"
+#include "support/test_paths.h"
+
+namespace vkrt {
+namespace {
+
+using nlohmann::json;
+
+// A bumpy 7 x 7 grid: 49 vertices with positions and unit normals, 72 triangles.
+struct Grid {
+    std::vector<float> positions, normals;  // 3 per vertex
+    std::vector<uint32_t> indices;
+};
+
+Grid grid() {
+    Grid g;
+    const int n = 7;
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            const float h = 0.3f * std::sin(1.3f * x) * std::cos(0.7f * y);
+            g.positions.insert(g.positions.end(), {0.5f * x - 1.5f, h, 0.5f * y - 1.5f});
+            const float nx = -0.39f * std::cos(1.3f * x) * std::cos(0.7f * y),
+                        nz = 0.21f * std::sin(1.3f * x) * std::sin(0.7f * y);
+            const float length = std::sqrt(nx * nx + 1.0f + nz * nz);
+            g.normals.insert(g.normals.end(), {nx / length, 1.0f / length, nz / length});
+        }
+    }
+    for (int y = 0; y + 1 < n; ++y) {
+        for (int x = 0; x + 1 < n; ++x) {
+            const uint32_t a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+            g.indices.insert(g.indices.end(), {a, c, b, b, c, d});
+        }
+    }
+    return g;
+}
+
+std::string bytesOf(const void* data, size_t size) {
+    return std::string(static_cast<const char*>(data), size);
+}
+
+// A one-mesh document over `accessors` and `views` (the mesh: accessor 0 positions, 1 normals, 2 indices).
+json document(json accessors, json views, json buffers, json extensions = json::array()) {
+    const json primitive = {{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}};
+    json d = {{"asset", {{"version", "2.0"}}},
+              {"scene", 0},
+              {"scenes", {{{"nodes", {0}}}}},
+              {"nodes", {{{"mesh", 0}}}},
+              {"meshes", {{{"primitives", {primitive}}}}},
+              {"accessors", accessors},
+              {"bufferViews", views},
+              {"buffers", buffers}};
+    if (!extensions.empty()) d["extensionsUsed"] = d["extensionsRequired"] = extensions;
+    return d;
+}
+
+json floatAccessor(int view, size_t count, const char* type) {
+    return {{"bufferView", view}, {"componentType", 5126}, {"count", count}, {"type", type}};
+}
+
+json gridAccessors(const Grid& g, int firstView) {
+    json positions = floatAccessor(firstView, g.positions.size() / 3, "VEC3");
+    positions["min"] = {-1.5, -0.3, -1.5};
+    positions["max"] = {1.5, 0.3, 1.5};
+    const json indices = {{"bufferView", firstView + 2},
+                          {"componentType", 5125},
+                          {"count", g.indices.size()},
+                          {"type", "SCALAR"}};
+    return {positions, floatAccessor(firstView + 1, g.normals.size() / 3, "VEC3"), indices};
+}
+
+// The plain file: float positions and normals, 32-bit indices.
+std::filesystem::path writePlain(const std::filesystem::path& folder, const Grid& g) {
+    const std::string bin = bytesOf(g.positions.data(), g.positions.size() * 4) +
+                            bytesOf(g.normals.data(), g.normals.size() * 4) +
+                            bytesOf(g.indices.data(), g.indices.size() * 4);
+    test::writeText(folder / "plain.bin", bin);
+    const size_t p = g.positions.size() * 4, n = g.normals.size() * 4, i = g.indices.size() * 4;
+    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}},
+                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
+                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", i}}};
+    const std::filesystem::path file = folder / "plain.gltf";
+    test::writeText(
+        file,
+        document(gridAccessors(g, 0), views, {{{"uri", "plain.bin"}, {"byteLength", bin.size()}}}).dump());
+    return file;
+}
+
+// `json` and `bin` as a GLB file.
+void writeGlb(const std::filesystem::path& file, const json& document, std::string bin) {
+    std::string text = document.dump();
+    text.resize((text.size() + 3) / 4 * 4, ' ');
+    bin.resize((bin.size() + 3) / 4 * 4, '\0');
+    auto word = [](size_t v) {
+        const uint32_t w = static_cast<uint32_t>(v);
+        return bytesOf(&w, 4);
+    };
+    test::writeText(file, "glTF" + word(2) + word(28 + text.size() + bin.size()) + word(text.size()) +
+                              "JSON" + text + word(bin.size()) + "BIN" + std::string(1, '\0') + bin);
+}
+
+// The grid's triangles in the order the scene holds them, each corner's position and normal.
+using Corner = std::array<float, 6>;
+std::vector<std::array<Corner, 3>> trianglesOf(const Scene& scene) {
+    std::vector<std::array<Corner, 3>> triangles;
+    for (size_t t = 0; t < scene.triangles.size(); ++t) {
+        const glm::vec3 v[3] = {scene.triangles[t].v0, scene.triangles[t].v1, scene.triangles[t].v2};
+        std::array<Corner, 3> corners;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 world = glm::dvec3(v[k]) + scene.origin;
+            const glm::vec3 normal = scene.shading[t].normal[k];
+            corners[k] = {float(world.x), float(world.y), float(world.z), normal.x, normal.y, normal.z};
+        }
+        triangles.push_back(corners);
+    }
+    return triangles;
+}
+
+void expectSameTriangles(const Scene& expected, const Scene& actual, float positionTolerance,
+                         float normalTolerance) {
+    const auto a = trianglesOf(expected), b = trianglesOf(actual);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(a.size(), 72u);
+    for (size_t t = 0; t < a.size(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            for (int c = 0; c < 6; ++c) {
+                EXPECT_NEAR(a[t][k][c], b[t][k][c], c < 3 ? positionTolerance : normalTolerance)
+                    << "triangle " << t << " corner " << k << " component " << c;
+            }
+        }
+    }
+}
+
+// The grid with every view compressed by meshoptimizer (positions as they are, normals through the
+// octahedral filter into 8-bit pairs, indices by the triangle codec) in `compressed`, and the views over a
+// fallback buffer with no data.
+struct MeshoptGrid {
+    json document;
+    std::string compressed;
+};
+
+MeshoptGrid meshoptGrid(const Grid& g) {
+    const size_t count = g.positions.size() / 3;
+    auto encodeVertices = [&](const void* vertices, size_t stride) {
+        std::vector<unsigned char> out(meshopt_encodeVertexBufferBound(count, stride));
+        out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), vertices, count, stride));
+        return bytesOf(out.data(), out.size());
+    };
+    std::vector<float> normals4;
+    for (size_t v = 0; v < count; ++v)
+        normals4.insert(normals4.end(), {g.normals[3 * v], g.normals[3 * v + 1], g.normals[3 * v + 2], 0.0f});
+    std::vector<int8_t> octahedral(4 * count);
+    meshopt_encodeFilterOct(octahedral.data(), count, 4, 8, normals4.data());
+    std::vector<unsigned char> indices(meshopt_encodeIndexBufferBound(g.indices.size(), count));
+    indices.resize(
+        meshopt_encodeIndexBuffer(indices.data(), indices.size(), g.indices.data(), g.indices.size()));
+
+    const std::string blocks[3] = {encodeVertices(g.positions.data(), 12),
+                                   encodeVertices(octahedral.data(), 4),
+                                   bytesOf(indices.data(), indices.size())};
+    const size_t strides[3] = {12, 4, 4}, counts[3] = {count, count, g.indices.size()};
+    const char* modes[3] = {"ATTRIBUTES", "ATTRIBUTES", "TRIANGLES"};
+    MeshoptGrid result;
+    json views = json::array();
+    size_t fallbackSize = 0;
+    for (int k = 0; k < 3; ++k) {
+        json extension = {{"buffer", 0},
+                          {"byteOffset", result.compressed.size()},
+                          {"byteLength", blocks[k].size()},
+                          {"byteStride", strides[k]},
+                          {"count", counts[k]},
+                          {"mode", modes[k]}};
+        if (k == 1) extension["filter"] = "OCTAHEDRAL";
+        json view = {{"buffer", 1},
+                     {"byteOffset", fallbackSize},
+                     {"byteLength", strides[k] * counts[k]},
+                     {"extensions", {{"EXT_meshopt_compression", extension}}}};
+        if (k < 2) view["byteStride"] = strides[k];
+        views.push_back(view);
+        fallbackSize += strides[k] * counts[k];
+        result.compressed += blocks[k];
+        result.compressed.resize((result.compressed.size() + 3) / 4 * 4, '\0');
+    }
+    json accessors = gridAccessors(g, 0);
+    accessors[1] = {
+        {"bufferView", 1}, {"componentType", 5120}, {"normalized", true}, {"count", count}, {"type", "VEC3"}};
+    const json buffers = {
+        {{"byteLength", result.compressed.size()}},
+        {{"byteLength", fallbackSize}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+    result.document = document(accessors, views, buffers, {"EXT_meshopt_compression"});
+    return result;
+}
+
+TEST(GltfCompression, MeshoptViewsDecodeToThePlainMesh) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    const Scene plain = loadGltf(writePlain(folder, g).string());
+    MeshoptGrid compressed = meshoptGrid(g);
+
+    // A GLB whose binary chunk holds the compressed data (the fallback buffer, larger, has none).
+    writeGlb(folder / "meshopt.glb", compressed.document, compressed.compressed);
+    // The same as .gltf with the data in a file of its own.
+    compressed.document["buffers"][0]["uri"] = "meshopt.bin";
+    test::writeText(folder / "meshopt.bin", compressed.compressed);
+    test::writeText(folder / "meshopt.gltf", compressed.document.dump());
+    for (const char* name : {"meshopt.glb", "meshopt.gltf"}) {
+        SCOPED_TRACE(name);
+        // Positions are exact; normals went through 8-bit octahedral pairs.
+        expectSameTriangles(plain, loadGltf((folder / name).string()), 0.0f, 0.02f);
+    }
+}
+
+TEST(GltfCompression, MeshoptDataThatDoesNotFitIsRefused) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    auto expectRefused = [&](const MeshoptGrid& file, const std::string& expected) {
+        writeGlb(folder / "bad.glb", file.document, file.compressed);
+        try {
+            loadGltf((folder / "bad.glb").string());
+            ADD_FAILURE() << "loaded; expected " << expected;
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+        }
+    };
+    MeshoptGrid truncated = meshoptGrid(g);
+    truncated.document["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteLength"] = 20;
+    expectRefused(truncated, "does not decode");
+    MeshoptGrid huge = meshoptGrid(g);
+    huge.document["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = 1u << 28;
+    expectRefused(huge, "cannot come from");
+    MeshoptGrid outside = meshoptGrid(g);
+    outside.document["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 1u << 20;
+    expectRefused(outside, "of buffer 0");
+    MeshoptGrid mode = meshoptGrid(g);
+    mode.document["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]["mode"] = "STRIPS";
+    expectRefused(mode, "unknown mode");
+}
+
+TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    const Scene plain = loadGltf(writePlain(folder, g).string());
+    // Positions in hundredths as 16-bit integers (padded to 8 bytes), scaled back by the node.
+    std::vector<int16_t> quantized;
+    for (size_t v = 0; v < g.positions.size() / 3; ++v) {
+        for (int c = 0; c < 3; ++c)
+            quantized.push_back(static_cast<int16_t>(std::lround(100.0f * g.positions[3 * v + c])));
+        quantized.push_back(0);
+    }
+    const std::string bin = bytesOf(quantized.data(), quantized.size() * 2) +
+                            bytesOf(g.normals.data(), g.normals.size() * 4) +
+                            bytesOf(g.indices.data(), g.indices.size() * 4);
+    const size_t p = quantized.size() * 2, n = g.normals.size() * 4, i = g.indices.size() * 4;
+    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}, {"byteStride", 8}},
+                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
+                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", i}}};
+    json accessors = gridAccessors(g, 0);
+    accessors[0]["componentType"] = 5122;
+    accessors[0]["min"] = {-150, -30, -150};
+    accessors[0]["max"] = {150, 30, 150};
+    json file = document(accessors, views, json::array({{{"byteLength", bin.size()}}}));
+    file["nodes"][0]["scale"] = {0.01, 0.01, 0.01};
+    writeGlb(folder / "plain-integers.glb", file, bin);
+    try {
+        loadGltf((folder / "plain-integers.glb").string());
+        ADD_FAILURE() << "integer positions loaded without KHR_mesh_quantization";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("KHR_mesh_quantization"), std::string::npos) << e.what();
+    }
+    file["extensionsUsed"] = file["extensionsRequired"] = {"KHR_mesh_quantization"};
+    writeGlb(folder / "quantized.glb", file, bin);
+    expectSameTriangles(plain, loadGltf((folder / "quantized.glb").string()), 0.006f, 1e-6f);
+}
+
+// scenes/cornell-meshopt.glb is gltfpack's compressed cornell.gltf (14-bit positions, 8-bit normals,
+// meshoptimizer's codecs). The CPU reference renders it as it renders the original.
+TEST(GltfCompression, PackedCornellBoxRendersAsTheOriginal) {
+    double means[2][3] = {};
+    const char* files[2] = {"scenes/cornell.gltf", "scenes/cornell-meshopt.glb"};
+    for (int k = 0; k < 2; ++k) {
+        const Scene scene = loadGltf((test::sourceDir() / files[k]).string());
+        RenderRequest request;
+        request.settings.width = request.settings.height = 32;
+        request.settings.samplesPerPixel = 16;
+        const RenderSetup setup = resolveRender(request, scene);
+        const RenderResult result =
+            ReferenceRenderer(scene, test::bvhFor(scene), setup.camera, setup.settings).render();
+        for (const glm::vec3& pixel : result.image.pixels) {
+            for (int c = 0; c < 3; ++c) means[k][c] += pixel[c] / result.image.pixels.size();
+        }
+    }
+    // The same random numbers on nearly the same geometry: channel means within 0.5% (25 times the difference
+    // seen), where a wall's colour lost would move them by more than a tenth.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(means[1][c], means[0][c], 0.005 * means[0][c]) << "channel " << c;
+}
+
+}  // namespace
+}  // namespace vkrt
