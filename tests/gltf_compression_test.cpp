@@ -1,10 +1,13 @@
-// Compressed and quantized meshes (EXT_meshopt_compression, KHR_mesh_quantization) load as the same triangles
-// as the plain file they were made from. The compressed files are made here, by meshoptimizer's own encoders,
-// from one small mesh.
+// Compressed and quantized meshes (EXT_meshopt_compression, KHR_draco_mesh_compression,
+// KHR_mesh_quantization) load as the same triangles as the plain file they were made from. The compressed
+// files are made here, by the libraries' own encoders (meshoptimizer, Draco), from one small mesh.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 
+#include <draco/compression/encode.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
@@ -114,9 +117,14 @@ void writeGlb(const std::filesystem::path& file, const json& document, std::stri
                               "JSON" + text + word(bin.size()) + "BIN" + std::string(1, '\0') + bin);
 }
 
-// The grid's triangles in the order the scene holds them, each corner's position and normal.
+// The grid's triangles, each corner's position and normal, in an order of their own: a decoder may reorder
+// triangles (Draco does) and turn their corners. Each is turned to start at its first corner in grid order
+// (keeping its winding), and they are sorted by their corners' grid cells (x and z are multiples of 0.5).
 using Corner = std::array<float, 6>;
 std::vector<std::array<Corner, 3>> trianglesOf(const Scene& scene) {
+    auto cell = [](const Corner& c) {
+        return std::make_pair(std::lround(2.0f * c[0]), std::lround(2.0f * c[2]));
+    };
     std::vector<std::array<Corner, 3>> triangles;
     for (size_t t = 0; t < scene.triangles.size(); ++t) {
         const glm::vec3 v[3] = {scene.triangles[t].v0, scene.triangles[t].v1, scene.triangles[t].v2};
@@ -126,8 +134,16 @@ std::vector<std::array<Corner, 3>> trianglesOf(const Scene& scene) {
             const glm::vec3 normal = scene.shading[t].normal[k];
             corners[k] = {float(world.x), float(world.y), float(world.z), normal.x, normal.y, normal.z};
         }
+        std::rotate(corners.begin(),
+                    std::min_element(corners.begin(), corners.end(),
+                                     [&](const Corner& a, const Corner& b) { return cell(a) < cell(b); }),
+                    corners.end());
         triangles.push_back(corners);
     }
+    std::sort(triangles.begin(), triangles.end(), [&](const auto& a, const auto& b) {
+        return std::make_tuple(cell(a[0]), cell(a[1]), cell(a[2])) <
+               std::make_tuple(cell(b[0]), cell(b[1]), cell(b[2]));
+    });
     return triangles;
 }
 
@@ -249,6 +265,81 @@ TEST(GltfCompression, MeshoptDataThatDoesNotFitIsRefused) {
     MeshoptGrid mode = meshoptGrid(g);
     mode.document["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]["mode"] = "STRIPS";
     expectRefused(mode, "unknown mode");
+}
+
+// The grid as one Draco-compressed buffer view (positions, normals); lossless unless `quantize`.
+std::string dracoGrid(const Grid& g, bool quantize, int& positionId, int& normalId) {
+    draco::TriangleSoupMeshBuilder builder;
+    builder.Start(static_cast<int>(g.indices.size() / 3));
+    const int position = builder.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    const int normal = builder.AddAttribute(draco::GeometryAttribute::NORMAL, 3, draco::DT_FLOAT32);
+    for (size_t f = 0; f < g.indices.size() / 3; ++f) {
+        const uint32_t* corner = &g.indices[3 * f];
+        builder.SetAttributeValuesForFace(position, draco::FaceIndex(f), &g.positions[3 * corner[0]],
+                                          &g.positions[3 * corner[1]], &g.positions[3 * corner[2]]);
+        builder.SetAttributeValuesForFace(normal, draco::FaceIndex(f), &g.normals[3 * corner[0]],
+                                          &g.normals[3 * corner[1]], &g.normals[3 * corner[2]]);
+    }
+    std::unique_ptr<draco::Mesh> mesh = builder.Finalize();
+    positionId = static_cast<int>(mesh->attribute(position)->unique_id());
+    normalId = static_cast<int>(mesh->attribute(normal)->unique_id());
+    draco::Encoder encoder;
+    if (quantize) {
+        encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, 14);
+        encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, 10);
+    }
+    draco::EncoderBuffer buffer;
+    EXPECT_TRUE(encoder.EncodeMeshToBuffer(*mesh, &buffer).ok());
+    return std::string(buffer.data(), buffer.size());
+}
+
+// A document whose one primitive is `size` bytes of Draco data; its accessors have no buffer views.
+json dracoDocument(const Grid& g, size_t size, int positionId, int normalId) {
+    json accessors = gridAccessors(g, 0);
+    for (json& accessor : accessors) accessor.erase("bufferView");
+    json d = document(accessors, {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", size}}},
+                      {{{"byteLength", (size + 3) / 4 * 4}}}, {"KHR_draco_mesh_compression"});
+    d["meshes"][0]["primitives"][0]["extensions"] = {
+        {"KHR_draco_mesh_compression",
+         {{"bufferView", 0}, {"attributes", {{"POSITION", positionId}, {"NORMAL", normalId}}}}}};
+    return d;
+}
+
+TEST(GltfCompression, DracoPrimitivesDecodeToThePlainMesh) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    const Scene plain = loadGltf(writePlain(folder, g).string());
+    for (const bool quantize : {false, true}) {
+        SCOPED_TRACE(quantize ? "quantized" : "lossless");
+        int positionId = -1, normalId = -1;
+        const std::string data = dracoGrid(g, quantize, positionId, normalId);
+        writeGlb(folder / "draco.glb", dracoDocument(g, data.size(), positionId, normalId), data);
+        // Exact when not quantized; 14 bits over the grid's 3-unit width are 2e-4.
+        expectSameTriangles(plain, loadGltf((folder / "draco.glb").string()), quantize ? 2e-4f : 0.0f,
+                            quantize ? 0.01f : 1e-6f);
+    }
+}
+
+TEST(GltfCompression, DracoDataThatDoesNotDecodeIsRefused) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    int positionId = -1, normalId = -1;
+    const std::string data = dracoGrid(g, false, positionId, normalId);
+    auto expectRefused = [&](const json& document, const std::string& bytes, const std::string& expected) {
+        writeGlb(folder / "bad.glb", document, bytes);
+        try {
+            loadGltf((folder / "bad.glb").string());
+            ADD_FAILURE() << "loaded; expected " << expected;
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+        }
+    };
+    expectRefused(dracoDocument(g, data.size() / 2, positionId, normalId), data, "does not decode");
+    expectRefused(dracoDocument(g, data.size(), positionId, normalId + 7), data, "has no attribute");
+    json noSuchSlot = dracoDocument(g, data.size(), positionId, normalId);
+    noSuchSlot["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]
+              ["TEXCOORD_0"] = normalId;
+    expectRefused(noSuchSlot, data, "no such attribute");
 }
 
 TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {

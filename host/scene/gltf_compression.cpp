@@ -2,7 +2,10 @@
 
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <set>
 
+#include <draco/compression/decode.h>
 #include <meshoptimizer.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +16,7 @@ namespace vkrt {
 namespace {
 
 constexpr const char* kMeshopt = "EXT_meshopt_compression";
+constexpr const char* kDraco = "KHR_draco_mesh_compression";
 
 // meshoptimizer's codecs decode at most 64 bytes from each compressed one (a vertex stream's bytes go in
 // groups of 16 under a 2-bit header at best; a triangle takes at least 4 bits, an index sequence's index a
@@ -28,6 +32,19 @@ class Decoder {
         for (size_t i = 0; i < model_.bufferViews.size(); ++i) {
             const auto extension = model_.bufferViews[i].extensions.find(kMeshopt);
             if (extension != model_.bufferViews[i].extensions.end()) meshoptView(i, extension->second);
+        }
+    }
+
+    void dracoPrimitives() {
+        for (size_t m = 0; m < model_.meshes.size(); ++m) {
+            for (size_t p = 0; p < model_.meshes[m].primitives.size(); ++p) {
+                tinygltf::Primitive& primitive = model_.meshes[m].primitives[p];
+                const auto extension = primitive.extensions.find(kDraco);
+                if (extension == primitive.extensions.end()) continue;
+                dracoPrimitive(
+                    primitive, extension->second,
+                    "mesh " + std::to_string(m) + " primitive " + std::to_string(p) + " " + kDraco);
+            }
         }
     }
 
@@ -132,13 +149,150 @@ class Decoder {
         model_.buffers.emplace_back().data = std::move(decoded);
     }
 
+    // A new buffer holding `data`, and a tightly packed buffer view over all of it.
+    int addView(std::vector<unsigned char> data) {
+        tinygltf::BufferView view;
+        view.buffer = static_cast<int>(model_.buffers.size());
+        view.byteOffset = 0;
+        view.byteLength = data.size();
+        model_.buffers.emplace_back().data = std::move(data);
+        model_.bufferViews.push_back(view);
+        return static_cast<int>(model_.bufferViews.size() - 1);
+    }
+
+    // Accessor `accessor` of a Draco primitive, made to read `data`; one that another primitive's data has
+    // already replaced is copied first, so that each primitive keeps its own.
+    int replaceAccessor(int accessor, std::vector<unsigned char> data, int componentType, size_t count,
+                        const std::string& where) {
+        if (accessor < 0 || accessor >= static_cast<int>(model_.accessors.size()))
+            fail(where + " refers to accessor " + std::to_string(accessor) + ", which does not exist");
+        if (!decodedAccessors_.insert(accessor).second) {
+            model_.accessors.push_back(model_.accessors[accessor]);
+            accessor = static_cast<int>(model_.accessors.size() - 1);
+            decodedAccessors_.insert(accessor);
+        }
+        tinygltf::Accessor& target = model_.accessors[accessor];
+        target.bufferView = addView(std::move(data));
+        target.byteOffset = 0;
+        target.componentType = componentType;
+        target.count = count;
+        target.sparse = {};
+        return accessor;
+    }
+
+    // Every point's value of `attribute`, converted to T.
+    template <typename T>
+    std::vector<unsigned char> pointValues(const draco::Mesh& mesh, const draco::PointAttribute& attribute,
+                                           int components, const std::string& where) const {
+        std::vector<unsigned char> data(size_t{mesh.num_points()} * components * sizeof(T));
+        T values[16] = {};
+        for (draco::PointIndex i(0); i < mesh.num_points(); ++i) {
+            if (!attribute.ConvertValue<T>(attribute.mapped_index(i), static_cast<int8_t>(components),
+                                           values))
+                fail(where + ": a value does not convert to the accessor's component type");
+            std::memcpy(data.data() + size_t{i.value()} * components * sizeof(T), values,
+                        components * sizeof(T));
+        }
+        return data;
+    }
+
+    // KHR_draco_mesh_compression: the primitive's indices and the attributes the extension names are decoded
+    // from one buffer view; each accessor then reads its decoded values, in its own component type, and the
+    // indices as 32-bit integers.
+    void dracoPrimitive(tinygltf::Primitive& primitive, const tinygltf::Value& extension,
+                        const std::string& where) {
+        if (!extension.IsObject() || !extension.Has("attributes") || !extension.Get("attributes").IsObject())
+            fail(where + ": 'attributes' must be an object");
+        if (primitive.mode != TINYGLTF_MODE_TRIANGLES) fail(where + ": only triangle lists are decoded");
+        const size_t viewIndex = size(extension, "bufferView", where, true);
+        if (viewIndex >= model_.bufferViews.size())
+            fail(where + " refers to bufferView " + std::to_string(viewIndex) + ", which does not exist");
+        const tinygltf::BufferView& view = model_.bufferViews[viewIndex];
+        if (view.buffer < 0) fail(where + ": bufferView " + std::to_string(viewIndex) + " has no buffer");
+        const unsigned char* data =
+            bytes(static_cast<size_t>(view.buffer), view.byteOffset, view.byteLength, where);
+
+        draco::DecoderBuffer buffer;
+        buffer.Init(reinterpret_cast<const char*>(data), view.byteLength);
+        draco::Decoder decoder;
+        auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+        if (!decoded.ok())
+            fail(where + ": the compressed data does not decode (" + decoded.status().error_msg_string() +
+                 ")");
+        const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+
+        std::vector<unsigned char> indices(size_t{mesh->num_faces()} * 3 * sizeof(uint32_t));
+        for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
+            const draco::Mesh::Face& face = mesh->face(f);
+            const uint32_t corners[3] = {face[0].value(), face[1].value(), face[2].value()};
+            std::memcpy(indices.data() + size_t{f.value()} * sizeof(corners), corners, sizeof(corners));
+        }
+        if (primitive.indices < 0) {  // the decoded mesh is indexed whether or not the primitive was
+            tinygltf::Accessor created;
+            created.type = TINYGLTF_TYPE_SCALAR;
+            model_.accessors.push_back(created);
+            primitive.indices = static_cast<int>(model_.accessors.size() - 1);
+        }
+        primitive.indices =
+            replaceAccessor(primitive.indices, std::move(indices), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                            size_t{mesh->num_faces()} * 3, where + " indices");
+
+        const tinygltf::Value& attributes = extension.Get("attributes");
+        for (const std::string& name : attributes.Keys()) {
+            const std::string attributeWhere = where + " " + name;
+            const auto slot = primitive.attributes.find(name);
+            if (slot == primitive.attributes.end())
+                fail(attributeWhere + ": the primitive has no such attribute");
+            const size_t id = size(attributes, name.c_str(), attributeWhere, true);
+            const draco::PointAttribute* attribute =
+                id <= std::numeric_limits<uint32_t>::max()
+                    ? mesh->GetAttributeByUniqueId(static_cast<uint32_t>(id))
+                    : nullptr;
+            if (attribute == nullptr)
+                fail(attributeWhere + ": the compressed mesh has no attribute " + std::to_string(id));
+            if (slot->second < 0 || slot->second >= static_cast<int>(model_.accessors.size()))
+                fail(attributeWhere + " refers to accessor " + std::to_string(slot->second) +
+                     ", which does not exist");
+            const tinygltf::Accessor& accessor = model_.accessors[slot->second];
+            const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type));
+            if (components < 1 || components > 16 || components != attribute->num_components()) {
+                fail(attributeWhere + ": the accessor has " + std::to_string(components) +
+                     " components, the compressed data " + std::to_string(attribute->num_components()));
+            }
+            std::vector<unsigned char> values;
+            switch (accessor.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                    values = pointValues<float>(*mesh, *attribute, components, attributeWhere);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_BYTE:
+                    values = pointValues<int8_t>(*mesh, *attribute, components, attributeWhere);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    values = pointValues<uint8_t>(*mesh, *attribute, components, attributeWhere);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_SHORT:
+                    values = pointValues<int16_t>(*mesh, *attribute, components, attributeWhere);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+                    values = pointValues<uint16_t>(*mesh, *attribute, components, attributeWhere);
+                    break;
+                default:
+                    fail(attributeWhere + ": component type " + std::to_string(accessor.componentType) +
+                         " is not an attribute's");
+            }
+            slot->second = replaceAccessor(slot->second, std::move(values), accessor.componentType,
+                                           mesh->num_points(), attributeWhere);
+        }
+    }
+
     tinygltf::Model& model_;
     const std::string& path_;
+    std::set<int> decodedAccessors_;  // accessors a Draco primitive's data has replaced
 };
 
 }  // namespace
 
-bool stubMeshoptFallbackBuffers(nlohmann::json& document) {
+bool stubCompressedData(nlohmann::json& document) {
     if (!document.is_object()) return false;
     auto extensionOf = [](const nlohmann::json& object, const char* name) -> const nlohmann::json* {
         if (!object.is_object() || !object.contains("extensions") || !object["extensions"].is_object())
@@ -157,12 +311,37 @@ bool stubMeshoptFallbackBuffers(nlohmann::json& document) {
             changed = true;
         }
     }
+    // A Draco primitive's index accessor has no bufferView, which tinygltf requires: it is given the
+    // compressed one, and decompressMeshes replaces it.
+    auto arrayAt = [](const nlohmann::json& object, const char* key) -> const nlohmann::json* {
+        return object.is_object() && object.contains(key) && object[key].is_array() ? &object[key] : nullptr;
+    };
+    const nlohmann::json* meshes = arrayAt(document, "meshes");
+    if (meshes != nullptr && arrayAt(document, "accessors") != nullptr) {
+        nlohmann::json& accessors = document["accessors"];
+        for (const nlohmann::json& mesh : *meshes) {
+            const nlohmann::json* primitives = arrayAt(mesh, "primitives");
+            for (size_t p = 0; primitives != nullptr && p < primitives->size(); ++p) {
+                const nlohmann::json& primitive = (*primitives)[p];
+                const nlohmann::json* extension = extensionOf(primitive, kDraco);
+                if (extension == nullptr || !extension->contains("bufferView") ||
+                    !primitive.contains("indices") || !primitive["indices"].is_number_unsigned() ||
+                    primitive["indices"].get<size_t>() >= accessors.size())
+                    continue;
+                nlohmann::json& indices = accessors[primitive["indices"].get<size_t>()];
+                if (!indices.is_object() || indices.contains("bufferView")) continue;
+                indices["bufferView"] = (*extension)["bufferView"];
+                changed = true;
+            }
+        }
+    }
     return changed;
 }
 
 void decompressMeshes(tinygltf::Model& model, const std::string& path) {
     Decoder decoder(model, path);
     decoder.meshoptViews();
+    decoder.dracoPrimitives();
 }
 
 }  // namespace vkrt

@@ -14,7 +14,7 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 16> kSupportedExtensions = {"KHR_materials_specular",
+constexpr std::array<const char*, 17> kSupportedExtensions = {"KHR_materials_specular",
                                                               "KHR_texture_transform",
                                                               "KHR_materials_emissive_strength",
                                                               "KHR_materials_transmission",
@@ -27,6 +27,7 @@ constexpr std::array<const char*, 16> kSupportedExtensions = {"KHR_materials_spe
                                                               "EXT_mesh_gpu_instancing",
                                                               "KHR_mesh_quantization",
                                                               "EXT_meshopt_compression",
+                                                              "KHR_draco_mesh_compression",
                                                               "VKRT_sphere",
                                                               "VKRT_shape",
                                                               "VKRT_csg"};

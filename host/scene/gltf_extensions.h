@@ -23,7 +23,7 @@ void checkExtensions(GltfContext& context);
 void warnAboutUnsupportedFeatures(GltfContext& context);
 
 // The first extension a glTF document requires and vkrt does not support, read from its JSON directly: tinygltf
-// may reject such a file (a Draco-compressed mesh has accessors without buffer views) before the loader can
+// may reject such a file (KHR_texture_basisu's images are in a format it cannot read) before the loader can
 // name the reason.
 std::optional<std::string> unsupportedRequiredExtension(const nlohmann::json& document);
 

@@ -199,7 +199,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         if (const auto extension = unsupportedRequiredExtension(document))
             throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
         validateGltfJson(document, path);
-        rewritten = stubMeshoptFallbackBuffers(document);
+        rewritten = stubCompressedData(document);
     }
 
     tinygltf::TinyGLTF reader;
