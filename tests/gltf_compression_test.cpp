@@ -10,6 +10,8 @@
 #include <draco/mesh/triangle_soup_mesh_builder.h>
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
+#include <stb/stb_image_write.h>
+#include <webp/encode.h>
 #include <nlohmann/json.hpp>
 
 #include "app/render_policy.h"
@@ -378,23 +380,104 @@ TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
     expectSameTriangles(plain, loadGltf((folder / "quantized.glb").string()), 0.006f, 1e-6f);
 }
 
-// The image's channel means, rendered by the CPU reference at 32 x 32 and 16 samples per pixel.
-glm::dvec3 meanColour(const std::string& file) {
+// A triangle (quad.bin: writeQuadData) whose material shows textures[0], `texture`, over `images`.
+json texturedTriangle(json texture, json images, bool required) {
+    json d = {{"asset", {{"version", "2.0"}}},
+              {"scene", 0},
+              {"scenes", {{{"nodes", {0}}}}},
+              {"nodes", {{{"mesh", 0}}}},
+              {"meshes",
+               {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}}}, {"material", 0}}}}}}},
+              {"materials", {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}}},
+              {"textures", {texture}},
+              {"images", images},
+              {"accessors",
+               {{{"bufferView", 0},
+                 {"componentType", 5126},
+                 {"count", 3},
+                 {"type", "VEC3"},
+                 {"min", {0, 0, 0}},
+                 {"max", {1, 1, 0}}},
+                {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}}}},
+              {"bufferViews",
+               {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+                {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 24}}}},
+              {"buffers", {{{"uri", "quad.bin"}, {"byteLength", 60}}}}};
+    d["extensionsUsed"] = {"EXT_texture_webp"};
+    if (required) d["extensionsRequired"] = {"EXT_texture_webp"};
+    return d;
+}
+
+void writeQuadData(const std::filesystem::path& folder) {
+    const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const float uvs[6] = {0, 1, 1, 1, 0, 0};
+    test::writeText(folder / "quad.bin", bytesOf(positions, sizeof(positions)) + bytesOf(uvs, sizeof(uvs)));
+}
+
+TEST(GltfCompression, WebpTexturesDecodeToTheirPixels) {
+    const auto folder = test::temporaryFolder();
+    writeQuadData(folder);
+    // A 4 x 3 image, every pixel its own colour and alpha, encoded losslessly.
+    std::vector<uint8_t> pixels;
+    for (int i = 0; i < 12; ++i) {
+        pixels.insert(pixels.end(),
+                      {uint8_t(20 * i), uint8_t(255 - 7 * i), uint8_t(i * i), uint8_t(255 - i)});
+    }
+    uint8_t* encoded = nullptr;
+    const size_t size = WebPEncodeLosslessRGBA(pixels.data(), 4, 3, 16, &encoded);
+    ASSERT_GT(size, 0u);
+    test::writeText(folder / "texture.webp", bytesOf(encoded, size));
+    WebPFree(encoded);
+    // The fallback for viewers without the extension: one grey pixel.
+    const uint8_t grey[3] = {128, 128, 128};
+    ASSERT_TRUE(stbi_write_png((folder / "fallback.png").string().c_str(), 1, 1, 3, grey, 3));
+
+    const json withFallback = {{"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}};
+    const json webpOnly = {{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
+    const json cases[2] = {
+        texturedTriangle(withFallback, {{{"uri", "fallback.png"}}, {{"uri", "texture.webp"}}}, false),
+        texturedTriangle(webpOnly, {{{"uri", "texture.webp"}}}, true)};
+    for (const json& document : cases) {
+        test::writeText(folder / "quad.gltf", document.dump());
+        const Scene scene = loadGltf((folder / "quad.gltf").string());
+        ASSERT_EQ(scene.textures.size(), 1u);
+        EXPECT_EQ(scene.textures[0].width, 4);
+        EXPECT_EQ(scene.textures[0].height, 3);
+        EXPECT_EQ(scene.textures[0].rgba, pixels);
+    }
+    // Bytes that claim to be WebP and are not.
+    test::writeText(folder / "texture.webp",
+                    std::string("RIFF\x10\0\0\0WEBPVP8L", 16) + std::string(8, '\x7f'));
+    test::writeText(folder / "quad.gltf", cases[1].dump());
+    try {
+        loadGltf((folder / "quad.gltf").string());
+        ADD_FAILURE() << "a broken WebP image loaded";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("WebP"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+}
+
+// The scene in `file` rendered by the CPU reference at 32 x 32 and 16 samples per pixel.
+Image cpuImage(const std::string& file) {
     const Scene scene = loadGltf((test::sourceDir() / file).string());
     RenderRequest request;
     request.settings.width = request.settings.height = 32;
     request.settings.samplesPerPixel = 16;
     const RenderSetup setup = resolveRender(request, scene);
-    const RenderResult result =
-        ReferenceRenderer(scene, test::bvhFor(scene), setup.camera, setup.settings).render();
+    return ReferenceRenderer(scene, test::bvhFor(scene), setup.camera, setup.settings).render().image;
+}
+
+// Its channel means.
+glm::dvec3 meanColour(const std::string& file) {
+    const Image image = cpuImage(file);
     glm::dvec3 mean(0.0);
-    for (const glm::vec3& pixel : result.image.pixels)
-        mean += glm::dvec3(pixel) / double(result.image.pixels.size());
+    for (const glm::vec3& pixel : image.pixels) mean += glm::dvec3(pixel) / double(image.pixels.size());
     return mean;
 }
 
 // scenes/cornell-meshopt.glb is gltfpack's compressed cornell.gltf (14-bit positions, 8-bit normals,
-// meshoptimizer's codecs), scenes/cornell-draco.glb tools/draco_scene's (Draco, 14-bit positions, 10-bit
+// meshoptimizer's codecs), scenes/cornell-draco.glb tools/pack_scene's (Draco, 14-bit positions, 10-bit
 // normals). Both render as the original does.
 TEST(GltfCompression, CompressedCornellBoxesRenderAsTheOriginal) {
     const glm::dvec3 original = meanColour("scenes/cornell.gltf");
@@ -406,6 +489,13 @@ TEST(GltfCompression, CompressedCornellBoxesRenderAsTheOriginal) {
         // wall's colour lost would move them by more than a tenth.
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], original[c], 0.01 * original[c]) << "channel " << c;
     }
+}
+
+// scenes/textures-webp.glb is tools/pack_scene's textures.gltf with every image as lossless WebP: the same
+// texels, so the same image, bit for bit.
+TEST(GltfCompression, WebpTexturesSceneRendersAsTheOriginal) {
+    const Image original = cpuImage("scenes/textures.gltf"), webp = cpuImage("scenes/textures-webp.glb");
+    EXPECT_EQ(webp.pixels, original.pixels);
 }
 
 }  // namespace

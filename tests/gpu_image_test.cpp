@@ -82,6 +82,7 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{own("environment.gltf"), 80, 50, 4}, SceneCase{own("csg.gltf"), 80, 50, 4},
                       SceneCase{own("outdoor.gltf"), 64, 64, 4}, SceneCase{own("cornell-meshopt.glb"), 64, 64, 4},
                       SceneCase{own("cornell-draco.glb"), 64, 64, 4},
+                      SceneCase{own("textures-webp.glb"), 80, 50, 4},
                       SceneCase{own("cornell.gltf"), 64, 64, 4, Integrator::Whitted},
                       SceneCase{own("whitted.gltf"), 80, 60, 4, Integrator::Whitted},
                       SceneCase{own("lights.gltf"), 80, 60, 4, Integrator::Whitted},

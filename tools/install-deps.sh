@@ -6,7 +6,7 @@ packages=(
     libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools  # loader, lavapipe, validation
     glslang-dev glslang-tools spirv-tools                                   # run-time GLSL -> SPIR-V
     libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev # math, glTF, JSON, images
-    libmeshoptimizer-dev libdraco-dev                                       # compressed glTF meshes
+    libmeshoptimizer-dev libdraco-dev libwebp-dev                           # compressed meshes, WebP textures
     libcli11-dev                                                            # command line
     libgtest-dev                                                            # tests
     libopenmpi-dev openmpi-bin                                              # one render across processes (optional)

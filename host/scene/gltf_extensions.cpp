@@ -14,8 +14,9 @@
 namespace vkrt {
 namespace {
 
-constexpr std::array<const char*, 17> kSupportedExtensions = {"KHR_materials_specular",
+constexpr std::array<const char*, 18> kSupportedExtensions = {"KHR_materials_specular",
                                                               "KHR_texture_transform",
+                                                              "EXT_texture_webp",
                                                               "KHR_materials_emissive_strength",
                                                               "KHR_materials_transmission",
                                                               "KHR_materials_ior",

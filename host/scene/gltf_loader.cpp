@@ -12,6 +12,7 @@
 #include "scene/gltf_compression.h"
 #include "scene/gltf_context.h"
 #include "scene/gltf_extensions.h"
+#include "scene/gltf_images.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
@@ -203,6 +204,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     }
 
     tinygltf::TinyGLTF reader;
+    reader.SetImageLoader(loadGltfImage, nullptr);
     tinygltf::Model model;
     std::string error, warning;
     bool ok = false;

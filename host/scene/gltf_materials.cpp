@@ -7,6 +7,7 @@
 
 #include "media.h"
 #include "scene/gltf_extensions.h"
+#include "scene/gltf_images.h"
 #include "scene/gltf_material_extensions.h"
 #include "scene/gltf_texture_slots.h"
 
@@ -96,13 +97,14 @@ void convertTextures(GltfContext& context) {
         const tinygltf::Texture& gltfTexture = model.textures[i];
         Texture texture;
         texture.name = gltfTexture.name;
-        if (gltfTexture.source < 0 || gltfTexture.source >= static_cast<int>(model.images.size())) {
-            // Textures without a core image source (e.g. only KHR_texture_basisu) stay empty; using one
+        const int source = imageSource(gltfTexture);
+        if (source < 0 || source >= static_cast<int>(model.images.size())) {
+            // Textures without an image vkrt reads (e.g. only KHR_texture_basisu's) stay empty; using one
             // fails.
             context.scene.textures.push_back(texture);
             continue;
         }
-        decodeImage(context, model.images[gltfTexture.source], gltfTexture.source, texture);
+        decodeImage(context, model.images[source], source, texture);
         if (gltfTexture.sampler >= 0) {
             if (gltfTexture.sampler >= static_cast<int>(model.samplers.size())) {
                 context.fail(describe("texture", static_cast<int>(i), gltfTexture.name) +

@@ -2,6 +2,8 @@
 
 #include <tiny_gltf.h>
 
+#include "scene/gltf_images.h"
+
 namespace vkrt {
 namespace {
 
@@ -15,9 +17,10 @@ int textureIndex(const GltfContext& context, int gltfTexture, const std::string&
     const tinygltf::Texture& texture = model.textures[gltfTexture];
     if (context.scene.textures[gltfTexture].rgba.empty()) {
         std::string image = "its image";
-        if (texture.source >= 0 && texture.source < static_cast<int>(model.images.size())) {
-            const tinygltf::Image& img = model.images[texture.source];
-            image = describe("image", texture.source, img.uri.empty() ? img.name : img.uri);
+        const int source = imageSource(texture);
+        if (source >= 0 && source < static_cast<int>(model.images.size())) {
+            const tinygltf::Image& img = model.images[source];
+            image = describe("image", source, img.uri.empty() ? img.name : img.uri);
         }
         context.fail(where + " uses texture " + std::to_string(gltfTexture) + " but " + image +
                      " is missing or could not be decoded");

@@ -1,11 +1,13 @@
-// Writes a glTF scene again with every mesh compressed by Draco (KHR_draco_mesh_compression), as a GLB: how
-// scenes/cornell-draco.glb, the scene that shows vkrt's Draco decoding, is made:
+// Writes a glTF scene again as a GLB with its meshes compressed by Draco (KHR_draco_mesh_compression) or its
+// images as lossless WebP (EXT_texture_webp): how the scenes that show vkrt's decoding of both are made:
 //
-//   build/draco_scene scenes/cornell.gltf scenes/cornell-draco.glb
+//   build/pack_scene --draco scenes/cornell.gltf scenes/cornell-draco.glb
+//   build/pack_scene --webp scenes/textures.gltf scenes/textures-webp.glb
 //
-// Positions are quantized to 14 bits and normals to 10, as glTF exporters do by default. The input's meshes
-// may have float POSITION and NORMAL and integer indices, and nothing else may use its buffers (no textures,
-// animations or instancing); anything else is refused.
+// Draco: positions are quantized to 14 bits and normals to 10, as glTF exporters do by default; the input's
+// meshes may have float POSITION and NORMAL and integer indices, and nothing else may use its buffers (no
+// textures, animations or skins). WebP: every image, decoded, is encoded again losslessly, and every texture
+// shows it through the extension alone (no fallback); the input has one buffer. Anything else is refused.
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 #include <tiny_gltf.h>
+#include <webp/encode.h>
 #include <nlohmann/json.hpp>
 
 namespace {
@@ -155,6 +158,49 @@ std::string compress(const tinygltf::Model& model, nlohmann::json& document) {
     return compressed;
 }
 
+// Re-encodes `model`'s images (tinygltf's decoding of the file) as lossless WebP into `document` (the file's
+// own JSON); returns the binary chunk: the file's one buffer, then the WebP images.
+std::string webpImages(const tinygltf::Model& model, nlohmann::json& document) {
+    if (model.buffers.size() != 1) throw std::runtime_error("the file has more buffers than one");
+    std::string bin(model.buffers[0].data.begin(), model.buffers[0].data.end());
+    bin.resize((bin.size() + 3) / 4 * 4, '\0');
+    for (size_t i = 0; i < model.images.size(); ++i) {
+        const tinygltf::Image& image = model.images[i];
+        if (image.bits != 8 || image.component < 1 || image.component > 4 || image.image.empty())
+            throw std::runtime_error("image " + std::to_string(i) + " is not 8-bit");
+        std::vector<uint8_t> rgba;
+        for (size_t p = 0; p < size_t(image.width) * image.height; ++p) {
+            const uint8_t* texel = &image.image[p * image.component];
+            const bool grey = image.component <= 2;
+            rgba.insert(rgba.end(), {texel[0], grey ? texel[0] : texel[1], grey ? texel[0] : texel[2],
+                                     image.component == 2   ? texel[1]
+                                     : image.component == 4 ? texel[3]
+                                                            : uint8_t(255)});
+        }
+        uint8_t* encoded = nullptr;
+        const size_t size =
+            WebPEncodeLosslessRGBA(rgba.data(), image.width, image.height, image.width * 4, &encoded);
+        if (size == 0) throw std::runtime_error("libwebp cannot encode image " + std::to_string(i));
+        document["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", size}});
+        bin.append(reinterpret_cast<const char*>(encoded), size);
+        bin.resize((bin.size() + 3) / 4 * 4, '\0');
+        WebPFree(encoded);
+        nlohmann::json& entry = document["images"][i];
+        entry.erase("uri");
+        entry["bufferView"] = document["bufferViews"].size() - 1;
+        entry["mimeType"] = "image/webp";
+    }
+    for (nlohmann::json& texture : document["textures"]) {
+        if (!texture.contains("source")) continue;
+        texture["extensions"]["EXT_texture_webp"] = {{"source", texture["source"]}};
+        texture.erase("source");
+    }
+    document["buffers"] = {{{"byteLength", bin.size()}}};
+    for (const char* list : {"extensionsUsed", "extensionsRequired"})
+        document[list].push_back("EXT_texture_webp");
+    return bin;
+}
+
 // `document` and `bin` as a GLB file.
 void writeGlb(const std::string& path, const nlohmann::json& document, const std::string& bin) {
     std::string text = document.dump();
@@ -173,24 +219,25 @@ void writeGlb(const std::string& path, const nlohmann::json& document, const std
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 3) {
-        std::fprintf(stderr, "usage: draco_scene IN.gltf OUT.glb\n");
+    const std::string mode = argc == 4 ? argv[1] : "";
+    if (mode != "--draco" && mode != "--webp") {
+        std::fprintf(stderr, "usage: pack_scene --draco|--webp IN.gltf OUT.glb\n");
         return 2;
     }
     tinygltf::TinyGLTF gltf;
     tinygltf::Model model;
     std::string error, warning;
-    if (!gltf.LoadASCIIFromFile(&model, &error, &warning, argv[1])) {
-        std::fprintf(stderr, "draco_scene: %s: %s\n", argv[1], error.c_str());
+    if (!gltf.LoadASCIIFromFile(&model, &error, &warning, argv[2])) {
+        std::fprintf(stderr, "pack_scene: %s: %s\n", argv[2], error.c_str());
         return 2;
     }
     try {
-        std::ifstream in(argv[1]);
+        std::ifstream in(argv[2]);
         nlohmann::json document = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
-        const std::string bin = compress(model, document);
-        writeGlb(argv[2], document, bin);
+        const std::string bin = mode == "--draco" ? compress(model, document) : webpImages(model, document);
+        writeGlb(argv[3], document, bin);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "draco_scene: %s: %s\n", argv[1], e.what());
+        std::fprintf(stderr, "pack_scene: %s: %s\n", argv[2], e.what());
         return 2;
     }
     return 0;
