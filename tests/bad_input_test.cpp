@@ -123,7 +123,7 @@ std::vector<BadCase> badCases() {
              d["bufferViews"][1]["byteLength"] = 100;  // past the 44-byte buffer
              writeJson(file, d);
          },
-         "holds only"},
+         "bufferViews[1]: bytes [36, 136) lie outside buffer 0's 44"},
         {"accessor overflow",
          [](auto&, auto& file) {
              json d = validTriangle();

@@ -300,9 +300,22 @@ bool stubCompressedData(nlohmann::json& document) {
         const nlohmann::json& extensions = object["extensions"];
         return extensions.contains(name) && extensions[name].is_object() ? &extensions[name] : nullptr;
     };
+    // (The schema check, gltf_schema.cpp, has checked the types and indices read here.) tinygltf reads images
+    // from their views when it loads the file, before any view is decoded: a fallback buffer an image's view
+    // is in stays as it is, and tinygltf says what it lacks.
+    std::set<size_t> imageBuffers;
+    if (document.contains("images") && document.contains("bufferViews")) {
+        for (const nlohmann::json& image : document["images"]) {
+            if (image.contains("bufferView"))
+                imageBuffers.insert(
+                    document["bufferViews"][image["bufferView"].get<size_t>()]["buffer"].get<size_t>());
+        }
+    }
     bool changed = false;
     if (document.contains("buffers") && document["buffers"].is_array()) {
-        for (nlohmann::json& buffer : document["buffers"]) {
+        for (size_t b = 0; b < document["buffers"].size(); ++b) {
+            nlohmann::json& buffer = document["buffers"][b];
+            if (imageBuffers.count(b)) continue;
             const nlohmann::json* extension = extensionOf(buffer, kMeshopt);
             if (extension == nullptr || !extension->contains("fallback") || (*extension)["fallback"] != true)
                 continue;

@@ -112,6 +112,17 @@ public:
             string(buffer, "uri", where);
             integer(buffer, "byteLength", where, Range{1.0}, true);
         });
+        // Every view inside its buffer (tinygltf reads an image's view without checking: found by fuzzing).
+        eachObject(root_, "bufferViews", "", [&](const Json& view, const std::string& where) {
+            const double offset = view.contains("byteOffset") ? view["byteOffset"].get<double>() : 0.0;
+            const double end = offset + view["byteLength"].get<double>();
+            const double size = root_["buffers"][view["buffer"].get<size_t>()]["byteLength"].get<double>();
+            if (end > size) {
+                fail(where, "bytes [" + std::to_string(std::llround(offset)) + ", " + std::to_string(std::llround(end)) +
+                                ") lie outside buffer " + std::to_string(view["buffer"].get<size_t>()) + "'s " +
+                                std::to_string(std::llround(size)));
+            }
+        });
         eachObject(root_, "images", "", [&](const Json& image, const std::string& where) {
             name(image, where);
             string(image, "uri", where);
