@@ -17,6 +17,7 @@
 #include "app/render_policy.h"
 #include "cpu/reference_renderer.h"
 #include "scene/gltf_loader.h"
+#include "scene/gltf_schema.h"
 #include "scene/scene_error.h"
 #include "support/render_both.h"
 #include "support/temporary_folder.h"
@@ -106,17 +107,9 @@ std::filesystem::path writePlain(const std::filesystem::path& folder, const Grid
     return file;
 }
 
-// `json` and `bin` as a GLB file.
-void writeGlb(const std::filesystem::path& file, const json& document, std::string bin) {
-    std::string text = document.dump();
-    text.resize((text.size() + 3) / 4 * 4, ' ');
-    bin.resize((bin.size() + 3) / 4 * 4, '\0');
-    auto word = [](size_t v) {
-        const uint32_t w = static_cast<uint32_t>(v);
-        return bytesOf(&w, 4);
-    };
-    test::writeText(file, "glTF" + word(2) + word(28 + text.size() + bin.size()) + word(text.size()) +
-                              "JSON" + text + word(bin.size()) + "BIN" + std::string(1, '\0') + bin);
+// `document` and `bin` as a GLB file.
+void writeGlb(const std::filesystem::path& file, const json& document, const std::string& bin) {
+    test::writeText(file, glbFile(document.dump(), bin));
 }
 
 // The grid's triangles, each corner's position and normal, in an order of their own: a decoder may reorder
@@ -382,6 +375,9 @@ TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
 
 // A triangle (quad.bin: writeQuadData) whose material shows textures[0], `texture`, over `images`.
 json texturedTriangle(json texture, json images, bool required) {
+    json positions = floatAccessor(0, 3, "VEC3");
+    positions["min"] = {0, 0, 0};
+    positions["max"] = {1, 1, 0};
     json d = {{"asset", {{"version", "2.0"}}},
               {"scene", 0},
               {"scenes", {{{"nodes", {0}}}}},
@@ -391,14 +387,7 @@ json texturedTriangle(json texture, json images, bool required) {
               {"materials", {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}}},
               {"textures", {texture}},
               {"images", images},
-              {"accessors",
-               {{{"bufferView", 0},
-                 {"componentType", 5126},
-                 {"count", 3},
-                 {"type", "VEC3"},
-                 {"min", {0, 0, 0}},
-                 {"max", {1, 1, 0}}},
-                {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}}}},
+              {"accessors", {positions, floatAccessor(1, 3, "VEC2")}},
               {"bufferViews",
                {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
                 {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 24}}}},

@@ -18,9 +18,11 @@
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 #include <webp/encode.h>
-#include <nlohmann/json.hpp>
+
+#include "scene/gltf_schema.h"
 
 namespace {
 
@@ -88,7 +90,7 @@ int addAttribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, const s
 
 // Compresses `model`'s meshes (tinygltf's reading of the file) into `document` (the file's own JSON, which
 // keeps everything else as it was); returns the binary chunk.
-std::string compress(const tinygltf::Model& model, nlohmann::json& document) {
+std::string dracoMeshes(const tinygltf::Model& model, nlohmann::json& document) {
     if (!model.images.empty() || !model.animations.empty() || !model.skins.empty())
         throw std::runtime_error("images, animations or skins use the buffers");
     std::string compressed;
@@ -201,21 +203,6 @@ std::string webpImages(const tinygltf::Model& model, nlohmann::json& document) {
     return bin;
 }
 
-// `document` and `bin` as a GLB file.
-void writeGlb(const std::string& path, const nlohmann::json& document, const std::string& bin) {
-    std::string text = document.dump();
-    text.resize((text.size() + 3) / 4 * 4, ' ');
-    auto word = [](size_t value) {
-        std::string bytes(4, '\0');
-        for (int i = 0; i < 4; ++i) bytes[i] = static_cast<char>((value >> (8 * i)) & 0xffu);
-        return bytes;
-    };
-    std::ofstream out(path, std::ios::binary);
-    out << "glTF" << word(2) << word(28 + text.size() + bin.size()) << word(text.size()) << "JSON" << text
-        << word(bin.size()) << "BIN" << '\0' << bin;
-    if (!out) throw std::runtime_error("cannot write " + path);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -234,8 +221,10 @@ int main(int argc, char** argv) {
     try {
         std::ifstream in(argv[2]);
         nlohmann::json document = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
-        const std::string bin = mode == "--draco" ? compress(model, document) : webpImages(model, document);
-        writeGlb(argv[3], document, bin);
+        const std::string bin = mode == "--draco" ? dracoMeshes(model, document) : webpImages(model, document);
+        std::ofstream out(argv[3], std::ios::binary);
+        out << vkrt::glbFile(document.dump(), bin);
+        if (!out) throw std::runtime_error(std::string("cannot write ") + argv[3]);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "pack_scene: %s: %s\n", argv[2], e.what());
         return 2;

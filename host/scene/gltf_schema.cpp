@@ -1,5 +1,6 @@
 #include "scene/gltf_schema.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
@@ -559,22 +560,37 @@ nlohmann::json readGltfJson(const std::string& path, bool binary) {
     return Json::parse(text, nullptr, false);
 }
 
-std::string replaceGlbJson(const std::string& path, const std::string& json) {
-    std::ifstream file(path, std::ios::binary);
-    const std::string glb((std::istreambuf_iterator<char>(file)), {});
-    uint32_t length = 0;
-    for (int i = 0; glb.size() >= 20 && i < 4; ++i)
-        length |= static_cast<uint32_t>(static_cast<unsigned char>(glb[12 + i])) << (8 * i);
-    if (glb.size() < 20 || length > glb.size() - 20) throw SceneError(path + ": not a valid GLB file");
-    std::string chunk = json;
-    chunk.resize((chunk.size() + 3) / 4 * 4, ' ');  // chunks are 4-byte aligned; JSON pads with spaces
-    const std::string rest = glb.substr(20 + length);
+std::string glbFile(const std::string& json, const std::string& bin) {
     auto word = [](size_t value) {
         std::string bytes(4, '\0');
         for (int i = 0; i < 4; ++i) bytes[i] = static_cast<char>((value >> (8 * i)) & 0xffu);
         return bytes;
     };
-    return glb.substr(0, 8) + word(20 + chunk.size() + rest.size()) + word(chunk.size()) + "JSON" + chunk + rest;
+    std::string text = json, data = bin;
+    text.resize((text.size() + 3) / 4 * 4, ' ');  // chunks are 4-byte aligned: JSON pads with spaces,
+    data.resize((data.size() + 3) / 4 * 4, '\0');  // binary data with zeros
+    std::string chunks = word(text.size()) + "JSON" + text;
+    if (!data.empty()) chunks += word(data.size()) + std::string("BIN\0", 4) + data;
+    return "glTF" + word(2) + word(12 + chunks.size()) + chunks;
+}
+
+std::string replaceGlbJson(const std::string& path, const std::string& json) {
+    std::ifstream file(path, std::ios::binary);
+    const std::string glb((std::istreambuf_iterator<char>(file)), {});
+    auto wordAt = [&](size_t at) {
+        uint32_t value = 0;
+        for (int i = 0; i < 4; ++i) value |= static_cast<uint32_t>(static_cast<unsigned char>(glb[at + i])) << (8 * i);
+        return value;
+    };
+    const size_t length = glb.size() >= 20 ? wordAt(12) : 0;
+    if (glb.size() < 20 || length > glb.size() - 20) throw SceneError(path + ": not a valid GLB file");
+    // The binary chunk, when one follows the JSON.
+    const size_t binAt = 20 + length;
+    std::string bin;
+    if (glb.size() >= binAt + 8 && glb.compare(binAt + 4, 4, std::string("BIN\0", 4)) == 0) {
+        bin = glb.substr(binAt + 8, std::min<size_t>(wordAt(binAt), glb.size() - binAt - 8));
+    }
+    return glbFile(json, bin);
 }
 
 void validateGltfJson(const nlohmann::json& document, const std::string& path) {

@@ -13,7 +13,10 @@ namespace vkrt {
 // loader then lets tinygltf say what is wrong).
 nlohmann::json readGltfJson(const std::string& path, bool binary);
 
-// The GLB file at `path` with its JSON chunk replaced by `json` (its other chunks as they are).
+// A GLB file: the header, the JSON chunk and, unless `bin` is empty, the binary chunk.
+std::string glbFile(const std::string& json, const std::string& bin);
+
+// The GLB file at `path` with its JSON chunk replaced by `json` (its binary chunk as it is).
 std::string replaceGlbJson(const std::string& path, const std::string& json);
 
 // Throws SceneError "path: meshes[0].primitives: expected an array" at the first property of the wrong type
