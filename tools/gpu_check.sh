@@ -22,6 +22,10 @@
 #                       loader. Without ctest, the test programs run directly, with gpu_check's suites as a
 #                       GoogleTest filter (--tests needs ctest).
 #   --tar FILE          at the end, also pack the output folder into FILE (.tar.gz): one file to bring back
+#   --budget SECONDS    stop each step after the build at its share of SECONDS (tests 40%, ray benchmarks 25%,
+#                       scene access 10%, convergence 25%; what a step leaves unused passes to the next), so that
+#                       a slow or hung step cannot take the others' time on a machine lent for minutes; a step
+#                       stopped at its limit counts as failed and the summary says so
 #
 # The device: with VK_DRIVER_FILES (or VK_ICD_FILENAMES) unset, the script looks for NVIDIA's ICD file
 # (nvidia_icd.json under /usr/share, /etc, /usr/local/share and /usr/local/nvidia/share: vulkan/icd.d) and
@@ -36,7 +40,7 @@ set -uo pipefail
 
 usage() { sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-allow_cpu=0 quick=0 build_dir=build-gpu-check tests="" jobs=$(nproc) debs="" out="" kit="" tar=""
+allow_cpu=0 quick=0 build_dir=build-gpu-check tests="" jobs=$(nproc) debs="" out="" kit="" tar="" budget=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --allow-cpu-device) allow_cpu=1 ;;
@@ -47,6 +51,7 @@ while [ $# -gt 0 ]; do
         --debs) debs=${2:?--debs needs a folder}; shift ;;
         --kit) kit=${2:?--kit needs a folder}; shift ;;
         --tar) tar=${2:?--tar needs a file}; shift ;;
+        --budget) budget=${2:?--budget needs seconds}; shift ;;
         -h|--help) usage; exit 0 ;;
         -*) echo "gpu_check: unknown option $1 (see --help)" >&2; exit 2 ;;
         *) [ -z "$out" ] || { echo "gpu_check: one output folder only (see --help)" >&2; exit 2; }; out=$1 ;;
@@ -54,6 +59,7 @@ while [ $# -gt 0 ]; do
     shift
 done
 case "$jobs" in ''|*[!0-9]*) echo "gpu_check: --jobs takes a number" >&2; exit 2 ;; esac
+case "$budget" in *[!0-9]*) echo "gpu_check: --budget takes whole seconds" >&2; exit 2 ;; esac
 
 if [ -n "$kit" ]; then
     [ -f "$kit/vkrt-gpu-kit.tar.xz" ] || { echo "gpu_check: $kit holds no kit (tools/gpu_kit.sh)" >&2; exit 2; }
@@ -71,15 +77,44 @@ steps="$out/steps.tsv"  # step, status, seconds, note
 failed=0
 
 say() { echo "gpu_check: $*" | tee -a "$log" >&2; }
-# Runs a step with its output in the log; records its status and duration.
+# Runs "$@" as a job of its own (its own process group, children included) and stops the whole group after
+# $1 seconds: status 124 then, as timeout(1) gives.
+run_limited() {
+    local limit=$1 waited=0 pid; shift
+    set -m
+    "$@" &
+    pid=$!
+    set +m
+    while kill -0 "$pid" 2>/dev/null; do
+        if [ "$waited" -ge "$limit" ]; then
+            kill -TERM -- "-$pid" 2>/dev/null; sleep 2; kill -KILL -- "-$pid" 2>/dev/null
+            wait "$pid"
+            return 124
+        fi
+        sleep 1
+        waited=$((waited + 1))
+    done
+    wait "$pid"
+}
+# Each limited step's share of --budget, in percent; the seconds a step leaves unused pass to the next one.
+declare -A share=([tests]=40 [benchmark_suite]=25 [scene_access]=10 [convergence_report]=25)
+unused=0
+# Runs a step with its output in the log (within its share of --budget, if one was given); records its status,
+# duration and, when it was stopped, its limit.
 step() {
     local name=$1; shift
-    local t0=$(date +%s)
-    say "$name: $*"
-    "$@" >>"$log" 2>&1
-    local status=$?
-    printf '%s\t%s\t%s\n' "$name" "$status" "$(( $(date +%s) - t0 ))" >>"$steps"
-    [ $status -eq 0 ] || { say "$name failed (exit $status; see $log)"; failed=1; }
+    local t0=$(date +%s) limit="" status note=""
+    [ -z "$budget" ] || [ -z "${share[$name]:-}" ] || limit=$(( budget * ${share[$name]} / 100 + unused ))
+    say "$name${limit:+ (at most $limit s)}: $*"
+    if [ -n "$limit" ]; then run_limited "$limit" "$@" >>"$log" 2>&1; else "$@" >>"$log" 2>&1; fi
+    status=$?
+    local seconds=$(( $(date +%s) - t0 ))
+    if [ -n "$limit" ]; then
+        unused=$(( limit > seconds ? limit - seconds : 0 ))
+        [ $status -ne 124 ] || note="stopped at its limit of $limit s"
+    fi
+    printf '%s\t%s\t%s\t%s\n' "$name" "$status" "$seconds" "$note" >>"$steps"
+    [ $status -eq 0 ] || { say "$name failed (exit $status${note:+, $note}; see $log)"; failed=1; }
     return $status
 }
 
@@ -254,9 +289,9 @@ summary = {"commit": commit, "quick": quick, "seconds": elapsed, "host_cpu": cpu
                       "memory_budget_bytes": (probe.get("memory") or {}).get("device_budget_bytes")},
            "steps": []}
 for line in open(os.path.join(out, "steps.tsv")):
-    name, status, seconds = line.rstrip("\n").split("\t")[:3]
+    name, status, seconds, note = (line.rstrip("\n").split("\t") + [""])[:4]
     summary["steps"].append({"step": name, "status": int(status) if status.isdigit() else status,
-                             "seconds": int(seconds)})
+                             "seconds": int(seconds), **({"note": note} if note else {})})
 
 # ctest's JUnit file (status run, fail, notrun or disabled), or GoogleTest's own files from the test programs
 # run directly (status run or notrun, result skipped, a failure element on failure).
@@ -307,6 +342,12 @@ if tests:
               " (failed: " + ", ".join(tests["failures"]) + ")" if tests["failures"] else ""))
 else:
     md.append("Tests: not run.")
+def failure(step):
+    status = step["status"]
+    return step.get("note") or ("exit %d" % status if isinstance(status, int) else status)
+stopped = ["%s (%s)" % (st["step"], failure(st)) for st in summary["steps"] if st["status"] != 0]
+if stopped:
+    md.append("Steps that failed: " + ", ".join(stopped) + ": what they report below is partial or missing.")
 md += ["", "| input | triangles | ray kind | vkrt Mrays/s | Embree Mrays/s (host CPU, %d threads) | vkrt / Embree |"
        % os.cpu_count(), "|---|---|---|---|---|---|"]
 md += ["| %s | %d | %s | %.2f | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
