@@ -21,8 +21,11 @@ VKRT_FN real ggxAlpha(real roughness) {
 // D(h): microfacet normals per unit solid angle and unit projected area.
 VKRT_FN real ggxD(real cosH, real alpha) {
     if (cosH <= 0.0) return 0.0;
+    // d = cos^2 (a2 - 1) + 1, as sin^2 + cos^2 a2 with sin^2 = (1 - cos)(1 + cos): in single precision a2 - 1
+    // rounds to -1 for a near-mirror (a2 = 1e-12), and the textbook form cancels to 0 at cos = 1 (D infinite
+    // where it is 1 / (pi a2); seen on an NVIDIA GPU), or to a few ulps of 1 near it.
     const real a2 = alpha * alpha;
-    const real d = cosH * cosH * (a2 - 1.0) + 1.0;
+    const real d = (1.0 - cosH) * (1.0 + cosH) + cosH * cosH * a2;
     return a2 / (VKRT_PI * d * d);
 }
 

@@ -17,6 +17,10 @@
 namespace vkrt::test {
 
 class Gpu : public ::testing::Test {
+  public:
+    // Destroys the shared context (a later test suite makes a new one); gpu_fixture.cpp calls it when the tests end.
+    static void releaseContext();
+
   protected:
     static void SetUpTestSuite();
     void SetUp() override;
