@@ -75,9 +75,12 @@ VKRT_FN real3 rotateLike(real3 v, real3 from, real3 to, real tolerance) {
 }
 
 // An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis, Revisited",
-// JCGT 6(1), 2017).
+// JCGT 6(1), 2017). Its two branches give different bases, so they part below a tiny negative threshold rather
+// than at zero: a normal whose z is -0 (the top of a Cornell box block) takes the branch of +0 on every
+// device. Vulkan does not make a shader keep the sign of zero (an optimiser may read `z >= 0 ? 1 : -1` as
+// the sign of z), and on an H200 the paths bouncing off such faces went other ways than the CPU's.
 VKRT_FN void orthonormalBasis(real3 n, VKRT_OUT(real3) b1, VKRT_OUT(real3) b2) {
-    const real sign = n.z >= 0.0 ? 1.0 : -1.0;
+    const real sign = n.z >= -1e-30 ? 1.0 : -1.0;  // the basis is regular for any z above -1
     const real a = -1.0 / (sign + n.z);
     const real b = n.x * n.y * a;
     b1 = real3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);

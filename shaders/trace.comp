@@ -109,6 +109,18 @@ CameraFrame cameraFrame() {
     return camera;
 }
 
+// The unit normal of a triangle's plane (right-handed winding), its cross product evaluated as written: precise
+// forbids fusing a product into a multiply-add, so a component whose two products are equal, exactly 0 on the
+// CPU (axis-aligned walls), is exactly 0 on every device too. NVIDIA's compiler fused them where the shader
+// allowed it and left such a component at plus or minus a rounding error, which flipped orthonormalBasis's sign
+// test and so the basis every diffuse bounce is sampled in: on an H200 the Cornell box's paths went elsewhere
+// than the CPU's from the first bounce (a third of its pixels off; same mean).
+vec3 planeNormal(vec3 v0, vec3 v1, vec3 v2) {
+    const vec3 a = v1 - v0, b = v2 - v0;
+    precise const vec3 normal = vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+    return normalize(normal);
+}
+
 // Where `ray` met primitive `hit`, in single precision: the point whichever way rounds less (ray.glsl), the
 // front side's normals at the sample's shutter time.
 HitPoint hitPointOf(RayState ray, Hit hit) {
@@ -153,14 +165,14 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 #endif
     {
         surface = hitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1, primitive.v2, hit.u, hit.v);
-        p.geometricNormal = normalize(cross(primitive.v1 - primitive.v0, primitive.v2 - primitive.v0));
+        p.geometricNormal = planeNormal(primitive.v0, primitive.v1, primitive.v2);
 #ifdef VKRT_HAS_SMOOTH_NORMALS
         const GpuShading shading = gpuShadingAt(hit.primitive);
         p.normal = normalize(barycentric(shading.normalU0.xyz, shading.normalU1.xyz, shading.normalU2.xyz, vec2(hit.u, hit.v)));
 #ifdef VKRT_HAS_MOTION
         // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
         const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);
-        p.normal = rotateLike(p.normal, normalize(cross(opened.v1 - opened.v0, opened.v2 - opened.v0)),
+        p.normal = rotateLike(p.normal, planeNormal(opened.v0, opened.v1, opened.v2),
                               p.geometricNormal, 1e-6);
 #endif
 #else
@@ -171,7 +183,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.tangent = barycentric(tangents.corner0, tangents.corner1, tangents.corner2, vec2(hit.u, hit.v));
 #ifdef VKRT_HAS_MOTION
         const GpuPrimitive atOpening = VKRT_PRIMITIVE(hit.primitive);
-        p.tangent.xyz = rotateLike(p.tangent.xyz, normalize(cross(atOpening.v1 - atOpening.v0, atOpening.v2 - atOpening.v0)),
+        p.tangent.xyz = rotateLike(p.tangent.xyz, planeNormal(atOpening.v0, atOpening.v1, atOpening.v2),
                                    p.geometricNormal, 1e-6);
 #endif
 #endif
