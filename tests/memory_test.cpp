@@ -155,10 +155,14 @@ TEST(MemoryCli, SizesAreCheckedAsTheyAreParsed) {
 // The host estimate against what the process really takes: the growth of its peak resident memory from a
 // tiny render to a 1024 x 1024 one, on each device. The estimate may be generous, not short. A process's peak
 // varies from run to run by what the driver happens to allocate (lavapipe's varied by 30 MB between two runs
-// of the tiny render), never below what the render needs: each size's peak is the least of three runs.
+// of the tiny render), never below what the render needs: each size's peak is the least of three runs. On a GPU
+// with its own memory the image comes back through buffers the driver pins for the host, which the peak counted
+// in one run on an H200 and not in the next (15 MB against the 46 estimated): there the estimate is only
+// checked to cover what the process takes.
 TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
     const auto folder = test::temporaryFolder();
     for (const char* device : {"cpu", "gpu"}) {
+        bool deviceInHostMemory = true;
         double estimate[2] = {0.0, 0.0}, peak[2] = {0.0, 0.0};
         const int widths[2] = {16, 1024};
         for (int i = 0; i < 2; ++i) {
@@ -169,7 +173,8 @@ TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
                     std::to_string(widths[i]) + " --out '" + (folder / "x.png").string() + "' --stats '" +
                     json.string() + "' --quiet");
                 ASSERT_EQ(r.exitCode, 0) << r.output;
-                const nlohmann::json memory = readJson(json)["memory"];
+                const nlohmann::json stats = readJson(json), memory = stats["memory"];
+                if (std::string(device) == "gpu") deviceInHostMemory = stats["device_type"] == "CPU";
                 estimate[i] = memory["host_estimate_bytes"].get<double>();
                 const double bytes = memory["host_peak_bytes"].get<double>();
                 peak[i] = run == 0 ? bytes : std::min(peak[i], bytes);
@@ -178,7 +183,7 @@ TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
         const double estimated = estimate[1] - estimate[0];
         const double measured = peak[1] - peak[0];
         EXPECT_GE(estimated, 0.9 * measured) << device;
-        EXPECT_LE(estimated, 1.6 * measured) << device;
+        if (deviceInHostMemory) EXPECT_LE(estimated, 1.6 * measured) << device;
     }
 }
 
