@@ -35,7 +35,8 @@ std::vector<LevelSize> mipmapLevelSizes(int width, int height);
 size_t mipmapChainTexels(int width, int height);
 
 // mipmapChain's levels, one after the other, written to `out` (mipmapChainTexels x 4 bytes); each level's
-// rows are shared among `threads` threads (the caller's among them). The same bytes as mipmapChain's.
+// rows are shared among `threads` threads (the caller's among them). The same bytes as mipmapChain's. `out` is
+// written once and never read (it may be a GPU's mapped memory).
 void writeMipmapChain(const Texture& texture, bool srgb, uint8_t* out, unsigned threads);
 
 }  // namespace vkrt

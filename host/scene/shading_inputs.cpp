@@ -168,8 +168,8 @@ void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& texture
             if (slot->used()) srgb[slot->texture] = true;
         }
     }
-    // Every level written once, in place: no copies of levels (each copy first touches its pages, most of
-    // what packing took).
+    // Every level written once, in place: no copy of the packed texels (each copy first touches its pages, most
+    // of what packing took); writeMipmapChain halves each level from a small host copy of the one above.
     for (size_t i = 0; i < scene.textures.size(); ++i) {
         const Texture& t = scene.textures[i];
         uint8_t* const level0 = reinterpret_cast<uint8_t*>(texels + textures[i].firstTexel);
