@@ -12,6 +12,7 @@
 #if defined(VKRT_SUBGROUP_COUNTERS) || defined(VKRT_COUNT_LOOP_PASSES)
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
+#include "ieee_floats.glsl"
 
 #include "shared.h"
 #include "random.h"

@@ -56,6 +56,33 @@ RenderSettings smallCornellPaths(int samplesPerPixel) {
     return settings;
 }
 
+// Where the device can keep IEEE 754's signed zeros, infinities and NaNs in single precision, the tracing kernel
+// asks for them (shaders/ieee_floats.glsl): its SPIR-V declares the SignedZeroInfNanPreserve execution mode for
+// 32-bit floats, with its capability; elsewhere it declares neither.
+TEST_F(Gpu, KernelAsksForIeeeFloatsWhereTheDeviceKeepsThem) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 8;
+    settings.samplesPerPixel = 1;
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    const GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+    const std::vector<uint32_t>& spirv = renderer.spirv();
+    constexpr uint32_t kOpCapability = 17, kOpExecutionMode = 16, kSignedZeroInfNanPreserve = 4461,
+                       kSignedZeroInfNanPreserveCapability = 4466;
+    bool mode = false, capability = false;
+    for (size_t i = 5; i < spirv.size(); i += std::max<uint32_t>(1u, spirv[i] >> 16)) {  // after the header
+        const uint32_t opcode = spirv[i] & 0xffffu, words = spirv[i] >> 16;
+        if (opcode == kOpCapability && words == 2 && spirv[i + 1] == kSignedZeroInfNanPreserveCapability)
+            capability = true;
+        if (opcode == kOpExecutionMode && words == 4 && spirv[i + 2] == kSignedZeroInfNanPreserve &&
+            spirv[i + 3] == 32u)
+            mode = true;
+    }
+    EXPECT_EQ(mode, context().keepsIeeeFloats());
+    EXPECT_EQ(capability, context().keepsIeeeFloats());
+}
+
 TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
@@ -76,7 +103,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
         // lavapipe the count of loop passes (for llvmpipe's loop budget).
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
                     define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS" ||
-                    define == "VKRT_COUNT_LOOP_PASSES")
+                    define == "VKRT_COUNT_LOOP_PASSES" || define == "VKRT_IEEE_FLOATS")
             << define;
     }
     EXPECT_LT(lean.spirv().size(), full.spirv().size());

@@ -348,6 +348,7 @@ TEST_F(ShadingFunctions, GpuMatchesCppFunctionByFunction) {
     std::vector<std::string> defines;
     if (context_->hasShaderFloat64())
         defines.push_back("VKRT_SPHERE_FLOAT64");  // as the renderer compiles it
+    if (context_->keepsIeeeFloats()) defines.push_back("VKRT_IEEE_FLOATS");
     const CompiledShader shader = compileShaderSource("shading_functions.comp", source, defines, "");
     ComputePipeline pipeline(*context_, shader.spirv, 3, sizeof(uint32_t));
     GpuBuffer caseBuffer(*context_, cases);

@@ -86,6 +86,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (planner_.loopBudget() > 0 && context.hasSubgroupArithmetic())
         defines_.push_back("VKRT_COUNT_LOOP_PASSES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    if (context.keepsIeeeFloats()) defines_.push_back("VKRT_IEEE_FLOATS");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {
         defines_.push_back("VKRT_PIXEL_FILTER " + std::to_string(static_cast<int>(settings.pixelFilter)) + "u");

@@ -227,10 +227,14 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         if (deviceHeap_ < 0) deviceHeap_ = 0;
         VkPhysicalDeviceVulkan11Properties properties11{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+        VkPhysicalDeviceVulkan12Properties properties12{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
+        properties11.pNext = &properties12;
         VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         properties2.pNext = &properties11;
         vkGetPhysicalDeviceProperties2(physicalDevice_, &properties2);
         maxAllocationBytes_ = properties11.maxMemoryAllocationSize;
+        ieeeFloats_ = properties12.shaderSignedZeroInfNanPreserveFloat32 == VK_TRUE;
         const VkSubgroupFeatureFlags subgroupSums =
             VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
         subgroupArithmetic_ = (properties11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&

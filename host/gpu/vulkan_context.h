@@ -56,6 +56,9 @@ class VulkanContext {
     bool hasTimestamps() const { return timestampValidBits_ > 0; }
     // Whether shaders may use double precision (enabled when the device has it).
     bool hasShaderFloat64() const { return shaderFloat64_; }
+    // Whether a shader can ask for IEEE 754's signed zeros, infinities and NaNs in single precision
+    // (shaderSignedZeroInfNanPreserveFloat32; shaders/ieee_floats.glsl).
+    bool keepsIeeeFloats() const { return ieeeFloats_; }
     // Whether compute shaders may sum across a subgroup (subgroupAdd, subgroupElect): kernels then add their
     // ray counts with one atomic per subgroup (VKRT_SUBGROUP_COUNTERS, shaders/trace.comp).
     bool hasSubgroupArithmetic() const { return subgroupArithmetic_; }
@@ -97,6 +100,7 @@ class VulkanContext {
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
+    bool ieeeFloats_ = false;
     bool subgroupArithmetic_ = false;
     bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
     int deviceHeap_ = -1;

@@ -4,6 +4,7 @@
 // evaluation.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
+#include "ieee_floats.glsl"
 
 #define VKRT_HAS_TEXTURES
 #define VKRT_HAS_DEPTH_OF_FIELD
