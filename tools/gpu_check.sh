@@ -4,7 +4,8 @@
 # against texel reads of the scene (scene_access.json) and the convergence report (Cornell and Whitted, both
 # integrators), and writes a summary: summary.json and
 # summary.md (tables ready for the README) in the output folder. Meant to take under 8 minutes on 16 cores: from a
-# kit, 151 s on an NVIDIA H200 with 16 host threads (2026-12-04).
+# kit, 151 s on an NVIDIA H200 with 16 host threads (2026-12-04). Tests whose images are off the CPU reference
+# leave both images and their difference in test-failures/ there.
 #
 #   tools/gpu_check.sh [options] [OUT_DIR]        (OUT_DIR: gpu-check-out)
 #
@@ -236,6 +237,10 @@ gtest_programs() {
     for p in "${pids[@]}"; do wait "$p" || status=1; done
     return $status
 }
+# A test whose image is off the CPU reference saves both images and their difference (support/
+# reference_comparison.cpp): those of this run are kept in the output folder, to look at where the GPU was.
+failures="${TMPDIR:-/tmp}/vkrt-test-failures"
+rm -rf "$failures"
 if ! probe --validate >>"$log" 2>&1; then
     say "the GPU tests need the Khronos validation layer (Debian: vulkan-validationlayers); tests not run"
     printf 'tests\tnot run\t0\n' >>"$steps"
@@ -250,6 +255,9 @@ else
     say "no ctest (CMake's): tests not run"
     printf 'tests\tnot run\t0\n' >>"$steps"
     failed=1
+fi
+if [ -d "$failures" ]; then
+    cp -r "$failures" "$out/test-failures" && say "the images of the tests that failed: $out/test-failures"
 fi
 
 # Ray throughput against Embree, and error against render time.
