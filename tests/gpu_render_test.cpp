@@ -61,12 +61,9 @@ RenderSettings smallCornellPaths(int samplesPerPixel) {
 // 32-bit floats, with its capability; elsewhere it declares neither.
 TEST_F(Gpu, KernelAsksForIeeeFloatsWhereTheDeviceKeepsThem) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
-    RenderSettings settings;
-    settings.width = settings.height = 8;
-    settings.samplesPerPixel = 1;
     GpuRenderOptions options;
     options.shaderCacheDir = test::shaderCacheDir();
-    const GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+    const GpuRenderer renderer(context(), scene, bvh, camera, smallWhitted(1), options);
     const std::vector<uint32_t>& spirv = renderer.spirv();
     constexpr uint32_t kOpCapability = 17, kOpExecutionMode = 16, kSignedZeroInfNanPreserve = 4461,
                        kSignedZeroInfNanPreserveCapability = 4466;
