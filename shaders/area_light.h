@@ -37,7 +37,7 @@ VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3
     const real root = sqrt(u);
     p.uv = real2(root * (1.0 - v), root * v);
     p.position = (1.0 - root) * v0 + p.uv.x * v1 + p.uv.y * v2;
-    p.normal = normalize(cross(v1 - v0, v2 - v0));
+    p.normal = planeNormal(v0, v1, v2);
     p.pdfArea = pdfArea;
     return p;
 }

@@ -74,6 +74,16 @@ VKRT_FN real3 rotateLike(real3 v, real3 from, real3 to, real tolerance) {
     return v * cosine + cross(k, v) * sine + k * dot(k, v) * (1.0 - cosine);
 }
 
+// The unit normal of a triangle's plane (right-handed winding), its cross product evaluated as written: no
+// product is fused into a multiply-add, so a component whose two products are equal (0 on an axis-aligned face)
+// is exactly 0 on every device, as on the CPU; a fused one would leave it at plus or minus a rounding error,
+// which orthonormalBasis's branch could see.
+VKRT_FN real3 planeNormal(real3 v0, real3 v1, real3 v2) {
+    const real3 a = v1 - v0, b = v2 - v0;
+    VKRT_PRECISE const real3 normal = real3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+    return normalize(normal);
+}
+
 // An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis, Revisited",
 // JCGT 6(1), 2017). Its two branches give different bases, so they part below a tiny negative threshold rather
 // than at zero: a normal whose z is -0 (the top of a Cornell box block) takes the branch of +0 on every

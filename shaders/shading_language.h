@@ -6,6 +6,8 @@
 // Shared code keeps to the subset both languages read alike:
 // - scalars and vectors are `real`, `real2`, `real3`, `real4` (float/vec in GLSL, double/dvec in C++);
 //   integers are `uint`, `int`, `uvec2`, `uvec4`;
+// - a value that must be evaluated as written, each product rounded before it is added (no fused multiply-add),
+//   is declared VKRT_PRECISE (GLSL's `precise`; C++ builds do not contract);
 // - functions are declared VKRT_FN; GLSL `out`/`inout` parameters are VKRT_OUT(T)/VKRT_INOUT(T), C++
 //   references; structs are passed as VKRT_IN(T), by value in GLSL and by const reference in C++;
 // - structs are declared, then filled member by member (no constructors, no aggregate initialisers);
@@ -62,6 +64,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace vkrt::shading
 
 #define VKRT_FN inline
+#define VKRT_PRECISE
 #define VKRT_IN(T) const T&
 #define VKRT_OUT(T) T&
 #define VKRT_INOUT(T) T&
@@ -108,6 +111,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define real3 vec3
 #define real4 vec4
 #define VKRT_FN
+#define VKRT_PRECISE precise
 #define VKRT_IN(T) T
 #define VKRT_OUT(T) out T
 #define VKRT_INOUT(T) inout T

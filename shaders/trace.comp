@@ -110,18 +110,6 @@ CameraFrame cameraFrame() {
     return camera;
 }
 
-// The unit normal of a triangle's plane (right-handed winding), its cross product evaluated as written: precise
-// forbids fusing a product into a multiply-add, so a component whose two products are equal, exactly 0 on the
-// CPU (axis-aligned walls), is exactly 0 on every device too. NVIDIA's compiler fused them where the shader
-// allowed it and left such a component at plus or minus a rounding error, which flipped orthonormalBasis's sign
-// test and so the basis every diffuse bounce is sampled in: on an H200 the Cornell box's paths went elsewhere
-// than the CPU's from the first bounce (a third of its pixels off; same mean).
-vec3 planeNormal(vec3 v0, vec3 v1, vec3 v2) {
-    const vec3 a = v1 - v0, b = v2 - v0;
-    precise const vec3 normal = vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-    return normalize(normal);
-}
-
 // Where `ray` met primitive `hit`, in single precision: the point whichever way rounds less (ray.glsl), the
 // front side's normals at the sample's shutter time.
 HitPoint hitPointOf(RayState ray, Hit hit) {

@@ -16,8 +16,7 @@ namespace vkrt {
 namespace {
 
 glm::dvec3 geometricNormalOf(const Triangle& t) {
-    return glm::normalize(
-        glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+    return shading::planeNormal(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
 }
 
 }  // namespace
