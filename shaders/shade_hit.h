@@ -281,126 +281,195 @@ VKRT_FN real3 shadowed(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uvec2 
     return visible;
 }
 
-// Light from the punctual lights (hard shadows) and `lightSamples` samples of the area lights, each of one
-// emissive primitive chosen by power, reflected towards the viewer by `surface`; `node` is the ray-tree node
-// whose random dimensions the light samples use, `media` the volumes the viewer's side is in. `lobeSampled`:
-// the glossy lobe is also traced; `untracedSampled`: so are the other lobes (paths); light samples weigh each
-// against them by the power heuristic.
+// One light sample of directLight: the shadow ray to trace, and what the light brings along it if nothing is
+// in the way.
+struct LightQuery {
+    real3 toLight;          // from the shading point: the direction the lobes are evaluated for
+    real3 shadowDirection;  // from the offset origin (an area light's point is reached exactly)
+    real shadowLength;      // the shadow ray's end
+    uint lightPrimitive;    // the emitter the shadow ray skips, else VKRT_NO_PRIMITIVE
+    real distance;          // to the light, over which the viewer's volume absorbs (paths)
+    real3 irradiance;       // on a surface facing the light, before the shadow ray and `divisor`
+    real divisor;           // the environment sample's density, else 1
+    real weight;            // the power heuristic against the traced glossy lobe, else 1
+    real untracedWeight;    // the same against the untraced lobes' continuation (paths), else 1
+};
+
+// A light sample's weights by the power heuristic against the lobes that also reach the light by the rays they
+// trace: the glossy lobe (`lobeSampled`) and, for paths, the untraced lobes' cosine-distributed continuation
+// (`untracedSampled`); `lightPdf` is the sample's density per solid angle towards `query.toLight`.
+VKRT_FN void weighAgainstLobes(VKRT_IN(ShadingContext) context, VKRT_IN(ShadingFrame) frame,
+                               VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled, real lightPdf,
+                               VKRT_INOUT(LightQuery) query) {
+    query.weight = 1.0;
+    query.untracedWeight = 1.0;
+    if (!context.multipleImportanceSampling) return;
+    if (lobeSampled) {
+        query.weight = powerHeuristic(real(context.lightSamples), lightPdf,
+                                      lobePdf(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight));
+    }
+    if (untracedSampled) {
+        query.untracedWeight =
+            powerHeuristic(real(context.lightSamples), lightPdf, cosinePdf(frame.normal, query.toLight));
+    }
+}
+
+#ifdef VKRT_HAS_PUNCTUAL_LIGHTS
+// The query for punctual light `index`; false where it cannot light the point.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN bool punctualQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingFrame) frame, uint index, VKRT_OUT(LightQuery) query) {
+    const LightArrival arrival = arriveFrom(VKRT_DEVICE(punctualLight)(index), frame.position);
+    if (!facesLight(frame, arrival.toLight) || maxComponent(arrival.irradiance) <= 0.0) return false;
+    query.toLight = arrival.toLight;
+    query.shadowDirection = arrival.toLight;
+    query.shadowLength = arrival.distance;
+    query.lightPrimitive = VKRT_NO_PRIMITIVE;
+    query.distance = arrival.distance;
+    query.irradiance = arrival.irradiance;
+    query.divisor = 1.0;
+    query.weight = 1.0;
+    query.untracedWeight = 1.0;
+    return true;
+}
+#endif
+
+#ifdef VKRT_HAS_AREA_LIGHTS
+// The query for area-light sample `k` of `context.lightSamples`: one emissive primitive chosen by power, a point
+// on it; false where that point cannot light the shading point.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
+                            VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled, uint k,
+                            VKRT_OUT(LightQuery) query) {
+    const real3 point = frame.position;
+    const LightPoint light = VKRT_DEVICE(sampleAreaLight)(
+        stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u),
+        stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u),
+        stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1u), point);
+    const real3 offset = light.position - point;
+    const real distance2 = dot(offset, offset);
+    const real distance = sqrt(distance2);
+    // A primitive the new rays skip cannot light the point (a triangle its own plane, a sphere its outside); one
+    // they do not skip can (a concave CSG lamp its own faces, a double-sided sphere its inside).
+    if (light.primitive == frame.excludeOnViewerSide || !(distance > 0.0) || !(light.pdfArea > 0.0)) return false;
+    const real3 toLight = offset / distance;
+    VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(light.material);
+    real cosLight = -dot(light.normal, toLight);
+    if (emitter.doubleSided) cosLight = abs(cosLight);
+    if (!(cosLight > 0.0) || !facesLight(frame, toLight)) return false;
+    // The shadow ray runs from the offset origin to the light's point, so it ends at the point whatever the
+    // offset (solids are not skipped: a CSG light can shadow itself).
+    const real3 originToLight = light.position - frame.viewerSide;
+    const real shadowDistance = length(originToLight);
+    query.toLight = toLight;
+    query.shadowDirection = originToLight / shadowDistance;
+    query.shadowLength = VKRT_DEVICE(shadowRayLength)(shadowDistance);
+    query.lightPrimitive = light.primitive;
+    query.distance = distance;
+    // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
+    query.irradiance =
+        textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv, 0.0) *
+        cosLight / (distance2 * light.pdfArea);
+#ifdef VKRT_HAS_ALPHA
+    query.irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv, 0.0);  // an emitter's holes
+#endif
+#ifdef VKRT_HAS_CLEARCOAT
+    query.irradiance *= coatedEmission(emitter.clearcoat, abs(dot(light.normal, toLight)));
+#endif
+    query.divisor = 1.0;
+    weighAgainstLobes(context, frame, surface, lobeSampled, untracedSampled, light.pdfArea * distance2 / cosLight,
+                      query);
+    return true;
+}
+#endif
+
+#ifdef VKRT_HAS_ENVIRONMENT
+// The query for environment sample `k` of `context.lightSamples`: a direction drawn from the environment map,
+// with a shadow ray to infinity; false where it cannot light the point.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN bool environmentQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node,
+                              VKRT_IN(ShadingFrame) frame, VKRT_IN(SurfaceResponse) surface, bool lobeSampled,
+                              bool untracedSampled, uint k, VKRT_OUT(LightQuery) query) {
+    const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_ENVIRONMENT));
+    const EnvironmentSample light =
+        sampleEnvironment(VKRT_DEVICE_ARG stratified(context, dimension, 0u), stratified(context, dimension, 1u));
+    const real3 toLight = light.direction;
+    if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) return false;
+    query.toLight = toLight;
+    query.shadowDirection = toLight;
+    query.shadowLength = VKRT_INFINITY;
+    query.lightPrimitive = VKRT_NO_PRIMITIVE;
+    query.distance = VKRT_INFINITY;
+    query.irradiance = light.radiance;
+    query.divisor = light.pdf;
+    weighAgainstLobes(context, frame, surface, lobeSampled, untracedSampled, light.pdf, query);
+    return true;
+}
+#endif
+
+// Light from the punctual lights (hard shadows), `lightSamples` samples of the area lights, each of one emissive
+// primitive chosen by power, and `lightSamples` directions of the environment, reflected towards the viewer by
+// `surface`; `node` is the ray-tree node whose random dimensions the light samples use, `media` the volumes the
+// viewer's side is in. `lobeSampled`: the glossy lobe is also traced; `untracedSampled`: so are the other lobes
+// (paths); light samples weigh each against them by the power heuristic.
+//
+// One loop runs over the samples of every kind of light, so that the shadow ray's walk and the lobes'
+// evaluation have one call site each and are inlined once in a GPU kernel: a walk (with CSG solids, tens of KiB
+// of SPIR-V) for each kind of light made pipeline creation and the kernel grow with every kind a scene has.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, uvec2 media,
                           VKRT_IN(ShadingFrame) frame, VKRT_IN(SurfaceResponse) surface, bool lobeSampled,
                           bool untracedSampled) {
-    const real3 point = frame.position, origin = frame.viewerSide, normal = frame.normal;
-    const real3 toViewer = frame.toViewer;
-    const uint exclude = frame.excludeOnViewerSide;
-    real3 sum = real3(0.0);
-    if (!reflectsLights(surface)) return sum;  // no shadow rays from mirrors and smooth glass
+    if (!reflectsLights(surface)) return real3(0.0);  // no shadow rays from mirrors and smooth glass
+    uint punctualQueries = 0u, areaQueries = 0u, environmentQueries = 0u;
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
-    const uint punctualLights = VKRT_DEVICE(punctualLightCount)();
-    for (uint i = 0u; i < punctualLights; ++i) {
-        const LightArrival arrival = arriveFrom(VKRT_DEVICE(punctualLight)(i), point);
-        if (!facesLight(frame, arrival.toLight) ||
-            maxComponent(arrival.irradiance) <= 0.0) {
-            continue;
-        }
-        const real3 visible = shadowed(
-            VKRT_DEVICE_ARG context, media,
-            VKRT_DEVICE(shadowTransmittance)(origin, arrival.toLight, arrival.distance, exclude, VKRT_NO_PRIMITIVE),
-            arrival.distance);
-        sum += reflectedLight(surface, normal, frame.coatNormal, toViewer, arrival.toLight,
-                              arrival.irradiance * visible, 1.0, 1.0);
-    }
+    punctualQueries = VKRT_DEVICE(punctualLightCount)();
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
-    if (VKRT_DEVICE(hasAreaLights)()) {
-        real3 areaSum = real3(0.0);
-        for (uint k = 0u; k < context.lightSamples; ++k) {
-            const LightPoint light = VKRT_DEVICE(sampleAreaLight)(
-                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u),
-                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u),
-                stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1u), point);
-            const real3 offset = light.position - point;
-            const real distance2 = dot(offset, offset);
-            const real distance = sqrt(distance2);
-            // A primitive the new rays skip cannot light the point (a triangle its own plane, a sphere its
-            // outside); one they do not skip can (a concave CSG lamp its own faces, a double-sided sphere its
-            // inside).
-            if (light.primitive == frame.excludeOnViewerSide || !(distance > 0.0) || !(light.pdfArea > 0.0))
-                continue;
-            const real3 toLight = offset / distance;
-            VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(light.material);
-            real cosLight = -dot(light.normal, toLight);
-            if (emitter.doubleSided) cosLight = abs(cosLight);
-            if (!(cosLight > 0.0) || !facesLight(frame, toLight)) continue;
-            // The shadow ray runs from the offset origin to the light's point, so it ends at the point
-            // whatever the offset (solids are not skipped: a CSG light can shadow itself).
-            const real3 originToLight = light.position - origin;
-            const real shadowDistance = length(originToLight);
-            const real3 visible =
-                shadowed(VKRT_DEVICE_ARG context, media,
-                         VKRT_DEVICE(shadowTransmittance)(origin, originToLight / shadowDistance,
-                                                          VKRT_DEVICE(shadowRayLength)(shadowDistance),
-                                                          exclude, light.primitive),
-                         distance);
-            // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).
-            real3 irradiance =
-                textured(VKRT_DEVICE_ARG emitter.emission, emitter.emissiveTexture, light.primitive, light.uv, 0.0) *
-                cosLight / (distance2 * light.pdfArea);
-#ifdef VKRT_HAS_ALPHA
-            irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv, 0.0);  // an emitter's holes
-#endif
-#ifdef VKRT_HAS_CLEARCOAT
-            irradiance *= coatedEmission(emitter.clearcoat, abs(dot(light.normal, toLight)));
-#endif
-            // The lobes are also reached by the rays they trace: weigh the two by the power heuristic.
-            const real lightPdf = light.pdfArea * distance2 / cosLight;
-            real weight = 1.0, untracedWeight = 1.0;
-            if (context.multipleImportanceSampling) {
-                if (lobeSampled) {
-                    weight = powerHeuristic(real(context.lightSamples), lightPdf,
-                                            lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
-                }
-                if (untracedSampled) {
-                    untracedWeight = powerHeuristic(real(context.lightSamples), lightPdf, cosinePdf(normal, toLight));
-                }
-            }
-            areaSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight, irradiance * visible,
-                                      weight, untracedWeight);
-        }
-        sum += areaSum / real(context.lightSamples);
-    }
+    if (VKRT_DEVICE(hasAreaLights)()) areaQueries = context.lightSamples;
 #endif
 #ifdef VKRT_HAS_ENVIRONMENT
-    if (VKRT_DEVICE(hasEnvironment)()) {
-        // `lightSamples` directions drawn from the environment map, each with a shadow ray to infinity.
-        real3 environmentSum = real3(0.0);
-        for (uint k = 0u; k < context.lightSamples; ++k) {
-            const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_ENVIRONMENT));
-            const EnvironmentSample light = sampleEnvironment(VKRT_DEVICE_ARG stratified(context, dimension, 0u),
-                                                              stratified(context, dimension, 1u));
-            const real3 toLight = light.direction;
-            if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) continue;
-            const real3 visible = shadowed(
-                VKRT_DEVICE_ARG context, media,
-                VKRT_DEVICE(shadowTransmittance)(origin, toLight, VKRT_INFINITY, exclude, VKRT_NO_PRIMITIVE),
-                VKRT_INFINITY);
-            // Weighed against the traced lobes by the power heuristic, as the area lights are.
-            real weight = 1.0, untracedWeight = 1.0;
-            if (context.multipleImportanceSampling) {
-                if (lobeSampled) {
-                    weight = powerHeuristic(real(context.lightSamples), light.pdf,
-                                            lobePdf(surface, normal, frame.coatNormal, toViewer, toLight));
-                }
-                if (untracedSampled) {
-                    untracedWeight = powerHeuristic(real(context.lightSamples), light.pdf, cosinePdf(normal, toLight));
-                }
-            }
-            environmentSum += reflectedLight(surface, normal, frame.coatNormal, toViewer, toLight,
-                                             light.radiance * visible / light.pdf, weight, untracedWeight);
-        }
-        sum += environmentSum / real(context.lightSamples);
-    }
+    if (VKRT_DEVICE(hasEnvironment)()) environmentQueries = context.lightSamples;
 #endif
+    const uint areaEnd = punctualQueries + areaQueries;
+    real3 punctualSum = real3(0.0), areaSum = real3(0.0), environmentSum = real3(0.0);
+    for (uint q = 0u; q < areaEnd + environmentQueries; ++q) {
+        LightQuery query;
+        bool lit = false;
+#ifdef VKRT_HAS_PUNCTUAL_LIGHTS
+        if (q < punctualQueries) lit = punctualQuery(VKRT_DEVICE_ARG frame, q, query);
+#endif
+#ifdef VKRT_HAS_AREA_LIGHTS
+        if (q >= punctualQueries && q < areaEnd) {
+            lit = areaLightQuery(VKRT_DEVICE_ARG context, node, frame, surface, lobeSampled, untracedSampled,
+                                 q - punctualQueries, query);
+        }
+#endif
+#ifdef VKRT_HAS_ENVIRONMENT
+        if (q >= areaEnd) {
+            lit = environmentQuery(VKRT_DEVICE_ARG context, node, frame, surface, lobeSampled, untracedSampled,
+                                   q - areaEnd, query);
+        }
+#endif
+        if (!lit) continue;
+        const real3 visible = shadowed(
+            VKRT_DEVICE_ARG context, media,
+            VKRT_DEVICE(shadowTransmittance)(frame.viewerSide, query.shadowDirection, query.shadowLength,
+                                             frame.excludeOnViewerSide, query.lightPrimitive),
+            query.distance);
+        const real3 reflected = reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight,
+                                               query.irradiance * visible / query.divisor, query.weight,
+                                               query.untracedWeight);
+        if (q < punctualQueries) {
+            punctualSum += reflected;
+        } else if (q < areaEnd) {
+            areaSum += reflected;
+        } else {
+            environmentSum += reflected;
+        }
+    }
+    real3 sum = punctualSum;
+    if (areaQueries > 0u) sum += areaSum / real(context.lightSamples);
+    if (environmentQueries > 0u) sum += environmentSum / real(context.lightSamples);
     return sum;
 }
 
