@@ -281,15 +281,22 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
     int size = 0;
     uint finished = 0u;
     vec3 radiance = vec3(0.0);
-    vkrtWalksComplete = true;
-    RayState ray = cameraRayState(camera, cone, xy, first, context);
-    ++primaryRays;
-    uint s = first + 1u;
+    RayState ray;
+    uint s = first;
+    bool startsSample = true;  // the pass begins sample s with its camera ray
     // The next ray is chosen at the end of each pass, and the loop ends there: llvmpipe tests a loop's exit at
     // the end of its body, so an exit at the top cost every invocation one more pass of the whole body, masked,
     // in every dispatch (the Whitted scene's GPU time 7% longer; issue 13).
     for (;;) {
         VKRT_COUNT_ITERATION();
+        if (startsSample) {
+            vkrtWalksComplete = true;
+            radiance = vec3(0.0);
+            ray = cameraRayState(camera, cone, xy, s, context);
+            ++primaryRays;
+            ++s;
+            startsSample = false;
+        }
         Hit hit;
         HitPoint point;
         const bool found = traceVisible(ray, context, hit, point);
@@ -323,11 +330,7 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
                 addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
                 ++finished;
                 if (s == end) break;
-                vkrtWalksComplete = true;
-                radiance = vec3(0.0);
-                ray = cameraRayState(camera, cone, xy, s, context);
-                ++primaryRays;
-                ++s;
+                startsSample = true;
             }
         }
     }
