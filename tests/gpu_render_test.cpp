@@ -258,6 +258,24 @@ TEST_F(Gpu, LargeBuffersOfACpuDeviceAreOnHugePages) {
     EXPECT_GE(test::hugePageBytesIn(where, where + kBytes), kBytes - (size_t{4} << 20));
 }
 
+// Downloads read mapped memory where the host caches it and copy through cached host memory where it does not
+// (a discrete GPU's memory over the bus); both ways give the buffer's bytes, from any offset.
+TEST_F(Gpu, BuffersReadBackTheSameMappedOrStaged) {
+    std::vector<uint32_t> values(100000);
+    for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint32_t>(i * 2654435761u);
+    const GpuBuffer buffer(context(), values);
+    const size_t first = 5003, count = 40000;  // 160 KB: more than is read in place uncached
+    std::vector<uint32_t> read(count), staged(count);
+    buffer.download(read.data(), count * sizeof(uint32_t), first * sizeof(uint32_t));
+    buffer.downloadStaged(staged.data(), count * sizeof(uint32_t), first * sizeof(uint32_t));
+    const std::vector<uint32_t> expected(values.begin() + first, values.begin() + first + count);
+    EXPECT_EQ(read, expected);
+    EXPECT_EQ(staged, expected);
+    uint32_t one = 0;
+    buffer.downloadStaged(&one, sizeof(one), (values.size() - 1) * sizeof(uint32_t));
+    EXPECT_EQ(one, values.back());
+}
+
 TEST_F(Gpu, RayCountsAreTheSameSummedPerSubgroupOrPerInvocation) {
     if (!context().hasSubgroupArithmetic()) GTEST_SKIP() << "the device cannot sum across subgroups";
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);

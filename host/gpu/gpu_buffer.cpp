@@ -11,19 +11,19 @@
 namespace vkrt {
 
 GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes) : context_(&context) {
-    create(bytes, false);
+    create(bytes, Placement::Device);
 }
 
 GpuBuffer::GpuBuffer(const VulkanContext& context, const void* data, VkDeviceSize bytes)
     : context_(&context) {
-    create(bytes, false);
+    create(bytes, Placement::Device);
     if (bytes > 0) upload(data, bytes);
 }
 
 GpuBuffer::GpuBuffer(const VulkanContext& context, VkDeviceSize bytes,
                      const std::function<void(void* mapped)>& write)
     : context_(&context) {
-    create(bytes, false);
+    create(bytes, Placement::Device);
     if (bytes > 0) writeWith(bytes, 0, write);
 }
 
@@ -44,6 +44,7 @@ GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
         address_ = std::exchange(other.address_, 0);
         size_ = std::exchange(other.size_, 0);
         hostVisible_ = std::exchange(other.hostVisible_, false);
+        hostCached_ = std::exchange(other.hostCached_, false);
     }
     return *this;
 }
@@ -59,7 +60,7 @@ void GpuBuffer::release() {
     memory_ = VK_NULL_HANDLE;
 }
 
-void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
+void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     size_ = std::max<VkDeviceSize>(bytes, 16);
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size_;
@@ -73,22 +74,32 @@ void GpuBuffer::create(VkDeviceSize bytes, bool preferHostVisible) {
     vkGetBufferMemoryRequirements(context_->device(), buffer_, &requirements);
 
     // Device-local memory of the device's main heap, host-visible too where it can be (lavapipe, resizable
-    // BAR), so that uploads and downloads map it; staging buffers take any host-visible memory. (A small
-    // device-local, host-visible heap beside the main one, as on GPUs without resizable BAR, is not used.)
+    // BAR), so that uploads map it; upload staging takes any host-visible memory, readback staging cached
+    // host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
+    // resizable BAR, is not used.)
     const VkMemoryPropertyFlags mappable =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
     const uint32_t allowed = requirements.memoryTypeBits;
     int type = -1;
-    if (preferHostVisible) {
-        type = context_->findMemoryType(allowed, mappable);
-    } else {
-        type = context_->findMemoryType(allowed, local | mappable, context_->deviceHeap());
-        if (type < 0) type = context_->findMemoryType(allowed, local, context_->deviceHeap());
+    switch (placement) {
+        case Placement::Device:
+            type = context_->findMemoryType(allowed, local | mappable, context_->deviceHeap());
+            if (type < 0) type = context_->findMemoryType(allowed, local, context_->deviceHeap());
+            break;
+        case Placement::Readback:
+            type = context_->findMemoryType(allowed, mappable | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+            if (type < 0) type = context_->findMemoryType(allowed, mappable);
+            break;
+        case Placement::Upload:
+            type = context_->findMemoryType(allowed, mappable);
+            break;
     }
     if (type < 0) type = context_->findMemoryType(allowed, 0);
     if (type < 0) throw GpuError("no memory type for a storage buffer");
-    hostVisible_ = (context_->memoryProperties().memoryTypes[type].propertyFlags & mappable) == mappable;
+    const VkMemoryPropertyFlags properties = context_->memoryProperties().memoryTypes[type].propertyFlags;
+    hostVisible_ = (properties & mappable) == mappable;
+    hostCached_ = hostVisible_ && (properties & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) != 0;
 
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
@@ -136,7 +147,7 @@ void GpuBuffer::writeWith(VkDeviceSize bytes, VkDeviceSize offset,
     }
     GpuBuffer staging;
     staging.context_ = context_;
-    staging.create(bytes, true);
+    staging.create(bytes, Placement::Upload);
     staging.writeWith(bytes, 0, write);
     context_->submitAndWait([&](VkCommandBuffer commands) {
         const VkBufferCopy region{0, offset, bytes};
@@ -146,21 +157,39 @@ void GpuBuffer::writeWith(VkDeviceSize bytes, VkDeviceSize offset,
 
 void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
     if (bytes == 0) return;
-    if (hostVisible_) {
+    // A few words (the ray counters, read after every dispatch) are read in place even uncached: a copy on
+    // the device and a wait for it would cost more than their few bus round trips.
+    constexpr VkDeviceSize kUncachedReadBytes = 4 << 10;
+    if (hostVisible_ && (hostCached_ || bytes <= kUncachedReadBytes)) {
         void* mapped = nullptr;
         VK_CHECK(vkMapMemory(context_->device(), memory_, offset, bytes, 0, &mapped));
         std::memcpy(data, mapped, bytes);
         vkUnmapMemory(context_->device(), memory_);
         return;
     }
+    downloadStaged(data, bytes, offset);
+}
+
+void GpuBuffer::downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+    if (bytes == 0) return;
     GpuBuffer staging;
     staging.context_ = context_;
-    staging.create(bytes, true);
+    staging.create(bytes, Placement::Readback);
+    if (!staging.hostVisible_) throw GpuError("no host-visible memory to read a buffer back through");
     context_->submitAndWait([&](VkCommandBuffer commands) {
         const VkBufferCopy region{offset, 0, bytes};
         vkCmdCopyBuffer(commands, buffer_, staging.buffer_, 1, &region);
+        // The copy's writes made visible to the host's reads of the mapped staging memory.
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                             nullptr, 0, nullptr);
     });
-    staging.download(data, bytes);
+    void* mapped = nullptr;
+    VK_CHECK(vkMapMemory(context_->device(), staging.memory_, 0, bytes, 0, &mapped));
+    std::memcpy(data, mapped, bytes);
+    vkUnmapMemory(context_->device(), staging.memory_);
 }
 
 void GpuBuffer::fillZero(VkDeviceSize offset, VkDeviceSize bytes) {

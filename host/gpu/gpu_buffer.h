@@ -1,6 +1,8 @@
-// A storage buffer with its own device memory and a buffer device address. Uploads and downloads map the
-// memory when the device lets the host see it (lavapipe, resizable BAR) and go through a staging buffer
-// otherwise.
+// A storage buffer with its own device memory and a buffer device address. Uploads map the memory when the
+// device lets the host see it (lavapipe, resizable BAR) and go through a staging buffer otherwise; downloads
+// map it only where the host reads it through its caches (a CPU device's memory) or read a few bytes, and
+// otherwise copy through a staging buffer in cached host memory: a discrete GPU's memory mapped over the bus
+// is write-combined and uncached, and the host reads it a few bytes per bus round trip.
 #pragma once
 
 #include <cstddef>
@@ -40,12 +42,19 @@ class GpuBuffer {
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+    // The staging path of `download`, whatever the memory: a copy on the device into host memory, cached
+    // where the device has such, then read. Public so that devices whose memory is all cached test it.
+    void downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
     // Zeroes `bytes` from `offset` (a multiple of 4), or the whole buffer.
     void fillZero(VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
 
   private:
+    // Where a buffer's memory lies: device-local (mapped where the host can see it), host memory the host
+    // writes (upload staging), or host memory the host reads, cached where the device offers it (readback).
+    enum class Placement { Device, Upload, Readback };
+
     void release();
-    void create(VkDeviceSize bytes, bool preferHostVisible);
+    void create(VkDeviceSize bytes, Placement placement);
     // Has `write` fill `bytes` from `offset`, mapped or through a staging buffer.
     void writeWith(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
 
@@ -55,6 +64,7 @@ class GpuBuffer {
     VkDeviceAddress address_ = 0;
     VkDeviceSize size_ = 0;
     bool hostVisible_ = false;
+    bool hostCached_ = false;
 };
 
 }  // namespace vkrt
