@@ -122,6 +122,15 @@ TEST(Cli, GpuRenderUnderValidationWritesGpuStats) {
     EXPECT_EQ(json["features"], nlohmann::json::array({"area_lights"}));
     EXPECT_EQ(json["rays"]["primary"], 32 * 32 * 2);
     EXPECT_GT(json["gpu_memory_bytes"].get<uint64_t>(), 0u);
+    // Where the render's time went: the dispatches' wall time (at least their GPU time) and the copies of the
+    // device's sums to the host, each within the render's time.
+    const double renderMs = json["render_ms"].get<double>();
+    const double dispatchMs = json["dispatches"]["total_ms"].get<double>();
+    const double copyMs = json["memory"]["host_copy_ms"].get<double>();
+    EXPECT_GE(dispatchMs, json["gpu_ms"].get<double>() * 0.99);
+    EXPECT_GE(dispatchMs, json["dispatches"]["longest_ms"].get<double>());
+    EXPECT_GT(copyMs, 0.0);
+    EXPECT_LE(dispatchMs + copyMs + json["shader"]["pipeline_ms"].get<double>(), renderMs);
 }
 
 TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {

@@ -44,6 +44,8 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.deviceMemoryBytes = g.deviceMemoryBytes;
     gpu.dispatches = g.dispatches;
     gpu.longestDispatchMs = g.longestDispatchMs;
+    gpu.dispatchWallMs = g.dispatchWallMs;
+    gpu.hostCopyMs = g.hostCopyMs;
     gpu.targetDispatchMs = g.targetDispatchMs;
     gpu.mostSamplesInDispatch = g.mostSamplesInDispatch;
     gpu.loopPassesPerSample = g.loopPassesPerSample;

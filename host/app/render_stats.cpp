@@ -90,6 +90,7 @@ nlohmann::json toJson(const RunReport& r) {
         json["memory"]["tiles"] = r.memory.tiles;
         json["memory"]["tile_rows"] = r.memory.tileRows;
         json["memory"]["host_copies"] = r.memory.hostCopies;
+        json["memory"]["host_copy_ms"] = g.hostCopyMs;
         json["shader"] = {{"features", g.allFeatures ? "all" : "scene"},
                           {"compile_ms", g.compileMs},
                           {"from_cache", g.shaderFromCache},
@@ -98,6 +99,7 @@ nlohmann::json toJson(const RunReport& r) {
                           {"key", g.shaderKey}};
         json["dispatches"] = {{"count", g.dispatches},
                               {"longest_ms", g.longestDispatchMs},
+                              {"total_ms", g.dispatchWallMs},
                               {"target_ms", g.targetDispatchMs},
                               {"most_samples", g.mostSamplesInDispatch},
                               {"loop_passes_per_sample", g.loopPassesPerSample},

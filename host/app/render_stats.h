@@ -73,6 +73,8 @@ struct RunReport {
         uint64_t deviceMemoryBytes = 0;
         uint32_t dispatches = 0;
         double longestDispatchMs = 0.0;
+        double dispatchWallMs = 0.0;         // all dispatches, submission to wake-up
+        double hostCopyMs = 0.0;             // reading the device's sums back into the host's
         double targetDispatchMs = 0.0;       // what each dispatch was sized to take
         uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel one dispatch traced
         uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample

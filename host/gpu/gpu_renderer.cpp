@@ -164,6 +164,7 @@ double GpuRenderer::runDispatch(uint32_t sampleStart, uint32_t sampleCount, uint
     report_.gpuMs += timer_->elapsedMs();
     ++report_.dispatches;
     report_.longestDispatchMs = std::max(report_.longestDispatchMs, wallMs);
+    report_.dispatchWallMs += wallMs;
     report_.mostSamplesInDispatch = std::max(report_.mostSamplesInDispatch, sampleCount);
     return wallMs;
 }
@@ -212,6 +213,7 @@ void GpuRenderer::copyToHost() {
     ++report_.hostCopies;
     lastCopy_ = std::chrono::steady_clock::now();
     lastCopyMs_ = millisecondsSince(start);
+    report_.hostCopyMs += lastCopyMs_;
 }
 
 bool GpuRenderer::copyDue() const {

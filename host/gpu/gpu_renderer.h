@@ -59,11 +59,13 @@ struct GpuRenderReport {
     double targetDispatchMs =
         0.0;  // what each dispatch was sized to take (GpuRenderOptions, or the device's)
     double longestDispatchMs = 0.0;
+    double dispatchWallMs = 0.0;  // the dispatches from submission to the host's wake-up, all together
     uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
     uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample; else 0
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers
     DeviceMemoryPlan memory;         // the estimate made before allocating, and the tiles
     uint32_t hostCopies = 0;         // times the device's sums were added into the host's
+    double hostCopyMs = 0.0;         // those copies' time: reading the device's sums back, adding, zeroing
     std::string deviceLost;          // why the device was lost, when it was (the render then ends early)
     SceneAccess sceneAccess = SceneAccess::Addresses;  // how the kernel read the scene's arrays
     WorkgroupOrder workgroupOrder = WorkgroupOrder::InOrder;  // which tiles the workgroups took
