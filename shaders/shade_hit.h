@@ -290,7 +290,7 @@ struct LightQuery {
     uint lightPrimitive;    // the emitter the shadow ray skips, else VKRT_NO_PRIMITIVE
     real distance;          // to the light, over which the viewer's volume absorbs (paths)
     real3 irradiance;       // on a surface facing the light, before the shadow ray and `divisor`
-    real divisor;           // the environment sample's density, else 1
+    real divisor;           // the environment sample's density, else 1 (kept apart: L V / pdf rounds as before)
     real weight;            // the power heuristic against the traced glossy lobe, else 1
     real untracedWeight;    // the same against the untraced lobes' continuation (paths), else 1
 };
