@@ -505,6 +505,26 @@ TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
     }
 }
 
+TEST_F(Gpu, WalkStackInWorkgroupMemoryFindsTheSameHits) {
+    // ray_benchmark's variant "VKRT_SHARED_STACK N" (traverse.glsl): the stack's first N entries in workgroup
+    // memory, the rest in the invocation's arrays. With N = 2 most walks cross from one to the other (a wide
+    // node stacks up to three children), and every hit must be the default walk's, bit for bit.
+    const Scene scene = sceneOf(makeUvSphere(glm::vec3(0.2f), 1.3f, 30, 60));
+    const FlatBvh bvh = bvhFor(scene);
+    GpuRaycaster plain(context(), scene, bvh, test::shaderCacheDir());
+    GpuRaycaster shared(context(), scene, bvh, test::shaderCacheDir(), {"VKRT_SHARED_STACK 2"});
+    const std::vector<gpu::GpuRay> rays = testRays(scene.bounds, 4096);
+    for (const RaycastMode mode : {RaycastMode::Closest, RaycastMode::Any}) {
+        const std::vector<gpu::GpuHit> a = plain.trace(rays, mode), b = shared.trace(rays, mode);
+        size_t hits = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(std::memcmp(&a[i], &b[i], sizeof(gpu::GpuHit)), 0) << "ray " << i;
+            hits += a[i].primitive != VKRT_NO_HIT;
+        }
+        EXPECT_GT(hits, rays.size() / 4);
+    }
+}
+
 TEST_F(Gpu, SpreadWorkgroupsTraceEveryRayOnce) {
     // 10,001 rays: 157 blocks of 64, the last part full, each traced by another workgroup than in order.
     const Scene scene = sceneOf(makeUvSphere(glm::vec3(0.2f), 1.3f, 30, 60));

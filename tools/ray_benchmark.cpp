@@ -12,15 +12,19 @@
 // (closest hit). --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what
 // llvmpipe counts against its budget of 65535 per invocation), from a kernel built to count them.
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
-// alternately with the default kernel, and reports its rates and their ratio to the default's (A/B tests of
-// shader changes that a busy machine's noise would hide between processes). A variant with
+// alternately with the default kernel, and reports its rates, their ratio to the default's (per CPU second,
+// and per GPU second where the device has timestamps) and the share of rays whose hit is the default's bit for
+// bit (A/B tests of shader changes that a busy machine's noise would hide between processes). A variant with
 // VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the scene that way
-// (gpu_raycaster.h).
+// (gpu_raycaster.h); "VKRT_SHARED_STACK N" keeps the walk's first N stack entries in workgroup memory
+// (traverse.glsl); VKRT_WITHOUT_IEEE_FLOATS leaves out the IEEE float mode the device would get
+// (ieee_floats.glsl), to measure what it costs.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <thread>
@@ -197,13 +201,15 @@ int main(int argc, char** argv) {
         nlohmann::json kinds;
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
             std::vector<double> gpuRates, wallRates, cpuRates;
-            std::vector<std::vector<double>> variantCpuRates(variants.size()), variantWallRates(variants.size());
+            std::vector<std::vector<double>> variantCpuRates(variants.size()), variantWallRates(variants.size()),
+                variantGpuRates(variants.size());
             for (int run = 0; run < runs; ++run) {
                 for (size_t v = 0; v < variants.size(); ++v) {
                     RaycastTiming timing;
                     variantTracers[v]->trace(rays, mode, &timing);
                     variantCpuRates[v].push_back(rays.size() / timing.cpuMs / 1e3);
                     variantWallRates[v].push_back(rays.size() / timing.wallMs / 1e3);
+                    if (timing.gpuMs > 0.0) variantGpuRates[v].push_back(rays.size() / timing.gpuMs / 1e3);
                 }
                 RaycastTiming timing;
                 raycaster.trace(rays, mode, &timing);
@@ -244,13 +250,32 @@ int main(int argc, char** argv) {
             }
             entry["hit_agreement"] = static_cast<double>(agree) / static_cast<double>(rays.size());
 #endif
+            const std::vector<gpu::GpuHit> defaultHits = variants.empty() ? std::vector<gpu::GpuHit>{}
+                                                                           : raycaster.trace(rays, mode);
             for (size_t v = 0; v < variants.size(); ++v) {
-                // Run for run against the default kernel: the median of the per-run ratios.
-                std::vector<double> ratios;
+                // Run for run against the default kernel: the median of the per-run ratios, per CPU second (a
+                // CPU device's work) and, where the device has timestamps, per GPU second (a GPU's).
+                std::vector<double> ratios, gpuRatios;
                 for (int run = 0; run < runs; ++run) ratios.push_back(variantCpuRates[v][run] / cpuRates[run]);
-                entry["variants"][variants[v]] = {{"mrays_per_s", summarize(variantWallRates[v]).median},
-                                                  {"mrays_per_cpu_s", summarize(variantCpuRates[v]).median},
-                                                  {"over_default_cpu", summarize(ratios).median}};
+                nlohmann::json& variant = entry["variants"][variants[v]];
+                variant = {{"mrays_per_s", summarize(variantWallRates[v]).median},
+                           {"mrays_per_cpu_s", summarize(variantCpuRates[v]).median},
+                           {"over_default_cpu", summarize(ratios).median}};
+                if (variantGpuRates[v].size() == gpuRates.size() && !gpuRates.empty()) {
+                    for (size_t run = 0; run < gpuRates.size(); ++run) {
+                        gpuRatios.push_back(variantGpuRates[v][run] / gpuRates[run]);
+                    }
+                    variant["mrays_per_gpu_s"] = summarize(variantGpuRates[v]).median;
+                    variant["over_default_gpu"] = summarize(gpuRatios).median;
+                }
+                // The share of rays whose hit (primitive, distance, barycentrics) is the default kernel's, bit
+                // for bit: a variant that changes what is found shows here, not as a speed-up.
+                const std::vector<gpu::GpuHit> hits = variantTracers[v]->trace(rays, mode);
+                size_t same = 0;
+                for (size_t i = 0; i < rays.size(); ++i) {
+                    same += std::memcmp(&hits[i], &defaultHits[i], sizeof(gpu::GpuHit)) == 0;
+                }
+                variant["same_hits"] = static_cast<double>(same) / static_cast<double>(rays.size());
             }
             if (counter) {
                 std::vector<double> iterations;
