@@ -131,6 +131,13 @@ TEST(Cli, GpuRenderUnderValidationWritesGpuStats) {
     EXPECT_GE(dispatchMs, json["dispatches"]["longest_ms"].get<double>());
     EXPECT_GT(copyMs, 0.0);
     EXPECT_LE(dispatchMs + copyMs + json["shader"]["pipeline_ms"].get<double>(), renderMs);
+    // The renderer's making: within the render's time, and holding the pipeline's creation and the scene's
+    // packing; the scene's buffers are written beside the pipeline's making, so only within the whole.
+    const double setupMs = json["setup"]["total_ms"].get<double>();
+    EXPECT_LE(setupMs + dispatchMs, renderMs);
+    EXPECT_GE(setupMs, json["shader"]["pipeline_ms"].get<double>() + json["setup"]["pack_ms"].get<double>());
+    EXPECT_GT(json["setup"]["scene_write_ms"].get<double>(), 0.0);
+    EXPECT_LE(json["setup"]["scene_write_ms"].get<double>(), setupMs);
 }
 
 TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {

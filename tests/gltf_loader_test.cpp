@@ -251,6 +251,42 @@ TEST(Mipmaps, SrgbCodesAreTheFormulasForEveryPairOfBytes) {
     EXPECT_EQ(wrong, 0);
 }
 
+TEST(Mipmaps, EvenLevelsAreTheMeansOfTheirFourTexels) {
+    // Random texels, so each 2x2 box holds four different codes: a level of an even-sized texture is the mean
+    // of the four in linear light, encoded by the formula (colour), or their mean rounded, halves up (alpha).
+    Texture noise;
+    noise.width = 64;
+    noise.height = 32;
+    uint32_t state = 12345u;
+    for (int i = 0; i < noise.width * noise.height * 4; ++i) {
+        state = state * 1664525u + 1013904223u;
+        noise.rgba.push_back(static_cast<uint8_t>(state >> 24));
+    }
+    const std::vector<TextureLevel> levels = mipmapChain(noise, true);
+    ASSERT_EQ(levels[0].width, 32);
+    ASSERT_EQ(levels[0].height, 16);
+    int wrong = 0;
+    for (int y = 0; y < 16; ++y) {
+        for (int x = 0; x < 32; ++x) {
+            auto code = [&](int dx, int dy, int c) {
+                return noise.rgba[((static_cast<size_t>(2 * y + dy) * 64) + 2 * x + dx) * 4 + c];
+            };
+            for (int c = 0; c < 4; ++c) {
+                int expected;
+                if (c < 3) {
+                    auto linear = [&](int dx, int dy) { return 0.25 * shading::srgbToLinear(code(dx, dy, c) / 255.0); };
+                    const double mean = 0.0 + linear(0, 0) + linear(1, 0) + linear(0, 1) + linear(1, 1);
+                    expected = static_cast<int>(std::clamp(std::lround(shading::linearToSrgb(mean) * 255.0), 0L, 255L));
+                } else {
+                    expected = static_cast<int>(std::floor((code(0, 0, c) + code(1, 0, c) + code(0, 1, c) + code(1, 1, c)) / 4.0 + 0.5));
+                }
+                wrong += levels[0].rgba[(static_cast<size_t>(y) * 32 + x) * 4 + c] != expected;
+            }
+        }
+    }
+    EXPECT_EQ(wrong, 0);
+}
+
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {
     // scenes/motion-blur.gltf: shutter [0, 0.5] from the scene's extras; a cube sliding +1.5 units/s in x
     // (LINEAR), a cube turning 90 degrees/s about y (LINEAR), a ball jumping up 0.8 at t = 0.25 (STEP).

@@ -24,7 +24,9 @@ Each scene is rendered with each integrator by `vkrt --shader-features scene` an
   SPIR-V from the cache plus creating the pipeline, `render_ms` (everything: shader, upload, tracing), the
   rays per second of that whole render (`mrays_per_s`) and of the dispatches alone (`mrays_per_gpu_s`); in
   the JSON also the dispatches' wall time (`dispatch_total_ms`) and the copies of the sums to the host
-  (`host_copy_ms`), which with the pipeline's time say where a render's time outside the GPU went.
+  (`host_copy_ms`), which with the pipeline's time say where a render's time outside the GPU went, and the
+  renderer's making (`renderer_setup_ms`), of which writing the scene's buffers (`scene_write_ms`, on a
+  thread beside the shader's making).
 
 Prints a Markdown table of medians ("scene / all" in each cell, and the ratio of rays per second) and
 writes every run to the JSON (`--out`), with the machine's load average before and after each round.
@@ -90,7 +92,8 @@ def cached(args, scene, integrator, variant, extra, folder, caches):
             "pipeline_cached_ms": shader["pipeline_ms"],
             "setup_cached_ms": shader["compile_ms"] + shader["pipeline_ms"], "render_ms": data["render_ms"],
             "gpu_ms": data["gpu_ms"], "dispatch_total_ms": data["dispatches"]["total_ms"],
-            "host_copy_ms": data["memory"]["host_copy_ms"], "rays": sum(data["rays"].values()),
+            "host_copy_ms": data["memory"]["host_copy_ms"], "renderer_setup_ms": data["setup"]["total_ms"],
+            "scene_write_ms": data["setup"]["scene_write_ms"], "rays": sum(data["rays"].values()),
             "mrays_per_s": data["mrays_per_s"], "mrays_per_gpu_s": data["mrays_per_gpu_s"],
             "device_name": data["device_name"], "driver": data["driver"]}
 
@@ -165,7 +168,8 @@ def main():
 
     cold_keys = ["glslang_ms", "pipeline_cold_ms", "first_dispatch_jit_ms", "render_cold_ms"]
     keys = ["spirv_bytes", "spirv_from_cache_ms", "pipeline_cached_ms", "setup_cached_ms", "render_ms", "gpu_ms",
-            "dispatch_total_ms", "host_copy_ms", "mrays_per_s", "mrays_per_gpu_s"]
+            "dispatch_total_ms", "host_copy_ms", "renderer_setup_ms", "scene_write_ms", "mrays_per_s",
+            "mrays_per_gpu_s"]
     rows = []
     for scene, integrator in [(s, i) for s in args.scenes for i in integrators]:
         row = {"file": scene, "integrator": integrator, "features": runs[(scene, integrator, "scene")][0]["features"]}

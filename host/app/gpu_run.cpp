@@ -36,6 +36,9 @@ RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
     gpu.gpuMs = g.gpuMs;
     gpu.compileMs = g.compileMs;
     gpu.pipelineMs = g.pipelineMs;
+    gpu.setupMs = g.setupMs;
+    gpu.packMs = g.packMs;
+    gpu.sceneWriteMs = g.sceneWriteMs;
     gpu.shaderFromCache = g.shaderFromCache;
     gpu.allFeatures = options.allShaderFeatures;
     gpu.spirvBytes = renderer.spirv().size() * sizeof(uint32_t);

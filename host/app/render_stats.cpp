@@ -91,6 +91,7 @@ nlohmann::json toJson(const RunReport& r) {
         json["memory"]["tile_rows"] = r.memory.tileRows;
         json["memory"]["host_copies"] = r.memory.hostCopies;
         json["memory"]["host_copy_ms"] = g.hostCopyMs;
+        json["setup"] = {{"total_ms", g.setupMs}, {"pack_ms", g.packMs}, {"scene_write_ms", g.sceneWriteMs}};
         json["shader"] = {{"features", g.allFeatures ? "all" : "scene"},
                           {"compile_ms", g.compileMs},
                           {"from_cache", g.shaderFromCache},

@@ -57,6 +57,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
       options_(options),
       data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
       planner_(plannerFor(options, context, settings)) {
+    report_.packMs = millisecondsSince(constructed_);
     report_.targetDispatchMs = planner_.targetMs();
     report_.workgroupOrder = workgroupOrderFor(options.workgroupOrder, context);
     tiles_ = spreadGrid(groupsFor(static_cast<uint32_t>(settings.width), VKRT_WORKGROUP_WIDTH),
@@ -99,8 +100,13 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     // lavapipe took longer to create it). `data_` is only read until the writer is done. If the shader or the
     // pipeline fails, the future's destructor waits for the writer, and that error is the one reported (a
     // writer's own, such as a lack of device memory, is then dropped).
-    std::future<std::unique_ptr<GpuSceneBuffers>> written = std::async(
-        std::launch::async, [&] { return std::make_unique<GpuSceneBuffers>(context, data_, scene); });
+    double sceneWriteMs = 0.0;
+    std::future<std::unique_ptr<GpuSceneBuffers>> written = std::async(std::launch::async, [&] {
+        const auto start = std::chrono::steady_clock::now();
+        auto buffers = std::make_unique<GpuSceneBuffers>(context, data_, scene);
+        sceneWriteMs = millisecondsSince(start);
+        return buffers;
+    });
 
     // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
     // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp;
@@ -118,6 +124,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     report_.pipelineMs = pipeline_->createMs();
 
     sceneBuffers_ = written.get();
+    report_.sceneWriteMs = sceneWriteMs;
     gpu::SceneParams params = makeSceneParams(data_, camera, settings);
     sceneBuffers_->fillAddresses(params);
     accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
@@ -135,6 +142,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     data_.features = features;
 
     timer_ = std::make_unique<GpuTimer>(context);
+    report_.setupMs = millisecondsSince(constructed_);
 }
 
 GpuRenderer::~GpuRenderer() = default;

@@ -53,6 +53,11 @@ struct GpuRenderReport {
     double gpuMs = 0.0;  // summed timestamp intervals of the tracing dispatches (0 without timestamps)
     double compileMs = 0.0;   // GLSL to SPIR-V (glslang), or reading the SPIR-V from the cache
     double pipelineMs = 0.0;  // creating the pipeline: the driver's own compilation (lavapipe: its NIR passes)
+    // Making the renderer, all of it (the scene packed, the shader and pipeline made while another thread
+    // writes the scene's buffers, the image's buffers), and two of its parts.
+    double setupMs = 0.0;
+    double packMs = 0.0;         // the scene packed into the arrays the kernels read (GpuSceneData)
+    double sceneWriteMs = 0.0;   // those arrays written into device buffers, texels and mipmaps included
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
@@ -117,6 +122,7 @@ class GpuRenderer {
     const VulkanContext& context_;
     RenderSettings settings_;
     GpuRenderOptions options_;
+    std::chrono::steady_clock::time_point constructed_ = std::chrono::steady_clock::now();  // before data_
     GpuSceneData data_;
     std::vector<std::string> defines_;
     std::vector<uint32_t> spirv_;

@@ -69,9 +69,31 @@ std::vector<std::vector<std::pair<int, double>>> boxWeights(int from, int to) {
 void halveInto(const uint8_t* above, int width, int height, uint8_t* below, int belowWidth, int belowHeight,
                bool srgb, unsigned threads) {
     const std::array<double, 256>& decode = srgbDecodeTable();
-    const auto columns = boxWeights(width, belowWidth), rows = boxWeights(height, belowHeight);
     // Small levels on this thread alone: starting threads would cost more.
     const unsigned rowThreads = static_cast<size_t>(belowWidth) * belowHeight >= (1u << 14) ? threads : 1u;
+    if (width == 2 * belowWidth && height == 2 * belowHeight) {
+        // Even sizes, most levels: the 2x2 box of the general loop below, in its order of operations (each
+        // weight 0.5 x 0.5 = 0.25, exact), so every byte is the same; linear channels' sums of four bytes,
+        // exact in integers, rounded halves up as roundToByte does. About three times as fast.
+        parallelFor(static_cast<size_t>(belowHeight), rowThreads, [&](size_t y, unsigned) {
+            const uint8_t* top = above + 2 * y * static_cast<size_t>(width) * 4;
+            const uint8_t* bottom = top + static_cast<size_t>(width) * 4;
+            uint8_t* out = below + y * static_cast<size_t>(belowWidth) * 4;
+            for (int x = 0; x < belowWidth; ++x, top += 8, bottom += 8, out += 4) {
+                for (int c = 0; c < 4; ++c) {
+                    if (srgb && c < 3) {
+                        const double mean = 0.0 + 0.25 * decode[top[c]] + 0.25 * decode[top[c + 4]] +
+                                            0.25 * decode[bottom[c]] + 0.25 * decode[bottom[c + 4]];
+                        out[c] = srgbEncodeFast(mean);
+                    } else {
+                        out[c] = static_cast<uint8_t>((top[c] + top[c + 4] + bottom[c] + bottom[c + 4] + 2) >> 2);
+                    }
+                }
+            }
+        });
+        return;
+    }
+    const auto columns = boxWeights(width, belowWidth), rows = boxWeights(height, belowHeight);
     parallelFor(static_cast<size_t>(belowHeight), rowThreads, [&](size_t y, unsigned) {
         for (int x = 0; x < belowWidth; ++x) {
             for (int c = 0; c < 4; ++c) {
