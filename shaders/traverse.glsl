@@ -255,12 +255,6 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total (each pass of any
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
-#ifdef VKRT_SHARED_STACK
-const uint vkrtInvocations = gl_WorkGroupSize.x * gl_WorkGroupSize.y * gl_WorkGroupSize.z;
-shared uint vkrtSharedLink[VKRT_SHARED_STACK * vkrtInvocations];
-shared float vkrtSharedEntry[VKRT_SHARED_STACK * vkrtInvocations];
-#endif
-
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
                  inout vec3 transmittance, out bool complete) {
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
@@ -269,31 +263,10 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     // Pending children: their links and the distances at which the ray enters them. A wide level stacks
     // at most three, and the wide tree is no deeper than the binary one (VKRT_BVH_MAX_DEPTH). (One 64-bit
     // word an entry was 3-5% slower on lavapipe.)
-#ifdef VKRT_SHARED_STACK
-    // The stack's first VKRT_SHARED_STACK entries in workgroup memory (interleaved by invocation, so the lanes
-    // of a SIMD group touch consecutive words), the rest in the invocation's own arrays.
-    uint stackLink[3 * VKRT_BVH_MAX_DEPTH - VKRT_SHARED_STACK];
-    float stackEntry[3 * VKRT_BVH_MAX_DEPTH - VKRT_SHARED_STACK];
-#define VKRT_SHARED_SLOT(i) (uint(i) * vkrtInvocations + gl_LocalInvocationIndex)
-#define VKRT_PUSH(link, entry)                                                              \
-    if (size < VKRT_SHARED_STACK) {                                                         \
-        vkrtSharedLink[VKRT_SHARED_SLOT(size)] = link;                                      \
-        vkrtSharedEntry[VKRT_SHARED_SLOT(size)] = entry;                                    \
-    } else {                                                                                \
-        stackLink[size - VKRT_SHARED_STACK] = link, stackEntry[size - VKRT_SHARED_STACK] = entry; \
-    }
-#define VKRT_POP(link, entry)                                                               \
-    if (size < VKRT_SHARED_STACK) {                                                         \
-        link = vkrtSharedLink[VKRT_SHARED_SLOT(size)], entry = vkrtSharedEntry[VKRT_SHARED_SLOT(size)]; \
-    } else {                                                                                \
-        link = stackLink[size - VKRT_SHARED_STACK], entry = stackEntry[size - VKRT_SHARED_STACK]; \
-    }
-#else
     uint stackLink[3 * VKRT_BVH_MAX_DEPTH];
     float stackEntry[3 * VKRT_BVH_MAX_DEPTH];
 #define VKRT_PUSH(link, entry) stackLink[size] = link, stackEntry[size] = entry
 #define VKRT_POP(link, entry) link = stackLink[size], entry = stackEntry[size]
-#endif
     int size = 0;
     uint link = 0u;  // the root, always an interior node
     const float originScale = maxAbs(r.origin);
@@ -357,7 +330,6 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     }
 #undef VKRT_PUSH
 #undef VKRT_POP
-#undef VKRT_SHARED_SLOT
     return false;
 }
 

@@ -73,7 +73,8 @@ ComputePipeline& GpuRaycaster::pipelineFor(RaycastMode mode) {
 }
 
 std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
-                                             RaycastTiming* timing) {
+                                             RaycastTiming* timing, uint32_t repeats) {
+    repeats = std::max(repeats, 1u);
     std::vector<gpu::GpuHit> hits(rays.size());
     if (rays.empty()) return hits;
     const GpuBuffer rayBuffer(context_, rays);
@@ -92,15 +93,25 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     const double cpuStart = processCpuMs();
     context_.submitAndWait([&](VkCommandBuffer commands) {
         timer_->begin(commands);
-        pipeline.dispatch(commands, &constants, sizeof(constants), blocks.perColumn, blocks.columns);
+        for (uint32_t repeat = 0; repeat < repeats; ++repeat) {
+            if (repeat > 0) {
+                // The dispatches write the same hits: each after the one before.
+                VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+                barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+                barrier.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+                vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+            }
+            pipeline.dispatch(commands, &constants, sizeof(constants), blocks.perColumn, blocks.columns);
+        }
         timer_->end(commands);
         makeShaderWritesVisibleToHost(commands);
     });
     if (timing) {
         timing->wallMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        timing->gpuMs = timer_->elapsedMs();
-        timing->cpuMs = processCpuMs() - cpuStart;
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / repeats;
+        timing->gpuMs = timer_->elapsedMs() / repeats;
+        timing->cpuMs = (processCpuMs() - cpuStart) / repeats;
     }
     hitBuffer.download(hits.data(), hits.size() * sizeof(gpu::GpuHit));
     return hits;

@@ -17,6 +17,7 @@ namespace vkrt {
 
 enum class RaycastMode : uint32_t { Closest, Any };
 
+// One trace's times; with `repeats`, each is that of the whole submission divided by the repeats.
 struct RaycastTiming {
     double gpuMs = 0.0;   // from timestamps (0 when the device has none)
     double wallMs = 0.0;  // submit to completion, as seen by the host
@@ -39,9 +40,12 @@ class GpuRaycaster {
     SceneAccess sceneAccess() const { return sceneAccess_; }
     WorkgroupOrder workgroupOrder() const { return order_; }
 
-    // Hits are reported with scene triangle indices (not the GPU's leaf order).
+    // Hits are reported with scene triangle indices (not the GPU's leaf order). `repeats` > 1 traces the
+    // batch that many times, back to back in one submission (the same hits each time), for a benchmark's
+    // timing: a GPU that traces a million rays in a millisecond idles, and lowers its clocks, between
+    // single traces (ray_benchmark).
     std::vector<gpu::GpuHit> trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
-                                   RaycastTiming* timing = nullptr);
+                                   RaycastTiming* timing = nullptr, uint32_t repeats = 1);
 
   private:
     // The kernel of `mode` (raycast.comp has one per mode), compiled at its first use.
