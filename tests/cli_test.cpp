@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -138,6 +140,28 @@ TEST(Cli, GpuRenderUnderValidationWritesGpuStats) {
     EXPECT_GE(setupMs, json["shader"]["pipeline_ms"].get<double>() + json["setup"]["pack_ms"].get<double>());
     EXPECT_GT(json["setup"]["scene_write_ms"].get<double>(), 0.0);
     EXPECT_LE(json["setup"]["scene_write_ms"].get<double>(), setupMs);
+}
+
+TEST(Cli, SceneAccessChoosesHowTheGpuReadsTheScene) {
+    // --scene-access, a GPU diagnostic: each way is the one the stats report, and the image is the same.
+    const auto folder = test::temporaryFolder();
+    std::string first;
+    for (const auto& [flag, name] : {std::pair{"texels", "texel buffers"}, std::pair{"storage", "storage buffers"},
+                                     std::pair{"addresses", "device addresses"}}) {
+        const auto image = folder / (std::string(flag) + ".exr"), stats = folder / "stats.json";
+        const auto result = test::runVkrt("--scene " + kCornell + " --quiet --width 24 --height 24 --spp 2 " +
+                                          "--scene-access " + flag + " --out " + quoted(image) + " --stats " +
+                                          quoted(stats));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream file(stats);
+        EXPECT_EQ(nlohmann::json::parse(file)["scene_access"], name);
+        std::ifstream in(image, std::ios::binary);
+        const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        if (first.empty()) first = bytes;
+        EXPECT_EQ(bytes, first) << flag;
+    }
+    const auto bad = test::runVkrt("--scene " + kCornell + " --scene-access fast");
+    EXPECT_EQ(bad.exitCode, 2);
 }
 
 TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {

@@ -19,6 +19,10 @@ std::unique_ptr<VulkanContext> makeVulkanContext(const Options& options, int loc
 GpuRenderOptions gpuRenderOptions(const Options& options) {
     GpuRenderOptions gpuOptions;
     gpuOptions.allFeatures = options.allShaderFeatures;
+    gpuOptions.sceneAccess = options.sceneAccess == "texels"      ? SceneAccess::Texels
+                             : options.sceneAccess == "storage"   ? SceneAccess::Storage
+                             : options.sceneAccess == "addresses" ? SceneAccess::Addresses
+                                                                  : SceneAccess::Auto;
     gpuOptions.maxDeviceMemoryBytes = options.maxDeviceMemoryBytes;
     // Testing aid: VKRT_SIMULATE_DEVICE_LOSS=N loses the device at the N-th dispatch.
     if (const char* loss = std::getenv("VKRT_SIMULATE_DEVICE_LOSS"))

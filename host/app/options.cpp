@@ -201,6 +201,13 @@ struct CommandLine {
             ->type_name("scene|all")
             ->check(CLI::IsMember({"scene", "all"}))
             ->capture_default_str();
+        app.add_option("--scene-access", options.sceneAccess,
+                       "GPU diagnostic: how the kernels read the scene's arrays: auto (the device's best), texels "
+                       "(texel buffers), storage (storage buffers) or addresses (device addresses); the same "
+                       "image; arrays too large for the way asked take the next one down")
+            ->type_name("auto|texels|storage|addresses")
+            ->check(CLI::IsMember({"auto", "texels", "storage", "addresses"}))
+            ->capture_default_str();
         app.add_option("--time-limit", options.timeLimitSeconds,
                        "stop after this long, once the dispatch (GPU) or pixel (CPU) in flight is done; each "
                        "pixel averages the samples it got")

@@ -28,6 +28,7 @@ struct Options {
     bool listDevices = false;
     bool validate = false;           // Khronos validation layer
     bool allShaderFeatures = false;  // --shader-features all: compile every feature, not only the scene's
+    std::string sceneAccess = "auto";  // --scene-access: how GPU kernels read the scene (auto, texels, ...)
     double timeLimitSeconds = 0.0;
     uint64_t maxHostMemoryBytes = 0;               // --max-memory; 0: what the system has available
     uint64_t maxDeviceMemoryBytes = 0;             // --max-device-memory; 0: what the device offers
