@@ -233,11 +233,11 @@ TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {
 }
 
 TEST_F(Gpu, DevicesReadTheSceneTheirBestWay) {
+    // Texel buffers, the fastest way on lavapipe and on the one GPU measured (an H200), where they fit.
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     GpuRenderReport report;
     renderGpu(scene, bvh, camera, smallWhitted(1), {}, &report);
-    const bool cpuDevice = context().description().type == "CPU";
-    EXPECT_EQ(report.sceneAccess, cpuDevice ? SceneAccess::Texels : SceneAccess::Storage);
+    EXPECT_EQ(report.sceneAccess, SceneAccess::Texels);
 }
 
 // A CPU device's memory is the process's own, and a large buffer asks for huge pages before it is first

@@ -367,8 +367,7 @@ SceneAccess chooseSceneAccess(const VulkanContext& context, const GpuSceneData& 
     const uint64_t nodes = bytesAt(&P::nodes), primitives = bytesAt(&P::primitives);
     if (nodes == 0 || primitives == 0) return SceneAccess::Addresses;
     const VkPhysicalDeviceLimits& limits = context.properties().limits;
-    if (wanted == SceneAccess::Auto)
-        wanted = context.description().type == "CPU" ? SceneAccess::Texels : SceneAccess::Storage;
+    if (wanted == SceneAccess::Auto) wanted = SceneAccess::Texels;
     if (wanted == SceneAccess::Texels) {
         bool fits = true;
         for (const TexelArray& array : kTexelArrays) {
