@@ -77,6 +77,9 @@ TEST(Cli, ListsDevices) {
     const auto result = test::runVkrt("--list-devices");
     EXPECT_EQ(result.exitCode, 0) << result.output;
     EXPECT_EQ(result.output.rfind("0: ", 0), 0u) << result.output;
+    // Each device's memory heaps and types, as the buffers' placement reads them.
+    EXPECT_NE(result.output.find("\n   heap 0: "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("; types: 0 "), std::string::npos) << result.output;
 }
 
 TEST(Cli, MissingDeviceIndexIsARuntimeFailure) {

@@ -260,7 +260,7 @@ TEST_F(Gpu, LargeBuffersOfACpuDeviceAreOnHugePages) {
 
 // Downloads read mapped memory where the host caches it and copy through cached host memory where it does not
 // (a discrete GPU's memory over the bus); both ways give the buffer's bytes, from any offset.
-TEST_F(Gpu, BuffersReadBackTheSameMappedOrStaged) {
+TEST_F(Gpu, BuffersWriteAndReadTheSameMappedOrStaged) {
     std::vector<uint32_t> values(100000);
     for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint32_t>(i * 2654435761u);
     const GpuBuffer buffer(context(), values);
@@ -274,6 +274,35 @@ TEST_F(Gpu, BuffersReadBackTheSameMappedOrStaged) {
     uint32_t one = 0;
     buffer.downloadStaged(&one, sizeof(one), (values.size() - 1) * sizeof(uint32_t));
     EXPECT_EQ(one, values.back());
+    // Written through a staging copy (GPUs' device buffers, which the host does not map), read both ways.
+    GpuBuffer written(context(), values.size() * sizeof(uint32_t));
+    written.fillZero();
+    written.uploadStaged(values.data() + first, count * sizeof(uint32_t), first * sizeof(uint32_t));
+    std::vector<uint32_t> back(values.size());
+    written.download(back.data(), back.size() * sizeof(uint32_t));
+    EXPECT_EQ(std::vector<uint32_t>(back.begin() + first, back.begin() + first + count), expected);
+    EXPECT_EQ(back[first - 1], 0u);
+    EXPECT_EQ(back[first + count], 0u);
+    written.downloadStaged(back.data(), back.size() * sizeof(uint32_t));
+    EXPECT_EQ(std::vector<uint32_t>(back.begin() + first, back.begin() + first + count), expected);
+}
+
+TEST_F(Gpu, DeviceBuffersAreMappedOnCpuDevicesAndStagedOnGpus) {
+    // A CPU device's memory is the process's own; a GPU's buffers go where only its copies reach them, unless
+    // asked otherwise (ray_benchmark --device-buffers).
+    const bool cpuDevice = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    EXPECT_EQ(context().mapsDeviceBuffers(), cpuDevice);
+    for (const DeviceBuffers way : {DeviceBuffers::Mapped, DeviceBuffers::Staged}) {
+        ContextOptions options;
+        options.deviceBuffers = way;
+        const VulkanContext asked(options);
+        EXPECT_EQ(asked.mapsDeviceBuffers(), way == DeviceBuffers::Mapped);
+        const std::vector<uint32_t> values{1u, 2u, 3u, 0xdeadbeefu};
+        const GpuBuffer buffer(asked, values);
+        std::vector<uint32_t> back(values.size());
+        buffer.download(back.data(), back.size() * sizeof(uint32_t));
+        EXPECT_EQ(back, values);
+    }
 }
 
 TEST_F(Gpu, RayCountsAreTheSameSummedPerSubgroupOrPerInvocation) {

@@ -3,7 +3,8 @@
 // per ray kind, the BVH build time and SAH cost, and the device.
 //
 //   ray_benchmark [--scene FILE | --triangles N] [--width W --height H] [--runs R] [--device-index N]
-//                 [--repeat-ms MS] [--count-iterations] [--variant DEFINE[,DEFINE...]]...
+//                 [--repeat-ms MS] [--device-buffers auto|mapped|staged] [--count-iterations]
+//                 [--variant DEFINE[,DEFINE...]]...
 //   (--help lists every option with its range; a bad argument prints one line and exits 2)
 //
 // Without --scene the input is a UV sphere of about N triangles (default 1M) over a ground quad.
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
     int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
     bool countIterations = false;
     double repeatMs = -1.0;  // -1: by the device
+    std::string deviceBuffers = "auto";
     std::vector<std::string> variants;
     CLI::App app{"Traces camera, shadow and diffuse rays through the GPU traversal and prints JSON.",
                  "ray_benchmark"};
@@ -133,6 +135,11 @@ int main(int argc, char** argv) {
                    "trace each batch repeatedly, back to back in one submission, for about this long, and report "
                    "the time per trace [50 on a GPU, 0 (once) on a CPU device]")
         ->check(CLI::Range(0.0, 10000.0));
+    app.add_option("--device-buffers", deviceBuffers,
+                   "where the rays, hits and scene lie: auto (the device's way), mapped (device memory the host "
+                   "maps) or staged (device memory the host does not see, written and read through copies)")
+        ->check(CLI::IsMember({"auto", "mapped", "staged"}))
+        ->capture_default_str();
     app.add_flag("--count-iterations", countIterations,
                  "also report the traversal's loop iterations per ray (mean, median, 99th percentile, maximum)");
     app.add_option("--variant", variants,
@@ -151,6 +158,9 @@ int main(int argc, char** argv) {
 
         ContextOptions options;
         options.deviceIndex = deviceIndex;
+        options.deviceBuffers = deviceBuffers == "mapped"   ? DeviceBuffers::Mapped
+                                : deviceBuffers == "staged" ? DeviceBuffers::Staged
+                                                            : DeviceBuffers::Auto;
         const VulkanContext context(options);
         GpuRaycaster raycaster(context, scene, flat, defaultShaderCacheDir());
         std::vector<std::unique_ptr<GpuRaycaster>> variantTracers;
@@ -333,6 +343,7 @@ int main(int argc, char** argv) {
             {"device_type", context.description().type},
             {"driver", context.description().driver},
             {"scene_access", sceneAccessName(raycaster.sceneAccess())},
+            {"device_buffers", context.mapsDeviceBuffers() ? "mapped" : "staged"},
             {"host_threads", std::thread::hardware_concurrency()},
             {"runs", runs},
             {"bvh",

@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
                 std::printf("%d: %s (%s, Vulkan %s%s%s)%s%s\n", d.index, d.name.c_str(), d.type.c_str(),
                             d.apiVersion.c_str(), d.driver.empty() ? "" : ", ", d.driver.c_str(),
                             d.usable ? "" : " unusable: ", d.unusableBecause.c_str());
+                for (const std::string& heap : d.memoryHeaps) std::printf("   %s\n", heap.c_str());
             }
             return 0;
         }

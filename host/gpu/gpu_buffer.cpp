@@ -73,9 +73,9 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     VkMemoryRequirements requirements;
     vkGetBufferMemoryRequirements(context_->device(), buffer_, &requirements);
 
-    // Device-local memory of the device's main heap, host-visible too where it can be (lavapipe, resizable
-    // BAR), so that uploads map it; upload staging takes any host-visible memory, readback staging cached
-    // host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
+    // Device-local memory of the device's main heap: on CPU devices host-visible too, so that uploads map it;
+    // on GPUs memory the host does not map (ContextOptions::deviceBuffers); upload staging takes any
+    // host-visible memory, readback staging cached host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
     // resizable BAR, is not used.)
     const VkMemoryPropertyFlags mappable =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -84,7 +84,13 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     int type = -1;
     switch (placement) {
         case Placement::Device:
-            type = context_->findMemoryType(allowed, local | mappable, context_->deviceHeap());
+            // Staged (GPUs): memory the host does not map, which only the device's copies reach; where every
+            // device-local type is mappable (a device sharing the host's memory), mapped all the same.
+            if (!context_->mapsDeviceBuffers()) {
+                type = context_->findMemoryType(allowed, local, context_->deviceHeap(),
+                                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+            }
+            if (type < 0) type = context_->findMemoryType(allowed, local | mappable, context_->deviceHeap());
             if (type < 0) type = context_->findMemoryType(allowed, local, context_->deviceHeap());
             break;
         case Placement::Readback:
@@ -145,14 +151,31 @@ void GpuBuffer::writeWith(VkDeviceSize bytes, VkDeviceSize offset,
         vkUnmapMemory(context_->device(), memory_);
         return;
     }
+    writeStaged(bytes, offset, write);
+}
+
+void GpuBuffer::writeStaged(VkDeviceSize bytes, VkDeviceSize offset,
+                            const std::function<void(void* mapped)>& write) {
     GpuBuffer staging;
     staging.context_ = context_;
     staging.create(bytes, Placement::Upload);
+    if (!staging.hostVisible_) throw GpuError("no host-visible memory to write a buffer through");
     staging.writeWith(bytes, 0, write);
     context_->submitAndWait([&](VkCommandBuffer commands) {
         const VkBufferCopy region{0, offset, bytes};
         vkCmdCopyBuffer(commands, staging.buffer_, buffer_, 1, &region);
+        // The copy's writes made visible to the kernels that read the buffer next.
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
+                             &barrier, 0, nullptr, 0, nullptr);
     });
+}
+
+void GpuBuffer::uploadStaged(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    writeStaged(bytes, offset, [&](void* mapped) { std::memcpy(mapped, data, bytes); });
 }
 
 void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {

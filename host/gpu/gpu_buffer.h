@@ -1,5 +1,6 @@
 // A storage buffer with its own device memory and a buffer device address. Uploads map the memory when the
-// device lets the host see it (lavapipe, resizable BAR) and go through a staging buffer otherwise; downloads
+// device buffers are mapped (CPU devices; VulkanContext::mapsDeviceBuffers) and go through a staging buffer
+// otherwise (GPUs: the device copies it into memory the host does not see); downloads
 // map it only where the host reads it through its caches (a CPU device's memory) or read a few bytes, and
 // otherwise copy through a staging buffer in cached host memory: a discrete GPU's memory mapped over the bus
 // is write-combined and uncached, and the host reads it a few bytes per bus round trip.
@@ -41,6 +42,9 @@ class GpuBuffer {
     explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    // The staging path of `upload`, whatever the memory: the bytes written into host memory, then copied on the
+    // device. Public so that devices whose memory is all mapped (lavapipe) test it.
+    void uploadStaged(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
     // The staging path of `download`, whatever the memory: a copy on the device into host memory, cached
     // where the device has such, then read. Public so that devices whose memory is all cached test it.
@@ -57,6 +61,7 @@ class GpuBuffer {
     void create(VkDeviceSize bytes, Placement placement);
     // Has `write` fill `bytes` from `offset`, mapped or through a staging buffer.
     void writeWith(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
+    void writeStaged(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
 
     const VulkanContext* context_ = nullptr;
     VkBuffer buffer_ = VK_NULL_HANDLE;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
+#include "common/memory_need.h"
 #include "gpu/vulkan_check.h"
 
 namespace vkrt {
@@ -123,6 +125,31 @@ DeviceDescription describe(VkPhysicalDevice device, int index) {
         return d;
     }
     d.driver = std::string(driver.driverName) + " " + driver.driverInfo;
+    VkPhysicalDeviceMemoryProperties memory;
+    vkGetPhysicalDeviceMemoryProperties(device, &memory);
+    for (uint32_t h = 0; h < memory.memoryHeapCount; ++h) {
+        std::string line = "heap " + std::to_string(h) + ": " + formatBytes(memory.memoryHeaps[h].size);
+        if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) line += ", device-local";
+        std::string types;
+        for (uint32_t t = 0; t < memory.memoryTypeCount; ++t) {
+            if (memory.memoryTypes[t].heapIndex != h) continue;
+            const VkMemoryPropertyFlags f = memory.memoryTypes[t].propertyFlags;
+            std::string type;
+            for (const auto& [bit, name] : {std::pair{VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "device-local"},
+                                            std::pair{VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, "host-visible"},
+                                            std::pair{VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "host-coherent"},
+                                            std::pair{VK_MEMORY_PROPERTY_HOST_CACHED_BIT, "host-cached"}}) {
+                if (!(f & bit)) continue;
+                if (!type.empty()) type += ' ';
+                type += name;
+            }
+            if (!types.empty()) types += " | ";
+            types += std::to_string(t);
+            types += ' ';
+            types += type.empty() ? "(none)" : type;
+        }
+        d.memoryHeaps.push_back(line + "; types: " + (types.empty() ? "none" : types));
+    }
     VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &features12;
@@ -225,6 +252,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
             }
         }
         if (deviceHeap_ < 0) deviceHeap_ = 0;
+        mapsDeviceBuffers_ = options.deviceBuffers == DeviceBuffers::Auto
+                                 ? properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                 : options.deviceBuffers == DeviceBuffers::Mapped;
         VkPhysicalDeviceVulkan11Properties properties11{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
         VkPhysicalDeviceVulkan12Properties properties12{
@@ -370,11 +400,13 @@ void VulkanContext::trackAllocation(int64_t bytes) const {
     }
 }
 
-int VulkanContext::findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap) const {
+int VulkanContext::findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap,
+                                  VkMemoryPropertyFlags excluded) const {
     for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i) {
+        const VkMemoryPropertyFlags flags = memoryProperties_.memoryTypes[i].propertyFlags;
         if ((allowedTypes & (1u << i)) &&
             (heap < 0 || memoryProperties_.memoryTypes[i].heapIndex == static_cast<uint32_t>(heap)) &&
-            (memoryProperties_.memoryTypes[i].propertyFlags & required) == required) {
+            (flags & required) == required && (flags & excluded) == 0) {
             return static_cast<int>(i);
         }
     }

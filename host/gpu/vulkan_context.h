@@ -12,8 +12,14 @@
 
 namespace vkrt {
 
+// Where vkrt's device buffers lie (gpu_buffer.h): in device-local memory the host maps (written and read in
+// place where it can), or in device-local memory the host does not see, written and read through staging copies
+// that the device makes. Auto: mapped on CPU devices (their memory is the process's own), staged on GPUs.
+enum class DeviceBuffers { Auto, Mapped, Staged };
+
 struct ContextOptions {
     bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its messages
+    DeviceBuffers deviceBuffers = DeviceBuffers::Auto;
     int deviceIndex = -1;     // -1: choose automatically
     // Automatic choice among several devices of the preferred type: number localRank modulo their count (the
     // node-local rank of an MPI job, so that ranks on one machine take different GPUs).
@@ -28,6 +34,9 @@ struct DeviceDescription {
     std::string apiVersion;
     bool usable = false;
     std::string unusableBecause;
+    // Each memory heap: its size, whether it is device-local, and its memory types' properties
+    // ("device-local host-visible host-coherent", ...), for --list-devices.
+    std::vector<std::string> memoryHeaps;
 };
 
 // The device memory a render may take.
@@ -70,8 +79,12 @@ class VulkanContext {
     // Records commands into a one-time command buffer, submits it and waits for it to finish.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
 
-    // A memory type index with all of `required` among `allowedTypes` (and in `heap`, when >= 0), or -1.
-    int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap = -1) const;
+    // A memory type index with all of `required` and none of `excluded` among `allowedTypes` (and in `heap`,
+    // when >= 0), or -1.
+    int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap = -1,
+                       VkMemoryPropertyFlags excluded = 0) const;
+    // Whether device buffers go in memory the host maps (ContextOptions::deviceBuffers, Auto decided).
+    bool mapsDeviceBuffers() const { return mapsDeviceBuffers_; }
     // The largest device-local heap, where vkrt's buffers go.
     int deviceHeap() const { return deviceHeap_; }
     // What the device heap offers now: with VK_EXT_memory_budget, its budget less this process's use;
@@ -101,6 +114,7 @@ class VulkanContext {
     uint32_t timestampValidBits_ = 0;
     bool shaderFloat64_ = false;
     bool ieeeFloats_ = false;
+    bool mapsDeviceBuffers_ = true;
     bool subgroupArithmetic_ = false;
     bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
     int deviceHeap_ = -1;
