@@ -3,7 +3,7 @@
 // per ray kind, the BVH build time and SAH cost, and the device.
 //
 //   ray_benchmark [--scene FILE | --triangles N] [--width W --height H] [--runs R] [--device-index N]
-//                 [--repeat-ms MS] [--device-buffers auto|mapped|staged] [--count-iterations]
+//                 [--repeat-ms MS] [--device-buffers mapped|staged] [--count-iterations]
 //                 [--variant DEFINE[,DEFINE...]]...
 //   (--help lists every option with its range; a bad argument prints one line and exits 2)
 //
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     int width = 1024, height = 1024, runs = 5, deviceIndex = -1;
     bool countIterations = false;
     double repeatMs = -1.0;  // -1: by the device
-    std::string deviceBuffers = "auto";
+    std::string deviceBuffers = "mapped";
     std::vector<std::string> variants;
     CLI::App app{"Traces camera, shadow and diffuse rays through the GPU traversal and prints JSON.",
                  "ray_benchmark"};
@@ -136,9 +136,9 @@ int main(int argc, char** argv) {
                    "the time per trace [50 on a GPU, 0 (once) on a CPU device]")
         ->check(CLI::Range(0.0, 10000.0));
     app.add_option("--device-buffers", deviceBuffers,
-                   "where the rays, hits and scene lie: auto (the device's way), mapped (device memory the host "
-                   "maps) or staged (device memory the host does not see, written and read through copies)")
-        ->check(CLI::IsMember({"auto", "mapped", "staged"}))
+                   "where the rays, hits and scene lie: mapped (device memory the host maps, where the device "
+                   "has such) or staged (device memory the host does not see, written and read through copies)")
+        ->check(CLI::IsMember({"mapped", "staged"}))
         ->capture_default_str();
     app.add_flag("--count-iterations", countIterations,
                  "also report the traversal's loop iterations per ray (mean, median, 99th percentile, maximum)");
@@ -158,9 +158,7 @@ int main(int argc, char** argv) {
 
         ContextOptions options;
         options.deviceIndex = deviceIndex;
-        options.deviceBuffers = deviceBuffers == "mapped"   ? DeviceBuffers::Mapped
-                                : deviceBuffers == "staged" ? DeviceBuffers::Staged
-                                                            : DeviceBuffers::Auto;
+        options.deviceBuffers = deviceBuffers == "staged" ? DeviceBuffers::Staged : DeviceBuffers::Mapped;
         const VulkanContext context(options);
         GpuRaycaster raycaster(context, scene, flat, defaultShaderCacheDir());
         std::vector<std::unique_ptr<GpuRaycaster>> variantTracers;

@@ -73,9 +73,9 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     VkMemoryRequirements requirements;
     vkGetBufferMemoryRequirements(context_->device(), buffer_, &requirements);
 
-    // Device-local memory of the device's main heap: on CPU devices host-visible too, so that uploads map it;
-    // on GPUs memory the host does not map (ContextOptions::deviceBuffers); upload staging takes any
-    // host-visible memory, readback staging cached host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
+    // Device-local memory of the device's main heap, host-visible too where it can be (lavapipe, resizable
+    // BAR) so that uploads map it, unless staged buffers were asked for (ContextOptions::deviceBuffers);
+    // upload staging takes any host-visible memory, readback staging cached host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
     // resizable BAR, is not used.)
     const VkMemoryPropertyFlags mappable =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -84,8 +84,8 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     int type = -1;
     switch (placement) {
         case Placement::Device:
-            // Staged (GPUs): memory the host does not map, which only the device's copies reach; where every
-            // device-local type is mappable (a device sharing the host's memory), mapped all the same.
+            // Staged: memory the host does not map, which only the device's copies reach; where every
+            // device-local type is mappable (lavapipe, a device sharing the host's memory), mapped all the same.
             if (!context_->mapsDeviceBuffers()) {
                 type = context_->findMemoryType(allowed, local, context_->deviceHeap(),
                                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);

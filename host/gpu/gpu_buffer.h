@@ -1,6 +1,6 @@
 // A storage buffer with its own device memory and a buffer device address. Uploads map the memory when the
-// device buffers are mapped (CPU devices; VulkanContext::mapsDeviceBuffers) and go through a staging buffer
-// otherwise (GPUs: the device copies it into memory the host does not see); downloads
+// device lets the host see it (lavapipe, resizable BAR) and go through a staging buffer otherwise (or when
+// staged buffers were asked for: VulkanContext::mapsDeviceBuffers); downloads
 // map it only where the host reads it through its caches (a CPU device's memory) or read a few bytes, and
 // otherwise copy through a staging buffer in cached host memory: a discrete GPU's memory mapped over the bus
 // is write-combined and uncached, and the host reads it a few bytes per bus round trip.

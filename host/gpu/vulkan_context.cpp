@@ -252,9 +252,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
             }
         }
         if (deviceHeap_ < 0) deviceHeap_ = 0;
-        mapsDeviceBuffers_ = options.deviceBuffers == DeviceBuffers::Auto
-                                 ? properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
-                                 : options.deviceBuffers == DeviceBuffers::Mapped;
+        mapsDeviceBuffers_ = options.deviceBuffers == DeviceBuffers::Mapped;
         VkPhysicalDeviceVulkan11Properties properties11{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
         VkPhysicalDeviceVulkan12Properties properties12{

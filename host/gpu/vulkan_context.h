@@ -12,14 +12,16 @@
 
 namespace vkrt {
 
-// Where vkrt's device buffers lie (gpu_buffer.h): in device-local memory the host maps (written and read in
-// place where it can), or in device-local memory the host does not see, written and read through staging copies
-// that the device makes. Auto: mapped on CPU devices (their memory is the process's own), staged on GPUs.
-enum class DeviceBuffers { Auto, Mapped, Staged };
+// Where vkrt's device buffers lie (gpu_buffer.h): in device-local memory the host maps where the device has
+// such (a CPU device's own memory, a GPU's through resizable BAR), written in place; or in device-local memory
+// the host does not see, written and read through staging copies that the device makes. On an H200 both traced
+// alike, and staging took the scene's buffers 2 to 7 times as long to write (docs/performance-log.md): mapped
+// is the default; staged is there to measure (ray_benchmark --device-buffers).
+enum class DeviceBuffers { Mapped, Staged };
 
 struct ContextOptions {
     bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its messages
-    DeviceBuffers deviceBuffers = DeviceBuffers::Auto;
+    DeviceBuffers deviceBuffers = DeviceBuffers::Mapped;
     int deviceIndex = -1;     // -1: choose automatically
     // Automatic choice among several devices of the preferred type: number localRank modulo their count (the
     // node-local rank of an MPI job, so that ranks on one machine take different GPUs).
@@ -83,7 +85,7 @@ class VulkanContext {
     // when >= 0), or -1.
     int findMemoryType(uint32_t allowedTypes, VkMemoryPropertyFlags required, int heap = -1,
                        VkMemoryPropertyFlags excluded = 0) const;
-    // Whether device buffers go in memory the host maps (ContextOptions::deviceBuffers, Auto decided).
+    // Whether device buffers go in memory the host maps, where there is such (ContextOptions::deviceBuffers).
     bool mapsDeviceBuffers() const { return mapsDeviceBuffers_; }
     // The largest device-local heap, where vkrt's buffers go.
     int deviceHeap() const { return deviceHeap_; }
