@@ -4,7 +4,7 @@
 # against storage reads of the scene (scene_access.json) and the convergence report (Cornell and Whitted, both
 # integrators), and writes a summary: summary.json and
 # summary.md (tables ready for the README) in the output folder. Meant to take under 8 minutes on 16 cores: from a
-# kit, 151 s on an NVIDIA H200 with 16 host threads (2026-12-04). Tests whose images are off the CPU reference
+# kit, 138 to 151 s on an NVIDIA H200 with 16 host threads (2026-12-04). Tests whose images are off the CPU reference
 # leave both images and their difference in test-failures/ there.
 #
 #   tools/gpu_check.sh [options] [OUT_DIR]        (OUT_DIR: gpu-check-out)

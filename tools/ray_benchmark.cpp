@@ -11,9 +11,9 @@
 // Camera rays go through every pixel of the scene's camera; shadow rays run from each camera hit to a
 // point above the scene (any hit); diffuse rays leave each camera hit in a cosine-distributed direction
 // (closest hit). On a GPU each timed call traces its batch repeatedly for about --repeat-ms (50), back to
-// back, and reports the time per trace ("repeats" in the JSON): single traces of a millisecond leave a GPU
-// idle, at lowered clocks, between them. --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what
-// llvmpipe counts against its budget of 65535 per invocation), from a kernel built to count them.
+// back, and reports the time per trace ("repeats" in the JSON): a single trace takes about a millisecond.
+// --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what llvmpipe counts
+// against its budget of 65535 per invocation), from a kernel built to count them.
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
 // alternately with the default kernel, and reports its rates, their ratio to the default's (per CPU second,
 // and per GPU second where the device has timestamps) and the share of rays whose hit is the default's bit for
@@ -212,10 +212,10 @@ int main(int argc, char** argv) {
         const int embreeThreads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 #endif
         nlohmann::json kinds;
-        // A GPU traces a million rays in about a millisecond and lowers its clocks while idle between single
-        // traces: on an H200 the same rays traced 1.5 to 5.5 times as fast from one run to another. So each
-        // timed call traces the batch as often as fills about --repeat-ms, back to back, after one such call
-        // untimed; a CPU device (lavapipe) takes 100 ms or more a batch and traces it once.
+        // A GPU traces a million rays in about a millisecond, too short a time to measure alone (single traces
+        // on an H200 spread by up to 12% within a run). So each timed call traces the batch as often as fills
+        // about --repeat-ms, back to back, after one such call untimed; a CPU device (lavapipe) takes 100 ms or
+        // more a batch and traces it once.
         const bool cpuDevice = context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
         if (repeatMs < 0.0) repeatMs = cpuDevice ? 0.0 : 50.0;
         auto repeatsFor = [&](double msPerTrace) {

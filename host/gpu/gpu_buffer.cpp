@@ -75,8 +75,8 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
 
     // Device-local memory of the device's main heap, host-visible too where it can be (lavapipe, resizable
     // BAR) so that uploads map it, unless staged buffers were asked for (ContextOptions::deviceBuffers);
-    // upload staging takes any host-visible memory, readback staging cached host memory first. (A small device-local, host-visible heap beside the main one, as on GPUs without
-    // resizable BAR, is not used.)
+    // upload staging takes any host-visible memory, readback staging cached host memory first. (A small
+    // device-local, host-visible heap beside the main one, as on GPUs without resizable BAR, is not used.)
     const VkMemoryPropertyFlags mappable =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;

@@ -42,8 +42,7 @@ class GpuRaycaster {
 
     // Hits are reported with scene triangle indices (not the GPU's leaf order). `repeats` > 1 traces the
     // batch that many times, back to back in one submission (the same hits each time), for a benchmark's
-    // timing: a GPU that traces a million rays in a millisecond idles, and lowers its clocks, between
-    // single traces (ray_benchmark).
+    // timing: a GPU traces a million rays in about a millisecond, too short to time alone (ray_benchmark).
     std::vector<gpu::GpuHit> trace(const std::vector<gpu::GpuRay>& rays, RaycastMode mode,
                                    RaycastTiming* timing = nullptr, uint32_t repeats = 1);
 
