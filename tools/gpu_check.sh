@@ -329,9 +329,20 @@ for r in load("benchmark.json") or []:
         embree = k.get("embree_mrays_per_s")
         rays.append({"input": os.path.basename(r["input"]), "triangles": r["triangles"], "kind": kind,
                      "vkrt_mrays_per_s": k["mrays_per_s"]["median"],
+                     "vkrt_mrays_per_gpu_s": (k.get("mrays_per_gpu_s") or {}).get("median"),
                      "embree_mrays_per_s": embree["median"] if embree else None,
                      "vkrt_over_embree": k.get("vkrt_over_embree") if embree else None})
 summary["rays"] = rays
+# The device's default way of reading the scene against storage buffers, run for run: per GPU second where the
+# device has timestamps (per CPU second would time the host's wait on a GPU), else per CPU second.
+access = load("scene_access.json")
+summary["scene_access"] = None if not access else {
+    "default": access.get("scene_access"),
+    "storage_over_default": {kind: v.get("over_default_gpu", v.get("over_default_cpu"))
+                             for kind, k in access["kinds"].items()
+                             for v in [k.get("variants", {}).get("VKRT_BOUND_GEOMETRY", {})]},
+    "per": "GPU second" if all("over_default_gpu" in k.get("variants", {}).get("VKRT_BOUND_GEOMETRY", {})
+                               for k in access["kinds"].values()) else "CPU second"}
 
 convergence = []
 for name, devices in (load("convergence/summary.json") or {}).items():
@@ -357,10 +368,17 @@ def failure(step):
 stopped = ["%s (%s)" % (st["step"], failure(st)) for st in summary["steps"] if st["status"] != 0]
 if stopped:
     md.append("Steps that failed: " + ", ".join(stopped) + ": what they report below is partial or missing.")
-md += ["", "| input | triangles | ray kind | vkrt Mrays/s | Embree Mrays/s (host CPU, %d threads) | vkrt / Embree |"
-       % os.cpu_count(), "|---|---|---|---|---|---|"]
-md += ["| %s | %d | %s | %.2f | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
-       dash(r["embree_mrays_per_s"], "%.2f"), dash(r["vkrt_over_embree"], "%.3f")) for r in rays]
+md += ["", "| input | triangles | ray kind | vkrt Mrays/s | vkrt Mrays/s, GPU time | Embree Mrays/s (host CPU, %d "
+       "threads) | vkrt / Embree |" % os.cpu_count(), "|---|---|---|---|---|---|---|"]
+md += ["| %s | %d | %s | %.2f | %s | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
+       dash(r["vkrt_mrays_per_gpu_s"], "%.2f"), dash(r["embree_mrays_per_s"], "%.2f"),
+       dash(r["vkrt_over_embree"], "%.3f")) for r in rays]
+if summary["scene_access"]:
+    a = summary["scene_access"]
+    md += ["", "Scene access (scene_access.json, 1M sphere, run for run per %s): storage buffers at %s of the "
+           "default's (%s) rate." % (a["per"], ", ".join("%s %s" % (kind, dash(ratio, "%.3f"))
+                                                         for kind, ratio in a["storage_over_default"].items()),
+                                     a["default"])]
 md += ["", "| scene | integrator | device | ms to RMSE 0.01 | slope |", "|---|---|---|---|---|"]
 md += ["| %s | %s | %s | %s | %.2f |" % (c["scene"], c["integrator"],
        device["device_name"] if c["device"] == "gpu" else "CPU reference (%d threads)" % os.cpu_count(),

@@ -12,6 +12,7 @@
 // point above the scene (any hit); diffuse rays leave each camera hit in a cosine-distributed direction
 // (closest hit). On a GPU each timed call traces its batch repeatedly for about --repeat-ms (50), back to
 // back, and reports the time per trace ("repeats" in the JSON): a single trace takes about a millisecond.
+// Each kernel traces each batch once, untimed, before its timed runs (lavapipe compiles at the first dispatch).
 // --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what llvmpipe counts
 // against its budget of 65535 per invocation), from a kernel built to count them.
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
@@ -223,12 +224,15 @@ int main(int argc, char** argv) {
             return static_cast<uint32_t>(std::clamp(std::ceil(repeatMs / msPerTrace), 1.0, 10000.0));
         };
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
+            // Every kernel traces the batch once untimed first: lavapipe compiles a kernel at its first dispatch
+            // (a GPU's driver when its pipeline is made, before the timing starts).
+            RaycastTiming probe;
+            raycaster.trace(rays, mode, &probe);
+            for (const auto& tracer : variantTracers) tracer->trace(rays, mode);
             uint32_t repeats = 1;
             if (repeatMs > 0.0) {
-                RaycastTiming probe;
-                raycaster.trace(rays, mode, &probe);
                 const auto ms = [](const RaycastTiming& t) { return t.gpuMs > 0.0 ? t.gpuMs : t.wallMs; };
-                raycaster.trace(rays, mode, &probe, repeatsFor(ms(probe)));  // the warm-up
+                raycaster.trace(rays, mode, &probe, repeatsFor(ms(probe)));  // the warm-up at the repeats
                 repeats = repeatsFor(ms(probe));
             }
             std::vector<double> gpuRates, wallRates, cpuRates;
