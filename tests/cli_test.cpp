@@ -149,12 +149,13 @@ TEST(Cli, SceneAccessChoosesHowTheGpuReadsTheScene) {
     // --scene-access, a GPU diagnostic: each way is the one the stats report, and the image is the same.
     const auto folder = test::temporaryFolder();
     std::string first;
-    for (const auto& [flag, name] : {std::pair{"texels", "texel buffers"}, std::pair{"storage", "storage buffers"},
-                                     std::pair{"addresses", "device addresses"}}) {
+    for (const auto& [flag, name] :
+         {std::pair{"texels", "texel buffers"}, std::pair{"storage", "storage buffers"},
+          std::pair{"addresses", "device addresses"}}) {
         const auto image = folder / (std::string(flag) + ".exr"), stats = folder / "stats.json";
-        const auto result = test::runVkrt("--scene " + kCornell + " --quiet --width 24 --height 24 --spp 2 " +
-                                          "--scene-access " + flag + " --out " + quoted(image) + " --stats " +
-                                          quoted(stats));
+        const auto result =
+            test::runVkrt("--scene " + kCornell + " --quiet --width 24 --height 24 --spp 2 " +
+                          "--scene-access " + flag + " --out " + quoted(image) + " --stats " + quoted(stats));
         ASSERT_EQ(result.exitCode, 0) << result.output;
         std::ifstream file(stats);
         EXPECT_EQ(nlohmann::json::parse(file)["scene_access"], name);

@@ -274,11 +274,15 @@ TEST(Mipmaps, EvenLevelsAreTheMeansOfTheirFourTexels) {
             for (int c = 0; c < 4; ++c) {
                 int expected;
                 if (c < 3) {
-                    auto linear = [&](int dx, int dy) { return 0.25 * shading::srgbToLinear(code(dx, dy, c) / 255.0); };
+                    auto linear = [&](int dx, int dy) {
+                        return 0.25 * shading::srgbToLinear(code(dx, dy, c) / 255.0);
+                    };
                     const double mean = 0.0 + linear(0, 0) + linear(1, 0) + linear(0, 1) + linear(1, 1);
-                    expected = static_cast<int>(std::clamp(std::lround(shading::linearToSrgb(mean) * 255.0), 0L, 255L));
+                    expected = static_cast<int>(
+                        std::clamp(std::lround(shading::linearToSrgb(mean) * 255.0), 0L, 255L));
                 } else {
-                    expected = static_cast<int>(std::floor((code(0, 0, c) + code(1, 0, c) + code(0, 1, c) + code(1, 1, c)) / 4.0 + 0.5));
+                    expected = static_cast<int>(std::floor(
+                        (code(0, 0, c) + code(1, 0, c) + code(0, 1, c) + code(1, 1, c)) / 4.0 + 0.5));
                 }
                 wrong += levels[0].rgba[(static_cast<size_t>(y) * 32 + x) * 4 + c] != expected;
             }

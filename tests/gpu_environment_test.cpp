@@ -3,8 +3,8 @@
 // environment shows its albedo, an upward plane under a polar cap of half-angle t and radiance L shows
 // r L sin^2 t with per-pixel noise under 10% at 16 spp, and a tilted plane under a turned map with one bright
 // region shows the irradiance integrated by brute force. Also: multiple importance sampling keeps the mean,
-// the GPU matches the reference on scenes/environment.gltf, lights of every kind at once add up to the renders
-// lit by each alone, and scenes without an environment get neither its code nor its buffers.
+// the GPU matches the reference on scenes/environment.gltf, lights of every kind at once add up to the
+// renders lit by each alone, and scenes without an environment get neither its code nor its buffers.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -303,12 +303,12 @@ TEST_F(Gpu, EnvironmentSceneMatchesTheReference) {
     test::expectMatchesReference(gpu, cpu, "environment");
 }
 
-// Light adds: a scene lit by a point light, an area light and the environment at once renders, pixel for pixel,
-// as the sum of the three renders lit by each alone (the same geometry, the lamp dark where it is not a light),
-// on both devices and with both integrators. Each light sample draws its own random numbers whatever other
-// lights there are, and paths and Whitted's ray trees do not depend on what the lights bring, so the sums agree
-// to rounding: this checks that light sampling treats every kind alike when they meet (they share one loop
-// and one shadow walk, shade_hit.h's directLight).
+// Light adds: a scene lit by a point light, an area light and the environment at once renders, pixel for
+// pixel, as the sum of the three renders lit by each alone (the same geometry, the lamp dark where it is not
+// a light), on both devices and with both integrators. Each light sample draws its own random numbers
+// whatever other lights there are, and paths and Whitted's ray trees do not depend on what the lights bring,
+// so the sums agree to rounding: this checks that light sampling treats every kind alike when they meet (they
+// share one loop and one shadow walk, shade_hit.h's directLight).
 TEST_F(Gpu, LightsOfEveryKindAddUp) {
     enum Lights { kPoint = 1, kArea = 2, kEnvironment = 4 };
     auto sceneWith = [](int lights) {
@@ -320,8 +320,10 @@ TEST_F(Gpu, LightsOfEveryKindAddUp) {
         scene.materials.push_back(lamp);
         addPlane(scene, {0, 1, 0}, 3.0, 0);
         scene.spheres.push_back({glm::vec3(0.3f, 0.5f, -0.2f), 0.5f, 0});
-        // A lamp above the ground to one side, tilted towards the sphere; seen edge-on from above it hides little.
-        addFlatQuad(scene, {-1.6f, 1.2f, -0.3f}, {-1.6f, 1.2f, 0.3f}, {-1.2f, 1.6f, 0.3f}, {-1.2f, 1.6f, -0.3f}, 1);
+        // A lamp above the ground to one side, tilted towards the sphere; seen edge-on from above it hides
+        // little.
+        addFlatQuad(scene, {-1.6f, 1.2f, -0.3f}, {-1.6f, 1.2f, 0.3f}, {-1.2f, 1.6f, 0.3f},
+                    {-1.2f, 1.6f, -0.3f}, 1);
         if ((lights & kPoint) != 0) {
             PunctualLight point;
             point.position = glm::dvec3(1.5, 2.5, 1.0);
@@ -330,7 +332,8 @@ TEST_F(Gpu, LightsOfEveryKindAddUp) {
         }
         if ((lights & kEnvironment) != 0) {
             scene.environment = mapOf(
-                16, 8, [](int x, int y) { return x >= 3 && x <= 5 && y <= 2 ? glm::vec3(3.0f) : glm::vec3(0.1f); },
+                16, 8,
+                [](int x, int y) { return x >= 3 && x <= 5 && y <= 2 ? glm::vec3(3.0f) : glm::vec3(0.1f); },
                 30.0);
         }
         finalizeScene(scene);
@@ -350,21 +353,26 @@ TEST_F(Gpu, LightsOfEveryKindAddUp) {
                                                     test::shaderCacheDir()));
         }
         for (const bool gpu : {true, false}) {
-            auto image = [&](size_t i) -> const Image& { return gpu ? renders[i].gpu.image : renders[i].cpu.image; };
+            auto image = [&](size_t i) -> const Image& {
+                return gpu ? renders[i].gpu.image : renders[i].cpu.image;
+            };
             const std::string what = std::string(gpu ? "gpu " : "cpu ") + integratorName(integrator);
             double total = 0.0, worst = 0.0;
             double part[3] = {0.0, 0.0, 0.0};
             for (size_t p = 0; p < image(0).pixels.size(); ++p) {
                 for (int c = 0; c < 3; ++c) {
                     const double all = image(0).pixels[p][c];
-                    const double sum = double(image(1).pixels[p][c]) + image(2).pixels[p][c] + image(3).pixels[p][c];
+                    const double sum =
+                        double(image(1).pixels[p][c]) + image(2).pixels[p][c] + image(3).pixels[p][c];
                     worst = std::max(worst, std::abs(all - sum) / (1e-3 + sum));
                     total += all;
                     for (int k = 0; k < 3; ++k) part[k] += image(k + 1).pixels[p][c];
                 }
             }
-            std::printf("%s: all lights %.4f, point %.4f, area %.4f, environment %.4f; worst |all - sum| / sum %.2e\n",
-                        what.c_str(), total, part[0], part[1], part[2], worst);
+            std::printf(
+                "%s: all lights %.4f, point %.4f, area %.4f, environment %.4f; worst |all - sum| / sum "
+                "%.2e\n",
+                what.c_str(), total, part[0], part[1], part[2], worst);
             // Each kind lights a real share of the image, so one dropped or misweighed would show.
             for (int k = 0; k < 3; ++k) EXPECT_GT(part[k], 0.15 * total) << what << ": light kind " << k;
             EXPECT_LT(worst, gpu ? 1e-4 : 1e-6) << what;  // images hold floats

@@ -259,7 +259,8 @@ TEST_F(Gpu, LargeBuffersOfACpuDeviceAreOnHugePages) {
 }
 
 // Downloads read mapped memory where the host caches it and copy through cached host memory where it does not
-// (a discrete GPU's memory over the bus); both ways give the buffer's bytes, from any offset.
+// (a discrete GPU's memory over the bus), and uploads go through a staging copy where the host cannot map the
+// buffer; both ways give the buffer's bytes, from any offset.
 TEST_F(Gpu, BuffersWriteAndReadTheSameMappedOrStaged) {
     std::vector<uint32_t> values(100000);
     for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint32_t>(i * 2654435761u);
@@ -288,8 +289,8 @@ TEST_F(Gpu, BuffersWriteAndReadTheSameMappedOrStaged) {
 }
 
 TEST_F(Gpu, DeviceBuffersAreMappedUnlessStagedAreAsked) {
-    // Mapped where the device lets the host see its memory; staged (where only the device's copies reach them)
-    // when asked (ray_benchmark --device-buffers), and the same bytes either way.
+    // Mapped where the device lets the host see its memory; staged (where only the device's copies reach
+    // them) when asked (ray_benchmark --device-buffers), and the same bytes either way.
     EXPECT_TRUE(context().mapsDeviceBuffers());
     for (const DeviceBuffers way : {DeviceBuffers::Mapped, DeviceBuffers::Staged}) {
         ContextOptions options;

@@ -12,21 +12,22 @@
 // point above the scene (any hit); diffuse rays leave each camera hit in a cosine-distributed direction
 // (closest hit). On a GPU each timed call traces its batch repeatedly for about --repeat-ms (50), back to
 // back, and reports the time per trace ("repeats" in the JSON): a single trace takes about a millisecond.
-// Each kernel traces each batch once, untimed, before its timed runs (lavapipe compiles at the first dispatch).
+// Each kernel traces each batch once, untimed, before its timed runs (lavapipe compiles at the first
+// dispatch).
 // --count-iterations adds, per ray kind, the traversal's loop iterations per ray (what llvmpipe counts
 // against its budget of 65535 per invocation), from a kernel built to count them.
 // --variant compiles the kernel again with extra defines and traces the same rays with it, run for run
 // alternately with the default kernel, and reports its rates, their ratio to the default's (per CPU second,
-// and per GPU second where the device has timestamps) and the share of rays whose hit is the default's bit for
-// bit (A/B tests of shader changes that a busy machine's noise would hide between processes). A variant with
-// VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the scene that way
+// and per GPU second where the device has timestamps) and the share of rays whose hit is the default's bit
+// for bit (A/B tests of shader changes that a busy machine's noise would hide between processes). A variant
+// with VKRT_BOUND_GEOMETRY, VKRT_TEXEL_SCENE or VKRT_ADDRESSED_SCENE reads the scene that way
 // (gpu_raycaster.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
@@ -132,13 +133,16 @@ int main(int argc, char** argv) {
     app.add_option("--device-index", deviceIndex, "Vulkan device (-1: the best one)")
         ->check(CLI::Range(-1, 1023))
         ->capture_default_str();
-    app.add_option("--repeat-ms", repeatMs,
-                   "trace each batch repeatedly, back to back in one submission, for about this long, and report "
-                   "the time per trace [50 on a GPU, 0 (once) on a CPU device]")
+    app.add_option(
+           "--repeat-ms", repeatMs,
+           "trace each batch repeatedly, back to back in one submission, for about this long, and report "
+           "the time per trace [50 on a GPU, 0 (once) on a CPU device]")
         ->check(CLI::Range(0.0, 10000.0));
-    app.add_option("--device-buffers", deviceBuffers,
-                   "where the rays, hits and scene lie: mapped (device memory the host maps, where the device "
-                   "has such) or staged (device memory the host does not see, written and read through copies)")
+    app.add_option(
+           "--device-buffers", deviceBuffers,
+           "where the rays, hits and scene lie: mapped (device memory the host maps, where the device "
+           "has such) or staged (device memory the host does not see, written and read through copies; "
+           "mapped where the device has none, as lavapipe)")
         ->check(CLI::IsMember({"mapped", "staged"}))
         ->capture_default_str();
     app.add_flag("--count-iterations", countIterations,
@@ -213,10 +217,10 @@ int main(int argc, char** argv) {
         const int embreeThreads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 #endif
         nlohmann::json kinds;
-        // A GPU traces a million rays in about a millisecond, too short a time to measure alone (single traces
-        // on an H200 spread by up to 12% within a run). So each timed call traces the batch as often as fills
-        // about --repeat-ms, back to back, after one such call untimed; a CPU device (lavapipe) takes 100 ms or
-        // more a batch and traces it once.
+        // A GPU traces a million rays in about a millisecond, too short a time to measure alone (single
+        // traces on an H200 spread by up to 12% within a run). So each timed call traces the batch as often
+        // as fills about --repeat-ms, back to back, after one such call untimed; a CPU device (lavapipe)
+        // takes 100 ms or more a batch and traces it once.
         const bool cpuDevice = context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
         if (repeatMs < 0.0) repeatMs = cpuDevice ? 0.0 : 50.0;
         auto repeatsFor = [&](double msPerTrace) {
@@ -224,8 +228,8 @@ int main(int argc, char** argv) {
             return static_cast<uint32_t>(std::clamp(std::ceil(repeatMs / msPerTrace), 1.0, 10000.0));
         };
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
-            // Every kernel traces the batch once untimed first: lavapipe compiles a kernel at its first dispatch
-            // (a GPU's driver when its pipeline is made, before the timing starts).
+            // Every kernel traces the batch once untimed first: lavapipe compiles a kernel at its first
+            // dispatch (a GPU's driver when its pipeline is made, before the timing starts).
             RaycastTiming probe;
             raycaster.trace(rays, mode, &probe);
             for (const auto& tracer : variantTracers) tracer->trace(rays, mode);
@@ -236,8 +240,8 @@ int main(int argc, char** argv) {
                 repeats = repeatsFor(ms(probe));
             }
             std::vector<double> gpuRates, wallRates, cpuRates;
-            std::vector<std::vector<double>> variantCpuRates(variants.size()), variantWallRates(variants.size()),
-                variantGpuRates(variants.size());
+            std::vector<std::vector<double>> variantCpuRates(variants.size()),
+                variantWallRates(variants.size()), variantGpuRates(variants.size());
             for (int run = 0; run < runs; ++run) {
                 for (size_t v = 0; v < variants.size(); ++v) {
                     RaycastTiming timing;
@@ -286,13 +290,14 @@ int main(int argc, char** argv) {
             }
             entry["hit_agreement"] = static_cast<double>(agree) / static_cast<double>(rays.size());
 #endif
-            const std::vector<gpu::GpuHit> defaultHits = variants.empty() ? std::vector<gpu::GpuHit>{}
-                                                                           : raycaster.trace(rays, mode);
+            const std::vector<gpu::GpuHit> defaultHits =
+                variants.empty() ? std::vector<gpu::GpuHit>{} : raycaster.trace(rays, mode);
             for (size_t v = 0; v < variants.size(); ++v) {
                 // Run for run against the default kernel: the median of the per-run ratios, per CPU second (a
                 // CPU device's work) and, where the device has timestamps, per GPU second (a GPU's).
                 std::vector<double> ratios, gpuRatios;
-                for (int run = 0; run < runs; ++run) ratios.push_back(variantCpuRates[v][run] / cpuRates[run]);
+                for (int run = 0; run < runs; ++run)
+                    ratios.push_back(variantCpuRates[v][run] / cpuRates[run]);
                 nlohmann::json& variant = entry["variants"][variants[v]];
                 variant = {{"mrays_per_s", summarize(variantWallRates[v]).median},
                            {"mrays_per_cpu_s", summarize(variantCpuRates[v]).median},
@@ -304,8 +309,8 @@ int main(int argc, char** argv) {
                     variant["mrays_per_gpu_s"] = summarize(variantGpuRates[v]).median;
                     variant["over_default_gpu"] = summarize(gpuRatios).median;
                 }
-                // The share of rays whose hit (primitive, distance, barycentrics) is the default kernel's, bit
-                // for bit: a variant that changes what is found shows here, not as a speed-up.
+                // The share of rays whose hit (primitive, distance, barycentrics) is the default kernel's,
+                // bit for bit: a variant that changes what is found shows here, not as a speed-up.
                 const std::vector<gpu::GpuHit> hits = variantTracers[v]->trace(rays, mode);
                 size_t same = 0;
                 for (size_t i = 0; i < rays.size(); ++i) {
@@ -317,8 +322,10 @@ int main(int argc, char** argv) {
                 std::vector<double> iterations;
                 size_t incomplete = 0;
                 for (const gpu::GpuHit& hit : counter->trace(rays, mode)) {
-                    if (std::isnan(hit.t)) ++incomplete;  // a walk the driver cut short
-                    else iterations.push_back(hit.u);
+                    if (std::isnan(hit.t))
+                        ++incomplete;  // a walk the driver cut short
+                    else
+                        iterations.push_back(hit.u);
                 }
                 std::sort(iterations.begin(), iterations.end());
                 double sum = 0.0;

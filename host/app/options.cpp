@@ -201,10 +201,11 @@ struct CommandLine {
             ->type_name("scene|all")
             ->check(CLI::IsMember({"scene", "all"}))
             ->capture_default_str();
-        app.add_option("--scene-access", options.sceneAccess,
-                       "GPU diagnostic: how the kernels read the scene's arrays: auto (the device's best), texels "
-                       "(texel buffers), storage (storage buffers) or addresses (device addresses); the same "
-                       "image; arrays too large for the way asked take the next one down")
+        app.add_option(
+               "--scene-access", options.sceneAccess,
+               "GPU diagnostic: how the kernels read the scene's arrays: auto (the device's best), texels "
+               "(texel buffers), storage (storage buffers) or addresses (device addresses); the same "
+               "image; arrays too large for the way asked take the next one down")
             ->type_name("auto|texels|storage|addresses")
             ->check(CLI::IsMember({"auto", "texels", "storage", "addresses"}))
             ->capture_default_str();

@@ -65,8 +65,8 @@ struct RunReport {
         double gpuMs = 0.0;
         double compileMs = 0.0;   // GLSL to SPIR-V by glslang, or the SPIR-V read from the cache
         double pipelineMs = 0.0;  // pipeline creation: the driver's compilation of the SPIR-V
-        double setupMs = 0.0;       // making the renderer, all of it (GpuRenderReport::setupMs)
-        double packMs = 0.0;        // of which packing the scene's arrays
+        double setupMs = 0.0;     // making the renderer, all of it (GpuRenderReport::setupMs)
+        double packMs = 0.0;      // of which packing the scene's arrays
         double sceneWriteMs = 0.0;  // and writing them into device buffers (beside the shader's making)
         bool shaderFromCache = false;
         bool allFeatures = false;  // --shader-features all: every feature compiled in, not just the scene's

@@ -85,7 +85,8 @@ void GpuBuffer::create(VkDeviceSize bytes, Placement placement) {
     switch (placement) {
         case Placement::Device:
             // Staged: memory the host does not map, which only the device's copies reach; where every
-            // device-local type is mappable (lavapipe, a device sharing the host's memory), mapped all the same.
+            // device-local type is mappable (lavapipe, a device sharing the host's memory), mapped all the
+            // same.
             if (!context_->mapsDeviceBuffers()) {
                 type = context_->findMemoryType(allowed, local, context_->deviceHeap(),
                                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
@@ -168,8 +169,8 @@ void GpuBuffer::writeStaged(VkDeviceSize bytes, VkDeviceSize offset,
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
-                             &barrier, 0, nullptr, 0, nullptr);
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             0, 1, &barrier, 0, nullptr, 0, nullptr);
     });
 }
 
@@ -206,8 +207,8 @@ void GpuBuffer::downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offs
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
-                             nullptr, 0, nullptr);
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                             &barrier, 0, nullptr, 0, nullptr);
     });
     void* mapped = nullptr;
     VK_CHECK(vkMapMemory(context_->device(), staging.memory_, 0, bytes, 0, &mapped));

@@ -42,8 +42,8 @@ class GpuBuffer {
     explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
-    // The staging path of `upload`, whatever the memory: the bytes written into host memory, then copied on the
-    // device. Public so that devices whose memory is all mapped (lavapipe) test it.
+    // The staging path of `upload`, whatever the memory: the bytes written into host memory, then copied on
+    // the device. Public so that devices whose memory is all mapped (lavapipe) test it.
     void uploadStaged(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
     // The staging path of `download`, whatever the memory: a copy on the device into host memory, cached

@@ -100,7 +100,8 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
                 barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
                 barrier.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
                 vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+                                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                                     nullptr);
             }
             pipeline.dispatch(commands, &constants, sizeof(constants), blocks.perColumn, blocks.columns);
         }
@@ -109,7 +110,8 @@ std::vector<gpu::GpuHit> GpuRaycaster::trace(const std::vector<gpu::GpuRay>& ray
     });
     if (timing) {
         timing->wallMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / repeats;
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() /
+            repeats;
         timing->gpuMs = timer_->elapsedMs() / repeats;
         timing->cpuMs = (processCpuMs() - cpuStart) / repeats;
     }

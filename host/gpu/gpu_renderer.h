@@ -56,15 +56,15 @@ struct GpuRenderReport {
     // Making the renderer, all of it (the scene packed, the shader and pipeline made while another thread
     // writes the scene's buffers, the image's buffers), and two of its parts.
     double setupMs = 0.0;
-    double packMs = 0.0;         // the scene packed into the arrays the kernels read (GpuSceneData)
-    double sceneWriteMs = 0.0;   // those arrays written into device buffers, texels and mipmaps included
+    double packMs = 0.0;        // the scene packed into the arrays the kernels read (GpuSceneData)
+    double sceneWriteMs = 0.0;  // those arrays written into device buffers, texels and mipmaps included
     bool shaderFromCache = false;
     std::string shaderKey;
     uint32_t dispatches = 0;
     double targetDispatchMs =
         0.0;  // what each dispatch was sized to take (GpuRenderOptions, or the device's)
     double longestDispatchMs = 0.0;
-    double dispatchWallMs = 0.0;  // the dispatches from submission to the host's wake-up, all together
+    double dispatchWallMs = 0.0;         // the dispatches from submission to the host's wake-up, all together
     uint32_t mostSamplesInDispatch = 0;  // the most samples a pixel that one dispatch traced
     uint32_t loopPassesPerSample = 0;    // lavapipe: the most loop passes a lane took a sample; else 0
     uint64_t deviceMemoryBytes = 0;  // peak device memory held by vkrt's buffers

@@ -75,8 +75,8 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
 // - Texels: nodes, primitives and the arrays a hit reads (materials, lights, vertex normals, textures, the
 //   environment map) bound as texel buffers (VKRT_TEXEL_SCENE), within the texel-buffer range. lavapipe
 //   fetches a texel for all SIMD lanes with vector loads, but reads storage buffers and addresses one lane at
-//   a time; an H200 traced 1.03 to 1.22 times as fast in GPU time with texels as with storage buffers, in every
-//   render and nearly every ray benchmark measured (docs/performance-log.md).
+//   a time; an H200 traced 1.03 to 1.22 times as fast in GPU time with texels as with storage buffers, in
+//   every render and nearly every ray benchmark measured (docs/performance-log.md).
 // Auto: texels on every device, where the arrays fit, else the next way down.
 enum class SceneAccess { Auto, Addresses, Storage, Texels };
 

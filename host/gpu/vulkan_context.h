@@ -13,10 +13,11 @@
 namespace vkrt {
 
 // Where vkrt's device buffers lie (gpu_buffer.h): in device-local memory the host maps where the device has
-// such (a CPU device's own memory, a GPU's through resizable BAR), written in place; or in device-local memory
-// the host does not see, written and read through staging copies that the device makes. On an H200 both traced
-// alike, and staging took the scene's buffers 2 to 7 times as long to write (docs/performance-log.md): mapped
-// is the default; staged is there to measure (ray_benchmark --device-buffers).
+// such (a CPU device's own memory, a GPU's through resizable BAR), written in place; or in device-local
+// memory the host does not see, written and read through staging copies that the device makes. On an H200
+// both traced alike, and staging took the scene's buffers 2 to 7 times as long to write
+// (docs/performance-log.md): mapped is the default; staged is there to measure (ray_benchmark
+// --device-buffers).
 enum class DeviceBuffers { Mapped, Staged };
 
 struct ContextOptions {

@@ -86,7 +86,8 @@ void halveInto(const uint8_t* above, int width, int height, uint8_t* below, int 
                                             0.25 * decode[bottom[c]] + 0.25 * decode[bottom[c + 4]];
                         out[c] = srgbEncodeFast(mean);
                     } else {
-                        out[c] = static_cast<uint8_t>((top[c] + top[c + 4] + bottom[c] + bottom[c + 4] + 2) >> 2);
+                        out[c] =
+                            static_cast<uint8_t>((top[c] + top[c + 4] + bottom[c] + bottom[c + 4] + 2) >> 2);
                     }
                 }
             }
