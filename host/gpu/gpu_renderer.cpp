@@ -109,10 +109,11 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     });
 
     // spirv-opt's performance passes pay for Whitted's kernel (faster to create and to run); the path kernel
-    // they make slower to run on lavapipe, so it gets only their inlining (shader_compiler.cpp;
-    // docs/performance-log.md).
-    const SpirvOptimization optimization =
-        settings.integrator == Integrator::Path ? SpirvOptimization::Inline : SpirvOptimization::Performance;
+    // they make slower to run on lavapipe, so it gets all but their SSA rewrite of locals
+    // (shader_compiler.cpp; docs/performance-log.md).
+    const SpirvOptimization optimization = settings.integrator == Integrator::Path
+                                               ? SpirvOptimization::KeepLocals
+                                               : SpirvOptimization::Performance;
     const CompiledShader shader = compileShader("trace.comp", defines_, options.shaderCacheDir, optimization);
     spirv_ = shader.spirv;
     report_.compileMs = shader.compileMs;

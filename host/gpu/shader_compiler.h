@@ -27,9 +27,10 @@ struct CompiledShader {
 };
 
 // What runs on the SPIR-V after glslang: spirv-opt's performance passes (the default; see
-// shader_compiler.cpp), only its inlining, scalar replacement and the forwarding of locals stored once
-// (Inline), or nothing (every function still there under its name, as the specialisation test reads them).
-enum class SpirvOptimization { Performance, Inline, None };
+// shader_compiler.cpp), all but those that rewrite locals stored more than once into SSA form (KeepLocals:
+// inlining, scalar replacement, the forwarding of locals stored once, simplification), or nothing (every
+// function still there under its name, as the specialisation test reads them).
+enum class SpirvOptimization { Performance, KeepLocals, None };
 
 // The folder for cached SPIR-V: $VKRT_SHADER_CACHE, else $XDG_CACHE_HOME/vkrt, else ~/.cache/vkrt.
 // An empty string turns the cache off.
