@@ -13,6 +13,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 MODELS = ["/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "scenes/cornell.gltf"]
 
@@ -36,10 +37,13 @@ def main():
     results = []
     for extra in inputs:
         command = [args.ray_benchmark, "--runs", str(args.runs), "--width", str(args.size), "--height", str(args.size)]
+        started = time.time()
         output = subprocess.run(command + extra, stdout=subprocess.PIPE, text=True)
         if output.returncode != 0:
             sys.exit("benchmark_suite: %s failed" % " ".join(command + extra))
-        results.append(json.loads(output.stdout))
+        # When each input ran (Unix seconds), to set beside a log of the GPU's clocks (gpu_check.sh).
+        results.append({**json.loads(output.stdout), "started_unix_s": round(started, 3),
+                        "finished_unix_s": round(time.time(), 3)})
     with open(args.out, "w") as f:
         json.dump(results, f, indent=1)
 

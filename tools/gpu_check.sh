@@ -265,6 +265,24 @@ models=()
 if [ -n "$kit" ] && [ -f "$prefix/models/2CylinderEngine.glb" ]; then
     models=(--model "$prefix/models/2CylinderEngine.glb" --model scenes/cornell.gltf)
 fi
+# The GPU's clocks, performance state and what holds its clocks back, sampled every 200 ms while the benchmarks
+# run (nvidia-smi, where there is one): on the H200 the same walk traced at one of two speeds 5 to 6 times
+# apart from one process to the next (docs/performance-log.md), and this log shows whether the clocks moved.
+clock_log=
+if command -v nvidia-smi >/dev/null; then
+    nvidia-smi -q -d CLOCK,PERFORMANCE >"$out/gpu_clocks_start.txt" 2>&1
+    fields=timestamp,pstate,clocks.sm,clocks.mem,clocks.max.sm,power.draw,temperature.gpu,utilization.gpu
+    # The reasons' field has two names (clocks_event_reasons since driver 535, clocks_throttle_reasons before).
+    for reasons in clocks_event_reasons.active clocks_throttle_reasons.active ""; do
+        if nvidia-smi --query-gpu="$fields${reasons:+,$reasons}" --format=csv,noheader >/dev/null 2>&1; then
+            fields=$fields${reasons:+,$reasons}
+            break
+        fi
+    done
+    nvidia-smi --query-gpu="$fields" --format=csv -lms 200 >"$out/gpu_clocks.csv" 2>&1 &
+    clock_log=$!
+    trap '[ -z "$clock_log" ] || kill "$clock_log" 2>/dev/null' EXIT
+fi
 benchmark_suite() {
     python3 tools/benchmark_suite.py --ray-benchmark "$build_dir/ray_benchmark" --out "$out/benchmark.json" \
         "${bench_args[@]}" "${models[@]}" >"$out/benchmark.md"
@@ -278,6 +296,7 @@ scene_access() {
 step scene_access scene_access
 step convergence_report python3 tools/convergence_report.py --vkrt "$vkrt" --out-dir "$out/convergence" \
     --integrators path,whitted "${conv_args[@]}" scenes/cornell.gltf scenes/whitted.gltf
+[ -z "$clock_log" ] || kill "$clock_log" 2>/dev/null
 
 # The summary.
 elapsed=$(( $(date +%s) - start ))
@@ -323,6 +342,21 @@ if reports:
                 tests["skipped"] += 1
 summary["tests"] = tests
 
+# nvidia-smi's samples of the SM clock (gpu_clocks.csv: the time, in local time, first), as (Unix s, MHz).
+clocks = []
+if os.path.exists(os.path.join(out, "gpu_clocks.csv")):
+    import time
+    for line in open(os.path.join(out, "gpu_clocks.csv")):
+        cells = [c.strip() for c in line.split(",")]
+        try:
+            when = time.mktime(time.strptime(cells[0].split(".")[0], "%Y/%m/%d %H:%M:%S"))
+            clocks.append((when + float("0." + cells[0].split(".")[1]), float(cells[2].split()[0])))
+        except (IndexError, ValueError):
+            pass  # the header, or a line nvidia-smi could not fill
+def sm_clock(r):
+    seen = [mhz for when, mhz in clocks if r.get("started_unix_s", 0) <= when <= r.get("finished_unix_s", 0)]
+    return [min(seen), max(seen)] if seen else None
+
 rays = []
 for r in load("benchmark.json") or []:
     for kind, k in r["kinds"].items():
@@ -331,7 +365,8 @@ for r in load("benchmark.json") or []:
                      "vkrt_mrays_per_s": k["mrays_per_s"]["median"],
                      "vkrt_mrays_per_gpu_s": (k.get("mrays_per_gpu_s") or {}).get("median"),
                      "embree_mrays_per_s": embree["median"] if embree else None,
-                     "vkrt_over_embree": k.get("vkrt_over_embree") if embree else None})
+                     "vkrt_over_embree": k.get("vkrt_over_embree") if embree else None,
+                     "sm_clock_mhz": sm_clock(r)})
 summary["rays"] = rays
 # The device's default way of reading the scene against storage buffers, run for run: per GPU second where the
 # device has timestamps (per CPU second would time the host's wait on a GPU), else per CPU second.
@@ -369,10 +404,11 @@ stopped = ["%s (%s)" % (st["step"], failure(st)) for st in summary["steps"] if s
 if stopped:
     md.append("Steps that failed: " + ", ".join(stopped) + ": what they report below is partial or missing.")
 md += ["", "| input | triangles | ray kind | vkrt Mrays/s | vkrt Mrays/s, GPU time | Embree Mrays/s (host CPU, %d "
-       "threads) | vkrt / Embree |" % os.cpu_count(), "|---|---|---|---|---|---|---|"]
-md += ["| %s | %d | %s | %.2f | %s | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
+       "threads) | vkrt / Embree | SM clock MHz (nvidia-smi) |" % os.cpu_count(), "|---|---|---|---|---|---|---|---|"]
+md += ["| %s | %d | %s | %.2f | %s | %s | %s | %s |" % (r["input"], r["triangles"], r["kind"], r["vkrt_mrays_per_s"],
        dash(r["vkrt_mrays_per_gpu_s"], "%.2f"), dash(r["embree_mrays_per_s"], "%.2f"),
-       dash(r["vkrt_over_embree"], "%.3f")) for r in rays]
+       dash(r["vkrt_over_embree"], "%.3f"), "%.0f-%.0f" % tuple(r["sm_clock_mhz"]) if r["sm_clock_mhz"] else "-")
+       for r in rays]
 if summary["scene_access"]:
     a = summary["scene_access"]
     md += ["", "Scene access (scene_access.json, 1M sphere, run for run per %s): storage buffers at %s of the "
