@@ -104,9 +104,11 @@ const bool vkrtTransmissionBlocksShadows = false;
 #endif
 
 // Multiplies `transmittance` by the transmission of a surface of material `materialIndex` crossed at
-// barycentrics / texture coordinates (u, v); true when it is now opaque.
+// barycentrics / texture coordinates (u, v); true when it is now opaque. Only the holes of alpha-tested and
+// blended surfaces let the path integrator's shadow rays through; without them (no VKRT_HAS_ALPHA: every
+// surface covers its points fully) every surface stops them, and the material is not read.
 bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec3 transmittance) {
-#if defined(VKRT_HAS_TRANSMISSION) || defined(VKRT_HAS_ALPHA)
+#if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS))
     const SurfaceMaterial material = device_material(materialIndex);
     transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
     if (maxComponent(transmittance) > 0.0) return false;
