@@ -8,8 +8,8 @@
 
 #ifdef VKRT_HAS_SHAPES
 // Shapes, for shape_light.h: their type, material and maps at the sample's shutter time (solids.glsl).
-uint device_shapeType(uint shape) { return params.shapes.shapes[shape].type; }
-uint device_shapeMaterial(uint shape) { return params.shapes.shapes[shape].material; }
+uint device_shapeType(uint shape) { return gpuShapeAt(shape).type; }
+uint device_shapeMaterial(uint shape) { return gpuShapeAt(shape).material; }
 void device_shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
     shapeMaps(shape, toObject, toWorld);
 }
@@ -96,7 +96,7 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
 float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 point, float cosLight) {
 #ifdef VKRT_HAS_SHAPES
     if (shape != VKRT_NO_PRIMITIVE) {
-        return shapeLightSolidAnglePdf(shape, params.shapes.shapes[shape].lightPick, from, point, cosLight);
+        return shapeLightSolidAnglePdf(shape, gpuShapeAt(shape).lightPick, from, point, cosLight);
     }
 #endif
     const GpuPrimitive opened = VKRT_PRIMITIVE(primitive);

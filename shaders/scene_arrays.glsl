@@ -1,6 +1,6 @@
 // Where the kernels read the scene's arrays, three ways (host/gpu/gpu_scene.h SceneAccess):
 // - VKRT_TEXEL_SCENE: the arrays a walk or a hit reads (nodes, primitives, materials, lights, vertex
-//   normals, textures, the environment map) bound as uniform texel buffers of 4 x 32-bit words (a texture's
+//   normals, textures, the environment map, the solids and their shapes) bound as uniform texel buffers of 4 x 32-bit words (a texture's
 //   RGBA8 texels and the environment's row table as 32-bit words). lavapipe reads a storage buffer one
 //   component at a time, lane by lane, in a loop that tests each lane; it fetches a texel for all eight lanes
 //   at once with vector loads. Selected for CPU devices (issue 13: docs/performance-log.md).
@@ -115,6 +115,25 @@ GpuEnvironmentTexel gpuEnvironmentTexelAt(uint i) {
 }
 
 float gpuEnvironmentRowCdf(uint y) { return uintBitsToFloat(texelFetch(environmentRowWords, int(y)).x); }
+
+// The solids' shapes (7 texels each) and the solids (3 texels each).
+layout(binding = VKRT_BINDING_SHAPES) uniform usamplerBuffer shapeTexels;
+layout(binding = VKRT_BINDING_SOLIDS) uniform usamplerBuffer solidTexels;
+
+GpuShape gpuShapeAt(uint i) {
+    const int t = int(7u * i);
+    const uvec4 g = texelFetch(shapeTexels, t + 6);
+    return GpuShape(uintBitsToFloat(texelFetch(shapeTexels, t)), uintBitsToFloat(texelFetch(shapeTexels, t + 1)),
+                    uintBitsToFloat(texelFetch(shapeTexels, t + 2)), uintBitsToFloat(texelFetch(shapeTexels, t + 3)),
+                    uintBitsToFloat(texelFetch(shapeTexels, t + 4)), uintBitsToFloat(texelFetch(shapeTexels, t + 5)),
+                    g.x, g.y, uintBitsToFloat(g.z), g.w);
+}
+
+GpuSolid gpuSolidAt(uint i) {
+    const int t = int(3u * i);
+    const uvec4 a = texelFetch(solidTexels, t);
+    return GpuSolid(a.x, a.y, a.z, a.w, texelFetch(solidTexels, t + 1), texelFetch(solidTexels, t + 2));
+}
 #elif defined(VKRT_BOUND_GEOMETRY)
 layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
@@ -135,6 +154,8 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 #define gpuImageTexel(i) params.texels.texels[i]
 #define gpuEnvironmentTexelAt(i) params.environmentTexels.texels[i]
 #define gpuEnvironmentRowCdf(y) params.environmentRows.rowCdf[y]
+#define gpuShapeAt(i) params.shapes.shapes[i]
+#define gpuSolidAt(i) params.solids.solids[i]
 #endif
 
 // Motion blur (VKRT_HAS_MOTION): every ray of a sample sees the scene at one shutter time in [0, 1]. The

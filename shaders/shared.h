@@ -60,7 +60,9 @@ using uint = uint32_t;
 #define VKRT_BINDING_TEXELS 9
 #define VKRT_BINDING_ENVIRONMENT 10
 #define VKRT_BINDING_ENVIRONMENT_ROWS 11
-#define VKRT_TEXEL_BINDINGS 11  // bindings 1 to 11
+#define VKRT_BINDING_SHAPES 12
+#define VKRT_BINDING_SOLIDS 13
+#define VKRT_TEXEL_BINDINGS 13  // bindings 1 to 13
 
 // Ray counters, indices into the counter buffer.
 #define VKRT_COUNTER_PRIMARY 0

@@ -13,13 +13,13 @@ bool isSolid(GpuPrimitive primitive) {
 }
 
 GpuSolid solidOf(GpuPrimitive primitive) {
-    return params.solids.solids[primitive.kind >> VKRT_PRIMITIVE_INDEX_SHIFT];
+    return gpuSolidAt(primitive.kind >> VKRT_PRIMITIVE_INDEX_SHIFT);
 }
 
 // Shape `shape`'s world-to-object and object-to-world maps at the sample's shutter time: with motion, its
 // object-to-world map interpolated between poses (as triangles' corners are) and inverted.
 void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
-    const GpuShape s = params.shapes.shapes[shape];
+    const GpuShape s = gpuShapeAt(shape);
     toObject = AffineRows(s.toObject0, s.toObject1, s.toObject2);
     toWorld = AffineRows(s.toWorld0, s.toWorld1, s.toWorld2);
 #ifdef VKRT_HAS_MOTION
@@ -55,7 +55,7 @@ void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[V
         shapeMaps(solid.firstShape + i, toObject, toWorld);
         float a, b;
         uint fa, fb;
-        const bool hit = shapeInterval(params.shapes.shapes[solid.firstShape + i].type, affinePoint(toObject, origin),
+        const bool hit = shapeInterval(gpuShapeAt(solid.firstShape + i).type, affinePoint(toObject, origin),
                                        affineVector(toObject, direction), a, b, fa, fb);
         tIn[i] = hit ? a : VKRT_INFINITY;
         tOut[i] = hit ? b : -VKRT_INFINITY;

@@ -133,7 +133,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         const uint code = uint(hit.v);
         AffineRows toObject, toWorld;
         shapeMaps(p.shape, toObject, toWorld);
-        const GpuShape shape = params.shapes.shapes[p.shape];
+        const GpuShape shape = gpuShapeAt(p.shape);
         const ShapePoint s = shapePoint(shape.type, code >> 1u, (code & 1u) != 0u, toObject, ray.origin, ray.direction,
                                         hit.t);
         p.material = shape.material;

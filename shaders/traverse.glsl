@@ -137,7 +137,7 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
             const uint shape = solid.firstShape + crossing.shape;
             AffineRows toObject, toWorld;
             shapeMaps(shape, toObject, toWorld);
-            const GpuShape s = params.shapes.shapes[shape];
+            const GpuShape s = gpuShapeAt(shape);
             const ShapePoint p = shapePoint(s.type, crossing.face, crossing.flip, toObject, r.origin, r.direction,
                                             crossing.t);
             if (crossSurface(index, s.material, p.uv.x, p.uv.y, transmittance)) return true;

@@ -244,8 +244,10 @@ TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
 
 TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {
     // Every array read each way: triangles, spheres and a punctual light (whitted), area lights (cornell),
-    // textures and vertex normals (textures), the environment map and its tables (environment).
-    for (const std::string file : {"whitted.gltf", "cornell.gltf", "textures.gltf", "environment.gltf"}) {
+    // textures and vertex normals (textures), the environment map and its tables (environment), solids, their
+    // shapes and a shape as a light (csg).
+    for (const std::string file :
+         {"whitted.gltf", "cornell.gltf", "textures.gltf", "environment.gltf", "csg.gltf"}) {
         auto [scene, bvh, camera] = ownScene(file.c_str(), 4.0 / 3.0);
         if (file == "environment.gltf") {
             // A map brighter towards its top and one side, so that importance sampling reads its tables.

@@ -348,11 +348,13 @@ constexpr TexelArray kTexelArrays[] = {
     {&P::areaLights, BindingKind::Texels},    {&P::shading, BindingKind::Texels},
     {&P::textures, BindingKind::Texels},      {&P::textureBindings, BindingKind::Texels},
     {&P::texels, BindingKind::Words},         {&P::environmentTexels, BindingKind::Texels},
-    {&P::environmentRows, BindingKind::Words}};
+    {&P::environmentRows, BindingKind::Words}, {&P::shapes, BindingKind::Texels},
+    {&P::solids, BindingKind::Texels}};
 static_assert(std::size(kTexelArrays) == VKRT_TEXEL_BINDINGS);
 static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
               VKRT_BINDING_SHADING == VKRT_BINDING_NODES + 5 &&
-              VKRT_BINDING_ENVIRONMENT_ROWS == VKRT_BINDING_NODES + 10);
+              VKRT_BINDING_ENVIRONMENT_ROWS == VKRT_BINDING_NODES + 10 &&
+              VKRT_BINDING_SOLIDS == VKRT_BINDING_NODES + 12);
 
 }  // namespace
 
