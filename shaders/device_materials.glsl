@@ -23,7 +23,7 @@ vec2 device_textureCoordinates(uint primitive, vec2 hitUv, uint set) {
 #endif
 #ifdef VKRT_HAS_TEXCOORD1
     if (set == 1u) {
-        const GpuTexCoords1 t = params.texCoords1.texCoords[primitive];
+        const GpuTexCoords1 t = gpuTexCoords1At(primitive);
         return barycentric(t.corners01.xy, t.corners01.zw, t.corner2.xy, hitUv);
     }
 #endif
@@ -54,19 +54,19 @@ vec4 device_vertexColor(uint primitive, vec2 hitUv) {
 #if defined(VKRT_HAS_SPHERES) || defined(VKRT_HAS_SHAPES)
     if (VKRT_PRIMITIVE(primitive).kind != VKRT_PRIMITIVE_TRIANGLE) return vec4(1.0);
 #endif
-    const GpuVertexColors c = params.vertexColors.colors[primitive];
+    const GpuVertexColors c = gpuVertexColorsAt(primitive);
     return barycentric(c.corner0, c.corner1, c.corner2, hitUv);
 }
 #endif
 
 #ifdef VKRT_HAS_SHEEN
-float device_sheenTable(uint entry) { return params.sheenTable.values[entry]; }
+float device_sheenTable(uint entry) { return gpuSheenAlbedo(entry); }
 #endif
 
 #ifdef VKRT_HAS_ROUGH_SPECULAR
-float device_ggxAlbedoTable(uint entry) { return params.ggxAlbedoTable.values[entry]; }
+float device_ggxAlbedoTable(uint entry) { return gpuGgxAlbedo(entry); }
 #ifdef VKRT_HAS_VOLUMES
-float device_ggxDielectricAlbedoTable(uint entry) { return params.ggxDielectricAlbedoTable.values[entry]; }
+float device_ggxDielectricAlbedoTable(uint entry) { return gpuGgxDielectricAlbedo(entry); }
 #endif
 #endif
 

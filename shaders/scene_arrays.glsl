@@ -1,6 +1,7 @@
 // Where the kernels read the scene's arrays, three ways (host/gpu/gpu_scene.h SceneAccess):
 // - VKRT_TEXEL_SCENE: the arrays a walk or a hit reads (nodes, primitives, materials, lights, vertex
-//   normals, textures, the environment map, the solids and their shapes) bound as uniform texel buffers of 4 x 32-bit words (a texture's
+//   normals, textures, the environment map, the solids and their shapes, the other per-primitive attributes,
+//   the poses under motion blur, the energy compensation tables) bound as uniform texel buffers of 4 x 32-bit words (a texture's
 //   RGBA8 texels and the environment's row table as 32-bit words). lavapipe reads a storage buffer one
 //   component at a time, lane by lane, in a loop that tests each lane; it fetches a texel for all eight lanes
 //   at once with vector loads. Selected for CPU devices (issue 13: docs/performance-log.md).
@@ -134,6 +135,52 @@ GpuSolid gpuSolidAt(uint i) {
     const uvec4 a = texelFetch(solidTexels, t);
     return GpuSolid(a.x, a.y, a.z, a.w, texelFetch(solidTexels, t + 1), texelFetch(solidTexels, t + 2));
 }
+
+// Per-primitive vertex attributes (leaf order): tangents and vertex colours 3 texels each, the second texture
+// coordinates 2; the primitives' and shapes' poses under motion blur (3 texels each); and the energy
+// compensation tables (one word an entry).
+layout(binding = VKRT_BINDING_TANGENTS) uniform usamplerBuffer tangentTexels;
+layout(binding = VKRT_BINDING_VERTEX_COLORS) uniform usamplerBuffer vertexColorTexels;
+layout(binding = VKRT_BINDING_TEXCOORDS1) uniform usamplerBuffer texCoord1Texels;
+layout(binding = VKRT_BINDING_MOTION) uniform usamplerBuffer motionTexels;
+layout(binding = VKRT_BINDING_SHAPE_POSES) uniform usamplerBuffer shapePoseTexels;
+layout(binding = VKRT_BINDING_GGX_ALBEDO) uniform usamplerBuffer ggxAlbedoWords;
+layout(binding = VKRT_BINDING_GGX_DIELECTRIC_ALBEDO) uniform usamplerBuffer ggxDielectricAlbedoWords;
+layout(binding = VKRT_BINDING_SHEEN_TABLE) uniform usamplerBuffer sheenWords;
+
+vec4 texel4(usamplerBuffer texels, uint i) { return uintBitsToFloat(texelFetch(texels, int(i))); }
+
+GpuTangents gpuTangentsAt(uint i) {
+    return GpuTangents(texel4(tangentTexels, 3u * i), texel4(tangentTexels, 3u * i + 1u),
+                       texel4(tangentTexels, 3u * i + 2u));
+}
+
+GpuVertexColors gpuVertexColorsAt(uint i) {
+    return GpuVertexColors(texel4(vertexColorTexels, 3u * i), texel4(vertexColorTexels, 3u * i + 1u),
+                           texel4(vertexColorTexels, 3u * i + 2u));
+}
+
+GpuTexCoords1 gpuTexCoords1At(uint i) {
+    return GpuTexCoords1(texel4(texCoord1Texels, 2u * i), texel4(texCoord1Texels, 2u * i + 1u));
+}
+
+// A primitive's corners at a pose (GpuPrimitive's v0, v1 and v2).
+void gpuMotionCornersAt(uint i, out vec3 v0, out vec3 v1, out vec3 v2) {
+    v0 = texel4(motionTexels, 3u * i).xyz;
+    v1 = texel4(motionTexels, 3u * i + 1u).xyz;
+    v2 = texel4(motionTexels, 3u * i + 2u).xyz;
+}
+
+GpuShapePose gpuShapePoseAt(uint i) {
+    return GpuShapePose(texel4(shapePoseTexels, 3u * i), texel4(shapePoseTexels, 3u * i + 1u),
+                        texel4(shapePoseTexels, 3u * i + 2u));
+}
+
+float gpuGgxAlbedo(uint entry) { return uintBitsToFloat(texelFetch(ggxAlbedoWords, int(entry)).x); }
+float gpuGgxDielectricAlbedo(uint entry) {
+    return uintBitsToFloat(texelFetch(ggxDielectricAlbedoWords, int(entry)).x);
+}
+float gpuSheenAlbedo(uint entry) { return uintBitsToFloat(texelFetch(sheenWords, int(entry)).x); }
 #elif defined(VKRT_BOUND_GEOMETRY)
 layout(std430, binding = VKRT_BINDING_NODES) readonly buffer BoundNodes { WideBvhNode boundNodes[]; };
 layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitives { GpuPrimitive boundPrimitives[]; };
@@ -156,6 +203,18 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 #define gpuEnvironmentRowCdf(y) params.environmentRows.rowCdf[y]
 #define gpuShapeAt(i) params.shapes.shapes[i]
 #define gpuSolidAt(i) params.solids.solids[i]
+#define gpuTangentsAt(i) params.tangents.tangents[i]
+#define gpuVertexColorsAt(i) params.vertexColors.colors[i]
+#define gpuTexCoords1At(i) params.texCoords1.texCoords[i]
+#define gpuShapePoseAt(i) params.shapePoses.poses[i]
+#define gpuGgxAlbedo(entry) params.ggxAlbedoTable.values[entry]
+#define gpuGgxDielectricAlbedo(entry) params.ggxDielectricAlbedoTable.values[entry]
+#define gpuSheenAlbedo(entry) params.sheenTable.values[entry]
+void gpuMotionCornersAt(uint i, out vec3 v0, out vec3 v1, out vec3 v2) {
+    v0 = params.motion.primitives[i].v0;
+    v1 = params.motion.primitives[i].v1;
+    v2 = params.motion.primitives[i].v2;
+}
 #endif
 
 // Motion blur (VKRT_HAS_MOTION): every ray of a sample sees the scene at one shutter time in [0, 1]. The
@@ -172,16 +231,12 @@ GpuPrimitive primitiveAt(uint i) {
     const float s = x - float(segment);
     // Member by member: glslang miscompiles whole-struct copies that mix buffer and local structs here.
     vec3 a0 = p.v0, a1 = p.v1, a2 = p.v2;
-    if (segment > 0u) {
-        const uint start = i * segments + segment - 1u;
-        a0 = params.motion.primitives[start].v0;
-        a1 = params.motion.primitives[start].v1;
-        a2 = params.motion.primitives[start].v2;
-    }
-    const uint end = i * segments + segment;
-    p.v0 = a0 + s * (params.motion.primitives[end].v0 - a0);
-    p.v1 = a1 + s * (params.motion.primitives[end].v1 - a1);
-    p.v2 = a2 + s * (params.motion.primitives[end].v2 - a2);
+    if (segment > 0u) gpuMotionCornersAt(i * segments + segment - 1u, a0, a1, a2);
+    vec3 b0, b1, b2;
+    gpuMotionCornersAt(i * segments + segment, b0, b1, b2);
+    p.v0 = a0 + s * (b0 - a0);
+    p.v1 = a1 + s * (b1 - a1);
+    p.v2 = a2 + s * (b2 - a2);
 #endif
     return p;
 }

@@ -28,10 +28,10 @@ void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
     const uint segment = min(uint(x), segments - 1u);
     const float f = x - float(segment);
     if (segment > 0u) {
-        const GpuShapePose a = params.shapePoses.poses[shape * segments + segment - 1u];
+        const GpuShapePose a = gpuShapePoseAt(shape * segments + segment - 1u);
         toWorld = AffineRows(a.row0, a.row1, a.row2);
     }
-    const GpuShapePose b = params.shapePoses.poses[shape * segments + segment];
+    const GpuShapePose b = gpuShapePoseAt(shape * segments + segment);
     toWorld.row0 += f * (b.row0 - toWorld.row0);
     toWorld.row1 += f * (b.row1 - toWorld.row1);
     toWorld.row2 += f * (b.row2 - toWorld.row2);

@@ -168,7 +168,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.normal = p.geometricNormal;
 #endif
 #ifdef VKRT_HAS_NORMAL_MAPS
-        const GpuTangents tangents = params.tangents.tangents[hit.primitive];
+        const GpuTangents tangents = gpuTangentsAt(hit.primitive);
         p.tangent = barycentric(tangents.corner0, tangents.corner1, tangents.corner2, vec2(hit.u, hit.v));
 #ifdef VKRT_HAS_MOTION
         const GpuPrimitive atOpening = VKRT_PRIMITIVE(hit.primitive);

@@ -243,11 +243,13 @@ TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
 }
 
 TEST_F(Gpu, TexelStorageAndAddressedScenesGiveTheSameImage) {
-    // Every array read each way: triangles, spheres and a punctual light (whitted), area lights (cornell),
-    // textures and vertex normals (textures), the environment map and its tables (environment), solids, their
-    // shapes and a shape as a light (csg).
-    for (const std::string file :
-         {"whitted.gltf", "cornell.gltf", "textures.gltf", "environment.gltf", "csg.gltf"}) {
+    // Every array read each way: triangles, spheres, a punctual light and the dielectric albedo table
+    // (whitted), area lights (cornell), textures, vertex normals and colours, second texture coordinates and
+    // the GGX albedo table (textures), the environment map and its tables (environment), solids, their shapes
+    // and a shape as a light (csg), primitives' poses (motion-blur), tangents and the sheen table (surfaces).
+    // (Shapes' poses: Gpu.MotionBlurStreakIsVelocityTimesShutter.)
+    for (const std::string file : {"whitted.gltf", "cornell.gltf", "textures.gltf", "environment.gltf", "csg.gltf",
+                                   "motion-blur.gltf", "surfaces.gltf"}) {
         auto [scene, bvh, camera] = ownScene(file.c_str(), 4.0 / 3.0);
         if (file == "environment.gltf") {
             // A map brighter towards its top and one side, so that importance sampling reads its tables.
