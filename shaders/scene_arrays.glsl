@@ -1,8 +1,9 @@
 // Where the kernels read the scene's arrays, three ways (host/gpu/gpu_scene.h SceneAccess):
 // - VKRT_TEXEL_SCENE: the arrays a walk or a hit reads (nodes, primitives, materials, lights, vertex
 //   normals, textures, the environment map, the solids and their shapes, the other per-primitive attributes,
-//   the poses under motion blur, the energy compensation tables) bound as uniform texel buffers of 4 x 32-bit words (a texture's
-//   RGBA8 texels and the environment's row table as 32-bit words). lavapipe reads a storage buffer one
+//   the poses under motion blur, the energy compensation tables) bound as uniform texel buffers of 4 x 32-bit
+//   words (a texture's RGBA8 texels, the environment's row table and the energy compensation tables as 32-bit
+//   words). lavapipe reads a storage buffer one
 //   component at a time, lane by lane, in a loop that tests each lane; it fetches a texel for all eight lanes
 //   at once with vector loads. Selected for CPU devices (issue 13: docs/performance-log.md).
 // - VKRT_BOUND_GEOMETRY: nodes and primitives bound as storage buffers, which lavapipe read about a quarter

@@ -303,7 +303,7 @@ elapsed=$(( $(date +%s) - start ))
 commit=$(git -C "$root" describe --always --dirty 2>/dev/null || true)
 [ -n "$commit" ] || [ -z "$kit" ] || commit="${kit_commit:0:12} (the kit's)"
 step summary python3 - "$out" "$elapsed" "$quick" "$commit" <<'EOF'
-import json, os, sys, xml.etree.ElementTree as ET
+import json, os, sys, time, xml.etree.ElementTree as ET
 out, elapsed, quick, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1", sys.argv[4]
 
 def load(name):
@@ -345,7 +345,6 @@ summary["tests"] = tests
 # nvidia-smi's samples of the SM clock (gpu_clocks.csv: the time, in local time, first), as (Unix s, MHz).
 clocks = []
 if os.path.exists(os.path.join(out, "gpu_clocks.csv")):
-    import time
     for line in open(os.path.join(out, "gpu_clocks.csv")):
         cells = [c.strip() for c in line.split(",")]
         try:

@@ -343,22 +343,23 @@ struct TexelArray {
     BindingKind kind;
 };
 constexpr TexelArray kTexelArrays[] = {
-    {&P::nodes, BindingKind::Texels},         {&P::primitives, BindingKind::Texels},
-    {&P::materials, BindingKind::Texels},     {&P::lights, BindingKind::Texels},
-    {&P::areaLights, BindingKind::Texels},    {&P::shading, BindingKind::Texels},
-    {&P::textures, BindingKind::Texels},      {&P::textureBindings, BindingKind::Texels},
-    {&P::texels, BindingKind::Words},         {&P::environmentTexels, BindingKind::Texels},
+    {&P::nodes, BindingKind::Texels},          {&P::primitives, BindingKind::Texels},
+    {&P::materials, BindingKind::Texels},      {&P::lights, BindingKind::Texels},
+    {&P::areaLights, BindingKind::Texels},     {&P::shading, BindingKind::Texels},
+    {&P::textures, BindingKind::Texels},       {&P::textureBindings, BindingKind::Texels},
+    {&P::texels, BindingKind::Words},          {&P::environmentTexels, BindingKind::Texels},
     {&P::environmentRows, BindingKind::Words}, {&P::shapes, BindingKind::Texels},
-    {&P::solids, BindingKind::Texels},        {&P::tangents, BindingKind::Texels},
-    {&P::vertexColors, BindingKind::Texels},  {&P::texCoords1, BindingKind::Texels},
-    {&P::motion, BindingKind::Texels},        {&P::shapePoses, BindingKind::Texels},
-    {&P::ggxAlbedoTable, BindingKind::Words}, {&P::ggxDielectricAlbedoTable, BindingKind::Words},
+    {&P::solids, BindingKind::Texels},         {&P::tangents, BindingKind::Texels},
+    {&P::vertexColors, BindingKind::Texels},   {&P::texCoords1, BindingKind::Texels},
+    {&P::motion, BindingKind::Texels},         {&P::shapePoses, BindingKind::Texels},
+    {&P::ggxAlbedoTable, BindingKind::Words},  {&P::ggxDielectricAlbedoTable, BindingKind::Words},
     {&P::sheenTable, BindingKind::Words}};
 static_assert(std::size(kTexelArrays) == VKRT_TEXEL_BINDINGS);
 static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
               VKRT_BINDING_SHADING == VKRT_BINDING_NODES + 5 &&
               VKRT_BINDING_ENVIRONMENT_ROWS == VKRT_BINDING_NODES + 10 &&
-              VKRT_BINDING_SOLIDS == VKRT_BINDING_NODES + 12 && VKRT_BINDING_MOTION == VKRT_BINDING_NODES + 16 &&
+              VKRT_BINDING_SOLIDS == VKRT_BINDING_NODES + 12 &&
+              VKRT_BINDING_MOTION == VKRT_BINDING_NODES + 16 &&
               VKRT_BINDING_SHEEN_TABLE == VKRT_BINDING_NODES + 20);
 
 }  // namespace
