@@ -120,7 +120,7 @@ VKRT_FN real ggxDielectricAlbedo(VKRT_DEVICE_PARAM real cosView, real roughness,
     const int i = min(int(x), sizeX - 2), j = min(int(y), sizeY - 2), k = min(int(z), sizeZ - 2);
     const real fx = x - real(i), fy = y - real(j), fz = z - real(k);
     real result = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
+    VKRT_UNROLL for (int corner = 0; corner < 8; ++corner) {
         const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
         const real weight = (di == 1 ? fx : 1.0 - fx) * (dj == 1 ? fy : 1.0 - fy) * (dk == 1 ? fz : 1.0 - fz);
         const uint entry = uint(((k + dk) * sizeY + j + dj) * sizeX + i + di);

@@ -29,7 +29,9 @@ VKRT_FN uvec2 withMediumAt(uvec2 media, int i, uint material) {
 
 VKRT_FN int mediaSize(uvec2 media) {
     int size = 0;
-    for (int i = 0; i < VKRT_MEDIA_CAPACITY; ++i) size += mediumAt(media, i) != VKRT_NO_MEDIUM ? 1 : 0;
+    VKRT_UNROLL for (int i = 0; i < VKRT_MEDIA_CAPACITY; ++i) {
+        size += mediumAt(media, i) != VKRT_NO_MEDIUM ? 1 : 0;
+    }
     return size;
 }
 
@@ -42,7 +44,9 @@ VKRT_FN int innermostMedium(uvec2 media) {
 VKRT_FN uvec2 mediaEntered(uvec2 media, uint material) {
     int size = mediaSize(media);
     if (size == VKRT_MEDIA_CAPACITY) {
-        for (int i = 1; i < VKRT_MEDIA_CAPACITY; ++i) media = withMediumAt(media, i - 1, mediumAt(media, i));
+        VKRT_UNROLL for (int i = 1; i < VKRT_MEDIA_CAPACITY; ++i) {
+            media = withMediumAt(media, i - 1, mediumAt(media, i));
+        }
         size = VKRT_MEDIA_CAPACITY - 1;
     }
     return withMediumAt(media, size, material);
@@ -52,11 +56,11 @@ VKRT_FN uvec2 mediaEntered(uvec2 media, uint material) {
 VKRT_FN uvec2 mediaExited(uvec2 media, uint material) {
     const int size = mediaSize(media);
     int found = -1;
-    for (int i = 0; i < VKRT_MEDIA_CAPACITY; ++i) {
+    VKRT_UNROLL for (int i = 0; i < VKRT_MEDIA_CAPACITY; ++i) {
         if (i < size && mediumAt(media, i) == material) found = i;
     }
     if (found < 0) return media;
-    for (int i = 0; i < VKRT_MEDIA_CAPACITY - 1; ++i) {
+    VKRT_UNROLL for (int i = 0; i < VKRT_MEDIA_CAPACITY - 1; ++i) {
         if (i >= found && i + 1 < size) media = withMediumAt(media, i, mediumAt(media, i + 1));
     }
     return withMediumAt(media, size - 1, VKRT_NO_MEDIUM);
@@ -75,7 +79,7 @@ VKRT_FN bool attenuates(real3 attenuationColor, real attenuationDistance) {
 VKRT_FN real3 beerLambert(real3 attenuationColor, real attenuationDistance, real distance) {
     real3 result = real3(1.0);
     if (!attenuates(attenuationColor, attenuationDistance)) return result;
-    for (int c = 0; c < 3; ++c) {
+    VKRT_UNROLL for (int c = 0; c < 3; ++c) {
         const real color = attenuationColor[c];
         if (color >= 1.0) continue;
         if (color <= 0.0 || isinf(distance)) {
