@@ -72,8 +72,9 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
 // - Addresses: everything through the device addresses in SceneParams (no size limit);
 // - Storage: nodes and primitives bound as storage buffers (VKRT_BOUND_GEOMETRY), within the device's
 //   storage-buffer range;
-// - Texels: nodes, primitives and the arrays a hit reads (materials, lights, vertex normals, textures, the
-//   environment map) bound as texel buffers (VKRT_TEXEL_SCENE), within the texel-buffer range. lavapipe
+// - Texels: nodes, primitives and the arrays a hit reads (materials, lights, vertex attributes, textures, the
+//   environment map, solids and shapes, poses under motion blur, the energy-compensation tables) bound as
+//   texel buffers (VKRT_TEXEL_SCENE; gpu_scene.cpp's kTexelArrays), within the texel-buffer range. lavapipe
 //   fetches a texel for all SIMD lanes with vector loads, but reads storage buffers and addresses one lane at
 //   a time; an H200 traced 1.03 to 1.22 times as fast in GPU time with texels as with storage buffers, in
 //   every render and nearly every ray benchmark measured (docs/performance-log.md).
