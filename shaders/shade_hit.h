@@ -551,6 +551,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     }
 
     SurfaceResponse surface = surfaceResponse(material, inputs);
+#if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)  // else no specular layer anywhere
+    surface.diffuse *= diffuseShare(surface, dot(normal, toViewer));   // what the specular layer leaves the base
+#endif
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(surface.sheenColor) > 0.0) addSheen(VKRT_DEVICE_ARG surface, inputs.sheenRoughness, dot(normal, toViewer));
 #endif

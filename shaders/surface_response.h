@@ -238,7 +238,8 @@ VKRT_FN real3 normalMapped(real3 normal, real4 tangent, real3 tangentNormal) {
 
 struct SurfaceResponse {
     real3 albedo;    // base colour (factor times texture), linear
-    real3 diffuse;   // Lambert reflectance: albedo * (1 - metallic) * (1 - transmission)
+    real3 diffuse;   // Lambert reflectance: albedo * (1 - metallic) * (1 - transmission), times diffuseShare
+                     // once the viewer is known (shadeHit)
     real3 specular;  // F0: of the dielectric, or the base colour for metals
     real alpha;      // GGX width, roughness^2
     bool mirror;     // roughness 0: the lobe is a delta (exact mirror and refraction)
@@ -368,6 +369,17 @@ VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.
 VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
     return (1.0 - s.metallic) * dielectricReflectance(s, cosH, eta) + s.metallic * fresnelSchlick(s.albedo, cosH);
+}
+
+// What the dielectric's specular layer leaves its diffuse base, seen at cosine cosView from the normal:
+// 1 - max(F(cosView)), F the dielectric part's reflectance (scaled and tinted by KHR_materials_specular), as
+// KHR_materials_clearcoat layers its coat. The base loses what the layer reflects towards the viewer, so a
+// white surface reflects at most what it receives: all of it where the layer is smooth, a little less at
+// grazing where it is rough (a white furnace, gpu_energy_test.cpp). glTF's sample BRDF (2.0, Appendix B)
+// takes F at the half vector instead, and its mix over a white Lambertian base reflects up to 2% more than
+// it receives.
+VKRT_FN real diffuseShare(VKRT_IN(SurfaceResponse) s, real cosView) {
+    return 1.0 - maxComponent(dielectricReflectance(s, clamp(cosView, 0.0, 1.0), s.ior));
 }
 
 // fresnelAt with each part's energy compensation: the specular lobe's reflection, traced or lit.

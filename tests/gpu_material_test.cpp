@@ -131,9 +131,10 @@ TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
             EXPECT_EQ(compareImages(images[0][device], images[1][device], 1e-6, 1e-7).fractionOff, 0.0)
                 << "texture " << std::hex << c.texel << " on the " << (device == 0 ? "GPU" : "CPU");
         }
-        // The dielectric shows its albedo plus F0 (0.04) in the ambient light; the mirror metal reflects the
-        // background (0.25) with Schlick's F at normal incidence, its base colour.
-        const float expected = c.metallic == 0.0f ? 0.8f + 0.04f : 0.25f * 0.8f;
+        // In the ambient light, the dielectric shows the 1 - F0 of its albedo that its specular layer leaves
+        // it, plus F0 (0.04); the mirror metal reflects the background (0.25) with Schlick's F at normal
+        // incidence, its base colour.
+        const float expected = c.metallic == 0.0f ? 0.8f * (1.0f - 0.04f) + 0.04f : 0.25f * 0.8f;
         EXPECT_NEAR(images[0][1].at(8, 8).x, expected, 1e-5f);
         test::expectMatchesReference(images[0][0], images[0][1], "metallic-roughness-texture");
     }
@@ -237,9 +238,9 @@ TEST_F(GpuMaterials, MirrorsAndSmoothGlassCastNoShadowRays) {
 }
 
 TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
-    // In ambient light, a matte dielectric (roughness 1: the lobe is not traced) shows its albedo plus its
-    // F0, which KHR_materials_specular scales by the factor and tints by the colour: 0.04 x 0.8 x colour for
-    // ior 1.5.
+    // In ambient light, a matte dielectric (roughness 1: the lobe is not traced) shows its F0, which
+    // KHR_materials_specular scales by the factor and tints by the colour (0.04 x 0.8 x colour for ior 1.5),
+    // plus the albedo its specular layer leaves the base: 1 - max(F0) = 1 - 0.032 of it.
     Scene scene;
     Material material;
     material.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
@@ -250,9 +251,10 @@ TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
     const auto [gpu, cpu] = renderSquare(scene, material, ambientOnly(16));
     for (const Image* image : {&gpu.image, &cpu.image}) {
         const glm::vec3 pixel = image->at(8, 8);
-        EXPECT_NEAR(pixel.x, 0.5 + 0.04 * 0.8 * 0.5, 1e-6);
-        EXPECT_NEAR(pixel.y, 0.5 + 0.04 * 0.8 * 1.0, 1e-6);
-        EXPECT_NEAR(pixel.z, 0.5 + 0.04 * 0.8 * 0.25, 1e-6);
+        const double base = 0.5 * (1.0 - 0.04 * 0.8);
+        EXPECT_NEAR(pixel.x, base + 0.04 * 0.8 * 0.5, 1e-6);
+        EXPECT_NEAR(pixel.y, base + 0.04 * 0.8 * 1.0, 1e-6);
+        EXPECT_NEAR(pixel.z, base + 0.04 * 0.8 * 0.25, 1e-6);
     }
 }
 

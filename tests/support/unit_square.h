@@ -27,8 +27,8 @@ Camera squareCamera();
 // disk.
 Camera sphereCamera();
 
-// Lit by ambient radiance 1 alone (background 0.25): a Lambertian dielectric shows its albedo (plus F0 where
-// the lobe is not traced).
+// Lit by ambient radiance 1 alone (background 0.25): a Lambertian dielectric shows its albedo; one with a
+// specular layer, (1 - F0) of it, plus F0 where the layer's lobe is not traced.
 RenderSettings ambientOnly(int size);
 
 // The unit square with `material` added to `scene` (which holds its textures and lights), on both devices.
