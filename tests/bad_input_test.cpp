@@ -274,8 +274,8 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "KHR_draco_mesh_compression: the compressed data does not decode"},
-        // Properties of the wrong JSON type or out of range, which tinygltf alone would skip: each is named by
-        // its JSON path.
+        // Properties of the wrong JSON type or out of range, which tinygltf alone would skip: each is named
+        // by its JSON path.
         {"primitives as an object",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -407,6 +407,56 @@ std::vector<BadCase> badCases() {
          ""},
         {"not glTF at all", [](auto&, auto& file) { test::writeText(file, "P6\n1 1\n255\n\x01\x02\x03"); },
          ""},
+        // tinygltf reads nested values by recursion: 20,000 levels in extras overflowed its stack (SIGSEGV).
+        {"JSON nested 20,000 levels deep",
+         [](auto&, auto& file) {
+             std::string text = validTriangle().dump();
+             text.pop_back();  // the closing brace
+             test::writeText(file,
+                             text + ",\"extras\":" + std::string(20000, '[') + std::string(20000, ']') + "}");
+         },
+         "JSON nested more than 512 levels deep"},
+        {"glTF 1.0",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["asset"]["version"] = "1.0";
+             writeJson(file, d);
+         },
+         "asset.version: glTF 1.0 is not glTF 2.x"},
+        {"newer minor version required",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["asset"] = {{"version", "2.1"}, {"minVersion", "2.1"}};
+             writeJson(file, d);
+         },
+         "asset.minVersion: requires glTF 2.1"},
+        {"number beyond single precision",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"][0]["translation"] = {1e39, 0.0, 0.0};
+             writeJson(file, d);
+         },
+         "nodes[0].translation[0]: expected a number within single precision's range"},
+        {"buffer that is a directory",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["buffers"][0]["uri"] = ".";
+             writeJson(file, d);
+         },
+         "not a regular file"},
+        {"GLB of version 1",
+         [](auto&, auto& file) {
+             file.replace_extension(".glb");
+             std::string text = validTriangle().dump();
+             text.resize((text.size() + 3) / 4 * 4, ' ');
+             const auto word = [](size_t v) {
+                 return std::string{static_cast<char>(v & 0xff), static_cast<char>((v >> 8) & 0xff),
+                                    static_cast<char>((v >> 16) & 0xff), static_cast<char>((v >> 24) & 0xff)};
+             };
+             test::writeText(file,
+                             "glTF" + word(1) + word(20 + text.size()) + word(text.size()) + "JSON" + text);
+         },
+         "GLB version 1; vkrt reads GLB version 2"},
     };
 }
 
@@ -456,6 +506,12 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
     // radiance (written as EXR, which holds any float).
     test::writeText(folder / "text.hdr", "#?RADIANCE\nnot really\n");
     test::writeText(folder / "picture.hdr", std::string("\x89PNG\r\n\x1a\n", 8));
+    // Run-length encoded scanlines of 8 texels that end early, or hold a run of length 0: stb_image read a
+    // count of 0 in both and looped forever.
+    const std::string rle =
+        "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n" + std::string("\x02\x02\x00\x08", 4);
+    test::writeText(folder / "truncated.hdr", rle + "\x88\x40");
+    test::writeText(folder / "zero-run.hdr", rle + std::string("\x88\x40\x00", 3));
     Image negative(2, 1), notFinite(2, 1);
     negative.at(1, 0) = glm::vec3(0.5f, -1.0f, 0.5f);
     notFinite.at(0, 0) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
@@ -474,7 +530,12 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
           Case{"--environment '" + (folder / "negative.exr").string() + "'",
                "texel (1, 0) of the environment map is negative"},
           Case{"--environment '" + (folder / "nan.exr").string() + "'", "is not finite"},
+          Case{"--environment '" + (folder / "truncated.hdr").string() + "'",
+               "truncated.hdr: cannot read Radiance HDR: truncated or corrupt run-length data"},
+          Case{"--environment '" + (folder / "zero-run.hdr").string() + "'",
+               "zero-run.hdr: cannot read Radiance HDR: truncated or corrupt run-length data"},
           Case{"--environment-strength -1", "must not be negative"},
+          Case{"--environment-strength 1e39", "beyond single precision's range"},
           Case{"--environment-rotation inf", "is not finite"}}) {
         SCOPED_TRACE(c.options);
         const auto output = folder / "out.png";
@@ -486,6 +547,63 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
         EXPECT_NE(result.output.find(c.expected), std::string::npos) << result.output;
         EXPECT_FALSE(std::filesystem::exists(output));
     }
+}
+
+// Options out of their range, files a run would write twice and references that are not radiance: exit 2 with
+// one line naming the option, and nothing written.
+TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
+    const auto folder = test::temporaryFolder();
+    const std::string scene = "'" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'";
+    test::writeText(folder / "huge.pfm", "PF\n100000 100000\n-1.0\n");  // its pixels would need 120 GB
+    Image notFinite(8, 8);
+    notFinite.at(3, 2) = glm::vec3(std::numeric_limits<float>::infinity());
+    writeImage(notFinite, (folder / "inf.pfm").string());
+    const std::string out = "'" + (folder / "out.pfm").string() + "'";
+    struct Case {
+        std::string options;
+        std::string expected;
+    };
+    for (const Case& c :
+         {Case{"--background -1", "--background: '-1' is a radiance and must not be negative"},
+          Case{"--ambient 0,-0.5,0 --integrator whitted",
+               "--ambient: '0,-0.5,0' is a radiance and must not be negative"},
+          Case{"--background 1e39", "--background: '1e39' is not one finite value"},
+          Case{"--aperture 1e39", "--aperture: '1e39' is beyond single precision's range"},
+          Case{"--stats " + out, "--out and --stats name the same file"},
+          Case{"--report '" + (folder / "r.json").string() + "' --stats '" + (folder / "./r.json").string() +
+                   "'",
+               "--stats and --report name the same file"},
+          Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
+                   (folder / "huge.pfm").string() + "'",
+               "--reference: " + (folder / "huge.pfm").string() + ": file is truncated"},
+          Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
+                   (folder / "inf.pfm").string() + "'",
+               "inf.pfm: pixel (3, 2) is not finite"}}) {
+        SCOPED_TRACE(c.options);
+        const test::CommandResult result = test::runVkrt(
+            "--scene " + scene + " --device cpu --width 8 --height 8 --spp 1 --out " + out + " " + c.options);
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
+        EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+        EXPECT_NE(result.output.find(c.expected), std::string::npos) << result.output;
+    }
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 2) << "wrote nothing";
+}
+
+// A file name of 250 bytes is allowed (file systems take 255): the temporary name it is written under first
+// keeps within that too, where a suffix added to the whole name made the write fail after the render.
+TEST(BadInput, LongOutputNamesAreWritten) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / (std::string(246, 'a') + ".png");
+    const auto stats = folder / (std::string(245, 'b') + ".json");
+    const test::CommandResult result =
+        test::runVkrt("--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() +
+                      "' --device cpu --width 8 --height 8 --spp 1 --quiet --out '" + image.string() +
+                      "' --stats '" + stats.string() + "'");
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_TRUE(std::filesystem::exists(image));
+    EXPECT_TRUE(std::filesystem::exists(stats));
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 2) << "no temporary file left";
 }
 
 // Paths are checked before anything is loaded or rendered: each case asks for a render that would take hours

@@ -1,6 +1,8 @@
 #include "app/convergence_run.h"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "image/image_io.h"
 
@@ -23,6 +25,19 @@ ConvergenceReport referenceFromFile(const Options& options, const RenderSettings
         throw UsageError("--reference: " + options.referencePath + " is " + std::to_string(reference.width) +
                          "x" + std::to_string(reference.height) + ", the render " +
                          std::to_string(settings.width) + "x" + std::to_string(settings.height));
+    }
+    // Radiance: finite and not negative, or every error measured against it would be too.
+    for (int y = 0; y < reference.height; ++y) {
+        for (int x = 0; x < reference.width; ++x) {
+            const glm::vec3 texel = reference.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                if (!std::isfinite(texel[c]) || texel[c] < 0.0f) {
+                    throw UsageError("--reference: " + options.referencePath + ": pixel (" +
+                                     std::to_string(x) + ", " + std::to_string(y) + ") is " +
+                                     (std::isfinite(texel[c]) ? "negative" : "not finite"));
+                }
+            }
+        }
     }
     return ConvergenceReport(std::move(reference), "file " + options.referencePath);
 }

@@ -33,6 +33,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
         const auto renderStart = std::chrono::steady_clock::now();
         // The time limit is the render's own; the reference of --report renders all its samples.
         const StopCondition stop(&stopRequested(), runReport ? options.timeLimitSeconds : 0.0);
+        renderBegins();
         RenderResult rendered;
         if (context) {
             GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuRenderOptions(options));

@@ -5,10 +5,14 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "image/image_io.h"
 #include "random.h"
@@ -26,7 +30,10 @@ std::optional<glm::dvec3> parseColor(const std::string& text) {
         double value = 0.0;
         const char* end = part.data() + part.size();
         auto [ptr, error] = std::from_chars(part.data(), end, value);
-        if (error != std::errc() || ptr != end || !std::isfinite(value)) return std::nullopt;
+        if (error != std::errc() || ptr != end || !std::isfinite(value) ||
+            std::abs(value) > std::numeric_limits<float>::max()) {
+            return std::nullopt;
+        }
         parts.push_back(value);
     }
     if (parts.size() == 1) return glm::dvec3(parts[0]);
@@ -52,7 +59,11 @@ const CLI::Validator kFinite(
     [](std::string& text) {
         const std::optional<double> value = parseNumber<double>(text);
         if (!value) return "'" + text + "' is not a valid number";
-        return std::isfinite(*value) ? std::string() : "'" + text + "' is not finite";
+        if (!std::isfinite(*value)) return "'" + text + "' is not finite";
+        // The renderers keep such values in single precision, where larger ones would become infinite.
+        return std::abs(*value) <= std::numeric_limits<float>::max()
+                   ? std::string()
+                   : "'" + text + "' is beyond single precision's range (3.4e38)";
     },
     "");
 const CLI::Validator kPositive(
@@ -65,8 +76,15 @@ const CLI::Validator kNotNegative(
     "");
 const CLI::Validator kColor(
     [](std::string& text) {
-        return parseColor(text) ? std::string()
-                                : "'" + text + "' is not one value or three separated by commas (R,G,B)";
+        const std::optional<glm::dvec3> color = parseColor(text);
+        if (!color) {
+            return "'" + text +
+                   "' is not one finite value or three separated by commas (R,G,B), each within single "
+                   "precision's range";
+        }
+        return glm::all(glm::greaterThanEqual(*color, glm::dvec3(0.0)))
+                   ? std::string()
+                   : "'" + text + "' is a radiance and must not be negative";
     },
     "");
 const CLI::Validator kImagePath(
@@ -342,6 +360,16 @@ struct CommandLine {
     }
 };
 
+// Whether two paths name the same file, existing or not (through links and relative folders).
+bool sameFile(const std::string& a, const std::string& b) {
+    const auto resolved = [](const std::string& path) {
+        std::error_code error;
+        std::filesystem::path full = std::filesystem::weakly_canonical(path, error);
+        return error ? std::filesystem::path(path).lexically_normal() : full;
+    };
+    return resolved(a) == resolved(b);
+}
+
 }  // namespace
 
 std::string helpText() {
@@ -362,6 +390,19 @@ Options parseOptions(int argc, const char* const argv[]) {
     const Options& options = commandLine.options;
     if (!options.help && !options.listDevices && options.scenePath.empty()) {
         throw UsageError("--scene FILE is required (see --help)");
+    }
+    // The files a run writes are distinct: one would overwrite another.
+    const std::pair<const char*, const std::string*> written[] = {
+        {"--out", &options.outputPath}, {"--stats", &options.statsPath}, {"--report", &options.reportPath}};
+    for (size_t i = 0; i < std::size(written); ++i) {
+        for (size_t j = i + 1; j < std::size(written); ++j) {
+            const std::string& a = *written[i].second;
+            const std::string& b = *written[j].second;
+            if (!a.empty() && !b.empty() && sameFile(a, b)) {
+                throw UsageError(std::string(written[i].first) + " and " + written[j].first +
+                                 " name the same file: " + b);
+            }
+        }
     }
     return options;
 }

@@ -35,6 +35,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
         ProgressBar progress(label, !options.quiet);
         const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
         const uint32_t spp = static_cast<uint32_t>(renderSettings.samplesPerPixel);
+        renderBegins();
         RankShare rankShare;
         if (context) {
             GpuRenderer renderer(*context, scene, flatBvh, setup.camera, renderSettings,

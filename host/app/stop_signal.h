@@ -1,5 +1,5 @@
 // SIGINT and SIGTERM: the first ends the render after the dispatch or pixel in flight, and the samples done
-// are written as usual; a second ends the process at once.
+// are written as usual; a second ends the process at once, as does the first before the render began.
 #pragma once
 
 #include <atomic>
@@ -8,6 +8,9 @@ namespace vkrt {
 
 // Installs the handler of both signals.
 void handleStopSignals();
+
+// From here on, the first signal stops the render instead of the process: called where a render begins.
+void renderBegins();
 
 // Set by the first signal; the renderers read it through their StopCondition.
 const std::atomic<bool>& stopRequested();

@@ -21,9 +21,15 @@ inline char gTemporaryFileBeingWritten[4096] = {};
 template <typename Write>
 void writeFileAtomically(const std::string& path, Write&& write) {
     std::random_device device;
-    std::ostringstream name;
-    name << path << ".tmp-" << std::hex << device() << device();
-    const std::string temporary = name.str();
+    std::ostringstream suffix;
+    suffix << ".tmp-" << std::hex << device() << device();
+    // The file's name and the suffix, the name cut short where both would pass the 255 bytes a file name may
+    // have (a valid name of 235 bytes or more had the write fail after the render).
+    const std::filesystem::path target(path);
+    std::string name = target.filename().string();
+    constexpr size_t kLongestName = 255;
+    name.resize(std::min(name.size(), kLongestName - suffix.str().size()));
+    const std::string temporary = (target.parent_path() / (name + suffix.str())).string();
     struct Published {  // the temporary file's name, visible to a signal handler while it exists
         explicit Published(const std::string& file) {
             if (file.size() < sizeof(gTemporaryFileBeingWritten))

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
@@ -29,9 +31,20 @@ void writePng(const Image& image, const std::string& path, double exposure, Tone
         const glm::dvec3 display = toneMap(glm::dvec3(image.pixels[i]), toneMapping, exposure);
         for (int c = 0; c < 3; ++c) bytes[3 * i + c] = toSrgb8(display[c]);
     }
-    if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3)) {
-        throw ImageError(path + ": cannot write PNG");
+    // Encoded in memory, then written and checked: stbi_write_png ignores failed writes (a full disk left a
+    // cut-off PNG behind, reported as written).
+    std::string encoded;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<size_t>(size));
+    };
+    if (!stbi_write_png_to_func(append, &encoded, image.width, image.height, 3, bytes.data(),
+                                image.width * 3)) {
+        throw ImageError(path + ": cannot encode PNG");
     }
+    std::ofstream file(path, std::ios::binary);
+    if (!file) throw ImageError(path + ": cannot open for writing");
+    file.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
+    if (!file.flush()) throw ImageError(path + ": write failed");
 }
 
 void writeExr(const Image& image, const std::string& path) {
@@ -68,6 +81,15 @@ Image readPfm(const std::string& path) {
     file.get();
     if (magic != "PF" || width <= 0 || height <= 0 || scale >= 0.0) {
         throw ImageError(path + ": not a little-endian colour PFM");
+    }
+    // The pixels the header promises must be in the file before they are allocated.
+    const std::streamoff start = file.tellg();
+    file.seekg(0, std::ios::end);
+    const std::streamoff end = file.tellg();
+    file.seekg(start);
+    if (start < 0 || end - start < static_cast<std::streamoff>(width) * height * 12) {
+        throw ImageError(path + ": file is truncated (its header says " + std::to_string(width) + "x" +
+                         std::to_string(height) + ")");
     }
     Image image(width, height);
     for (int y = height - 1; y >= 0; --y) {
@@ -135,6 +157,49 @@ Image readImage(const std::string& path) {
     throw ImageError(path + ": reading PNG is not supported (references must be linear: .exr or .pfm)");
 }
 
+namespace {
+
+// Walks the run-length encoded scanlines of a Radiance HDR file as stb_image decodes them, and refuses a run
+// of length 0 or one cut off by the end of the file: stb_image reads a count of 0 there (the end of the file
+// reads as zeros) and loops forever. Scanlines it reads unencoded have a fixed length and are not checked.
+void checkRadianceRuns(const std::string& bytes, const std::string& path) {
+    const size_t headerEnd = bytes.find("\n\n");
+    if (headerEnd == std::string::npos) return;  // stb_image reports the header's problem
+    const size_t resolutionEnd = bytes.find('\n', headerEnd + 2);
+    int height = 0, width = 0;
+    if (resolutionEnd == std::string::npos ||
+        std::sscanf(bytes.c_str() + headerEnd + 2, "-Y %d +X %d", &height, &width) != 2 || width < 8 ||
+        width >= 32768 || height <= 0) {
+        return;  // a layout stb_image refuses, or scanlines it reads unencoded
+    }
+    size_t at = resolutionEnd + 1;
+    const auto byteAt = [&](size_t i) {
+        return i < bytes.size() ? static_cast<unsigned char>(bytes[i]) : 0u;
+    };
+    for (int y = 0; y < height; ++y) {
+        if (byteAt(at) != 2 || byteAt(at + 1) != 2 || (byteAt(at + 2) & 0x80u) != 0)
+            return;  // unencoded from here
+        at += 4;
+        for (int component = 0; component < 4; ++component) {
+            for (int x = 0; x < width;) {
+                const unsigned count = byteAt(at);
+                if (at >= bytes.size() || count == 0)
+                    throw ImageError(path +
+                                     ": cannot read Radiance HDR: truncated or corrupt run-length data");
+                if (count > 128) {
+                    x += static_cast<int>(count - 128);
+                    at += 2;
+                } else {
+                    x += static_cast<int>(count);
+                    at += 1 + count;
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
 Image readRadianceImage(const std::string& path) {
     const std::string extension = lowerExtension(path);
     if (extension == ".exr") return readExr(path);
@@ -146,8 +211,12 @@ Image readRadianceImage(const std::string& path) {
         throw ImageError(path +
                          (std::filesystem::exists(path) ? ": not a Radiance HDR file" : ": cannot open"));
     }
+    std::ifstream file(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(file)), {});
+    checkRadianceRuns(bytes, path);
     int width = 0, height = 0, channels = 0;
-    float* rgb = stbi_loadf(path.c_str(), &width, &height, &channels, 3);
+    float* rgb = stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                        static_cast<int>(bytes.size()), &width, &height, &channels, 3);
     if (!rgb) throw ImageError(path + ": cannot read Radiance HDR: " + stbi_failure_reason());
     Image image(width, height);
     for (size_t i = 0; i < image.pixels.size(); ++i) {

@@ -1,8 +1,12 @@
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <system_error>
+#include <vector>
 
 #include <tiny_gltf.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -181,6 +185,31 @@ bool hasGlbMagic(const std::string& path) {
     return file.gcount() == 4 && std::string(magic, 4) == "glTF";
 }
 
+// tinygltf's file reading, refusing what is not a regular file: a buffer or image whose URI names a
+// directory had it read the directory's size as a file's and ask for that much memory.
+bool readRegularFile(std::vector<unsigned char>* out, std::string* error, const std::string& path,
+                     void* user) {
+    std::error_code status;
+    if (!std::filesystem::is_regular_file(path, status)) {
+        if (error) *error += "File is not a regular file: " + path + "\n";
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, error, path, user);
+}
+
+// The GLB header's version (glTF 2.0, 4.4.2: version 2; version 1 was glTF 1.0's binary extension).
+void checkGlbVersion(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    unsigned char header[8] = {};
+    file.read(reinterpret_cast<char*>(header), 8);
+    if (file.gcount() < 8) throw SceneError(path + ": not a valid GLB file (its header is cut short)");
+    const uint32_t version =
+        header[4] | header[5] << 8 | header[6] << 16 | static_cast<uint32_t>(header[7]) << 24;
+    if (version != 2)
+        throw SceneError(path + ": GLB version " + std::to_string(version) +
+                         "; vkrt reads GLB version 2 (glTF 2.0)");
+}
+
 }  // namespace
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
@@ -194,6 +223,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     // and range (tinygltf skips what has the wrong type). JSON that does not parse is left to tinygltf to
     // describe.
     const bool binary = hasGlbMagic(path);
+    if (binary) checkGlbVersion(path);
     nlohmann::json document = readGltfJson(path, binary);
     bool rewritten = false;
     if (!document.is_discarded()) {
@@ -205,6 +235,8 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
 
     tinygltf::TinyGLTF reader;
     reader.SetImageLoader(loadGltfImage, nullptr);
+    reader.SetFsCallbacks(
+        {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string error, warning;
     bool ok = false;

@@ -6,7 +6,11 @@
 #include <initializer_list>
 #include <iterator>
 #include <limits>
+#include <regex>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "scene/scene_error.h"
 
@@ -66,8 +70,9 @@ public:
 
     void document() {
         if (!root_.is_object()) fail("the document", "expected a JSON object");
+        nesting();
         const Json& asset = requiredObject(root_, "asset", "");
-        string(asset, "version", "asset", true);
+        version(asset);
         for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
             if (const Json* names = array(root_, key, "")) {
                 for (size_t i = 0; i < names->size(); ++i) {
@@ -154,6 +159,39 @@ private:
         throw SceneError(path_ + ": " + where + ": " + problem);
     }
 
+    // tinygltf reads nested JSON values by recursion, one call a level, and a file nested 20,000 levels deep
+    // (in extras, which it reads whole) overflows its stack. glTF itself needs a few levels.
+    void nesting() const {
+        constexpr size_t kMaxLevels = 512;
+        std::vector<std::pair<const Json*, size_t>> pending{{&root_, 1}};
+        while (!pending.empty()) {
+            const auto [value, level] = pending.back();
+            pending.pop_back();
+            if (level > kMaxLevels)
+                fail("the document", "JSON nested more than " + std::to_string(kMaxLevels) + " levels deep");
+            if (value->is_structured()) {
+                for (const Json& child : *value) pending.emplace_back(&child, level + 1);
+            }
+        }
+    }
+
+    // glTF 2.0, 3.5.1: a loader rejects an asset whose major version it does not read, or whose minVersion is
+    // newer than what it reads (vkrt reads 2.0).
+    void version(const Json& asset) const {
+        string(asset, "version", "asset", true);
+        const std::string version = asset["version"].get<std::string>();
+        static const std::regex kVersion("[0-9]+\\.[0-9]+");
+        if (!std::regex_match(version, kVersion))
+            fail("asset.version", "expected <major>.<minor>, got \"" + version + "\"");
+        if (version.substr(0, version.find('.')) != "2")
+            fail("asset.version", "glTF " + version + " is not glTF 2.x, which vkrt reads");
+        string(asset, "minVersion", "asset");
+        if (const Json* minVersion = find(asset, "minVersion");
+            minVersion && minVersion->get<std::string>() != "2.0")
+            fail("asset.minVersion",
+                 "requires glTF " + minVersion->get<std::string>() + "; vkrt reads glTF 2.0");
+    }
+
     static const Json* find(const Json& parent, const char* key) {
         const auto it = parent.find(key);
         return it == parent.end() ? nullptr : &*it;
@@ -203,6 +241,9 @@ private:
         if (!value.is_number()) fail(where, "expected a number");
         const double v = value.get<double>();
         if (!std::isfinite(v)) fail(where, "expected a finite number");
+        // vkrt keeps a scene's numbers in single precision, where larger ones would become infinite.
+        if (std::abs(v) > std::numeric_limits<float>::max())
+            fail(where, "expected a number within single precision's range, got " + shown(v));
         if (!range.contains(v)) fail(where, "expected a number " + range.text() + ", got " + shown(v));
     }
 
