@@ -3,6 +3,7 @@
 // roughness, and the occlusion texture dims the ambient term alone.
 #include <array>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -138,6 +139,73 @@ TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
         const float expected = c.metallic == 0.0f ? 0.8f * (1.0f - 0.04f) + 0.04f : 0.25f * 0.8f;
         EXPECT_NEAR(images[0][1].at(8, 8).x, expected, 1e-5f);
         test::expectMatchesReference(images[0][0], images[0][1], "metallic-roughness-texture");
+    }
+}
+
+TEST_F(GpuMaterials, ExtensionTexturesMultiplyTheirFactors) {
+    // Each texture of KHR_materials_specular, _clearcoat and _sheen, and the emissive texture, is read from its
+    // channel and multiplies its factor: a 1x1 texture whose channel holds t renders as the factor times t
+    // without it (colour textures: the sRGB bytes 0 and 255, which decode exactly), while the texture's other
+    // channels hold values that would show if read instead. Lit by a sun and the ambient term, both devices,
+    // both integrators; and the texture changes the image (the case can fail).
+    struct Case {
+        const char* slot;
+        uint32_t texel;                         // RGBA8, red in the lowest byte
+        std::function<void(Material&)> factor;  // the factor the texture multiplies, set to 1 or a colour
+        std::function<void(Material&)> scaled;  // that factor times the texel's value, without the texture
+        TextureSlot Material::*texture;
+    };
+    constexpr float t = 64.0f / 255.0f;  // the byte 0x40, read linearly
+    const std::vector<Case> cases = {
+        {"specular (alpha)", 0x40ffffffu, [](Material& m) { m.specularFactor = 1.0f; },
+         [&](Material& m) { m.specularFactor = t; }, &Material::specularTexture},
+        {"specular colour (sRGB)", 0x00ff00ffu, [](Material& m) { m.specularColor = glm::vec3(0.5f, 0.8f, 1.0f); },
+         [](Material& m) { m.specularColor = glm::vec3(0.5f, 0.0f, 1.0f); }, &Material::specularColorTexture},
+        {"clearcoat roughness (green)", 0xffff40ffu, [](Material& m) { m.clearcoatRoughness = 1.0f; },
+         [&](Material& m) { m.clearcoatRoughness = t; }, &Material::clearcoatRoughnessTexture},
+        {"sheen colour (sRGB)", 0x0000ffffu, [](Material& m) { m.sheenColor = glm::vec3(1.0f, 0.6f, 0.3f); },
+         [](Material& m) { m.sheenColor = glm::vec3(1.0f, 0.6f, 0.0f); }, &Material::sheenColorTexture},
+        {"sheen roughness (alpha)", 0x40ffffffu, [](Material& m) { m.sheenRoughness = 1.0f; },
+         [&](Material& m) { m.sheenRoughness = t; }, &Material::sheenRoughnessTexture},
+        {"emission (sRGB)", 0x00ff00ffu, [](Material& m) { m.emission = glm::vec3(2.0f, 1.0f, 0.5f); },
+         [](Material& m) { m.emission = glm::vec3(2.0f, 0.0f, 0.5f); }, &Material::emissiveTexture},
+    };
+    for (const Case& c : cases) {
+        for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+            SCOPED_TRACE(std::string(c.slot) + (integrator == Integrator::Path ? ", paths" : ", Whitted"));
+            Material material;  // a rough, coated, sheened dielectric: every slot above changes what it shows
+            material.baseColor = glm::vec4(0.4f, 0.3f, 0.2f, 1.0f);
+            material.metallic = 0.0f;
+            material.roughness = 0.4f;
+            material.clearcoat = 0.7f;
+            material.clearcoatRoughness = 0.3f;
+            material.sheenColor = glm::vec3(0.5f);
+            material.sheenRoughness = 0.5f;
+            Material textured = material, scaled = material, untextured = material;
+            c.factor(textured);
+            c.factor(untextured);
+            textured.*c.texture = TextureSlot{};
+            (textured.*c.texture).texture = 0;
+            c.scaled(scaled);
+            RenderSettings settings = ambientOnly(8);
+            settings.integrator = integrator;
+            Image images[3][2];  // [textured, scaled, factor alone][gpu, cpu]
+            const Material* materials[3] = {&textured, &scaled, &untextured};
+            for (int k = 0; k < 3; ++k) {
+                Scene scene;
+                scene.textures.push_back(textureOf(1, 1, {c.texel}));
+                scene.lights.push_back(sunAlong(glm::vec3(0.3f, -0.2f, -1.0f), 2.0));
+                const auto [gpu, cpu] = renderSquare(scene, *materials[k], settings);
+                images[k][0] = gpu.image;
+                images[k][1] = cpu.image;
+            }
+            for (int device = 0; device < 2; ++device) {
+                EXPECT_EQ(compareImages(images[0][device], images[1][device], 1e-5, 1e-7).fractionOff, 0.0)
+                    << (device == 0 ? "GPU" : "CPU") << ": the texture does not multiply its factor";
+                EXPECT_GT(compareImages(images[0][device], images[2][device], 1e-3, 1e-6).fractionOff, 0.9)
+                    << (device == 0 ? "GPU" : "CPU") << ": the texture changes nothing here";
+            }
+        }
     }
 }
 
