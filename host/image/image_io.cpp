@@ -136,16 +136,23 @@ unsigned char toSrgb8(double display) {
 void writeImage(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
     const ImageFormat format = imageFormatFromPath(path);
     writeFileAtomically(path, [&](const std::string& temporary) {
-        switch (format) {
-            case ImageFormat::Png:
-                writePng(image, temporary, exposure, toneMapping);
-                break;
-            case ImageFormat::Exr:
-                writeExr(image, temporary);
-                break;
-            case ImageFormat::Pfm:
-                writePfm(image, temporary);
-                break;
+        try {
+            switch (format) {
+                case ImageFormat::Png:
+                    writePng(image, temporary, exposure, toneMapping);
+                    break;
+                case ImageFormat::Exr:
+                    writeExr(image, temporary);
+                    break;
+                case ImageFormat::Pfm:
+                    writePfm(image, temporary);
+                    break;
+            }
+        } catch (const ImageError& e) {
+            // The error names the file asked for, not the temporary name it is written under first.
+            std::string message = e.what();
+            if (message.rfind(temporary, 0) == 0) message = path + message.substr(temporary.size());
+            throw ImageError(message);
         }
     });
 }
