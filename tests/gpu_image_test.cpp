@@ -38,7 +38,8 @@ class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
 
 TEST_P(GpuImage, MatchesCpuReference) {
     const SceneCase& c = GetParam();
-    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal()) GTEST_SKIP();
+    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal())
+        GTEST_SKIP() << c.path << " is missing: ../shared/scenes-real is not beside the checkout";
     Scene scene = loadGltf(c.path);
     const FlatBvh bvh = bvhFor(scene);
     // The settings, camera and lighting the command would choose (the neutral environment of scenes without
