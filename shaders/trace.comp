@@ -206,16 +206,19 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 }
 
 // One finished sample into the pixel's Kahan-compensated sum (rgb and the finite-sample count). A sample whose
-// BVH walk was cut short (traverse.glsl) or that is not finite is discarded and counted.
+// BVH walk was cut short (traverse.glsl), that is not finite, or that would take the single-precision sum
+// beyond its range (radiance near 1e38, where the CPU's double sums hold) is discarded and counted.
 void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise vec4 sumLost, inout uint nonFinite) {
     if (complete && allFinite(value)) {
         precise const vec4 corrected = vec4(value, 1.0) - sumLost;
         precise const vec4 next = sum + corrected;
-        sumLost = (next - sum) - corrected;
-        sum = next;
-    } else {
-        ++nonFinite;
+        if (allFinite(next.xyz)) {
+            sumLost = (next - sum) - corrected;
+            sum = next;
+            return;
+        }
     }
+    ++nonFinite;
 }
 
 // The camera ray of sample `s` of the pixel at `xy`; sets the context's sample index (and the shutter time).
@@ -406,9 +409,13 @@ void main() {
     precise vec4 lost = params.accumulation.pixels[2u * slot + 1u];
     precise const vec4 corrected = (sum - sumLost) - lost;
     precise const vec4 next = total + corrected;
-    lost = (next - total) - corrected;
-    params.accumulation.pixels[2u * slot] = next;
-    params.accumulation.pixels[2u * slot + 1u] = lost;
+    if (allFinite(next.xyz)) {
+        lost = (next - total) - corrected;
+        params.accumulation.pixels[2u * slot] = next;
+        params.accumulation.pixels[2u * slot + 1u] = lost;
+    } else {
+        nonFinite += uint(sum.w);  // this dispatch's samples would take the pixel's sum beyond float's range
+    }
     addToCounter(VKRT_COUNTER_PRIMARY, primaryRays);
     addToCounter(VKRT_COUNTER_SHADOW, vkrtShadowRays);
     addToCounter(VKRT_COUNTER_SECONDARY, secondaryRays);

@@ -1,5 +1,8 @@
 // The vkrt command: help, exit codes, outputs and the stats JSON.
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -422,6 +425,35 @@ TEST(Cli, StatsReportTextureMemory) {
     ASSERT_EQ(result.exitCode, 0) << result.output;
     std::ifstream file(stats);
     EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], ((2 * 2 + 1) + (16 + 8 + 4 + 2 + 1) + (4 + 2 + 1)) * 4);
+}
+
+// Radiance near float's limit (an environment of strength 3e38): the GPU's single-precision sums would
+// overflow (their Kahan compensation then made NaN pixels while no sample was counted as lost); samples that
+// would take a sum beyond float's range are left out and counted instead, and vkrt warns. The CPU's double
+// sums hold them.
+TEST(Cli, RadianceBeyondFloatSumsIsLeftOutAndCounted) {
+    const auto folder = test::temporaryFolder();
+    for (const char* device : {"gpu", "cpu"}) {
+        SCOPED_TRACE(device);
+        const auto image = folder / (std::string(device) + ".pfm");
+        const auto stats = folder / (std::string(device) + ".json");
+        const auto result = test::runVkrt(
+            "--scene " + quoted(test::sourceDir() / "scenes/environment.gltf") + " --environment " +
+            quoted(test::sourceDir() / "scenes/sky.hdr") + " --environment-strength 3e38 --device " + device +
+            " --width 16 --height 10 --spp 4 --out " + quoted(image) + " --stats " + quoted(stats));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        const Image pixels = readImage(image.string());
+        for (const glm::vec3& p : pixels.pixels) ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+        std::ifstream file(stats);
+        const uint64_t lost = nlohmann::json::parse(file)["nonfinite_samples"];
+        if (std::string(device) == "gpu") {
+            EXPECT_GT(lost, 0u);
+            EXPECT_NE(result.output.find("samples were not finite and were left out"), std::string::npos)
+                << result.output;
+        } else {
+            EXPECT_EQ(lost, 0u);
+        }
+    }
 }
 
 // The shader is specialised to the scene: the Cornell box (area lights, flat Lambertian walls) compiles none

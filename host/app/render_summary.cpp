@@ -64,6 +64,12 @@ void printRenderSummary(const Options& options, const RunReport& report, int ran
                  report.stopped == StopReason::Requested ? "interrupted: " : "", options.outputPath.c_str(),
                  report.settings.width, report.settings.height, spp.c_str(), report.renderMs, mrays,
                  where.c_str());
+    // Samples left out of their pixels' averages: not finite, a BVH walk cut short, or (on the GPU) radiance
+    // that would take a pixel's single-precision sum beyond its range.
+    if (report.rays.nonFiniteSamples > 0) {
+        std::fprintf(stderr, "vkrt: warning: %llu samples were not finite and were left out of their pixels\n",
+                     static_cast<unsigned long long>(report.rays.nonFiniteSamples));
+    }
     // Each rank's share.
     for (size_t i = 0; i < report.ranks.size(); ++i) {
         const RunReport::Rank& r = report.ranks[i];
