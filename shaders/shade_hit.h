@@ -551,9 +551,6 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     }
 
     SurfaceResponse surface = surfaceResponse(material, inputs);
-#if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)  // else no specular layer anywhere
-    surface.diffuse *= diffuseShare(surface, dot(normal, toViewer));   // what the specular layer leaves the base
-#endif
 #ifdef VKRT_HAS_SHEEN
     if (maxComponent(surface.sheenColor) > 0.0) addSheen(VKRT_DEVICE_ARG surface, inputs.sheenRoughness, dot(normal, toViewer));
 #endif
@@ -568,6 +565,11 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
         eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
     }
+#endif
+#if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)  // else no specular layer anywhere
+    // What the specular layer leaves the base, at the index the reflection and transmission see: inside a
+    // volume, none beyond the critical angle, where the layer reflects everything.
+    surface.diffuse *= diffuseShare(surface, dot(normal, toViewer), eta);
 #endif
 #ifdef VKRT_HAS_ROUGH_SPECULAR
     if (context.energyCompensation) {
