@@ -423,13 +423,20 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "asset.version: glTF 1.0 is not glTF 2.x"},
+        {"version of 100,000 digits",  // std::regex_match recursed once a character, and overflowed the stack
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["asset"]["version"] = "2." + std::string(100000, '0') + "\nx";
+             writeJson(file, d);
+         },
+         "asset.version: expected <major>.<minor>, got \"2.000"},
         {"newer minor version required",
          [](auto&, auto& file) {
              json d = validTriangle();
              d["asset"] = {{"version", "2.1"}, {"minVersion", "2.1"}};
              writeJson(file, d);
          },
-         "asset.minVersion: requires glTF 2.1"},
+         "asset.minVersion: requires glTF \"2.1\""},
         {"number beyond single precision",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -555,6 +562,7 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
     const auto folder = test::temporaryFolder();
     const std::string scene = "'" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'";
     test::writeText(folder / "huge.pfm", "PF\n100000 100000\n-1.0\n");  // its pixels would need 120 GB
+    test::writeText(folder / "vast.pfm", "PF\n1000000000 1000000000\n-1.0\n");  // 12e18 bytes: past 64 bits
     Image notFinite(8, 8);
     notFinite.at(3, 2) = glm::vec3(std::numeric_limits<float>::infinity());
     writeImage(notFinite, (folder / "inf.pfm").string());
@@ -577,6 +585,9 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
                    (folder / "huge.pfm").string() + "'",
                "--reference: " + (folder / "huge.pfm").string() + ": file is truncated"},
           Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
+                   (folder / "vast.pfm").string() + "'",
+               "--reference: " + (folder / "vast.pfm").string() + ": file is truncated"},
+          Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
                    (folder / "inf.pfm").string() + "'",
                "inf.pfm: pixel (3, 2) is not finite"}}) {
         SCOPED_TRACE(c.options);
@@ -587,7 +598,7 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
         EXPECT_NE(result.output.find(c.expected), std::string::npos) << result.output;
     }
-    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 2) << "wrote nothing";
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 3) << "wrote nothing";
 }
 
 // A file name of 250 bytes is allowed (file systems take 255): the temporary name it is written under first

@@ -231,17 +231,16 @@ TEST_F(Gpu, WhiteFurnaceOpaqueDielectricNeverGainsEnergy) {
 
 TEST_F(Gpu, WhiteFurnacePartlyTransmissiveVolumeNeverGainsEnergy) {
     // A volume of transmission 0.5: light that refracts in meets the wall from inside, where beyond the
-    // critical angle the layer reflects everything and leaves the base nothing. (With the base's share taken at
-    // the outer index, 0.48 of the light was added at every such reflection: the furnace showed 3e5.) Light
-    // the base scatters inside into those angles stays there (the share depends on the viewer alone), so the
-    // sphere shows 0.79 to 0.93 (docs/materials.md).
-    furnaceTable(
-        context(), Surface::HalfGlass, "half glass",
-        [](float, const DiskMean& before, const DiskMean& after, const std::string& which) {
-            expectAtMostOne(before, 0.0, which);
-            expectAtMostOne(after, kTableAllowance, which);
-            EXPECT_GT(after.mean, 0.75) << which;
-        });
+    // critical angle the layer reflects everything and leaves the base nothing. (With the base's share taken
+    // at the outer index, 0.48 of the light was added at every such reflection: the furnace showed 3e5.)
+    // Light the base scatters inside into those angles stays there (the share depends on the viewer alone),
+    // so the sphere shows 0.79 to 0.93 (docs/materials.md).
+    furnaceTable(context(), Surface::HalfGlass, "half glass",
+                 [](float, const DiskMean& before, const DiskMean& after, const std::string& which) {
+                     expectAtMostOne(before, 0.0, which);
+                     expectAtMostOne(after, kTableAllowance, which);
+                     EXPECT_GT(after.mean, 0.75) << which;
+                 });
 }
 
 // The tables as the shared code reads them, on the host.

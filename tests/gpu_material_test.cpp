@@ -143,11 +143,11 @@ TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
 }
 
 TEST_F(GpuMaterials, ExtensionTexturesMultiplyTheirFactors) {
-    // Each texture of KHR_materials_specular, _clearcoat and _sheen, and the emissive texture, is read from its
-    // channel and multiplies its factor: a 1x1 texture whose channel holds t renders as the factor times t
-    // without it (colour textures: the sRGB bytes 0 and 255, which decode exactly), while the texture's other
-    // channels hold values that would show if read instead. Lit by a sun and the ambient term, both devices,
-    // both integrators; and the texture changes the image (the case can fail).
+    // Each texture of KHR_materials_specular, _clearcoat and _sheen, and the emissive texture, is read from
+    // its channel and multiplies its factor: a 1x1 texture whose channel holds t renders as the factor times
+    // t without it (colour textures: the sRGB bytes 0 and 255, which decode exactly), while the texture's
+    // other channels hold values that would show if read instead. Lit by a sun and the ambient term, both
+    // devices, both integrators; and the texture changes the image (the case can fail).
     struct Case {
         const char* slot;
         uint32_t texel;                         // RGBA8, red in the lowest byte
@@ -159,7 +159,8 @@ TEST_F(GpuMaterials, ExtensionTexturesMultiplyTheirFactors) {
     const std::vector<Case> cases = {
         {"specular (alpha)", 0x40ffffffu, [](Material& m) { m.specularFactor = 1.0f; },
          [&](Material& m) { m.specularFactor = t; }, &Material::specularTexture},
-        {"specular colour (sRGB)", 0x00ff00ffu, [](Material& m) { m.specularColor = glm::vec3(0.5f, 0.8f, 1.0f); },
+        {"specular colour (sRGB)", 0x00ff00ffu,
+         [](Material& m) { m.specularColor = glm::vec3(0.5f, 0.8f, 1.0f); },
          [](Material& m) { m.specularColor = glm::vec3(0.5f, 0.0f, 1.0f); }, &Material::specularColorTexture},
         {"clearcoat roughness (green)", 0xffff40ffu, [](Material& m) { m.clearcoatRoughness = 1.0f; },
          [&](Material& m) { m.clearcoatRoughness = t; }, &Material::clearcoatRoughnessTexture},
@@ -277,7 +278,8 @@ TEST_F(GpuMaterials, SpecularFactorZeroIsLambertian) {
 }
 
 // The rough lobes in closed form, written out here apart from the shaders: GGX's D, Heitz's height-correlated
-// Smith G2 and the Fresnel terms (Schlick's for metals, the exact one for dielectrics) with alpha = roughness^2.
+// Smith G2 and the Fresnel terms (Schlick's for metals, the exact one for dielectrics) with alpha =
+// roughness^2.
 double ggxDistribution(double cosHalf, double alpha) {
     const double a2 = alpha * alpha, d = cosHalf * cosHalf * (a2 - 1.0) + 1.0;
     return a2 / (M_PI * d * d);
@@ -297,23 +299,25 @@ double exactFresnel(double cosIn, double eta) {
 
 TEST_F(GpuMaterials, RoughLobesUnderASunMatchTheirClosedForm) {
     // Seen head-on (the orthographic camera: V = N), lit by a sun 35 degrees off the normal, without energy
-    // compensation and with nothing else in view: a rough metal shows F_Schlick(F0, V.H) D G2 / (4 cos_o cos_i)
-    // E cos_i, and a rough dielectric (ior 1.5) adds to its lobe (with the exact Fresnel term) the Lambertian
-    // base's albedo (1 - F(N.V)) / pi E cos_i. Both integrators, both devices. (alpha = roughness instead of
-    // its square fails every channel.)
+    // compensation and with nothing else in view: a rough metal shows F_Schlick(F0, V.H) D G2 / (4 cos_o
+    // cos_i) E cos_i, and a rough dielectric (ior 1.5) adds to its lobe (with the exact Fresnel term) the
+    // Lambertian base's albedo (1 - F(N.V)) / pi E cos_i. Both integrators, both devices. (alpha = roughness
+    // instead of its square fails every channel.)
     const glm::dvec3 toLight = glm::normalize(glm::dvec3(std::sin(0.61), 0.0, std::cos(0.61)));
     const glm::dvec3 halfway = glm::normalize(toLight + glm::dvec3(0.0, 0.0, 1.0));
     const double illuminance = 3.0, roughness = 0.6, alpha = roughness * roughness, cosIn = toLight.z;
     const double cosHalf = halfway.z, viewHalf = halfway.z;  // V = N = +z
-    const double lobe = ggxDistribution(cosHalf, alpha) / (1.0 + smithLambda(1.0, alpha) + smithLambda(cosIn, alpha)) /
-                        (4.0 * 1.0 * cosIn) * illuminance * cosIn;
+    const double lobe = ggxDistribution(cosHalf, alpha) /
+                        (1.0 + smithLambda(1.0, alpha) + smithLambda(cosIn, alpha)) / (4.0 * 1.0 * cosIn) *
+                        illuminance * cosIn;
     const glm::dvec3 metalColour(0.9, 0.6, 0.3);
     const double albedo = 0.5;
     for (const bool metal : {true, false}) {
         Material material;
         material.roughness = static_cast<float>(roughness);
         material.metallic = metal ? 1.0f : 0.0f;
-        material.baseColor = metal ? glm::vec4(glm::vec3(metalColour), 1.0f) : glm::vec4(glm::vec3(albedo), 1.0f);
+        material.baseColor =
+            metal ? glm::vec4(glm::vec3(metalColour), 1.0f) : glm::vec4(glm::vec3(albedo), 1.0f);
         glm::dvec3 expected;
         if (metal) {
             expected = (metalColour + (1.0 - metalColour) * std::pow(1.0 - viewHalf, 5.0)) * lobe;
@@ -334,7 +338,8 @@ TEST_F(GpuMaterials, RoughLobesUnderASunMatchTheirClosedForm) {
             const auto [gpu, cpu] = renderSquare(scene, material, settings);
             for (const Image* image : {&gpu.image, &cpu.image}) {
                 const glm::vec3 pixel = image->at(4, 4);
-                for (int c = 0; c < 3; ++c) EXPECT_NEAR(pixel[c], expected[c], 1e-5 * expected[c]) << "channel " << c;
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(pixel[c], expected[c], 1e-5 * expected[c]) << "channel " << c;
             }
         }
     }

@@ -140,10 +140,10 @@ Scene movingBoxScene(const std::vector<std::pair<float, float>>& keys, const std
 // (VKRT_shape) animated in a glTF file; the box also moves unevenly (fast, then slow, several motion
 // segments), where only the streak's integral is known: the box's width, whatever the motion. The GPU's
 // streak is the CPU's column for column, and the box's is the triangles'.
-// A smooth sphere (vertex normals radial) turning a quarter about its vertical axis during the shutter, lit by
-// a sun from the side: each moving triangle turns its vertex normals (given at the opening) with its face, so
-// the sphere looks as it does standing still. Normals left as they were at the opening would turn the lit side
-// by up to 90 degrees. Both devices, against each other and against the still sphere.
+// A smooth sphere (vertex normals radial) turning a quarter about its vertical axis during the shutter, lit
+// by a sun from the side: each moving triangle turns its vertex normals (given at the opening) with its face,
+// so the sphere looks as it does standing still. Normals left as they were at the opening would turn the lit
+// side by up to 90 degrees. Both devices, against each other and against the still sphere.
 TEST_F(Gpu, SmoothNormalsTurnWithAMovingMesh) {
     Scene still;
     Material white;
@@ -167,7 +167,8 @@ TEST_F(Gpu, SmoothNormalsTurnWithAMovingMesh) {
     turning.motionSegments = kSegments;
     for (const Triangle& t : still.triangles) {
         for (int k = 1; k <= kSegments; ++k) {
-            const glm::mat3 turn(glm::rotate(glm::mat4(1.0f), 1.5707963f * k / kSegments, glm::vec3(0.0f, 1.0f, 0.0f)));
+            const glm::mat3 turn(
+                glm::rotate(glm::mat4(1.0f), 1.5707963f * k / kSegments, glm::vec3(0.0f, 1.0f, 0.0f)));
             turning.trianglePoses.push_back({turn * t.v0, turn * t.v1, turn * t.v2, t.material});
         }
     }
@@ -178,10 +179,10 @@ TEST_F(Gpu, SmoothNormalsTurnWithAMovingMesh) {
     settings.width = settings.height = 32;
     settings.samplesPerPixel = 16;
     settings.ambient = glm::dvec3(0.0);
-    const auto [stillGpu, stillCpu] =
-        test::renderGpuAndCpu(context(), still, bvhFor(still), test::sphereCamera(), settings, test::shaderCacheDir());
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), turning, bvhFor(turning), test::sphereCamera(), settings, test::shaderCacheDir());
+    const auto [stillGpu, stillCpu] = test::renderGpuAndCpu(
+        context(), still, bvhFor(still), test::sphereCamera(), settings, test::shaderCacheDir());
+    const auto [gpu, cpu] = test::renderGpuAndCpu(context(), turning, bvhFor(turning), test::sphereCamera(),
+                                                  settings, test::shaderCacheDir());
     for (const auto& [moving, standing, device] :
          {std::tuple{&gpu.image, &stillGpu.image, "gpu"}, std::tuple{&cpu.image, &stillCpu.image, "cpu"}}) {
         // Inside the disk (away from the silhouette, where the turning facets cover pixels differently): the
@@ -189,9 +190,11 @@ TEST_F(Gpu, SmoothNormalsTurnWithAMovingMesh) {
         double worst = 0.0, brightest = 0.0;
         for (int y = 0; y < settings.height; ++y) {
             for (int x = 0; x < settings.width; ++x) {
-                const double u = 2.0 * (x + 0.5) / settings.width - 1.0, v = 2.0 * (y + 0.5) / settings.height - 1.0;
+                const double u = 2.0 * (x + 0.5) / settings.width - 1.0,
+                             v = 2.0 * (y + 0.5) / settings.height - 1.0;
                 if (u * u + v * v > 0.8 * 0.8) continue;
-                worst = std::max(worst, static_cast<double>(std::abs(moving->at(x, y).x - standing->at(x, y).x)));
+                worst =
+                    std::max(worst, static_cast<double>(std::abs(moving->at(x, y).x - standing->at(x, y).x)));
                 brightest = std::max(brightest, static_cast<double>(standing->at(x, y).x));
             }
         }

@@ -154,7 +154,8 @@ TEST(Microfacet, GgxDistributionIsNormalised) {
 TEST(Microfacet, VisibleNormalSamplingMatchesItsDensity) {
     // The mean of G2 / G1 over sampled reflections equals the hemispherical integral of the F = 1 lobe,
     // D G2 / (4 cos_o), and ggxReflectionPdf integrates over the upper hemisphere to the fraction of samples
-    // that land there: the sampler draws what the density says. The integral stays below 1 (energy never grows).
+    // that land there: the sampler draws what the density says. The integral stays below 1 (energy never
+    // grows).
     for (double alpha : {0.2, 0.6, 1.0}) {
         for (double thetaOut : {0.3, 1.2}) {
             const glm::dvec3 out(std::sin(thetaOut), 0.0, std::cos(thetaOut));
@@ -181,7 +182,8 @@ TEST(Microfacet, VisibleNormalSamplingMatchesItsDensity) {
             EXPECT_NEAR(sampled, integral, 0.005) << "alpha " << alpha << " theta " << thetaOut;
             EXPECT_LE(integral, 1.0);
             // The density over the upper hemisphere is the fraction of sampled reflections that land there.
-            EXPECT_NEAR(density, static_cast<double>(above) / samples, 0.005) << "alpha " << alpha << " theta " << thetaOut;
+            EXPECT_NEAR(density, static_cast<double>(above) / samples, 0.005)
+                << "alpha " << alpha << " theta " << thetaOut;
         }
     }
 }

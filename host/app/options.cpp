@@ -21,6 +21,10 @@
 namespace vkrt {
 namespace {
 
+// Values from here on round to infinity in single precision, where the renderers keep them: FLT_MAX plus half
+// its last place, 2^128 - 2^103.
+constexpr double kBeyondFloat = 0x1.ffffffp+127;
+
 // A colour: one value for grey, or three separated by commas (R,G,B). Empty when malformed.
 std::optional<glm::dvec3> parseColor(const std::string& text) {
     std::vector<double> parts;
@@ -30,8 +34,7 @@ std::optional<glm::dvec3> parseColor(const std::string& text) {
         double value = 0.0;
         const char* end = part.data() + part.size();
         auto [ptr, error] = std::from_chars(part.data(), end, value);
-        if (error != std::errc() || ptr != end || !std::isfinite(value) ||
-            std::abs(value) > std::numeric_limits<float>::max()) {
+        if (error != std::errc() || ptr != end || !std::isfinite(value) || std::abs(value) >= kBeyondFloat) {
             return std::nullopt;
         }
         parts.push_back(value);
@@ -61,9 +64,8 @@ const CLI::Validator kFinite(
         if (!value) return "'" + text + "' is not a valid number";
         if (!std::isfinite(*value)) return "'" + text + "' is not finite";
         // The renderers keep such values in single precision, where larger ones would become infinite.
-        return std::abs(*value) <= std::numeric_limits<float>::max()
-                   ? std::string()
-                   : "'" + text + "' is beyond single precision's range (3.4e38)";
+        return std::abs(*value) < kBeyondFloat ? std::string()
+                                               : "'" + text + "' is beyond single precision's range (3.4e38)";
     },
     "");
 const CLI::Validator kPositive(

@@ -67,8 +67,11 @@ void printRenderSummary(const Options& options, const RunReport& report, int ran
     // Samples left out of their pixels' averages: not finite, a BVH walk cut short, or (on the GPU) radiance
     // that would take a pixel's single-precision sum beyond its range.
     if (report.rays.nonFiniteSamples > 0) {
-        std::fprintf(stderr, "vkrt: warning: %llu samples were not finite and were left out of their pixels\n",
-                     static_cast<unsigned long long>(report.rays.nonFiniteSamples));
+        std::fprintf(
+            stderr,
+            "vkrt: warning: %llu samples were not finite (or would overflow their pixel's sum) and were "
+            "left out\n",
+            static_cast<unsigned long long>(report.rays.nonFiniteSamples));
     }
     // Each rank's share.
     for (size_t i = 0; i < report.ranks.size(); ++i) {

@@ -1,5 +1,6 @@
 // SIGINT and SIGTERM: the first ends the render after the dispatch or pixel in flight, and the samples done
-// are written as usual; a second ends the process at once, as does the first before the render began.
+// are written as usual; a second ends the process at once. A first one while the scene loads ends the process
+// if the render has not begun 3 s later (loading does not look for it, and may never end).
 #pragma once
 
 #include <atomic>
@@ -9,7 +10,7 @@ namespace vkrt {
 // Installs the handler of both signals.
 void handleStopSignals();
 
-// From here on, the first signal stops the render instead of the process: called where a render begins.
+// Called where a render begins: a signal that came while loading now stops the render, not the process.
 void renderBegins();
 
 // Set by the first signal; the renderers read it through their StopCondition.

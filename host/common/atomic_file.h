@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iomanip>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -22,13 +23,20 @@ template <typename Write>
 void writeFileAtomically(const std::string& path, Write&& write) {
     std::random_device device;
     std::ostringstream suffix;
-    suffix << ".tmp-" << std::hex << device() << device();
+    suffix << ".tmp-" << std::hex << std::setfill('0') << std::setw(8) << device() << std::setw(8)
+           << device();
     // The file's name and the suffix, the name cut short where both would pass the 255 bytes a file name may
     // have (a valid name of 235 bytes or more had the write fail after the render).
     const std::filesystem::path target(path);
     std::string name = target.filename().string();
     constexpr size_t kLongestName = 255;
-    name.resize(std::min(name.size(), kLongestName - suffix.str().size()));
+    if (name.size() > kLongestName - suffix.str().size()) {
+        name.resize(kLongestName - suffix.str().size());
+        while (!name.empty() && (static_cast<unsigned char>(name.back()) & 0xc0u) == 0x80u)
+            name.pop_back();  // not inside a UTF-8 character
+        if (!name.empty() && (static_cast<unsigned char>(name.back()) & 0x80u) != 0)
+            name.pop_back();  // its lead
+    }
     const std::string temporary = (target.parent_path() / (name + suffix.str())).string();
     struct Published {  // the temporary file's name, visible to a signal handler while it exists
         explicit Published(const std::string& file) {

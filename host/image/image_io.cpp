@@ -44,7 +44,8 @@ void writePng(const Image& image, const std::string& path, double exposure, Tone
     std::ofstream file(path, std::ios::binary);
     if (!file) throw ImageError(path + ": cannot open for writing");
     file.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
-    if (!file.flush()) throw ImageError(path + ": write failed");
+    file.close();  // some file systems (NFS, quotas) report a failed write only here
+    if (file.fail()) throw ImageError(path + ": write failed");
 }
 
 void writeExr(const Image& image, const std::string& path) {
@@ -87,7 +88,7 @@ Image readPfm(const std::string& path) {
     file.seekg(0, std::ios::end);
     const std::streamoff end = file.tellg();
     file.seekg(start);
-    if (start < 0 || end - start < static_cast<std::streamoff>(width) * height * 12) {
+    if (start < 0 || (end - start) / 12 / width < height) {
         throw ImageError(path + ": file is truncated (its header says " + std::to_string(width) + "x" +
                          std::to_string(height) + ")");
     }

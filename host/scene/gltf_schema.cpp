@@ -6,7 +6,6 @@
 #include <initializer_list>
 #include <iterator>
 #include <limits>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -180,16 +179,28 @@ private:
     void version(const Json& asset) const {
         string(asset, "version", "asset", true);
         const std::string version = asset["version"].get<std::string>();
-        static const std::regex kVersion("[0-9]+\\.[0-9]+");
-        if (!std::regex_match(version, kVersion))
-            fail("asset.version", "expected <major>.<minor>, got \"" + version + "\"");
-        if (version.substr(0, version.find('.')) != "2")
+        // <major>.<minor>, each a run of digits (checked by hand: std::regex recurses once a character).
+        const size_t dot = version.find('.');
+        const auto digits = [](const std::string& text) {
+            return !text.empty() && text.size() <= 9 &&
+                   std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+        };
+        if (dot == std::string::npos || !digits(version.substr(0, dot)) || !digits(version.substr(dot + 1)))
+            fail("asset.version", "expected <major>.<minor>, got " + shownText(version));
+        if (version.substr(0, dot) != "2")
             fail("asset.version", "glTF " + version + " is not glTF 2.x, which vkrt reads");
         string(asset, "minVersion", "asset");
         if (const Json* minVersion = find(asset, "minVersion");
             minVersion && minVersion->get<std::string>() != "2.0")
             fail("asset.minVersion",
-                 "requires glTF " + minVersion->get<std::string>() + "; vkrt reads glTF 2.0");
+                 "requires glTF " + shownText(minVersion->get<std::string>()) + "; vkrt reads glTF 2.0");
+    }
+
+    // A string from the file as an error shows it: quoted and escaped (one line), cut short after 40 bytes.
+    static std::string shownText(const std::string& text) {
+        const std::string shown =
+            Json(text.substr(0, 40)).dump(-1, ' ', false, Json::error_handler_t::replace);
+        return text.size() > 40 ? shown + "..." : shown;
     }
 
     static const Json* find(const Json& parent, const char* key) {
@@ -241,8 +252,9 @@ private:
         if (!value.is_number()) fail(where, "expected a number");
         const double v = value.get<double>();
         if (!std::isfinite(v)) fail(where, "expected a finite number");
-        // vkrt keeps a scene's numbers in single precision, where larger ones would become infinite.
-        if (std::abs(v) > std::numeric_limits<float>::max())
+        // vkrt keeps a scene's numbers in single precision, where ones that round beyond its largest become
+        // infinite (from FLT_MAX + half its last place, 2^128 - 2^103).
+        if (std::abs(v) >= 0x1.ffffffp+127)
             fail(where, "expected a number within single precision's range, got " + shown(v));
         if (!range.contains(v)) fail(where, "expected a number " + range.text() + ", got " + shown(v));
     }
