@@ -74,6 +74,22 @@ VKRT_FN real3 rotateLike(real3 v, real3 from, real3 to, real tolerance) {
     return v * cosine + cross(k, v) * sine + k * dot(k, v) * (1.0 - cosine);
 }
 
+// `v` turned as a moving triangle turned between two of its poses: by the rotation that takes the frame of its
+// first edge and its unit normal in the first pose to that frame in the second (exact for a rigid motion; a
+// deforming triangle's first edge stands for its turn). The smallest rotation of the normal alone (rotateLike)
+// leaves out the triangle's turn about its normal, which shows in the tangents of normal textures. Frames that
+// are equal leave `v` as it is; a degenerate edge falls back on rotateLike.
+VKRT_FN real3 turnWithFace(real3 v, real3 edgeFrom, real3 normalFrom, real3 edgeTo, real3 normalTo, real tolerance) {
+    const real3 alongFrom = edgeFrom - normalFrom * dot(edgeFrom, normalFrom);
+    const real3 alongTo = edgeTo - normalTo * dot(edgeTo, normalTo);
+    const real lengthFrom = length(alongFrom), lengthTo = length(alongTo);
+    if (!(lengthFrom > 0.0) || !(lengthTo > 0.0)) return rotateLike(v, normalFrom, normalTo, tolerance);
+    const real3 tangentFrom = alongFrom / lengthFrom, tangentTo = alongTo / lengthTo;
+    if (tangentFrom == tangentTo && normalFrom == normalTo) return v;
+    return tangentTo * dot(v, tangentFrom) + cross(normalTo, tangentTo) * dot(v, cross(normalFrom, tangentFrom)) +
+           normalTo * dot(v, normalFrom);
+}
+
 // The unit normal of a triangle's plane (right-handed winding), its cross product evaluated as written: no
 // product is fused into a multiply-add, so a component whose two products are equal (0 on an axis-aligned face)
 // is exactly 0 on every device, as on the CPU; a fused one would leave it at plus or minus a rounding error,

@@ -161,8 +161,8 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 #ifdef VKRT_HAS_MOTION
         // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
         const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);
-        p.normal = rotateLike(p.normal, planeNormal(opened.v0, opened.v1, opened.v2),
-                              p.geometricNormal, 1e-6);
+        p.normal = turnWithFace(p.normal, opened.v1 - opened.v0, planeNormal(opened.v0, opened.v1, opened.v2),
+                                primitive.v1 - primitive.v0, p.geometricNormal, 1e-6);
 #endif
 #else
         p.normal = p.geometricNormal;
@@ -172,8 +172,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.tangent = barycentric(tangents.corner0, tangents.corner1, tangents.corner2, vec2(hit.u, hit.v));
 #ifdef VKRT_HAS_MOTION
         const GpuPrimitive atOpening = VKRT_PRIMITIVE(hit.primitive);
-        p.tangent.xyz = rotateLike(p.tangent.xyz, planeNormal(atOpening.v0, atOpening.v1, atOpening.v2),
-                                   p.geometricNormal, 1e-6);
+        p.tangent.xyz = turnWithFace(p.tangent.xyz, atOpening.v1 - atOpening.v0,
+                                     planeNormal(atOpening.v0, atOpening.v1, atOpening.v2), primitive.v1 - primitive.v0,
+                                     p.geometricNormal, 1e-6);
 #endif
 #endif
     }

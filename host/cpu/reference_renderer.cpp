@@ -97,25 +97,23 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
         return p;
     }
     const TriangleShading& shading = scene_.shading[hit.primitive];
-    p.geometricNormal = geometricNormalOf(scene_.triangleAt(hit.primitive, time));
+    const Triangle& opened = scene_.triangles[hit.primitive];  // at the shutter's opening
+    const Triangle now = scene_.triangleAt(hit.primitive, time);
+    p.geometricNormal = geometricNormalOf(now);
     p.normal =
         glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
                                             glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
-    // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
-    if (time > 0.0) {
-        p.normal = shading::rotateLike(p.normal, geometricNormalOf(scene_.triangles[hit.primitive]),
-                                       p.geometricNormal, 1e-12);
-    }
+    // A moving triangle turns its vertex normals and tangents (given at the shutter's opening) with its face.
+    const auto turned = [&](const glm::dvec3& v) {
+        return shading::turnWithFace(v, glm::dvec3(opened.v1 - opened.v0), geometricNormalOf(opened),
+                                     glm::dvec3(now.v1 - now.v0), p.geometricNormal, 1e-12);
+    };
+    if (time > 0.0) p.normal = turned(p.normal);
     if (!scene_.tangents.empty()) {
         const std::array<glm::vec4, 3>& t = scene_.tangents[hit.primitive];
         p.tangent = shading::barycentric(glm::dvec4(t[0]), glm::dvec4(t[1]), glm::dvec4(t[2]),
                                          glm::dvec2(hit.u, hit.v));
-        if (time > 0.0) {
-            const glm::dvec3 turned =
-                shading::rotateLike(glm::dvec3(p.tangent), geometricNormalOf(scene_.triangles[hit.primitive]),
-                                    p.geometricNormal, 1e-12);
-            p.tangent = glm::dvec4(turned, p.tangent.w);
-        }
+        if (time > 0.0) p.tangent = glm::dvec4(turned(glm::dvec3(p.tangent)), p.tangent.w);
     }
     return p;
 }
