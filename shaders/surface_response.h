@@ -372,12 +372,12 @@ VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
 }
 
 // What the dielectric's specular layer leaves its diffuse base, seen at cosine cosView from the normal, eta the
-// relative index across the surface: 1 - max(F(cosView)), F the dielectric part's reflectance (scaled and tinted
-// by KHR_materials_specular), as KHR_materials_clearcoat layers its coat. The base loses what the layer reflects towards the viewer, so a
-// white surface reflects at most what it receives: all of it where the layer is smooth, a little less at
-// grazing where it is rough (a white furnace, gpu_energy_test.cpp). glTF's sample BRDF (2.0, Appendix B)
-// takes F at the half vector instead, and its mix over a white Lambertian base reflects up to 2% more than
-// it receives.
+// relative index across the surface: 1 - max(F(cosView)), F the dielectric part's reflectance (scaled and
+// tinted by KHR_materials_specular), as KHR_materials_clearcoat layers its coat. The base loses what the layer
+// reflects towards the viewer, so a white surface reflects at most what it receives: all of it where the layer
+// is smooth, a little less at grazing where it is rough (a white furnace, gpu_energy_test.cpp). glTF's sample
+// BRDF (2.0, Appendix B) takes F at the half vector instead, and its mix over a white Lambertian base reflects
+// up to 2% more than it receives.
 VKRT_FN real diffuseShare(VKRT_IN(SurfaceResponse) s, real cosView, real eta) {
     return 1.0 - maxComponent(dielectricReflectance(s, clamp(cosView, 0.0, 1.0), eta));
 }

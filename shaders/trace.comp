@@ -155,14 +155,17 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
     {
         surface = hitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1, primitive.v2, hit.u, hit.v);
         p.geometricNormal = planeNormal(primitive.v0, primitive.v1, primitive.v2);
+#ifdef VKRT_HAS_MOTION
+        // A moving triangle turns its vertex normals and tangents (given at the shutter's opening) with its face.
+        const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);
+        const vec3 openedEdge = opened.v1 - opened.v0, openedNormal = planeNormal(opened.v0, opened.v1, opened.v2);
+        const vec3 edgeNow = primitive.v1 - primitive.v0;
+#endif
 #ifdef VKRT_HAS_SMOOTH_NORMALS
         const GpuShading shading = gpuShadingAt(hit.primitive);
         p.normal = normalize(barycentric(shading.normalU0.xyz, shading.normalU1.xyz, shading.normalU2.xyz, vec2(hit.u, hit.v)));
 #ifdef VKRT_HAS_MOTION
-        // A moving triangle turns its vertex normals (given at the shutter's opening) with its face.
-        const GpuPrimitive opened = VKRT_PRIMITIVE(hit.primitive);
-        p.normal = turnWithFace(p.normal, opened.v1 - opened.v0, planeNormal(opened.v0, opened.v1, opened.v2),
-                                primitive.v1 - primitive.v0, p.geometricNormal, 1e-6);
+        p.normal = turnWithFace(p.normal, openedEdge, openedNormal, edgeNow, p.geometricNormal, 1e-6);
 #endif
 #else
         p.normal = p.geometricNormal;
@@ -171,10 +174,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         const GpuTangents tangents = gpuTangentsAt(hit.primitive);
         p.tangent = barycentric(tangents.corner0, tangents.corner1, tangents.corner2, vec2(hit.u, hit.v));
 #ifdef VKRT_HAS_MOTION
-        const GpuPrimitive atOpening = VKRT_PRIMITIVE(hit.primitive);
-        p.tangent.xyz = turnWithFace(p.tangent.xyz, atOpening.v1 - atOpening.v0,
-                                     planeNormal(atOpening.v0, atOpening.v1, atOpening.v2), primitive.v1 - primitive.v0,
-                                     p.geometricNormal, 1e-6);
+        p.tangent.xyz = turnWithFace(p.tangent.xyz, openedEdge, openedNormal, edgeNow, p.geometricNormal, 1e-6);
 #endif
 #endif
     }
