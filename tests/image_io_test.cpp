@@ -1,6 +1,9 @@
 // Image writers and metrics: exact round trips for linear formats, the sRGB curve, atomic writes.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -30,6 +33,29 @@ TEST(ImageIo, LinearFormatsRoundTripExactly) {
         EXPECT_EQ(compareImages(back, image).rmse, 0.0) << name;
         EXPECT_EQ(back.at(12, 0), image.at(12, 0)) << name;  // top-right stays top-right
     }
+}
+
+// A PFM written on Windows ends its header's lines in CR LF: the LF is the header's, not the first pixel's.
+TEST(ImageIo, PfmHeaderWithCrLfIsRead) {
+    const auto folder = test::temporaryFolder();
+    const Image image = gradient(5, 3);
+    const std::string path = (folder / "a.pfm").string();
+    writeImage(image, path);
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string header = "PF\n5 3\n-1.0\n";
+    ASSERT_EQ(bytes.compare(0, header.size(), header), 0);
+    std::ofstream(path, std::ios::binary) << "PF\r\n5 3\r\n-1.0\r\n" << bytes.substr(header.size());
+    const Image back = readImage(path);
+    ASSERT_EQ(back.width, 5);
+    ASSERT_EQ(back.height, 3);
+    EXPECT_EQ(compareImages(back, image).rmse, 0.0);
+    // A lone CR is the header's one separator: the pixels start right after it.
+    std::ofstream(path, std::ios::binary) << "PF\r5 3\r-1.0\r" << bytes.substr(header.size());
+    EXPECT_EQ(compareImages(readImage(path), image).rmse, 0.0);
+    // No separator at all is not a PFM.
+    std::ofstream(path, std::ios::binary) << "PF\n5 3\n-1.0" << bytes.substr(header.size());
+    EXPECT_THROW(readImage(path), ImageError);
 }
 
 TEST(ImageIo, SrgbEncoding) {

@@ -1,4 +1,5 @@
 #include "image/image_io.h"
+#include <cctype>
 
 #include <algorithm>
 #include <cmath>
@@ -79,14 +80,22 @@ Image readPfm(const std::string& path) {
     int width = 0, height = 0;
     double scale = 0.0;
     file >> magic >> width >> height >> scale;
-    file.get();
-    if (magic != "PF" || width <= 0 || height <= 0 || scale >= 0.0) {
+    const int separator = file.get();  // one whitespace character ends the header
+    if (magic != "PF" || width <= 0 || height <= 0 || scale >= 0.0 || !std::isspace(separator)) {
         throw ImageError(path + ": not a little-endian colour PFM");
     }
     // The pixels the header promises must be in the file before they are allocated.
-    const std::streamoff start = file.tellg();
+    std::streamoff start = file.tellg();
     file.seekg(0, std::ios::end);
     const std::streamoff end = file.tellg();
+    // A header whose lines end in CR LF (written on Windows) leaves its last LF before the pixels: it is the
+    // header's when the pixels then fill the rest of the file exactly.
+    const std::streamoff rest = end - start - 1;
+    if (separator == '\r' && start >= 0 && rest % 12 == 0 && rest / 12 % width == 0 &&
+        rest / 12 / width == height) {
+        file.seekg(start);
+        if (file.get() == '\n') ++start;
+    }
     file.seekg(start);
     if (start < 0 || (end - start) / 12 / width < height) {
         throw ImageError(path + ": file is truncated (its header says " + std::to_string(width) + "x" +
