@@ -1,7 +1,7 @@
 #include "image/image_io.h"
-#include <cctype>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
