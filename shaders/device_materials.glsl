@@ -65,7 +65,7 @@ float device_sheenTable(uint entry) { return gpuSheenAlbedo(entry); }
 
 #ifdef VKRT_HAS_ROUGH_SPECULAR
 float device_ggxAlbedoTable(uint entry) { return gpuGgxAlbedo(entry); }
-#ifdef VKRT_HAS_VOLUMES
+#if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
 float device_ggxDielectricAlbedoTable(uint entry) { return gpuGgxDielectricAlbedo(entry); }
 #endif
 #endif

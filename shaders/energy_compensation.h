@@ -107,7 +107,7 @@ VKRT_FN real ggxAlbedo(VKRT_DEVICE_PARAM real cosView, real roughness) {
                  fx * real(VKRT_DEVICE(ggxAlbedoTable)(row + size + 1u)));
 }
 
-#ifdef VKRT_HAS_VOLUMES
+#if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
 // E_eta(cosView, roughness, eta) of the dielectric table the device holds
 // (VKRT_DEVICE(ggxDielectricAlbedoTable)(entry)).
 VKRT_DEVICE_TEMPLATE

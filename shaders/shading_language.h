@@ -105,6 +105,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_ROUGH_SPECULAR
 #define VKRT_HAS_TRACED_LOBES
 #define VKRT_HAS_GLOSSY_LOBES
+#define VKRT_HAS_ROUGH_REFRACTION
 
 #else  // GLSL
 

@@ -417,7 +417,7 @@ VKRT_FN void addEnergyCompensation(VKRT_DEVICE_PARAM VKRT_INOUT(SurfaceResponse)
         s.metalCompensation = real3(1.0) + s.albedo * loss;
         const real3 opaqueF0 = min(dielectricF0(s.ior) * s.specularTint, real3(1.0)) * s.specularWeight;
         s.dielectricCompensation = real3(1.0) + opaqueF0 * loss;
-#ifdef VKRT_HAS_VOLUMES
+#if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
         if (refracts) {
             s.transmissionCompensation = 1.0 / ggxDielectricAlbedo(VKRT_DEVICE_ARG cosView, roughness, eta);
             s.dielectricCompensation =

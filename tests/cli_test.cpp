@@ -477,7 +477,7 @@ TEST(Cli, ShaderIsSpecialisedUnlessEveryFeatureIsAsked) {
     EXPECT_EQ(scene["features"], nlohmann::json::array({"area_lights"}));
     for (const char* feature : {"textures", "transmission", "volumes", "absorption", "punctual_lights",
                                 "spheres", "shapes", "motion_blur", "normal_maps", "alpha", "environment",
-                                "rough_specular", "traced_lobes", "glossy_lobes"}) {
+                                "rough_specular", "traced_lobes", "glossy_lobes", "rough_refraction"}) {
         EXPECT_NE(std::find(all["features"].begin(), all["features"].end(), feature), all["features"].end())
             << feature;
     }

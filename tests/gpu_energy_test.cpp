@@ -335,7 +335,8 @@ TEST(EnergyCompensation, TablesInterpolateTheAlbedoIntegral) {
 TEST(EnergyCompensation, OnlyScenesWithRoughLobesGetTheTables) {
     // A Lambertian surface (KHR_materials_specular 0) and mirrors have no lobe that loses energy: neither
     // code nor tables. A rough metal gets the conductor's table; rough glass (a volume) the dielectric's as
-    // well, and smooth glass beside a rough metal does not.
+    // well, and smooth glass beside a rough metal does not; nor does thin-walled rough glass (it passes light
+    // straight through), and their shaders leave out the dielectric table's read (rough_refraction).
     auto packed = [](const std::vector<Material>& materials) {
         Scene scene;
         scene.materials = materials;
@@ -358,8 +359,16 @@ TEST(EnergyCompensation, OnlyScenesWithRoughLobesGetTheTables) {
     EXPECT_TRUE(metal.features.roughSpecular);
     EXPECT_EQ(metal.ggxAlbedoTable.size(), static_cast<size_t>(VKRT_GGX_ALBEDO_SIZE * VKRT_GGX_ALBEDO_SIZE));
     EXPECT_TRUE(metal.ggxDielectricAlbedoTable.empty());
+    EXPECT_FALSE(metal.features.roughRefraction);
+    Material thinRoughGlass = roughGlass;
+    thinRoughGlass.thickness = 0.0f;
+    const GpuSceneData thin = packed({thinRoughGlass, smoothGlass});
+    EXPECT_TRUE(thin.features.roughSpecular && thin.features.volumes);
+    EXPECT_FALSE(thin.features.roughRefraction);
+    EXPECT_TRUE(thin.ggxDielectricAlbedoTable.empty());
     const GpuSceneData glass = packed({roughGlass});
     EXPECT_TRUE(glass.features.roughSpecular);
+    EXPECT_TRUE(glass.features.roughRefraction);
     EXPECT_FALSE(glass.ggxAlbedoTable.empty());
     EXPECT_EQ(glass.ggxDielectricAlbedoTable.size(),
               static_cast<size_t>(VKRT_GGX_DIELECTRIC_COS_SIZE * VKRT_GGX_DIELECTRIC_ROUGHNESS_SIZE *

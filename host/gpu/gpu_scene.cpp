@@ -236,12 +236,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     if (data.features.sheen) data.sheenTable = sheenAlbedoTable();
     if (data.features.roughSpecular) {
         data.ggxAlbedoTable = ggxAlbedoTable();
-        // The shader reads the dielectric's table only for a rough volume (a superset of the materials that
-        // refract roughly where their textures lower the factors).
-        if (data.features.volumes &&
-            std::any_of(scene.materials.begin(), scene.materials.end(), refractsRoughly)) {
-            data.ggxDielectricAlbedoTable = ggxDielectricAlbedoTable();
-        }
+        // The shader reads the dielectric's table only for a rough volume.
+        if (data.features.roughRefraction) data.ggxDielectricAlbedoTable = ggxDielectricAlbedoTable();
     }
     data.motionSegments = data.features.motion ? std::max(1, scene.motionSegments) : 0;
     data.environmentBackdrop = !scene.environment.neutral;

@@ -39,6 +39,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::roughSpecular, "rough_specular", "VKRT_HAS_ROUGH_SPECULAR"},
     {&SceneFeatures::tracedLobes, "traced_lobes", "VKRT_HAS_TRACED_LOBES"},
     {&SceneFeatures::glossyLobes, "glossy_lobes", "VKRT_HAS_GLOSSY_LOBES"},
+    {&SceneFeatures::roughRefraction, "rough_refraction", "VKRT_HAS_ROUGH_REFRACTION"},
 };
 
 // Whether some point of `material` may trace a lobe (surface_response.h's `traced` and `coatTraced`): a
@@ -144,6 +145,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
         features.absorption |= transmits && material.hasVolume() && absorbs(material);
+        features.roughRefraction |= transmits && refractsRoughly(material);
     }
     features.punctualLights = !scene.lights.empty();
     features.areaLights =

@@ -31,6 +31,7 @@ struct SceneFeatures {
     bool roughSpecular = false;  // a rough GGX lobe, whose energy loss is compensated
     bool tracedLobes = false;    // a material traces a lobe: mirror, glossy, metal, transmission or coat rays
     bool glossyLobes = false;    // a traced lobe can be rough (GGX visible-normal sampling), not a mirror
+    bool roughRefraction = false;  // a volume's surface can refract roughly (its compensation reads a table)
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
     bool environment = false;   // an environment map lights the scene (--environment)
 
