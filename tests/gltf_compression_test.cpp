@@ -373,6 +373,44 @@ TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
     expectSameTriangles(plain, loadGltf((folder / "quantized.glb").string()), 0.006f, 1e-6f);
 }
 
+// Normalized integer positions (gltfpack's output): the accessor's min and max are the stored integers (glTF
+// 2.0 section 3.6.2.5), which the scene's re-centring must normalize too. Taken as positions, they put the
+// centre 65535 times the node's scale away, and every float position relative to it lost its low digits.
+TEST(GltfCompression, NormalizedPositionsAreCentredByTheirNormalizedBounds) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    const Scene plain = loadGltf(writePlain(folder, g).string());
+    // Positions over [-1.5, 1.5] as unsigned 16-bit fractions of [0, 1] (padded to 8 bytes); the node scales
+    // them by 3 and moves them by -1.5.
+    std::vector<uint16_t> quantized;
+    for (size_t v = 0; v < g.positions.size() / 3; ++v) {
+        for (int c = 0; c < 3; ++c)
+            quantized.push_back(
+                static_cast<uint16_t>(std::lround((g.positions[3 * v + c] + 1.5f) / 3.0f * 65535.0f)));
+        quantized.push_back(0);
+    }
+    const std::string bin = bytesOf(quantized.data(), quantized.size() * 2) +
+                            bytesOf(g.normals.data(), g.normals.size() * 4) +
+                            bytesOf(g.indices.data(), g.indices.size() * 4);
+    const size_t p = quantized.size() * 2, n = g.normals.size() * 4, i = g.indices.size() * 4;
+    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}, {"byteStride", 8}},
+                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
+                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", i}}};
+    json accessors = gridAccessors(g, 0);
+    accessors[0]["componentType"] = 5123;
+    accessors[0]["normalized"] = true;
+    accessors[0]["min"] = {0, 26214, 0};  // y from -0.3 to 0.3
+    accessors[0]["max"] = {65535, 39321, 65535};
+    json file = document(accessors, views, json::array({{{"byteLength", bin.size()}}}));
+    file["nodes"][0]["scale"] = {3.0, 3.0, 3.0};
+    file["nodes"][0]["translation"] = {-1.5, -1.5, -1.5};
+    file["extensionsUsed"] = file["extensionsRequired"] = {"KHR_mesh_quantization"};
+    writeGlb(folder / "normalized.glb", file, bin);
+    const Scene quantizedScene = loadGltf((folder / "normalized.glb").string());
+    EXPECT_LT(glm::length(quantizedScene.origin - plain.origin), 1e-3) << quantizedScene.origin.x;
+    expectSameTriangles(plain, quantizedScene, 1e-4f, 1e-6f);
+}
+
 // A triangle (quad.bin: writeQuadData) whose material shows textures[0], `texture`, over `images`.
 json texturedTriangle(json texture, json images, bool required) {
     json positions = floatAccessor(0, 3, "VEC3");

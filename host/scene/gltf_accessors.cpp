@@ -10,6 +10,22 @@
 #include "scene/scene_error.h"
 
 namespace vkrt {
+double normalizedValue(double stored, int componentType, bool normalized) {
+    if (!normalized) return stored;
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            return std::max(stored / 127.0, -1.0);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return stored / 255.0;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return std::max(stored / 32767.0, -1.0);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return stored / 65535.0;
+        default:
+            return stored;
+    }
+}
+
 namespace {
 
 int componentSize(int componentType) {
@@ -55,19 +71,19 @@ double decodeComponent(const unsigned char* p, int componentType, bool normalize
         case TINYGLTF_COMPONENT_TYPE_BYTE: {
             int8_t v;
             std::memcpy(&v, p, 1);
-            return normalized ? std::max(v / 127.0, -1.0) : v;
+            return normalizedValue(v, componentType, normalized);
         }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-            return normalized ? p[0] / 255.0 : p[0];
+            return normalizedValue(p[0], componentType, normalized);
         case TINYGLTF_COMPONENT_TYPE_SHORT: {
             int16_t v;
             std::memcpy(&v, p, 2);
-            return normalized ? std::max(v / 32767.0, -1.0) : v;
+            return normalizedValue(v, componentType, normalized);
         }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
             uint16_t v;
             std::memcpy(&v, p, 2);
-            return normalized ? v / 65535.0 : v;
+            return normalizedValue(v, componentType, normalized);
         }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
             uint32_t v;

@@ -13,6 +13,11 @@ class Model;
 
 namespace vkrt {
 
+// A component's value as the accessor means it: a normalized integer of `componentType` (glTF 2.0 section
+// 3.11) mapped to [0, 1] or [-1, 1], anything else as it is. Also for an accessor's min and max, which the
+// file gives as the stored integers (section 3.6.2.5: `normalized` has no effect on them).
+double normalizedValue(double stored, int componentType, bool normalized);
+
 class AccessorReader {
   public:
     AccessorReader(const tinygltf::Model& model, std::string file);

@@ -6,6 +6,7 @@
 
 #include <tiny_gltf.h>
 
+#include "scene/gltf_accessors.h"
 #include "scene/gltf_transforms.h"
 
 namespace vkrt {
@@ -101,10 +102,14 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                 }
                 const tinygltf::Accessor& accessor = model.accessors[position->second];
                 if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
+                // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
+                auto bound = [&](int corner, int axis) {
+                    const double stored =
+                        corner & (1 << axis) ? accessor.maxValues[axis] : accessor.minValues[axis];
+                    return normalizedValue(stored, accessor.componentType, accessor.normalized);
+                };
                 for (int corner = 0; corner < 8; ++corner) {
-                    const glm::dvec4 p(corner & 1 ? accessor.maxValues[0] : accessor.minValues[0],
-                                       corner & 2 ? accessor.maxValues[1] : accessor.minValues[1],
-                                       corner & 4 ? accessor.maxValues[2] : accessor.minValues[2], 1.0);
+                    const glm::dvec4 p(bound(corner, 0), bound(corner, 1), bound(corner, 2), 1.0);
                     grow(glm::dvec3(world * p));
                 }
             }
