@@ -377,6 +377,62 @@ TEST(GltfLoader, CamerasPerspectiveAndOrthographic) {
     EXPECT_THROW(selectCamera(scene, 2, 1.0), SceneError);
 }
 
+// A camera mirrored with what it sees sees it as before: its +X is to the right and its +Y up
+// (glTF 2.0 3.10.1), whatever the sign of its node's determinant. (Right as forward x up turned the image of
+// a mirrored scene.)
+TEST(GltfLoader, MirroredCameraKeepsItsAxes) {
+    const auto folder = test::temporaryFolder();
+    for (const char* scale : {"[1, 1, 1]", "[-1, 1, 1]", "[1, -1, 1]", "[-2, -2, -2]"}) {
+        const std::filesystem::path file = folder / "mirrored.gltf";
+        test::writeText(file, std::string(R"({
+            "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0,
+            "scenes": [{"nodes": [0]}],
+            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],
+            "nodes": [
+                {"scale": )") + scale +
+                                  R"(, "rotation": [0, 0.3826834, 0, 0.9238795], "children": [1, 2]},
+                {"translation": [0.5, 0.2, -3], "extensions": {"VKRT_sphere": {"radius": 0.1}}},
+                {"camera": 0}
+            ]})");
+        const Scene scene = loadGltf(file.string());
+        ASSERT_EQ(scene.cameras.size(), 1u);
+        const Camera& camera = scene.cameras[0];
+        // The sphere lies right of the view's centre and above it, in front, wherever the parent puts both.
+        const glm::dvec3 toSphere = glm::dvec3(scene.spheres[0].center) - camera.position;
+        EXPECT_GT(glm::dot(toSphere, camera.forward), 0.0) << scale;
+        EXPECT_GT(glm::dot(toSphere, camera.right), 0.0) << scale;
+        EXPECT_GT(glm::dot(toSphere, camera.up), 0.0) << scale;
+        EXPECT_NEAR(glm::dot(camera.right, camera.forward), 0.0, 1e-12) << scale;
+        EXPECT_NEAR(glm::dot(camera.up, camera.forward), 0.0, 1e-12) << scale;
+        EXPECT_NEAR(glm::dot(camera.up, camera.right), 0.0, 1e-12) << scale;
+        EXPECT_NEAR(glm::length(camera.up), 1.0, 1e-12) << scale;
+    }
+}
+
+// A camera under a node scaled to nothing (a collapsed rig: valid glTF) is refused only when it is chosen.
+TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosen) {
+    const std::filesystem::path file = test::temporaryFolder() / "collapsed.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],
+        "nodes": [
+            {"extensions": {"VKRT_sphere": {"radius": 0.5}}},
+            {"translation": [0, 0, 3], "camera": 0},
+            {"scale": [0, 0, 0], "children": [3]},
+            {"camera": 0}
+        ]})");
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.cameras.size(), 2u);
+    EXPECT_NEAR(selectCamera(scene, 0, 1.0).forward.z, -1.0, 1e-12);
+    try {
+        selectCamera(scene, 1, 1.0);
+        ADD_FAILURE() << "the collapsed camera was chosen";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("camera 0: its node transform is singular"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(GltfLoader, PunctualLightsInPhotometricUnits) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("playcanvas-lights/Lights.glb");

@@ -42,6 +42,7 @@ Camera selectCamera(const Scene& scene, int index, double aspectRatio) {
                          " requested, but the file has " + std::to_string(scene.cameras.size()) +
                          " camera(s)");
     }
+    if (!scene.cameras[index].unusable.empty()) throw SceneError(scene.cameras[index].unusable);
     return scene.cameras[index];
 }
 

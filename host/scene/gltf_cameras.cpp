@@ -35,15 +35,23 @@ void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, c
         context.fail(where + " has unknown type '" + source.type + "'");
     }
     readCameraExtras(context, source.extras, where, camera);
-    // glTF cameras look down the node's -Z with +Y up; scale in the node is ignored (section 3.10.1).
+    // glTF cameras look down the node's -Z, with its +X to the right and its +Y up (section 3.10.1); scale
+    // and shear in the node are ignored (the axes made orthonormal, forward first). The right and up axes are
+    // each the node's own, not a cross product: under a mirroring transform (a negative determinant) the
+    // camera is mirrored with what it sees, and the image stays as it was.
     const glm::dmat3 linear(world);
     camera.position = glm::dvec3(world[3]);
     camera.forward = glm::normalize(linear * glm::dvec3(0.0, 0.0, -1.0));
-    glm::dvec3 up = linear * glm::dvec3(0.0, 1.0, 0.0);
-    camera.right = glm::normalize(glm::cross(camera.forward, up));
-    camera.up = glm::cross(camera.right, camera.forward);
-    if (!std::isfinite(camera.right.x + camera.right.y + camera.right.z))
-        context.fail(where + ": its node transform is singular");
+    const glm::dvec3 right = linear * glm::dvec3(1.0, 0.0, 0.0);
+    camera.right = glm::normalize(right - glm::dot(right, camera.forward) * camera.forward);
+    const glm::dvec3 up = linear * glm::dvec3(0.0, 1.0, 0.0);
+    camera.up = glm::normalize(up - glm::dot(up, camera.forward) * camera.forward -
+                               glm::dot(up, camera.right) * camera.right);
+    // A node scaled to nothing (a collapsed group) is valid glTF: its camera is refused only if chosen.
+    const double check = glm::dot(camera.forward + camera.right + camera.up, glm::dvec3(1.0));
+    if (!std::isfinite(check) || glm::length(glm::cross(camera.forward, camera.right)) < 0.5) {
+        camera.unusable = context.path + ": " + where + ": its node transform is singular";
+    }
     context.scene.cameras.push_back(camera);
 }
 

@@ -240,6 +240,8 @@ struct Camera {
     double aperture = 0.0;       // thin-lens radius (perspective only); 0 is a pinhole
     double focusDistance = 0.0;  // distance of the plane in focus, along `forward`
     bool generated = false;      // true for the default camera made when the file has none
+    std::string
+        unusable;  // why the camera cannot view the scene (a singular node transform); empty if it can
 };
 
 inline constexpr std::array<glm::vec4, 3> kVertexColorWhite = {glm::vec4(1.0f), glm::vec4(1.0f),
