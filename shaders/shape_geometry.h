@@ -316,9 +316,12 @@ struct CsgCrossing {
 
 // The first crossing of a CSG object's surface after distance tAfter and before tLimit, given each shape's
 // interval [tIn, tOut] along the ray (an empty one as (+inf, -inf)) and faces. The ray is inside shape i at
-// tAfter when tIn <= tAfter < tOut. Ends within VKRT_CSG_TIE of the first are crossed together; when that
-// changes the table's value, the crossing lies on the first shape whose own toggle would change it (else the
-// first toggled).
+// tAfter when tIn <= tAfter < tOut. The ends ahead are taken in order, in groups: ends of other shapes within
+// VKRT_CSG_TIE of a group's first are crossed together with it (coincident faces of different shapes, whose
+// computed distances differ by rounding); when that changes the table's value, the crossing lies on the first
+// shape whose own toggle would change it (else the first toggled). A shape's exit never joins its own entry's
+// group, however thin the shape: the tie grows with the distance, and a sheet 1e-4 thick seen from 40 units
+// away vanished when it did.
 VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_SHAPES],
                          uint faceIn[VKRT_CSG_MAX_SHAPES], uint faceOut[VKRT_CSG_MAX_SHAPES], uint count,
                          uvec4 tableLow, uvec4 tableHigh, real tAfter, real tLimit,
@@ -329,29 +332,39 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_S
     crossing.flip = false;
     crossing.groupEnd = tAfter;
     uint state = 0u;
+    uint enteredAhead = 0u, leftAhead = 0u;  // the shapes whose entry, or exit, lies ahead and is not crossed yet
     for (uint i = 0u; i < count; ++i) {
         if (tIn[i] <= tAfter && tAfter < tOut[i]) state |= 1u << i;
+        if (tIn[i] > tAfter) enteredAhead |= 1u << i;
+        if (tOut[i] > tAfter) leftAhead |= 1u << i;
     }
     const bool inside = csgTable(tableLow, tableHigh, state);
-    real cursor = tAfter;
+    real end = tAfter;  // the farthest end crossed so far
     for (uint pass = 0u; pass < 2u * count; ++pass) {
+        // The nearest end ahead: a shape's entry comes before its exit.
         real next = VKRT_INFINITY;
         for (uint i = 0u; i < count; ++i) {
-            if (tIn[i] > cursor) next = min(next, tIn[i]);
-            if (tOut[i] > cursor) next = min(next, tOut[i]);
+            if (((enteredAhead >> i) & 1u) != 0u) {
+                next = min(next, tIn[i]);
+            } else if (((leftAhead >> i) & 1u) != 0u) {
+                next = min(next, tOut[i]);
+            }
         }
         if (!(next < tLimit)) return false;
         const real groupEnd = next + VKRT_CSG_TIE * abs(next);
         uint toggled = 0u;
-        real last = next;
         for (uint i = 0u; i < count; ++i) {
-            if (tIn[i] > cursor && tIn[i] <= groupEnd) {
-                toggled ^= 1u << i;
-                last = max(last, tIn[i]);
-            }
-            if (tOut[i] > cursor && tOut[i] <= groupEnd) {
-                toggled ^= 1u << i;
-                last = max(last, tOut[i]);
+            const uint bit = 1u << i;
+            if ((enteredAhead & bit) != 0u) {
+                if (tIn[i] <= groupEnd) {
+                    toggled |= bit;
+                    enteredAhead &= ~bit;
+                    end = max(end, tIn[i]);
+                }
+            } else if ((leftAhead & bit) != 0u && tOut[i] <= groupEnd) {
+                toggled |= bit;
+                leftAhead &= ~bit;
+                end = max(end, tOut[i]);
             }
         }
         const uint after = state ^ toggled;
@@ -372,11 +385,10 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_S
             crossing.t = entersShape ? tIn[chosen] : tOut[chosen];
             crossing.face = entersShape ? faceIn[chosen] : faceOut[chosen];
             crossing.flip = entersShape != insideAfter;
-            crossing.groupEnd = last;
+            crossing.groupEnd = end;
             return true;
         }
         state = after;
-        cursor = last;
     }
     return false;
 }

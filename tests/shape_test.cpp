@@ -965,6 +965,12 @@ TEST_F(ShapeGpu, SilhouettesOfShapesMatchTheirAnalyticAreas) {
          insideOne(),
          1.0 * 0.6},
         {"box tumbled", {makeShape(VKRT_SHAPE_BOX, 0, tumbled)}, insideOne(), tumbledArea},
+        // A sheet 1e-5 thick seen from 5 units: both its faces lie within one CSG tie of the distance (2^-18
+        // of it), where a shape's exit once cancelled its own entry and the sheet vanished.
+        {"sheet thinner than the tie",
+         {makeShape(VKRT_SHAPE_BOX, 0, glm::scale(glm::dmat4(1.0), {0.5, 0.3, 5e-6}))},
+         insideOne(),
+         1.0 * 0.6},
         // Radius 0.4, height 1.4, axis along y: a 0.8 x 1.4 rectangle.
         {"cylinder from the side",
          {makeShape(VKRT_SHAPE_CYLINDER, 0, glm::scale(glm::dmat4(1.0), {0.4, 0.7, 0.4}))},
