@@ -341,6 +341,50 @@ TEST(ShapeLoader, ShapesTransformsMaterialsAndTruthTablesFollowTheFile) {
     expectTight(*ballSolid, ballExtent, glm::dvec3(ball[3]), "sheared ball");
 }
 
+// Two boxes moving through each other over the shutter meet only between its ends: the intersection's bounds
+// are those of what each box sweeps, not the pose-by-pose intersections (empty at both ends: the solid was
+// left out as empty, and one that met a little at the ends was cut to that).
+TEST(ShapeLoader, MovingIntersectionIsBoundedByWhatItsOperandsSweep) {
+    const auto folder = test::temporaryFolder();
+    const std::vector<float> keys = {0.0f, 1.0f, -1.0f, 0.0f, 0.0f,  1.0f, 0.0f,
+                                     0.0f, 1.0f, 0.0f,  0.0f, -1.0f, 0.0f, 0.0f};
+    test::writeText(folder / "keys.bin",
+                    std::string(reinterpret_cast<const char*>(keys.data()), keys.size() * 4));
+    json nodes = json::array();
+    nodes.push_back(
+        {{"name", "meeting"}, {"children", {1, 2}}, {"extensions", csgExtension("intersection")}});
+    nodes.push_back({{"name", "a"}, {"scale", {0.5, 0.5, 0.5}}, {"extensions", shapeExtension("box", 0)}});
+    nodes.push_back({{"name", "b"}, {"scale", {0.5, 0.5, 0.5}}, {"extensions", shapeExtension("box", 0)}});
+    json document = documentOf(nodes, {0});
+    document["scenes"][0]["extras"] = {{"shutter", {0.0, 1.0}}};
+    document["buffers"] = {{{"uri", "keys.bin"}, {"byteLength", 56}}};
+    document["bufferViews"] = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 8}},
+                               {{"buffer", 0}, {"byteOffset", 8}, {"byteLength", 24}},
+                               {{"buffer", 0}, {"byteOffset", 32}, {"byteLength", 24}}};
+    document["accessors"] = {{{"bufferView", 0},
+                              {"componentType", 5126},
+                              {"count", 2},
+                              {"type", "SCALAR"},
+                              {"min", {0.0}},
+                              {"max", {1.0}}},
+                             {{"bufferView", 1}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}},
+                             {{"bufferView", 2}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}}};
+    document["animations"] = {{{"samplers", {{{"input", 0}, {"output", 1}}, {{"input", 0}, {"output", 2}}}},
+                               {"channels",
+                                {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "translation"}}}},
+                                 {{"sampler", 1}, {"target", {{"node", 2}, {"path", "translation"}}}}}}}};
+    const Scene scene = loadGltf(writeDocument(folder, "meeting", document).string());
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    ASSERT_EQ(scene.solids.size(), 1u);
+    // Mid-shutter both boxes are at the origin: [-0.5, 0.5]^3 is the intersection then.
+    const Aabb& b = scene.solids[0].bounds;
+    const glm::dvec3 lo = glm::dvec3(b.min) + scene.origin, hi = glm::dvec3(b.max) + scene.origin;
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_LE(lo[axis], -0.5 + 1e-6) << axis;
+        EXPECT_GE(hi[axis], 0.5 - 1e-6) << axis;
+    }
+}
+
 TEST(ShapeLoader, EightShapesLoadAndTheirTableIsTheUnion) {
     // The limit itself: eight spheres in one union, a table of all 256 states.
     json nodes = json::array();

@@ -37,7 +37,7 @@ class SolidBuilder {
 
   private:
     bool inside(int operand, uint32_t state) const;
-    Aabb bounds(int operand, size_t pose) const;
+    Aabb bounds(int operand) const;  // over the shutter
     Shape placeShape(const tinygltf::Value& extension, const glm::dmat4& world, const std::string& where);
 
     GltfContext& context_;
@@ -178,14 +178,21 @@ bool SolidBuilder::inside(int index, uint32_t state) const {
     return false;
 }
 
-Aabb SolidBuilder::bounds(int index, size_t pose) const {
+Aabb SolidBuilder::bounds(int index) const {
     const Operand& operand = operands_[index];
-    if (operand.operation == Operation::Shape)
-        return shapeBounds(shapes_[operand.shape].type, poses_[operand.shape][pose]);
-    if (operand.operation == Operation::Difference) return bounds(operand.children[0], pose);
-    Aabb result = bounds(operand.children[0], pose);
+    if (operand.operation == Operation::Shape) {
+        // Over the shutter: a shape between two poses is a blend of them, inside their boxes' hull.
+        Aabb swept;
+        for (const glm::mat4& pose : poses_[operand.shape])
+            swept.grow(shapeBounds(shapes_[operand.shape].type, pose));
+        return swept;
+    }
+    if (operand.operation == Operation::Difference) return bounds(operand.children[0]);
+    // An intersection of what each operand sweeps over the shutter, not of the poses' boxes pose by pose: two
+    // shapes that meet only between two poses have an empty intersection at both.
+    Aabb result = bounds(operand.children[0]);
     for (size_t i = 1; i < operand.children.size(); ++i) {
-        const Aabb b = bounds(operand.children[i], pose);
+        const Aabb b = bounds(operand.children[i]);
         if (operand.operation == Operation::Union) {
             result.grow(b);
         } else {
@@ -202,10 +209,8 @@ void SolidBuilder::finish(int root) {
     solid.firstShape = static_cast<uint32_t>(scene.shapes.size());
     solid.shapeCount = static_cast<uint32_t>(shapes_.size());
     solid.table = truthTable(solid.shapeCount, [&](uint32_t state) { return inside(root, state); });
-    for (size_t pose = 0; pose < poses_[0].size(); ++pose) {
-        const Aabb b = bounds(root, pose);
-        if (!b.empty()) solid.bounds.grow(b);
-    }
+    const Aabb b = bounds(root);
+    if (!b.empty()) solid.bounds = b;
     if (solid.bounds.empty() || solid.table == std::array<uint32_t, 8>{}) {
         context_.warn(rootWhere_ + ": the solid is empty; it is left out");
         return;
