@@ -39,7 +39,7 @@ float device_textureDensity(uint primitive, vec2 hitUv, uint set) {
     if (p.kind == VKRT_PRIMITIVE_SPHERE) return sphereTextureDensity(p.v1.x, hitUv.y);
 #endif
 #ifdef VKRT_HAS_SHAPES
-    if (p.kind != VKRT_PRIMITIVE_TRIANGLE) return p.v1.x;  // a solid's (shape_geometry.h shapeTextureDensity)
+    if (p.kind != VKRT_PRIMITIVE_TRIANGLE) return 1.0;  // a solid's footprint is in its shape's units (shade_hit.h)
 #endif
     return triangleTextureDensity(p.v0, p.v1, p.v2, device_textureCoordinates(primitive, vec2(0.0), set),
                                   device_textureCoordinates(primitive, vec2(1.0, 0.0), set),

@@ -161,12 +161,22 @@ VKRT_FN real coneWidthAt(VKRT_IN(RayState) ray, real3 position) {
 #endif
 }
 
-// The footprint a texture lookup filters over (texture_sampling.h's sampleBinding) where `ray` meets a surface
-// of unit normal `normal` at `position`: the cone's width, stretched by the obliquity as an isotropic filter
-// can: the circle with the area of the elliptical footprint, width / sqrt(|cos|).
-VKRT_FN real textureFootprint(VKRT_IN(RayState) ray, real3 position, real3 normal) {
+// The footprint a texture lookup filters over (texture_sampling.h's sampleBinding) where `ray` meets the surface
+// at `hit`: the cone's width, stretched by the obliquity as an isotropic filter can: the circle with the area of
+// the elliptical footprint, width / sqrt(|cos|). On a solid it is in the texture coordinates of the shape hit
+// (the device's textureDensity is 1 there): a CSG object's shapes each have their own scale.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real textureFootprint(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {
 #ifdef VKRT_HAS_MIPMAPS
-    return coneWidthAt(ray, position) / sqrt(max(abs(dot(normal, ray.direction)), 1e-4));
+    real width = coneWidthAt(ray, hit.position) / sqrt(max(abs(dot(hit.geometricNormal, ray.direction)), 1e-4));
+#ifdef VKRT_HAS_SHAPES
+    if (hit.shape != VKRT_NO_PRIMITIVE) {
+        AffineRows toObject, toWorld;
+        VKRT_DEVICE(shapeMaps)(hit.shape, toObject, toWorld);
+        width *= shapeTextureDensity(dot(real3(toWorld.row0), cross(real3(toWorld.row1), real3(toWorld.row2))));
+    }
+#endif
+    return width;
 #else
     return 0.0;
 #endif
@@ -188,7 +198,7 @@ VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     if (material.alphaMode == VKRT_ALPHA_OPAQUE || layer >= VKRT_MAX_ALPHA_LAYERS) return false;
     const real coverage = coverageAt(VKRT_DEVICE_ARG material, hit.primitive, hit.uv,
-                                     textureFootprint(ray, hit.position, hit.geometricNormal));
+                                     textureFootprint(VKRT_DEVICE_ARG ray, hit));
     if (coverage >= 1.0) return false;
     if (coverage <= 0.0) return true;
     return real(vkrtLayered(context.seed, context.pixel, context.sampleIndex,
@@ -503,7 +513,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.transmits = false;
     result.scatters = false;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
-    const real footprint = textureFootprint(ray, hit.position, hit.geometricNormal);
+    const real footprint = textureFootprint(VKRT_DEVICE_ARG ray, hit);
     const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint);
 #ifdef VKRT_HAS_UNLIT
     if (material.unlit) {  // KHR_materials_unlit: the base colour, from either side, and nothing else

@@ -35,6 +35,7 @@
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
+#include "support/unit_square.h"
 
 namespace vkrt {
 namespace {
@@ -1043,6 +1044,54 @@ TEST_F(ShapeGpu, SilhouettesOfShapesMatchTheirAnalyticAreas) {
     expectSilhouettes(cases, [&](const Scene& s, const FlatBvh& b, const Camera& c, const RenderSettings& r) {
         return renderGpu(s, b, c, r);
     });
+}
+
+// A CSG object's shapes each have their own texture scale: the level of detail on a shape is its own. A box
+// of half-size 0.5 seen face-on by n = 16 pixels across its face reads a 64-texel checker of 4-texel squares
+// at level log2(64 / 16) = 2, one texel a pixel (NEAREST_MIPMAP_NEAREST): every pixel black or white, as the
+// box alone. With a tiny sphere as the union's first operand, whose scale once set the object's level, the
+// box came out the mip chain's grey.
+TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
+    std::vector<uint32_t> texels;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) texels.push_back(((x / 4 + y / 4) % 2 == 0) ? 0xffffffffu : 0xff000000u);
+    }
+    Material checker = test::lambertian(1.0f);
+    checker.ior = 1.0f;  // no specular layer: the albedo alone under ambient 1
+    checker.baseColorTexture.texture = 0;
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0};
+    camera.xmag = camera.ymag = 0.5;
+    RenderSettings settings = test::ambientOnly(16);
+    settings.maxDepth = 0;
+    const glm::dmat4 box = glm::scale(glm::dmat4(1.0), glm::dvec3(0.5));
+    const glm::dmat4 speck =
+        glm::translate(glm::dmat4(1.0), {0.0, 0.0, -1.0}) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.01));
+    for (const bool withSpeck : {false, true}) {
+        Scene scene;
+        scene.textures.push_back(test::textureOf(64, 64, texels));
+        scene.textures[0].minNearest = true;
+        scene.textures[0].mipmaps = MipmapMode::Nearest;
+        scene.materials = {checker};
+        if (withSpeck) {
+            addSolid(scene, {makeShape(VKRT_SHAPE_SPHERE, 0, speck), makeShape(VKRT_SHAPE_BOX, 0, box)},
+                     truthTable(2, [](uint32_t s) { return s != 0u; }));
+        } else {
+            addSolid(scene, {makeShape(VKRT_SHAPE_BOX, 0, box)}, insideOne());
+        }
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+        const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        for (const Image* image : {&gpu, &cpu}) {
+            int checkerPixels = 0;
+            for (const glm::vec3& pixel : image->pixels)
+                checkerPixels += pixel.x < 1e-5f || pixel.x > 1.0f - 1e-5f;
+            EXPECT_EQ(checkerPixels, 256)
+                << (withSpeck ? "with a speck first" : "alone") << ", " << (image == &gpu ? "gpu" : "cpu");
+        }
+    }
 }
 
 TEST_F(ShapeGpu, SilhouettesOfCsgObjectsMatchTheirAnalyticAreas) {

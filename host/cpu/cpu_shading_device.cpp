@@ -40,10 +40,8 @@ glm::dvec2 CpuShadingDevice::textureCoordinates(uint32_t primitive, glm::dvec2 h
 }
 
 double CpuShadingDevice::textureDensity(uint32_t primitive, glm::dvec2 hitUv, uint32_t set) const {
-    if (data_.scene.isSolid(primitive)) {
-        const Shape& shape = data_.scene.shapes[data_.scene.solidOf(primitive).firstShape];
-        return shading::shapeTextureDensity(glm::determinant(glm::dmat3(glm::dmat4(shape.toWorld))));
-    }
+    if (data_.scene.isSolid(primitive))
+        return 1.0;  // a solid's footprint is in its shape's units (shade_hit.h)
     if (data_.scene.isSphere(primitive)) {
         return shading::sphereTextureDensity(data_.scene.sphereAt(primitive, time_).radius, hitUv.y);
     }

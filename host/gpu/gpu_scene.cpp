@@ -73,13 +73,11 @@ gpu::GpuMaterial gpuMaterial(const shading::SurfaceMaterial& s, float thickness)
     return g;
 }
 
-// Solid `primitive` as a GpuPrimitive: its index in the kind's upper bits, its texture density in v1.x.
+// Solid `primitive` as a GpuPrimitive: its index in the kind's upper bits.
 gpu::GpuPrimitive solidPrimitive(const Scene& scene, uint32_t primitive) {
     const uint32_t solid = primitive - scene.firstSolid();
     const Shape& first = scene.shapes[scene.solidOf(primitive).firstShape];
-    const double density =
-        shading::shapeTextureDensity(glm::determinant(glm::dmat3(glm::dmat4(first.toWorld))));
-    return {glm::vec3(0.0f), first.material,  glm::vec3(static_cast<float>(density), 0.0f, 0.0f),
+    return {glm::vec3(0.0f), first.material,  glm::vec3(0.0f),
             primitive,       glm::vec3(0.0f), VKRT_PRIMITIVE_SOLID | (solid << VKRT_PRIMITIVE_INDEX_SHIFT)};
 }
 
