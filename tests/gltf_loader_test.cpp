@@ -433,6 +433,53 @@ TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosen) {
     }
 }
 
+// A primitive without POSITION is valid glTF and is not rendered (2.0 3.7.2.1): the rest of the file is.
+TEST(GltfLoader, PrimitiveWithoutPositionsIsLeftOutWithAWarning) {
+    const std::filesystem::path file = test::temporaryFolder() / "no-positions.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3"}],
+        "meshes": [{"primitives": [{"attributes": {"NORMAL": 0}}]}],
+        "nodes": [{"mesh": 0}, {"extensions": {"VKRT_sphere": {"radius": 0.5}}}]
+    })");
+    const Scene scene = loadGltf(file.string());
+    EXPECT_EQ(scene.primitiveCount(), 1u);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("mesh 0 primitive 0 has no POSITION attribute; it is left out"),
+              std::string::npos)
+        << scene.warnings[0];
+}
+
+// What the core schema leaves open stays open: an animation channel may target a path an extension defines
+// (passed over: it moves no node here), and `extras` are every application's, so vkrt's own keys there
+// holding something else (another tool's data) are passed over with a warning. (KHR_animation_pointer's
+// channels, which name no node, are refused by the tinygltf that Debian 12 packages.)
+TEST(GltfLoader, ExtensionPathsAndOtherToolsExtrasAreAccepted) {
+    const std::filesystem::path file = test::temporaryFolder() / "open.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0,
+        "scenes": [{"nodes": [0, 1], "extras": {"shutter": "1/60"}}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1},
+                     "extras": {"aperture": "f/2.8", "focusDistance": 2.5}}],
+        "accessors": [{"componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1]},
+                      {"componentType": 5126, "count": 2, "type": "SCALAR"}],
+        "animations": [{"samplers": [{"input": 0, "output": 1}],
+                        "channels": [{"sampler": 0, "target": {"node": 1, "path": "EXT_some_property"}}]}],
+        "nodes": [{"extensions": {"VKRT_sphere": {"radius": 0.5}}}, {"translation": [0, 0, 3], "camera": 0}]
+    })");
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.cameras.size(), 1u);
+    EXPECT_EQ(scene.cameras[0].aperture, 0.0);
+    EXPECT_EQ(scene.cameras[0].focusDistance, 2.5);
+    EXPECT_EQ(scene.shutterOpen, 0.0);
+    EXPECT_EQ(scene.shutterClose, 0.0);
+    ASSERT_EQ(scene.warnings.size(), 2u);
+    EXPECT_NE(scene.warnings[0].find("extras.shutter is not [open, close]; it is ignored"), std::string::npos)
+        << scene.warnings[0];
+    EXPECT_NE(scene.warnings[1].find("extras.aperture is not a number; it is ignored"), std::string::npos)
+        << scene.warnings[1];
+}
+
 TEST(GltfLoader, PunctualLightsInPhotometricUnits) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("playcanvas-lights/Lights.glb");

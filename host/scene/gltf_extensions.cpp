@@ -238,10 +238,20 @@ Sphere placeSphere(GltfContext& context, const tinygltf::Value& extension, const
     return {glm::vec3(center), static_cast<float>(worldRadius), material};
 }
 
-void readCameraExtras(const GltfContext& context, const tinygltf::Value& extras, const std::string& where,
+void readCameraExtras(GltfContext& context, const tinygltf::Value& extras, const std::string& where,
                       Camera& camera) {
-    camera.aperture = jsonNumber(context, extras, "aperture", 0.0, where + " extras");
-    camera.focusDistance = jsonNumber(context, extras, "focusDistance", 0.0, where + " extras");
+    // extras belong to every application: a key of vkrt's that holds no number was written by another tool
+    // for its own use ("aperture": "f/2.8"), and is passed over with a warning. A number is vkrt's to check.
+    auto read = [&](const char* key) {
+        if (!extras.IsObject() || !extras.Has(key)) return 0.0;
+        if (!extras.Get(key).IsNumber()) {
+            context.warn(where + ": extras." + key + " is not a number; it is ignored");
+            return 0.0;
+        }
+        return jsonNumber(context, extras, key, 0.0, where + " extras");
+    };
+    camera.aperture = read("aperture");
+    camera.focusDistance = read("focusDistance");
     if (camera.aperture < 0.0 || camera.focusDistance < 0.0)
         context.fail(where + ": aperture and focusDistance must be >= 0");
 }

@@ -45,7 +45,7 @@ Sphere placeSphere(GltfContext& context, const tinygltf::Value& extension, const
                    const std::string& where);
 
 // vkrt's camera extras {"aperture": lens radius, "focusDistance": d}.
-void readCameraExtras(const GltfContext& context, const tinygltf::Value& extras, const std::string& where,
+void readCameraExtras(GltfContext& context, const tinygltf::Value& extras, const std::string& where,
                       Camera& camera);
 
 }  // namespace vkrt

@@ -92,13 +92,15 @@ void GltfConverter::chooseShutter() {
     } else if (!model.scenes.empty()) {
         const tinygltf::Value& extras = model.scenes[std::max(0, model.defaultScene)].extras;
         if (extras.IsObject() && extras.Has("shutter")) {
+            // Not two numbers: another application's (extras are everyone's), passed over with a warning.
             const tinygltf::Value& shutter = extras.Get("shutter");
             if (!shutter.IsArray() || shutter.ArrayLen() != 2 || !shutter.Get(0).IsNumber() ||
                 !shutter.Get(1).IsNumber()) {
-                context_.fail("the scene's extras.shutter must be [open, close]");
+                context_.warn("the scene's extras.shutter is not [open, close]; it is ignored");
+            } else {
+                scene.shutterOpen = shutter.Get(0).GetNumberAsDouble();
+                scene.shutterClose = shutter.Get(1).GetNumberAsDouble();
             }
-            scene.shutterOpen = shutter.Get(0).GetNumberAsDouble();
-            scene.shutterClose = shutter.Get(1).GetNumberAsDouble();
         }
     }
     if (!std::isfinite(scene.shutterOpen) || !std::isfinite(scene.shutterClose) ||

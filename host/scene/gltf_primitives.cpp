@@ -54,7 +54,12 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
 
     // Read the vertex attributes.
     auto position = primitive.attributes.find("POSITION");
-    if (position == primitive.attributes.end()) context_.fail(where + " has no POSITION attribute");
+    if (position == primitive.attributes.end()) {
+        // glTF 2.0 3.7.2.1: a primitive without positions (an extension may supply them) is not rendered.
+        context_.warn(where + " has no POSITION attribute; it is left out");
+        decoded.skipped = true;
+        return decoded;
+    }
     decoded.positions = accessors.readFloats(position->second, 3, where + " POSITION");
     const std::vector<float>& positions = decoded.positions;
     const size_t vertexCount = positions.size() / 3;

@@ -96,8 +96,6 @@ public:
         eachObject(root_, "scenes", "", [&](const Json& scene, const std::string& where) {
             name(scene, where);
             indices(scene, "nodes", where, "nodes", "node");
-            if (const Json* extras = find(scene, "extras"); extras && extras->is_object())
-                numbers(*extras, "shutter", member(where, "extras"), 2, kAny);
         });
         eachObject(root_, "nodes", "", [&](const Json& node, const std::string& where) { this->node(node, where); });
         eachObject(root_, "meshes", "", [&](const Json& mesh, const std::string& where) { this->mesh(mesh, where); });
@@ -548,10 +546,6 @@ private:
             number(o, "znear", at, kNonNegative, true);
             number(o, "zfar", at, kPositive, true);
         }
-        if (const Json* extras = find(camera, "extras"); extras && extras->is_object()) {
-            number(*extras, "aperture", member(where, "extras"), kNonNegative);
-            number(*extras, "focusDistance", member(where, "extras"), kNonNegative);
-        }
     }
 
     void animation(const Json& animation, const std::string& where) const {
@@ -573,7 +567,9 @@ private:
                 const Json& target = requiredObject(channel, "target", channelWhere);
                 const std::string targetWhere = member(channelWhere, "target");
                 index(target, "node", targetWhere, "nodes", "node");
-                string(target, "path", targetWhere, true, {"translation", "rotation", "scale", "weights"});
+                // The core four, or an extension's (KHR_animation_pointer's "pointer"): the schema allows any
+                // string, and channels that do not move nodes are passed over.
+                string(target, "path", targetWhere, true);
             },
             true, 1);
     }
