@@ -480,6 +480,25 @@ TEST(GltfLoader, ExtensionPathsAndOtherToolsExtrasAreAccepted) {
         << scene.warnings[1];
 }
 
+// Positions are stored relative to where the scene's detail is: a ground sphere of radius 1e5 under small
+// objects does not pull the origin towards its centre (the middle of all bounds lay 5e4 below them, where the
+// GPU's float positions kept a hundredth of a unit and contact shadows differed from the CPU's).
+TEST(GltfLoader, HugeGroundDoesNotPullTheOriginAway) {
+    const std::filesystem::path file = test::temporaryFolder() / "ground.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [
+            {"translation": [0, -100000, 0], "extensions": {"VKRT_sphere": {"radius": 100000}}},
+            {"translation": [0, 0.5, 0], "extensions": {"VKRT_sphere": {"radius": 0.5}}},
+            {"translation": [1.5, 0.3, 0.2], "extensions": {"VKRT_sphere": {"radius": 0.3}}}
+        ]})");
+    const Scene scene = loadGltf(file.string());
+    EXPECT_LT(glm::length(scene.origin - glm::dvec3(0.0, 0.5, 0.0)), 2.0) << scene.origin.y;
+    // Placed where the file says, whatever the origin.
+    EXPECT_NEAR(scene.spheres[2].center.x + scene.origin.x, 1.5, 1e-6);
+    EXPECT_NEAR(scene.spheres[0].center.y + scene.origin.y, -100000.0, 1e-2);
+}
+
 TEST(GltfLoader, PunctualLightsInPhotometricUnits) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("playcanvas-lights/Lights.glb");

@@ -1,5 +1,6 @@
 #include "scene/gltf_nodes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -78,11 +79,9 @@ void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots) {
 
 glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>& roots) {
     const tinygltf::Model& model = context.model;
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    auto grow = [&](const glm::dvec3& q) {
-        if (!std::isfinite(q.x + q.y + q.z)) return;
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
+    std::vector<glm::dvec3> centres;
+    auto add = [&](const glm::dvec3& q) {
+        if (std::isfinite(q.x + q.y + q.z)) centres.push_back(q);
     };
     // Depth first with a stack of its own: a hierarchy can be deeper than the call stack.
     std::vector<std::pair<int, glm::dmat4>> pending;
@@ -92,7 +91,7 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         pending.pop_back();
         const tinygltf::Node& node = model.nodes[nodeIndex];
         const glm::dmat4 world = parent * localTransform(context, nodeIndex);
-        // Grow by the 8 corners of each primitive's POSITION bounds.
+        // The centre of each primitive's POSITION bounds.
         if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) {
             for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
                 auto position = primitive.attributes.find("POSITION");
@@ -103,24 +102,32 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                 const tinygltf::Accessor& accessor = model.accessors[position->second];
                 if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
                 // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
-                auto bound = [&](int corner, int axis) {
-                    const double stored =
-                        corner & (1 << axis) ? accessor.maxValues[axis] : accessor.minValues[axis];
-                    return normalizedValue(stored, accessor.componentType, accessor.normalized);
-                };
-                for (int corner = 0; corner < 8; ++corner) {
-                    const glm::dvec4 p(bound(corner, 0), bound(corner, 1), bound(corner, 2), 1.0);
-                    grow(glm::dvec3(world * p));
+                glm::dvec4 centre(0.0, 0.0, 0.0, 1.0);
+                for (int axis = 0; axis < 3; ++axis) {
+                    centre[axis] = 0.5 * (normalizedValue(accessor.minValues[axis], accessor.componentType,
+                                                          accessor.normalized) +
+                                          normalizedValue(accessor.maxValues[axis], accessor.componentType,
+                                                          accessor.normalized));
                 }
+                add(glm::dvec3(world * centre));
             }
         }
-        // Grow by a sphere's centre.
+        // A sphere's or shape's centre.
         if (node.extensions.count("VKRT_sphere") || node.extensions.count("VKRT_shape"))
-            grow(glm::dvec3(world[3]));
+            add(glm::dvec3(world[3]));
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             pending.emplace_back(*child, world);
     }
-    return lo.x <= hi.x ? 0.5 * (lo + hi) : glm::dvec3(0.0);
+    if (centres.empty()) return glm::dvec3(0.0);
+    glm::dvec3 median;
+    std::vector<double> values(centres.size());
+    for (int axis = 0; axis < 3; ++axis) {
+        for (size_t i = 0; i < centres.size(); ++i) values[i] = centres[i][axis];
+        const auto middle = values.begin() + static_cast<std::ptrdiff_t>((values.size() - 1) / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        median[axis] = *middle;
+    }
+    return median;
 }
 
 }  // namespace vkrt

@@ -16,8 +16,11 @@ std::vector<int> sceneRoots(const GltfContext& context);
 // The node graph must be a forest: indices in range, no cycles, no node with two parents.
 void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots);
 
-// The centre of the bounds that the POSITION accessors' min and max give, placed by the node transforms
-// (instancing ignored); the origin when no accessor has bounds.
+// Where the scene's detail is: per axis, the median of its parts' centres (each mesh primitive's POSITION
+// bounds, from the accessors' min and max, and each sphere's and shape's centre), placed by the node
+// transforms (instancing ignored); the origin when there are none. A median, not the middle of all bounds:
+// a ground sphere of radius 1e5 under a few small objects would pull the middle 5e4 away from them, and
+// every position stored relative to it (in float on the GPU) would lose its low digits there.
 glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>& roots);
 
 }  // namespace vkrt
