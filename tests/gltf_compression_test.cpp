@@ -337,6 +337,24 @@ TEST(GltfCompression, DracoDataThatDoesNotDecodeIsRefused) {
     expectRefused(noSuchSlot, data, "no such attribute");
 }
 
+// A file of the grid with its positions as 16-bit integers (`quantized`: four a vertex, the last padding, so
+// 8 bytes a vertex), its normals and indices as they are: the accessors (the positions' to be completed by
+// the caller) and the views, with its binary in `bin`.
+template <typename Integer>
+json quantizedGridFile(const Grid& g, const std::vector<Integer>& quantized, std::string& bin,
+                       int componentType) {
+    static_assert(sizeof(Integer) == 2);
+    bin = bytesOf(quantized.data(), quantized.size() * 2) + bytesOf(g.normals.data(), g.normals.size() * 4) +
+          bytesOf(g.indices.data(), g.indices.size() * 4);
+    const size_t p = quantized.size() * 2, n = g.normals.size() * 4;
+    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}, {"byteStride", 8}},
+                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
+                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", g.indices.size() * 4}}};
+    json accessors = gridAccessors(g, 0);
+    accessors[0]["componentType"] = componentType;
+    return document(accessors, views, json::array({{{"byteLength", bin.size()}}}));
+}
+
 TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
     const auto folder = test::temporaryFolder();
     const Grid g = grid();
@@ -348,18 +366,10 @@ TEST(GltfCompression, IntegerPositionsNeedMeshQuantization) {
             quantized.push_back(static_cast<int16_t>(std::lround(100.0f * g.positions[3 * v + c])));
         quantized.push_back(0);
     }
-    const std::string bin = bytesOf(quantized.data(), quantized.size() * 2) +
-                            bytesOf(g.normals.data(), g.normals.size() * 4) +
-                            bytesOf(g.indices.data(), g.indices.size() * 4);
-    const size_t p = quantized.size() * 2, n = g.normals.size() * 4, i = g.indices.size() * 4;
-    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}, {"byteStride", 8}},
-                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
-                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", i}}};
-    json accessors = gridAccessors(g, 0);
-    accessors[0]["componentType"] = 5122;
-    accessors[0]["min"] = {-150, -30, -150};
-    accessors[0]["max"] = {150, 30, 150};
-    json file = document(accessors, views, json::array({{{"byteLength", bin.size()}}}));
+    std::string bin;
+    json file = quantizedGridFile(g, quantized, bin, 5122);
+    file["accessors"][0]["min"] = {-150, -30, -150};
+    file["accessors"][0]["max"] = {150, 30, 150};
     file["nodes"][0]["scale"] = {0.01, 0.01, 0.01};
     writeGlb(folder / "plain-integers.glb", file, bin);
     try {
@@ -389,19 +399,11 @@ TEST(GltfCompression, NormalizedPositionsAreCentredByTheirNormalizedBounds) {
                 static_cast<uint16_t>(std::lround((g.positions[3 * v + c] + 1.5f) / 3.0f * 65535.0f)));
         quantized.push_back(0);
     }
-    const std::string bin = bytesOf(quantized.data(), quantized.size() * 2) +
-                            bytesOf(g.normals.data(), g.normals.size() * 4) +
-                            bytesOf(g.indices.data(), g.indices.size() * 4);
-    const size_t p = quantized.size() * 2, n = g.normals.size() * 4, i = g.indices.size() * 4;
-    const json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", p}, {"byteStride", 8}},
-                        {{"buffer", 0}, {"byteOffset", p}, {"byteLength", n}},
-                        {{"buffer", 0}, {"byteOffset", p + n}, {"byteLength", i}}};
-    json accessors = gridAccessors(g, 0);
-    accessors[0]["componentType"] = 5123;
-    accessors[0]["normalized"] = true;
-    accessors[0]["min"] = {0, 26214, 0};  // y from -0.3 to 0.3
-    accessors[0]["max"] = {65535, 39321, 65535};
-    json file = document(accessors, views, json::array({{{"byteLength", bin.size()}}}));
+    std::string bin;
+    json file = quantizedGridFile(g, quantized, bin, 5123);
+    file["accessors"][0]["normalized"] = true;
+    file["accessors"][0]["min"] = {0, 26214, 0};  // y from -0.3 to 0.3
+    file["accessors"][0]["max"] = {65535, 39321, 65535};
     file["nodes"][0]["scale"] = {3.0, 3.0, 3.0};
     file["nodes"][0]["translation"] = {-1.5, -1.5, -1.5};
     file["extensionsUsed"] = file["extensionsRequired"] = {"KHR_mesh_quantization"};

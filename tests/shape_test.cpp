@@ -1081,9 +1081,9 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
             addSolid(scene, {makeShape(VKRT_SHAPE_BOX, 0, box)}, insideOne());
         }
         finalizeScene(scene);
-        const FlatBvh bvh = bvhFor(scene);
-        const Image gpu = renderGpu(scene, bvh, camera, settings).image;
-        const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+        const Image &gpu = pair.gpu.image, &cpu = pair.cpu.image;
         for (const Image* image : {&gpu, &cpu}) {
             int checkerPixels = 0;
             for (const glm::vec3& pixel : image->pixels)
