@@ -415,6 +415,33 @@ TEST_F(GpuSurfaces, RayConesPickTheMipmapLevel) {
     test::expectMatchesReference(gpu.image, cpu.image, "no-mipmaps");
 }
 
+TEST_F(GpuSurfaces, ATextureSharedByColourAndDataKeepsEachMeaningInItsMipmaps) {
+    // A one-texel checker read as occlusion (linear data) at level 3 (8 pixels across 64 texels) is 0.5 (128
+    // / 255 as its byte holds it): the mean of 0 and 1. Shared with another material's base colour (sRGB), it
+    // once got one mip chain averaged as colours and encoded, and occlusion read byte 188 as 0.737.
+    Material occluded = lambertian(1.0f);
+    occluded.ior = 1.0f;  // no specular layer: albedo 1 times occlusion under ambient 1
+    occluded.occlusionTexture.texture = 0;
+    for (const bool shared : {false, true}) {
+        Scene scene;
+        scene.textures.push_back(checkerTexture(1));
+        scene.textures[0].minNearest = true;
+        scene.textures[0].mipmaps = MipmapMode::Nearest;
+        if (shared) {
+            Material painted = lambertian(1.0f);
+            painted.baseColorTexture.texture = 0;
+            scene.materials.push_back(painted);  // on no surface: it only shares the texture
+        }
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, occluded, ambientOnly(8));
+        for (const Image* image : {&gpu.image, &cpu.image}) {
+            for (const glm::vec3& pixel : image->pixels) {
+                ASSERT_NEAR(pixel.x, 128.0 / 255.0, 1e-5)
+                    << (shared ? "shared" : "alone") << (image == &gpu.image ? " gpu" : " cpu");
+            }
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, TrilinearFilteringBlendsLevels) {
     // Between levels: at 12 pixels the level of detail is log2(64 / 12) = 2.415, so LINEAR_MIPMAP_LINEAR
     // blends level 2 (the checker of single texels, bilinear) with level 3 (uniform grey): the image's mean

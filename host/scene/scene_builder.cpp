@@ -140,7 +140,49 @@ void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<u
     scene.solids.push_back(solid);
 }
 
+namespace {
+
+// A texture read as colours by one slot (sRGB: base, emissive, specular and sheen colour) and as data by
+// another (linear) gets a copy for the data slots, since its mipmaps are averaged in one space
+// (shading_inputs.cpp's writeTexels): an occlusion map shared with a base colour read the colours' encoded
+// means, 0.737 for 0.5.
+void separateColourSpaces(Scene& scene) {
+    std::vector<bool> colour(scene.textures.size(), false), data(scene.textures.size(), false);
+    auto dataSlots = [](Material& m) {
+        return std::array<TextureSlot*, 9>{&m.metallicRoughnessTexture,  &m.occlusionTexture,
+                                           &m.specularTexture,           &m.normalTexture,
+                                           &m.transmissionTexture,       &m.clearcoatTexture,
+                                           &m.clearcoatRoughnessTexture, &m.clearcoatNormalTexture,
+                                           &m.sheenRoughnessTexture};
+    };
+    for (Material& m : scene.materials) {
+        for (const TextureSlot* slot :
+             {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture, &m.sheenColorTexture}) {
+            if (slot->used()) colour[slot->texture] = true;
+        }
+        for (const TextureSlot* slot : dataSlots(m)) {
+            if (slot->used()) data[slot->texture] = true;
+        }
+    }
+    std::vector<int> dataCopy(scene.textures.size(), -1);
+    for (size_t i = 0; i < colour.size(); ++i) {
+        const Texture& t = scene.textures[i];
+        if (!colour[i] || !data[i] || t.mipmaps == MipmapMode::None || (t.width <= 1 && t.height <= 1))
+            continue;
+        dataCopy[i] = static_cast<int>(scene.textures.size());
+        scene.textures.push_back(scene.textures[i]);
+    }
+    for (Material& m : scene.materials) {
+        for (TextureSlot* slot : dataSlots(m)) {
+            if (slot->used() && dataCopy[slot->texture] >= 0) slot->texture = dataCopy[slot->texture];
+        }
+    }
+}
+
+}  // namespace
+
 void finalizeScene(Scene& scene) {
+    separateColourSpaces(scene);
     // Triangles added after the last coloured one are white.
     if (!scene.vertexColors.empty()) scene.vertexColors.resize(scene.triangles.size(), kVertexColorWhite);
     if (!scene.uv1.empty()) scene.uv1.resize(scene.triangles.size(), {});
