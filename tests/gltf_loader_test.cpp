@@ -499,6 +499,48 @@ TEST(GltfLoader, HugeGroundDoesNotPullTheOriginAway) {
     EXPECT_NEAR(scene.spheres[0].center.y + scene.origin.y, -100000.0, 1e-2);
 }
 
+// Texture coordinates: a non-finite one is refused, as positions, colours and tangents are; a texture reading
+// TEXCOORD_1 on a mesh without it reads TEXCOORD_0, and vkrt says so.
+TEST(GltfLoader, TextureCoordinatesAreFiniteAndTheSetATextureReadsIsThere) {
+    const auto folder = test::temporaryFolder();
+    auto write = [&](float u, int texCoord) {
+        const std::vector<float> data = {0, 0, 0, 1, 0, 0, 0, 1, 0, u, 0, 1, 0, 0, 1};
+        test::writeText(folder / "triangle.bin", std::string(reinterpret_cast<const char*>(data.data()), 60));
+        const std::filesystem::path file = folder / "triangle.gltf";
+        test::writeText(file, R"({
+            "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+            "buffers": [{"uri": "triangle.bin", "byteLength": 60}],
+            "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                            {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 0]},
+                          {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
+            "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg=="}],
+            "textures": [{"source": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": )" +
+                                  std::to_string(texCoord) + R"(}}}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+            "nodes": [{"mesh": 0}]
+        })");
+        return file.string();
+    };
+    EXPECT_TRUE(loadGltf(write(0.5f, 0)).warnings.empty());
+    const Scene second = loadGltf(write(0.5f, 1));
+    ASSERT_EQ(second.warnings.size(), 1u);
+    EXPECT_NE(second.warnings[0].find(
+                  "has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0"),
+              std::string::npos)
+        << second.warnings[0];
+    try {
+        loadGltf(write(std::nanf(""), 0));
+        ADD_FAILURE() << "a NaN texture coordinate was accepted";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("TEXCOORD_0 has a non-finite value at vertex 0"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(GltfLoader, PunctualLightsInPhotometricUnits) {
     REQUIRE_SCENES_REAL();
     const Scene scene = loadReal("playcanvas-lights/Lights.glb");

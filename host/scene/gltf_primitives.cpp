@@ -73,15 +73,17 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         if (decoded.normals.size() != positions.size())
             context_.fail(where + " NORMAL and POSITION counts differ");
     }
-    if (auto it = primitive.attributes.find("TEXCOORD_0"); it != primitive.attributes.end()) {
-        decoded.uvs = accessors.readFloats(it->second, 2, where + " TEXCOORD_0");
-        if (decoded.uvs.size() / 2 != vertexCount)
-            context_.fail(where + " TEXCOORD_0 and POSITION counts differ");
-    }
-    if (auto it = primitive.attributes.find("TEXCOORD_1"); it != primitive.attributes.end()) {
-        decoded.uvs1 = accessors.readFloats(it->second, 2, where + " TEXCOORD_1");
-        if (decoded.uvs1.size() / 2 != vertexCount)
-            context_.fail(where + " TEXCOORD_1 and POSITION counts differ");
+    for (const char* set : {"TEXCOORD_0", "TEXCOORD_1"}) {
+        auto it = primitive.attributes.find(set);
+        if (it == primitive.attributes.end()) continue;
+        std::vector<float>& uvs = set[9] == '0' ? decoded.uvs : decoded.uvs1;
+        uvs = accessors.readFloats(it->second, 2, where + " " + set);
+        if (uvs.size() / 2 != vertexCount) context_.fail(where + " " + set + " and POSITION counts differ");
+        for (size_t i = 0; i < uvs.size(); ++i) {
+            if (!std::isfinite(uvs[i]))
+                context_.fail(where + " " + set + " has a non-finite value at vertex " +
+                              std::to_string(i / 2));
+        }
     }
     if (auto it = primitive.attributes.find("COLOR_0"); it != primitive.attributes.end()) {
         // VEC3 or VEC4, float or normalized integers, in [0, 1]; RGB gets alpha 1.
@@ -142,6 +144,17 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
                       ", which does not exist");
     } else {
         decoded.material = static_cast<uint32_t>(primitive.material);
+    }
+    // A texture that reads the second set where the primitive has none reads the first (the glTF validator
+    // calls it an error; vkrt says so and renders).
+    if (decoded.uvs1.empty()) {
+        for (const TextureSlot* slot : context_.scene.materials[decoded.material].textureSlots()) {
+            if (slot->used() && slot->texCoord == 1) {
+                context_.warn(where +
+                              " has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0");
+                break;
+            }
+        }
     }
     decodeTangents(primitive, decoded);
     return decoded;
