@@ -247,6 +247,17 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "no-such-image.png"},
+        {"image that is not one",
+         [](auto& folder, auto& file) {
+             test::writeText(folder / "garbage.png", "this is text, not a picture");
+             json d = validTriangle();
+             d["images"] = {{{"uri", "garbage.png"}}};
+             d["textures"] = {{{"source", 0}}};
+             d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+             d["meshes"][0]["primitives"][0]["material"] = 0;
+             writeJson(file, d);
+         },
+         "image 0 ('garbage.png') is not an image vkrt can decode"},
         {"unsupported required extension",
          [](auto&, auto& file) {
              json d = validTriangle();

@@ -14,8 +14,18 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* error, s
     const bool webp =
         size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0;
     if (!webp) {
-        return tinygltf::LoadImageData(image, imageIndex, error, warning, requiredWidth, requiredHeight,
-                                       bytes, size, userData);
+        std::string decodeError;
+        if (tinygltf::LoadImageData(image, imageIndex, &decodeError, warning, requiredWidth, requiredHeight,
+                                    bytes, size, userData)) {
+            return true;
+        }
+        // tinygltf's message names neither the file nor what it could be: say both.
+        if (error) {
+            *error += "image " + std::to_string(imageIndex) +
+                      (image->uri.empty() ? std::string(" (embedded)") : " ('" + image->uri + "')") +
+                      " is not an image vkrt can decode (PNG, JPEG, BMP, TGA, GIF, HDR, PNM or WebP). ";
+        }
+        return false;
     }
     int width = 0, height = 0;
     uint8_t* rgba = WebPDecodeRGBA(bytes, static_cast<size_t>(size), &width, &height);
