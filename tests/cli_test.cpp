@@ -371,6 +371,40 @@ TEST(Cli, ReportRecordsErrorAtEveryDoublingOfSamples) {
     }
 }
 
+// A render the time limit stops between two checkpoints ends its report with the image it writes: the last
+// checkpoint once was the one before, so the report, and the error vkrt printed, did not describe the image.
+TEST(Cli, ReportOfARenderStoppedByTheTimeLimitEndsWithTheImageWritten) {
+    const auto folder = test::temporaryFolder();
+    const auto reference = folder / "reference.pfm";
+    ASSERT_EQ(
+        test::runVkrt("--scene " + kCornell +
+                      " --quiet --device cpu --width 16 --height 16 --spp 256 --out " + quoted(reference))
+            .exitCode,
+        0);
+    for (const char* device : {"gpu", "cpu"}) {
+        SCOPED_TRACE(device);
+        const auto report = folder / "report.json", image = folder / "x.pfm";
+        const auto result =
+            test::runVkrt("--scene " + kCornell + " --quiet --device " + device +
+                          " --width 16 --height 16 --spp 1000000 --time-limit 0.3 --reference " +
+                          quoted(reference) + " --report " + quoted(report) + " --out " + quoted(image));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream file(report);
+        const nlohmann::json json = nlohmann::json::parse(file);
+        const nlohmann::json& last = json["checkpoints"].back();
+        EXPECT_EQ(last["samples"], json["spp"]) << "the samples every pixel has";
+        const Image written = readImage(image.string()), expected = readImage(reference.string());
+        double sum = 0.0;
+        for (size_t i = 0; i < written.pixels.size(); ++i) {
+            for (int c = 0; c < 3; ++c) {
+                const double d = double(written.pixels[i][c]) - double(expected.pixels[i][c]);
+                sum += d * d;
+            }
+        }
+        EXPECT_NEAR(last["rmse"].get<double>(), std::sqrt(sum / (3.0 * written.pixels.size())), 1e-9);
+    }
+}
+
 TEST(Cli, ReportWithoutReferenceMakesOneAndSaysSo) {
     const auto folder = test::temporaryFolder();
     const auto report = folder / "report.json";

@@ -256,6 +256,7 @@ RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSa
     // the same order either way, so the image does not depend on the passes.
     uint32_t done = first;
     uint32_t most = first;
+    uint32_t checkpointed = first;  // the samples of the last checkpoint's image
     while (done < endSample && result.stopped == StopReason::None) {
         // Passes double from one sample up to kMaxSamplesPerPass: the first image comes soon, and a pixel's
         // share of a pass stays short enough that stopping waits for little.
@@ -304,7 +305,16 @@ RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSa
             schedule.take(renderMs, [&] {
                 checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
             });
+            checkpointed = done;
         }
+    }
+    // A render stopped between checkpoints (time limit, interrupt) ends its report with the image it writes,
+    // counted by the samples every pixel has.
+    if (checkpoint && result.stopped != StopReason::None && (done != checkpointed || most > done)) {
+        const double renderMs = schedule.renderMs();
+        schedule.take(renderMs, [&] {
+            checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+        });
     }
     result.fewestSamples = done - first;
     result.mostSamples = std::max(done, most) - first;

@@ -296,6 +296,7 @@ RenderResult GpuRenderer::renderRange(uint32_t first, uint32_t end, std::vector<
     lastCopyMs_ = 0.0;
     unitsDone_ = 0;
     uint32_t done = first;  // samples every pixel has
+    uint32_t checkpointed = first;  // the samples of the last checkpoint's image
     try {
         // Passes end where the schedule says (every power of two, with checkpoints); within a pass, tile by
         // tile.
@@ -320,9 +321,22 @@ RenderResult GpuRenderer::renderRange(uint32_t first, uint32_t end, std::vector<
                     checkpoint(done, renderMs, report_.gpuMs,
                                averageOf(sums, settings_.width, settings_.height));
                 });
+                checkpointed = done;
             }
         }
         copyToHost();
+        // A render stopped between checkpoints (time limit, interrupt) ends its report with the image it
+        // writes, counted by the samples every pixel has.
+        // (Rows count their samples from `first`.)
+        const auto [fewest, most] = std::minmax_element(rowSamplesCopied_.begin(), rowSamplesCopied_.end());
+        const uint32_t every = first + *fewest;
+        if (checkpoint && result.stopped != StopReason::None && (every != checkpointed || *most > *fewest)) {
+            const double renderMs = schedule.renderMs();
+            schedule.take(renderMs, [&] {
+                checkpoint(every, renderMs, report_.gpuMs,
+                           averageOf(sums, settings_.width, settings_.height));
+            });
+        }
     } catch (const DeviceLostError& e) {
         // What the host holds is all there is: every row as of its last copy.
         report_.deviceLost = e.what();
