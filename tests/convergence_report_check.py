@@ -29,3 +29,31 @@ with tempfile.TemporaryDirectory() as out:
             assert summary[device]["slope"] < -0.2, (device, summary[device]["slope"])
         print("convergence report, %s: slopes gpu %.2f, cpu %.2f" % (integrator, summary["gpu"]["slope"],
                                                                     summary["cpu"]["slope"]))
+
+# A scene whose image is exactly black (its one light has intensity 0): every error is 0, which a log-log
+# fit and plot cannot hold; the tool writes its table with "-" (it once stopped with a traceback).
+dark = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 0.0}]}},
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [{"camera": 0, "translation": [0, 0, 3]}, {"mesh": 0},
+                  {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 2, 2]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [-1, -1, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,"
+                                              "AACAvwAAgL8AAAAAAACAPwAAgL8AAAAAAAAAAACAPwAAAAAA"}]}
+with tempfile.TemporaryDirectory() as out:
+    path = os.path.join(out, "dark.gltf")
+    with open(path, "w") as f:
+        json.dump(dark, f)
+    subprocess.run([sys.executable, tool, "--vkrt", vkrt, "--out-dir", out, "--width", "16", "--gpu-spp", "4",
+                    "--cpu-spp", "4", "--reference-spp", "16", "--integrators", "path", path], check=True,
+                   stdout=subprocess.DEVNULL)
+    summary = json.load(open(os.path.join(out, "summary.json")))["dark-path"]
+    for device in ("gpu", "cpu"):
+        assert all(p["rmse"] == 0.0 for p in summary[device]["checkpoints"]), summary[device]
+        assert summary[device]["slope"] is None, summary[device]["slope"]
+    assert "| dark | path | gpu | - |" in open(os.path.join(out, "table.md")).read()
+    print("convergence report, an exact black image: table and summary written")

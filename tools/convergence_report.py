@@ -45,8 +45,14 @@ def fit_slope(points):
     return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
 
 
+def positive(points):
+    """The checkpoints a log-log axis can hold: error and time above 0 (an exact image has RMSE 0)."""
+    return [p for p in points if p["rmse"] > 0 and p["render_ms"] > 0]
+
+
 def error_at(points, milliseconds):
     """RMSE at a given render time, interpolated in log-log between checkpoints (None outside them)."""
+    points = positive(points)
     for a, b in zip(points, points[1:]):
         if a["render_ms"] <= milliseconds <= b["render_ms"]:
             t = (math.log(milliseconds) - math.log(a["render_ms"])) / (math.log(b["render_ms"]) - math.log(a["render_ms"]))
@@ -56,6 +62,9 @@ def error_at(points, milliseconds):
 
 def time_to(points, rmse):
     """Render time at which the error first falls to `rmse`, interpolated in log-log (None if it never does)."""
+    if points and points[0]["rmse"] <= rmse:
+        return points[0]["render_ms"]
+    points = positive(points)
     for a, b in zip(points, points[1:]):
         if a["rmse"] > rmse >= b["rmse"] and a["render_ms"] > 0:
             t = (math.log(rmse) - math.log(a["rmse"])) / (math.log(b["rmse"]) - math.log(a["rmse"]))
@@ -68,7 +77,12 @@ def time_to(points, rmse):
 def svg_plot(path, title, series):
     """A log-log plot of RMSE against render time, one polyline per device, in plain SVG."""
     width, height, left, right, top, bottom = 640, 420, 70, 20, 40, 50
-    points = [p for _, pts, _ in series for p in pts if p["render_ms"] > 0 and p["rmse"] > 0]
+    points = [p for _, pts, _ in series for p in positive(pts)]
+    if not points:  # every error 0 (the image is exact): nothing a log axis can show
+        with open(path, "w") as f:
+            f.write('<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d"><text x="20" y="40">%s: '
+                    'every checkpoint has RMSE 0</text></svg>\n' % (width, height, title))
+        return
     x0 = math.floor(math.log10(min(p["render_ms"] for p in points)))
     x1 = math.ceil(math.log10(max(p["render_ms"] for p in points)))
     y0 = math.floor(math.log10(min(p["rmse"] for p in points)))
@@ -150,10 +164,12 @@ def main():
             series.append((device, points, slope))
             errors = [error_at(points, t) for t in times]
             reached = time_to(points, target)
-            table.append("| %s | %s | %s | %.2f | %s | %s |" % (
-                stem, integrator, device, slope, " | ".join("%.4g" % e if e else "-" for e in errors),
-                "%.0f" % reached if reached else "-"))
-            summary.setdefault(name, {})[device] = {"slope": slope, "integrator": integrator,
+            # No slope where fewer than two checkpoints have an error above 0: "-" here, null in the JSON.
+            finite = math.isfinite(slope)
+            table.append("| %s | %s | %s | %s | %s | %s |" % (
+                stem, integrator, device, "%.2f" % slope if finite else "-", " | ".join("%.4g" % e if e is not None else "-" for e in errors),
+                "%.0f" % reached if reached is not None else "-"))
+            summary.setdefault(name, {})[device] = {"slope": slope if finite else None, "integrator": integrator,
                                                     "ms_to_rmse_%g" % target: reached, "checkpoints": points}
         svg_plot(os.path.join(args.out_dir, name + ".svg"),
                  "%s, %s, %d px wide: error against render time" % (stem, integrator, args.width), series)
