@@ -194,6 +194,22 @@ TEST(RenderPolicy, HeightFollowsTheCameraAspectRatioWhenNotAsked) {
     EXPECT_EQ(setup.camera.name, "front");
 }
 
+TEST(RenderPolicy, HeightFollowsAnOrthographicCamerasMagnificationsWhenNotAsked) {
+    // xmag 2 and ymag 1 see a 4 x 2 view: a 64-pixel-wide image of it is 32 high, not stretched to 64.
+    Scene scene = darkSquare();
+    Camera camera = cameraInFront(0.0);
+    camera.projection = Projection::Orthographic;
+    camera.xmag = 2.0;
+    camera.ymag = 1.0;
+    scene.cameras.push_back(camera);
+    RenderRequest request;
+    request.settings.width = 64;
+    request.settings.height = 64;
+    EXPECT_EQ(resolveRender(request, scene).settings.height, 32);
+    request.height = 48;
+    EXPECT_EQ(resolveRender(request, scene).settings.height, 48);
+}
+
 TEST(RenderPolicy, AskedHeightWinsOverTheAspectRatio) {
     Scene scene = darkSquare();
     scene.cameras.push_back(cameraInFront(2.0));

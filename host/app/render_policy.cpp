@@ -47,13 +47,17 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
                          ")");
     }
 
-    // Image size: a file camera with an aspect ratio sets the height unless it was asked for.
+    // Image size: a file camera with an aspect ratio (a perspective camera's aspectRatio, an orthographic
+    // one's xmag / ymag) sets the height unless it was asked for, so the image is not stretched.
     if (request.height) {
         settings.height = *request.height;
-    } else if (request.camera >= 0 && request.camera < static_cast<int>(scene.cameras.size()) &&
-               scene.cameras[request.camera].aspectRatio > 0.0) {
-        settings.height = std::max(
-            1, static_cast<int>(std::lround(settings.width / scene.cameras[request.camera].aspectRatio)));
+    } else if (request.camera >= 0 && request.camera < static_cast<int>(scene.cameras.size())) {
+        const Camera& file = scene.cameras[request.camera];
+        const double aspect =
+            file.projection == Projection::Orthographic ? std::abs(file.xmag / file.ymag) : file.aspectRatio;
+        if (aspect > 0.0 && std::isfinite(aspect)) {
+            settings.height = std::max(1, static_cast<int>(std::lround(settings.width / aspect)));
+        }
     }
 
     // Camera, with the lens overrides; a lens without a focus distance focuses on the middle of the scene,
