@@ -1,6 +1,7 @@
 // The render policy: the integrator and its depth, which scenes count as lit, Whitted's ambient default, the
 // image height, the camera and its focus.
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include "app/render_policy.h"
 #include "scene/scene_builder.h"
@@ -208,6 +209,13 @@ TEST(RenderPolicy, HeightFollowsAnOrthographicCamerasMagnificationsWhenNotAsked)
     EXPECT_EQ(resolveRender(request, scene).settings.height, 32);
     request.height = 48;
     EXPECT_EQ(resolveRender(request, scene).settings.height, 48);
+    // It has no lens: an aperture is ignored, and vkrt says so.
+    request.aperture = 0.1;
+    const RenderSetup setup = resolveRender(request, scene);
+    EXPECT_EQ(setup.camera.aperture, 0.0);
+    EXPECT_TRUE(std::any_of(setup.warnings.begin(), setup.warnings.end(), [](const std::string& w) {
+        return w.find("an orthographic camera has no lens") != std::string::npos;
+    }));
 }
 
 TEST(RenderPolicy, AskedHeightWinsOverTheAspectRatio) {

@@ -280,7 +280,9 @@ struct CommandLine {
             ->check(kInteger)
             ->check(CLI::Range(0u, 2147483647u))
             ->capture_default_str();
-        app.add_option("--camera", options.request.camera, "which camera of the file to use (node order)")
+        app.add_option("--camera", options.request.camera,
+                       "which camera of the file to use, counted in the order the scene's nodes are walked "
+                       "(depth first from its roots)")
             ->type_name("N")
             ->check(kInteger)
             ->check(CLI::Range(0, 1 << 20))

@@ -66,6 +66,10 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     camera = selectCamera(scene, request.camera, static_cast<double>(settings.width) / settings.height);
     if (request.aperture) camera.aperture = *request.aperture;
     if (request.focusDistance) camera.focusDistance = *request.focusDistance;
+    if (camera.projection == Projection::Orthographic && camera.aperture > 0.0) {
+        setup.warnings.push_back("an orthographic camera has no lens: its aperture is ignored");
+        camera.aperture = 0.0;
+    }
     if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
         camera.focusDistance =
             std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
