@@ -1,7 +1,8 @@
 // The render policy: the integrator and its depth, which scenes count as lit, Whitted's ambient default, the
 // image height, the camera and its focus.
-#include <gtest/gtest.h>
 #include <algorithm>
+
+#include <gtest/gtest.h>
 
 #include "app/render_policy.h"
 #include "scene/scene_builder.h"
