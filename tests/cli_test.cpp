@@ -416,6 +416,14 @@ TEST(Cli, ReportWithoutReferenceMakesOneAndSaysSo) {
     EXPECT_NE(json["reference"].get<std::string>().find("64 spp, seed 1"), std::string::npos)
         << json["reference"];
     EXPECT_EQ(json["checkpoints"].size(), 3u);
+    // The reference renders all its samples whatever the time limit (a reference cut short would not be one):
+    // vkrt says so, since with many samples it can take far longer than the limit.
+    const auto limited =
+        test::runVkrt("--scene " + kCornell + " --width 16 --spp 4 --time-limit 60 --report " +
+                      quoted(report) + " --out " + quoted(folder / "x.png"));
+    ASSERT_EQ(limited.exitCode, 0) << limited.output;
+    EXPECT_NE(limited.output.find("--time-limit does not bound this reference (64 spp)"), std::string::npos)
+        << limited.output;
 }
 
 TEST(Cli, ReferenceOfTheWrongSizeIsBadInput) {

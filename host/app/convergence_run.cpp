@@ -54,6 +54,14 @@ std::string announceRenderedReference(const Options& options, const RenderSettin
                                std::to_string(referenceSettings.samplesPerPixel) + " spp, seed " +
                                std::to_string(referenceSettings.seed);
     if (!options.quiet) std::fprintf(stderr, "vkrt: reference: %s\n", source.c_str());
+    // The reference is all or nothing: the time limit is the render's own, and does not shorten it.
+    if (options.timeLimitSeconds > 0.0 && !options.quiet) {
+        std::fprintf(
+            stderr,
+            "vkrt: warning: --time-limit does not bound this reference (%d spp); give --reference to "
+            "measure against a file instead\n",
+            referenceSettings.samplesPerPixel);
+    }
     return source;
 }
 
