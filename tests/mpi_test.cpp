@@ -187,6 +187,26 @@ TEST(Mpi, TimeLimitEndsEveryRank) {
     for (const nlohmann::json& rank : s["per_rank"]) EXPECT_LT(rank["render_ms"].get<double>(), 5000.0);
 }
 
+// A job the time limit stops between checkpoints ends its report with the image rank 0 writes, as one process
+// does: its error is the written image's, and its samples the fewest any pixel has.
+TEST(Mpi, ReportOfAStoppedJobEndsWithTheImageWritten) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    ASSERT_EQ(test::runVkrt(render("cpu", folder / "reference.pfm", 256) + " --quiet").exitCode, 0);
+    const test::CommandResult job = test::runCommand(
+        mpirun() + " -np 2 " + vkrt() + " " + render("cpu", folder / "limited.pfm", 1000000) +
+        " --time-limit 1 --reference '" + (folder / "reference.pfm").string() + "' --report '" +
+        (folder / "limited.json").string() + "' --stats '" + (folder / "stats.json").string() + "'");
+    ASSERT_EQ(job.exitCode, 0) << job.output;
+    const nlohmann::json report = readJson(folder / "limited.json");
+    const nlohmann::json& last = report["checkpoints"].back();
+    EXPECT_EQ(last["samples"], readJson(folder / "stats.json")["spp"]);
+    const double rmse = compareImages(readImage((folder / "limited.pfm").string()),
+                                      readImage((folder / "reference.pfm").string()))
+                            .rmse;
+    EXPECT_NEAR(last["rmse"].get<double>(), rmse, 1e-6 * rmse);
+}
+
 // Ctrl-C to mpirun: Open MPI sends the ranks SIGTERM a second later (and SIGKILL a second after that); they
 // stop within their batch, and rank 0 writes the samples done as an interrupted render.
 TEST(Mpi, InterruptKeepsTheSamplesDone) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "common/checkpoint_schedule.h"
 #include "common/elapsed_time.h"
@@ -56,6 +57,7 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
     CheckpointSchedule schedule(samplesPerPixel, phased, options.checkpointEveryMs);
     if (phased) share.sums.resize(options.pixels, glm::dvec4(0.0));
     uint64_t done = 0;
+    uint64_t checkpointed = 0;  // the samples of the last checkpoint's image
     uint64_t phaseEnd = phased ? schedule.passEnd(0) : spp;
     // The first batch is one sample: it measures the rank's speed.
     uint64_t count = 1;
@@ -75,7 +77,26 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
                 share.abandoned = true;
                 return share;
             }
-            if (job.anyRank(share.stopped != StopReason::None)) break;
+            if (job.anyRank(share.stopped != StopReason::None)) {
+                // Stopped between checkpoints: the report ends with the image the ranks write, counted by the
+                // samples every pixel has (the summed sums' counts), as one process's does.
+                std::vector<glm::dvec4> sums = share.sums;
+                job.sumToRoot(&sums[0].x, sums.size() * 4);
+                if (job.rank() == 0) {
+                    double fewest = std::numeric_limits<double>::infinity(), most = 0.0;
+                    for (const glm::dvec4& s : sums) {
+                        fewest = std::min(fewest, s.w);
+                        most = std::max(most, s.w);
+                    }
+                    if (static_cast<uint64_t>(fewest) != checkpointed || most > fewest) {
+                        const double renderMs = schedule.renderMs();
+                        schedule.take(renderMs, [&] {
+                            options.checkpoint(static_cast<uint32_t>(fewest), renderMs, sums);
+                        });
+                    }
+                }
+                break;
+            }
             done = phaseEnd;
             if (job.rank() == 0) counter.set(done);
             const double renderMs = schedule.renderMs();
@@ -85,6 +106,7 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
                 if (job.rank() == 0) {
                     schedule.take(renderMs, [&] { options.checkpoint(static_cast<uint32_t>(done), renderMs, sums); });
                 }
+                checkpointed = done;
             }
             job.barrier();  // the counter restarts at `done` before anyone adds to it
             if (done >= spp) break;
