@@ -186,6 +186,40 @@ TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {
     EXPECT_TRUE(std::filesystem::exists(folder / "c.exr"));
 }
 
+// The GPU's single-precision triangle test holds to 1e18 from the scene's middle: a scene that reaches 1e30
+// is refused there with one line naming the way out (its triangles vanished silently), and the CPU renders
+// it.
+TEST(Cli, SceneBeyondTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
+    const auto folder = test::temporaryFolder();
+    const auto scene = folder / "huge.gltf";
+    test::writeText(scene, R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 4]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}, "doubleSided": true,
+                       "extensions": {"KHR_materials_unlit": {}}}],
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [-1.0000000150474662e+30, -1.0000000150474662e+30, -1.0],
+                       "max": [1.0000000150474662e+30, 1.0000000150474662e+30, -1.0]},
+                      {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+        "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,yvJJ8crySfEAAIC/yvJJccrySfEAAIC/AAAAAMrySXEAAIC/AAAAAAEAAAACAAAA"}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.001}}]})");
+    const auto gpu = test::runVkrt("--scene " + quoted(scene) + " --device gpu --width 8 --spp 1 --out " +
+                                   quoted(folder / "gpu.pfm"));
+    EXPECT_EQ(gpu.exitCode, 2) << gpu.output;
+    EXPECT_NE(gpu.output.find("the GPU's single-precision tests hold to 1e18 (--device cpu renders it)"),
+              std::string::npos)
+        << gpu.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "gpu.pfm"));
+    const auto cpu = test::runVkrt("--scene " + quoted(scene) + " --device cpu --width 8 --spp 1 --out " +
+                                   quoted(folder / "cpu.pfm"));
+    ASSERT_EQ(cpu.exitCode, 0) << cpu.output;
+    for (const glm::vec3& pixel : readImage((folder / "cpu.pfm").string()).pixels)
+        EXPECT_NEAR(pixel.x, 1.0f, 1e-6f);
+}
+
 TEST(Cli, RendersEveryFormatAndWritesStats) {
     const auto folder = test::temporaryFolder();
     for (const char* name : {"c.png", "c.exr", "c.pfm"}) {

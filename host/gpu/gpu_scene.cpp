@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <type_traits>
 
 #include "camera.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
+#include "scene/scene_error.h"
 #include "scene/shading_inputs.h"
 #include "scene/sheen_table.h"
 #include "shape_geometry.h"
@@ -121,6 +123,21 @@ void packSolids(const Scene& scene, const LightTable& lights, GpuSceneData& data
 }  // namespace
 
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
+    // The GPU's watertight triangle test multiplies coordinates relative to the ray in single precision:
+    // beyond about 1e19 from the scene's middle the products overflow and every test fails, silently (a
+    // triangle with corners at 1e30 vanished). The CPU reference, in double precision, renders such scenes.
+    constexpr float kGpuReach = 1e18f;
+    float reach = 0.0f;
+    for (int axis = 0; axis < 3; ++axis)
+        reach = std::max({reach, std::abs(scene.bounds.min[axis]), std::abs(scene.bounds.max[axis])});
+    if (!scene.bounds.empty() && !(reach <= kGpuReach)) {
+        char extent[32];
+        std::snprintf(extent, sizeof extent, "%.3g", static_cast<double>(reach));
+        throw SceneError(
+            scene.sourcePath + ": the scene reaches " + extent +
+            " units from its middle; the GPU's single-precision tests hold to 1e18 (--device cpu "
+            "renders it)");
+    }
     GpuSceneData data;
     data.features = features ? *features : detectFeatures(scene);
     data.nodes = collapseToWide(bvh);
