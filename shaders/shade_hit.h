@@ -703,9 +703,12 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     }
 
 #ifdef VKRT_HAS_TRANSMISSION
-    // Transmission through the same microfacet; thin-walled surfaces pass rays straight through.
-    real3 transmitWeight = surface.transmission * (real3(1.0) - dielectricReflectance(surface, cosMicro, eta)) *
-                           surface.albedo;
+    // Transmission through the same microfacet; thin-walled surfaces pass rays straight through. It keeps
+    // 1 - max(F), as the diffuse base does (diffuseShare) and KHR_materials_specular's fresnel_mix says: a
+    // tinted specular colour does not tint the light passing through (1 - F per channel tinted it with the
+    // colour's complement).
+    real3 transmitWeight = surface.transmission *
+                           (1.0 - maxComponent(dielectricReflectance(surface, cosMicro, eta))) * surface.albedo;
 #ifdef VKRT_HAS_SHEEN
     transmitWeight *= surface.sheenScaling;
 #endif

@@ -396,6 +396,28 @@ TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
     }
 }
 
+TEST_F(GpuMaterials, SpecularColorDoesNotTintTransmittedLight) {
+    // Thin-walled smooth glass head-on, KHR_materials_specular 0.5 in red: it reflects F = 0.5 x 0.04 x (1,
+    // 0, 0) of the background (0.25) and passes 1 - max(F) = 0.98 of it in every channel (the spec's
+    // fresnel_mix scales the base, transmission included, by 1 - max F); 1 - F per channel made the glass
+    // cyan.
+    Scene scene;
+    Material material;
+    material.baseColor = glm::vec4(1.0f);
+    material.metallic = 0.0f;
+    material.roughness = 0.0f;
+    material.transmission = 1.0f;
+    material.specularFactor = 0.5f;
+    material.specularColor = glm::vec3(1.0f, 0.0f, 0.0f);
+    const auto [gpu, cpu] = renderSquare(scene, material, ambientOnly(16));
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        const glm::vec3 pixel = image->at(8, 8);
+        EXPECT_NEAR(pixel.x, 0.25 * (0.98 + 0.02), 1e-6);
+        EXPECT_NEAR(pixel.y, 0.25 * 0.98, 1e-6);
+        EXPECT_NEAR(pixel.z, 0.25 * 0.98, 1e-6);
+    }
+}
+
 TEST_F(GpuMaterials, VertexColorsMultiplyTheBaseColour) {
     // COLOR_0 given at the corners as (x, y, 1 - x) interpolates exactly across the square (it is linear in
     // position): in ambient light a Lambertian square shows it pixel by pixel, times the base colour.
