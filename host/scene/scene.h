@@ -183,13 +183,24 @@ struct Material {
 
     // Emits light (an unlit material shows its base colour instead, and lights nothing).
     bool emissive() const { return !unlit && (emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f); }
-    // Every texture slot.
-    std::array<const TextureSlot*, 13> textureSlots() const {
-        return {&baseColorTexture,          &metallicRoughnessTexture, &emissiveTexture,
-                &occlusionTexture,          &specularTexture,          &specularColorTexture,
-                &normalTexture,             &transmissionTexture,      &clearcoatTexture,
-                &clearcoatRoughnessTexture, &clearcoatNormalTexture,   &sheenColorTexture,
-                &sheenRoughnessTexture};
+    // Every texture slot (const or not, as the material is).
+    template <typename Self>
+    static auto slotsOf(Self& m) {
+        return std::array{&m.baseColorTexture,       &m.metallicRoughnessTexture,
+                          &m.emissiveTexture,        &m.occlusionTexture,
+                          &m.specularTexture,        &m.specularColorTexture,
+                          &m.normalTexture,          &m.transmissionTexture,
+                          &m.clearcoatTexture,       &m.clearcoatRoughnessTexture,
+                          &m.clearcoatNormalTexture, &m.sheenColorTexture,
+                          &m.sheenRoughnessTexture};
+    }
+    std::array<const TextureSlot*, 13> textureSlots() const { return slotsOf(*this); }
+    std::array<TextureSlot*, 13> textureSlots() { return slotsOf(*this); }
+    // Whether `slot` (one of this material's) holds colours, sRGB-encoded (base, emissive, specular and sheen
+    // colour), whose mipmaps average as light; the others hold linear data.
+    bool holdsColour(const TextureSlot* slot) const {
+        return slot == &baseColorTexture || slot == &emissiveTexture || slot == &specularColorTexture ||
+               slot == &sheenColorTexture;
     }
     bool hasSheen() const { return sheenColor.x > 0.0f || sheenColor.y > 0.0f || sheenColor.z > 0.0f; }
     // Some of the surface may be missing: alpha MASK or BLEND, with an alpha that can fall below the cutoff

@@ -148,20 +148,9 @@ namespace {
 // means, 0.737 for 0.5.
 void separateColourSpaces(Scene& scene) {
     std::vector<bool> colour(scene.textures.size(), false), data(scene.textures.size(), false);
-    auto dataSlots = [](Material& m) {
-        return std::array<TextureSlot*, 9>{&m.metallicRoughnessTexture,  &m.occlusionTexture,
-                                           &m.specularTexture,           &m.normalTexture,
-                                           &m.transmissionTexture,       &m.clearcoatTexture,
-                                           &m.clearcoatRoughnessTexture, &m.clearcoatNormalTexture,
-                                           &m.sheenRoughnessTexture};
-    };
-    for (Material& m : scene.materials) {
-        for (const TextureSlot* slot :
-             {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture, &m.sheenColorTexture}) {
-            if (slot->used()) colour[slot->texture] = true;
-        }
-        for (const TextureSlot* slot : dataSlots(m)) {
-            if (slot->used()) data[slot->texture] = true;
+    for (const Material& m : scene.materials) {
+        for (const TextureSlot* slot : m.textureSlots()) {
+            if (slot->used()) (m.holdsColour(slot) ? colour : data)[slot->texture] = true;
         }
     }
     std::vector<int> dataCopy(scene.textures.size(), -1);
@@ -173,8 +162,9 @@ void separateColourSpaces(Scene& scene) {
         scene.textures.push_back(scene.textures[i]);
     }
     for (Material& m : scene.materials) {
-        for (TextureSlot* slot : dataSlots(m)) {
-            if (slot->used() && dataCopy[slot->texture] >= 0) slot->texture = dataCopy[slot->texture];
+        for (TextureSlot* slot : m.textureSlots()) {
+            if (slot->used() && !m.holdsColour(slot) && dataCopy[slot->texture] >= 0)
+                slot->texture = dataCopy[slot->texture];
         }
     }
 }

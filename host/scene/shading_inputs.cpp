@@ -23,12 +23,14 @@ uint32_t wrapBits(WrapMode mode) {
     }
 }
 
-// A texture slot as a binding: KHR_texture_transform's translation * rotation * scale as two matrix rows. The
-// extension writes its rotation as mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) and means those as rows, (cos,
-// sin) and (-sin, cos), as the Khronos sample viewer applies it: with them, every arrow of the self-checking
-// TextureTransformTest points at its "correct" mark (the transposed rotation points them at "error").
-int bind(const TextureSlot& slot, bool srgb, std::vector<gpu::GpuTextureBinding>& bindings) {
+// A texture slot of `material` as a binding (sRGB where the slot holds colours): KHR_texture_transform's
+// translation * rotation * scale as two matrix rows. The extension writes its rotation as mat3(cos, sin, 0,
+// -sin, cos, 0, 0, 0, 1) and means those as rows, (cos, sin) and (-sin, cos), as the Khronos sample viewer
+// applies it: with them, every arrow of the self-checking TextureTransformTest points at its "correct" mark
+// (the transposed rotation points them at "error").
+int bind(const Material& material, const TextureSlot& slot, std::vector<gpu::GpuTextureBinding>& bindings) {
     if (!slot.used()) return -1;
+    const bool srgb = material.holdsColour(&slot);
     const float c = std::cos(slot.rotation), s = std::sin(slot.rotation);
     gpu::GpuTextureBinding binding{};
     binding.row0 = glm::vec3(c * slot.scale.x, s * slot.scale.y, slot.offset.x);
@@ -53,34 +55,34 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.ior = m.ior;
     s.volume = m.hasVolume();
     s.doubleSided = m.doubleSided;
-    s.baseColorTexture = bind(m.baseColorTexture, true, bindings);
-    s.emissiveTexture = bind(m.emissiveTexture, true, bindings);
-    s.metallicRoughnessTexture = bind(m.metallicRoughnessTexture, false, bindings);
-    s.occlusionTexture = bind(m.occlusionTexture, false, bindings);
+    s.baseColorTexture = bind(m, m.baseColorTexture, bindings);
+    s.emissiveTexture = bind(m, m.emissiveTexture, bindings);
+    s.metallicRoughnessTexture = bind(m, m.metallicRoughnessTexture, bindings);
+    s.occlusionTexture = bind(m, m.occlusionTexture, bindings);
     s.occlusionStrength = m.occlusionStrength;
     s.specularFactor = m.specularFactor;
     s.specularColor = glm::dvec3(m.specularColor);
-    s.specularTexture = bind(m.specularTexture, false, bindings);
-    s.specularColorTexture = bind(m.specularColorTexture, true, bindings);
-    s.normalTexture = bind(m.normalTexture, false, bindings);
+    s.specularTexture = bind(m, m.specularTexture, bindings);
+    s.specularColorTexture = bind(m, m.specularColorTexture, bindings);
+    s.normalTexture = bind(m, m.normalTexture, bindings);
     s.normalScale = m.normalScale;
     s.alphaMode = m.alphaMode == AlphaMode::Mask    ? VKRT_ALPHA_MASK
                   : m.alphaMode == AlphaMode::Blend ? VKRT_ALPHA_BLEND
                                                     : VKRT_ALPHA_OPAQUE;
     s.alpha = m.baseColor.a;
     s.alphaCutoff = m.alphaCutoff;
-    s.transmissionTexture = bind(m.transmissionTexture, false, bindings);
+    s.transmissionTexture = bind(m, m.transmissionTexture, bindings);
     s.unlit = m.unlit;
     s.clearcoat = m.clearcoat;
     s.clearcoatRoughness = m.clearcoatRoughness;
-    s.clearcoatTexture = bind(m.clearcoatTexture, false, bindings);
-    s.clearcoatRoughnessTexture = bind(m.clearcoatRoughnessTexture, false, bindings);
-    s.clearcoatNormalTexture = bind(m.clearcoatNormalTexture, false, bindings);
+    s.clearcoatTexture = bind(m, m.clearcoatTexture, bindings);
+    s.clearcoatRoughnessTexture = bind(m, m.clearcoatRoughnessTexture, bindings);
+    s.clearcoatNormalTexture = bind(m, m.clearcoatNormalTexture, bindings);
     s.clearcoatNormalScale = m.clearcoatNormalScale;
     s.sheenColor = glm::dvec3(m.sheenColor);
     s.sheenRoughness = m.sheenRoughness;
-    s.sheenColorTexture = bind(m.sheenColorTexture, true, bindings);
-    s.sheenRoughnessTexture = bind(m.sheenRoughnessTexture, false, bindings);
+    s.sheenColorTexture = bind(m, m.sheenColorTexture, bindings);
+    s.sheenRoughnessTexture = bind(m, m.sheenRoughnessTexture, bindings);
     s.textureSlots = shading::materialTextureSlots(s);
     return s;
 }
@@ -163,9 +165,8 @@ void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& texture
     // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
     std::vector<bool> srgb(scene.textures.size(), false);
     for (const Material& m : scene.materials) {
-        for (const TextureSlot* slot :
-             {&m.baseColorTexture, &m.emissiveTexture, &m.specularColorTexture, &m.sheenColorTexture}) {
-            if (slot->used()) srgb[slot->texture] = true;
+        for (const TextureSlot* slot : m.textureSlots()) {
+            if (slot->used() && m.holdsColour(slot)) srgb[slot->texture] = true;
         }
     }
     // Every level written once, in place: no copy of the packed texels (each copy first touches its pages, most
