@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <functional>
+#include <iterator>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -478,6 +480,23 @@ TEST(GltfLoader, ExtensionPathsAndOtherToolsExtrasAreAccepted) {
         << scene.warnings[0];
     EXPECT_NE(scene.warnings[1].find("extras.aperture is not a number; it is ignored"), std::string::npos)
         << scene.warnings[1];
+    // A number there is vkrt's, and checked as the file's own are: one beyond single precision is refused.
+    std::string text;
+    {
+        std::ifstream in(file);
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const size_t at = text.find("\"f/2.8\"");
+    ASSERT_NE(at, std::string::npos);
+    test::writeText(file, text.replace(at, 7, "1e39"));
+    try {
+        loadGltf(file.string());
+        ADD_FAILURE() << "an aperture of 1e39 was accepted";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("'aperture' is beyond single precision's range"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 // Positions are stored relative to where the scene's detail is: a ground sphere of radius 1e5 under small

@@ -24,6 +24,9 @@ double jsonNumber(const GltfContext& context, const tinygltf::Value& object, con
     if (!value.IsNumber()) context.fail(where + ": '" + key + "' must be a number");
     double v = value.GetNumberAsDouble();
     if (!std::isfinite(v)) context.fail(where + ": '" + key + "' is not finite");
+    // vkrt keeps a scene's numbers in single precision (as gltf_schema.cpp checks the file's own).
+    if (std::abs(v) >= 0x1.ffffffp+127)
+        context.fail(where + ": '" + key + "' is beyond single precision's range");
     return v;
 }
 
