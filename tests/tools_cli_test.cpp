@@ -5,8 +5,10 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
@@ -83,6 +85,43 @@ TEST(ToolsCli, HelpListsTheOptionsAndExitsZero) {
         for (const char* option : options) {
             EXPECT_NE(result.output.find(option), std::string::npos) << option << " in\n" << result.output;
         }
+    }
+}
+
+// ray_benchmark's figures where they are thin: with two rays of a kind the median is their mean (it was the
+// larger), and a kind with no rays (no camera ray hit anything) is reported as such, not as rates of 0/0.
+TEST(ToolsCli, RayBenchmarkReportsFewAndNoRays) {
+    const test::CommandResult two = test::runCommand(
+        commandLine(VKRT_RAY_BENCHMARK, "--triangles 1000 --width 2 --height 1 --runs 1 --count-iterations"));
+    ASSERT_EQ(two.exitCode, 0) << two.output;
+    const nlohmann::json report = nlohmann::json::parse(two.output);
+    for (const auto& [kind, k] : report["kinds"].items()) {
+        if (k["rays"].get<int>() != 2) continue;
+        EXPECT_EQ(k["loop_iterations"]["median"].get<double>(), k["loop_iterations"]["mean"].get<double>())
+            << kind;
+    }
+
+    // One triangle behind the file's camera, which looks down -Z from the origin.
+    const auto file = test::temporaryFolder() / "away.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "buffers": [{"uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAKBAAACAPwAAAAAAAKBAAAAAAAAAgD8AAKBA",
+                     "byteLength": 36}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 5], "max": [1, 1, 5]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],
+        "nodes": [{"mesh": 0}, {"camera": 0}]
+    })");
+    const test::CommandResult away = test::runCommand(
+        commandLine(VKRT_RAY_BENCHMARK, "--scene '" + file.string() + "' --width 4 --height 4 --runs 1"));
+    ASSERT_EQ(away.exitCode, 0) << away.output;
+    const nlohmann::json missed = nlohmann::json::parse(away.output);
+    EXPECT_EQ(missed["kinds"]["camera"]["rays"], 16);
+    for (const char* kind : {"shadow", "diffuse"}) {
+        EXPECT_EQ(missed["kinds"][kind], nlohmann::json({{"rays", 0}}))
+            << kind << ": " << missed["kinds"][kind];
     }
 }
 

@@ -28,6 +28,8 @@ def main():
                         help="a glTF model to trace, in place of the default ones (2CylinderEngine where Debian's "
                              "assimp-testmodels put it, the Cornell box); repeatable")
     args = parser.parse_args()
+    if not os.access(args.ray_benchmark, os.X_OK):
+        parser.error("%s is not an executable" % args.ray_benchmark)
 
     inputs = [["--triangles", str(n)] for n in (100_000, 1_000_000, 2_000_000)]
     for m in args.model or []:
@@ -53,6 +55,10 @@ def main():
     print("|---|---|---|---|---|---|---|---|")
     for r in results:
         for kind, k in r["kinds"].items():
+            if not k["rays"]:  # no camera ray hit anything, so there were none of this kind
+                print("| %s | %d | %.0f | %.2f | %s | no rays | - | - |" % (
+                    os.path.basename(r["input"]), r["triangles"], r["bvh"]["build_ms"], r["bvh"]["sah_cost"], kind))
+                continue
             v = k["mrays_per_s"]
             e = k.get("embree_mrays_per_s")
             print("| %s | %d | %.0f | %.2f | %s | %.2f (%.2f-%.2f) | %s | %s |" % (

@@ -19,6 +19,8 @@ import os
 import subprocess
 import sys
 
+from vkrt_args import check_vkrt_and_scenes, integrators_from
+
 COLORS = {"gpu": "#1f77b4", "cpu": "#d62728"}
 
 
@@ -135,11 +137,9 @@ def main():
     parser.add_argument("--integrators", default="path,whitted",
                         help="comma-separated: path, whitted (each has its own reference and plot)")
     args = parser.parse_args()
+    integrators = integrators_from(parser, args.integrators)
+    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
     os.makedirs(args.out_dir, exist_ok=True)
-    integrators = [i for i in args.integrators.split(",") if i]
-    for integrator in integrators:
-        if integrator not in ("path", "whitted"):
-            sys.exit("convergence_report: unknown integrator '%s'" % integrator)
 
     times = [100, 1000]
     target = 0.01

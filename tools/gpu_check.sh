@@ -119,6 +119,13 @@ step() {
     [ $status -eq 0 ] || { say "$name failed (exit $status${note:+, $note}; see $log)"; failed=1; }
     return $status
 }
+# Records a step that could not run: it fails the check, and its share of --budget passes to the next step.
+not_run() {
+    local name=$1
+    printf '%s\tnot run\t0\n' "$name" >>"$steps"
+    failed=1
+    [ -z "$budget" ] || [ -z "${share[$name]:-}" ] || unused=$(( budget * ${share[$name]} / 100 + unused ))
+}
 
 if [ $quick -eq 1 ]; then
     gtest_filter=Gpu.TexelStorageAndAddressedScenesGiveTheSameImage:Scenes/GpuImage.MatchesCpuReference/cornell
@@ -243,18 +250,16 @@ failures="${TMPDIR:-/tmp}/vkrt-test-failures"
 rm -rf "$failures"
 if ! probe --validate >>"$log" 2>&1; then
     say "the GPU tests need the Khronos validation layer (Debian: vulkan-validationlayers); tests not run"
-    printf 'tests\tnot run\t0\n' >>"$steps"
-    failed=1
+    not_run tests
 elif command -v ctest >/dev/null; then
-    step tests ctest --test-dir "$build_dir" -j "$jobs" -R "$tests" --output-on-failure \
+    step tests ctest --test-dir "$build_dir" -j "$jobs" -R "$tests" --no-tests=error --output-on-failure \
         --output-junit "$out/tests.xml"
 elif [ -n "$kit" ]; then
     say "no ctest here: the test programs run directly (GoogleTest filter $gtest_filter)"
     step tests gtest_programs
 else
     say "no ctest (CMake's): tests not run"
-    printf 'tests\tnot run\t0\n' >>"$steps"
-    failed=1
+    not_run tests
 fi
 if [ -d "$failures" ]; then
     cp -r "$failures" "$out/test-failures" && say "the images of the tests that failed: $out/test-failures"
@@ -291,7 +296,8 @@ step benchmark_suite benchmark_suite
 # How the device reads the scene: its default (texel buffers) against storage buffers, run for run on the
 # 1M-triangle sphere (texels were faster on lavapipe and on an H200; docs/performance-log.md).
 scene_access() {
-    "$build_dir/ray_benchmark" "${access_args[@]}" --variant VKRT_BOUND_GEOMETRY >"$out/scene_access.json"
+    "$build_dir/ray_benchmark" "${access_args[@]}" --variant VKRT_BOUND_GEOMETRY >"$out/scene_access.json.part" &&
+        mv "$out/scene_access.json.part" "$out/scene_access.json"
 }
 step scene_access scene_access
 step convergence_report python3 tools/convergence_report.py --vkrt "$vkrt" --out-dir "$out/convergence" \
@@ -307,8 +313,11 @@ import json, os, sys, time, xml.etree.ElementTree as ET
 out, elapsed, quick, commit = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "1", sys.argv[4]
 
 def load(name):
-    path = os.path.join(out, name)
-    return json.load(open(path)) if os.path.exists(path) else None
+    # A step stopped by its share of --budget may leave its file empty or cut short: it is missing then.
+    try:
+        return json.load(open(os.path.join(out, name)))
+    except (OSError, ValueError):
+        return None
 
 probe = load("probe.json") or {}
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
@@ -341,6 +350,8 @@ if reports:
             else:
                 tests["skipped"] += 1
 summary["tests"] = tests
+# Tests that ran none (a pattern or filter that matched nothing) did not pass.
+no_tests = tests is not None and tests["passed"] + tests["failed"] == 0
 
 # nvidia-smi's samples of the SM clock (gpu_clocks.csv: the time, in local time, first), as (Unix s, MHz).
 clocks = []
@@ -359,6 +370,8 @@ def sm_clock(r):
 rays = []
 for r in load("benchmark.json") or []:
     for kind, k in r["kinds"].items():
+        if not k["rays"]:
+            continue  # no camera ray hit anything, so there were none of this kind
         embree = k.get("embree_mrays_per_s")
         rays.append({"input": os.path.basename(r["input"]), "triangles": r["triangles"], "kind": kind,
                      "vkrt_mrays_per_s": k["mrays_per_s"]["median"],
@@ -391,7 +404,9 @@ dash = lambda v, f: f % v if v is not None else "-"
 md = ["vkrt on %s (%s; driver %s), host %s (%d threads), commit %s%s; the check took %d s." % (
           device["device_name"], device["device_type"], device["driver"], cpu, os.cpu_count(), commit,
           ", short settings (--quick)" if quick else "", elapsed), ""]
-if tests:
+if no_tests:
+    md.append("Tests: none ran (%d skipped): the check fails." % tests["skipped"])
+elif tests:
     md.append("Tests: %d passed, %d failed, %d skipped%s." % (tests["passed"], tests["failed"], tests["skipped"],
               " (failed: " + ", ".join(tests["failures"]) + ")" if tests["failures"] else ""))
 else:
@@ -415,15 +430,20 @@ if summary["scene_access"]:
                                                          for kind, ratio in a["storage_over_default"].items()),
                                      a["default"])]
 md += ["", "| scene | integrator | device | ms to RMSE 0.01 | slope |", "|---|---|---|---|---|"]
-md += ["| %s | %s | %s | %s | %.2f |" % (c["scene"], c["integrator"],
+md += ["| %s | %s | %s | %s | %s |" % (c["scene"], c["integrator"],
        device["device_name"] if c["device"] == "gpu" else "CPU reference (%d threads)" % os.cpu_count(),
-       dash(c["ms_to_rmse_0.01"], "%.0f"), c["slope"]) for c in convergence]
+       dash(c["ms_to_rmse_0.01"], "%.0f"), dash(c["slope"], "%.2f")) for c in convergence]
 open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
 print("\n".join(md))
+sys.exit(1 if no_tests else 0)
 EOF
 [ -f "$out/summary.md" ] && cat "$out/summary.md"
 elapsed=$(( $(date +%s) - start ))
-say "done in ${elapsed} s; summary in $out/summary.md and $out/summary.json"
+if [ -f "$out/summary.md" ]; then
+    say "done in ${elapsed} s; summary in $out/summary.md and $out/summary.json"
+else
+    say "done in ${elapsed} s; the summary could not be made (see $log)"
+fi
 [ $elapsed -le 480 ] || say "note: over the 8-minute budget"
 if [ -n "$tar" ]; then
     tar -C "$(dirname "$out")" -czf "$tar" "$(basename "$out")" && say "packed into $tar" || failed=1

@@ -70,7 +70,10 @@ def main():
         parser.error(f"{args.vkrt} is not an executable")
     if shutil.which("mpirun") is None:
         parser.error("mpirun is not installed (Debian: openmpi-bin)")
-    render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + (extra or DEFAULT_RENDER)
+    # The default size and samples, except where the options after -- give their own.
+    defaults = [DEFAULT_RENDER[i:i + 2] for i in range(0, len(DEFAULT_RENDER), 2)]
+    render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + \
+        [word for option in defaults if option[0] not in extra for word in option] + extra
     launcher, environment = mpirun_prefix(args.ranks)
 
     # Open MPI binds each rank to a core; the one process is pinned to a core too, or the scheduler's moving it

@@ -228,6 +228,11 @@ int main(int argc, char** argv) {
             return static_cast<uint32_t>(std::clamp(std::ceil(repeatMs / msPerTrace), 1.0, 10000.0));
         };
         auto measure = [&](const char* kind, const std::vector<gpu::GpuRay>& rays, RaycastMode mode) {
+            // No rays of this kind (no camera ray hit anything): nothing to time.
+            if (rays.empty()) {
+                kinds[kind] = {{"rays", 0}};
+                return;
+            }
             // Every kernel traces the batch once untimed first: lavapipe compiles a kernel at its first
             // dispatch (a GPU's driver when its pipeline is made, before the timing starts).
             RaycastTiming probe;
@@ -242,6 +247,12 @@ int main(int argc, char** argv) {
             std::vector<double> gpuRates, wallRates, cpuRates;
             std::vector<std::vector<double>> variantCpuRates(variants.size()),
                 variantWallRates(variants.size()), variantGpuRates(variants.size());
+#ifdef VKRT_HAVE_EMBREE
+            std::vector<double> embreeRates, embreeCpuRates;
+            std::vector<uint32_t> embreeHits;
+#endif
+            // The runs interleaved: each traces with every variant, the default kernel and Embree in turn, so
+            // that the machine's drift hits them alike and the ratios of medians are from one run.
             for (int run = 0; run < runs; ++run) {
                 for (size_t v = 0; v < variants.size(); ++v) {
                     RaycastTiming timing;
@@ -255,6 +266,12 @@ int main(int argc, char** argv) {
                 cpuRates.push_back(rays.size() / timing.cpuMs / 1e3);
                 if (timing.gpuMs > 0.0) gpuRates.push_back(rays.size() / timing.gpuMs / 1e3);
                 wallRates.push_back(rays.size() / timing.wallMs / 1e3);
+#ifdef VKRT_HAVE_EMBREE
+                const double cpuStart = processCpuSeconds();
+                const double ms = embree.trace(rays, mode == RaycastMode::Any, embreeThreads, embreeHits);
+                embreeCpuRates.push_back(rays.size() / (processCpuSeconds() - cpuStart) / 1e6);
+                embreeRates.push_back(rays.size() / ms / 1e3);
+#endif
             }
             const Statistics wall = summarize(wallRates);
             nlohmann::json entry = {
@@ -267,15 +284,7 @@ int main(int argc, char** argv) {
                 entry["mrays_per_gpu_s"] = {{"median", g.median}, {"min", g.min}, {"max", g.max}};
             }
 #ifdef VKRT_HAVE_EMBREE
-            // The same rays through Embree, interleaved with vkrt's runs; the ratio of same-run medians.
-            std::vector<double> embreeRates, embreeCpuRates;
-            std::vector<uint32_t> embreeHits;
-            for (int run = 0; run < runs; ++run) {
-                const double cpuStart = processCpuSeconds();
-                const double ms = embree.trace(rays, mode == RaycastMode::Any, embreeThreads, embreeHits);
-                embreeCpuRates.push_back(rays.size() / (processCpuSeconds() - cpuStart) / 1e6);
-                embreeRates.push_back(rays.size() / ms / 1e3);
-            }
+            // The same rays through Embree, traced in the same runs; the ratio of same-run medians.
             const Statistics e = summarize(embreeRates);
             entry["embree_mrays_per_s"] = {{"median", e.median}, {"min", e.min}, {"max", e.max}};
             entry["vkrt_over_embree"] = wall.median / e.median;
@@ -331,12 +340,13 @@ int main(int argc, char** argv) {
                 double sum = 0.0;
                 for (double n : iterations) sum += n;
                 const size_t n = iterations.size();
-                entry["loop_iterations"] = {
-                    {"mean", n ? sum / static_cast<double>(n) : 0.0},
-                    {"median", n ? iterations[n / 2] : 0.0},
-                    {"p99", n ? iterations[std::min(n - 1, n * 99 / 100)] : 0.0},
-                    {"max", n ? iterations.back() : 0.0},
-                    {"incomplete", incomplete}};
+                // The 99th percentile by nearest rank: the smallest value at least 99% of the walks reach.
+                const size_t p99 = n ? (n * 99 + 99) / 100 - 1 : 0;
+                entry["loop_iterations"] = {{"mean", n ? sum / static_cast<double>(n) : 0.0},
+                                            {"median", n ? summarize(iterations).median : 0.0},
+                                            {"p99", n ? iterations[p99] : 0.0},
+                                            {"max", n ? iterations.back() : 0.0},
+                                            {"incomplete", incomplete}};
             }
             kinds[kind] = entry;
         };
