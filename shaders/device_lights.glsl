@@ -24,11 +24,10 @@ vec3 device_offsetOrigin(vec3 position, float errorScale, vec3 normal) {
     return offsetRayOrigin(position, errorScale, normal);
 }
 
-// Shadow rays to a point on a light stop 1e-5 of the distance short of it, above float rounding, so a surface
-// the light lies on does not shadow it.
-float device_shadowRayLength(float distance) { return distance * (1.0 - 1e-5); }
+// Shadow rays to a point on a light stop short of it (shared.h's VKRT_SHADOW_RAY_SHORTENING).
+float device_shadowRayLength(float distance) { return distance * (1.0 - float(VKRT_SHADOW_RAY_SHORTENING)); }
 
-vec3 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint excludeA, uint excludeB) {
+vec4 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint excludeA, uint excludeB) {
     ++vkrtShadowRays;
     return shadowTransmittance(Ray(origin, direction), tMax, excludeA, excludeB, vkrtWalksComplete);
 }

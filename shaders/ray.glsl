@@ -40,12 +40,12 @@ SurfacePoint sphereHitPoint(vec3 origin, vec3 direction, float t, vec3 center, f
 }
 
 // Moves a point off a surface along the geometric normal `n` (pointing to the side the new ray leaves
-// from) by 2^-18 of its error scale, about 32 times the float rounding of that magnitude, so the new ray
-// cannot start behind the surface. The offset scales with the scene, so tiny and huge scenes behave alike
-// (a fixed absolute offset near the origin, as in Ray Tracing Gems ch. 6, breaks scenes a few microns
-// across). The primitive just left is also excluded from the new ray's hits.
+// from) by shared.h's VKRT_RAY_OFFSET_EPSILON of its error scale, so the new ray cannot start behind the
+// surface. The offset scales with the scene, so tiny and huge scenes behave alike (a fixed absolute offset
+// near the origin, as in Ray Tracing Gems ch. 6, breaks scenes a few microns across). The primitive just left
+// is also excluded from the new ray's hits.
 vec3 offsetRayOrigin(vec3 position, float errorScale, vec3 n) {
-    return position + (max(errorScale, maxAbs(position)) * 3.814697265625e-6) * n;
+    return position + (max(errorScale, maxAbs(position)) * float(VKRT_RAY_OFFSET_EPSILON)) * n;
 }
 
 #endif

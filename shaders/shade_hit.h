@@ -8,8 +8,8 @@
 // What each device owns, it provides through VKRT_DEVICE (shading_language.h): materials (material, materialOf),
 // textures (textureInfo, texel, textureCoordinates), lights (punctualLightCount, punctualLight, hasAreaLights,
 // sampleAreaLight, lightSolidAnglePdf), the environment (hasEnvironment and the tables environment.h reads),
-// shadow rays (shadowTransmittance) and what depends on its precision: the ray offset (offsetOrigin) and how
-// far short of a light point a shadow ray stops (shadowRayLength).
+// shadow rays (shadowTransmittance), and in its own precision the rules shared.h sets for both: the ray offset
+// (offsetOrigin) and how far short of a light point a shadow ray stops (shadowRayLength).
 #ifndef VKRT_SHADE_HIT_H
 #define VKRT_SHADE_HIT_H
 
@@ -40,7 +40,7 @@ struct ShadingContext {
     real3 background;    // the radiance of rays that leave the scene, when there is no environment
     bool paths;          // the path integrator (else distributed Whitted ray tracing)
     bool environmentBackdrop;  // camera rays that leave the scene see the environment (else the background)
-    real minThroughput;  // branches weighted less than this are cut
+    real minThroughput;  // Whitted: branches weighted less than this face Russian roulette (branchSurvival)
     int maxDepth;        // reflection and refraction bounces after the camera ray's hit
     uint lightSamples;   // area-light samples per shading point
     bool multipleImportanceSampling;
@@ -461,14 +461,17 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         }
 #endif
         if (!lit) continue;
-        const real3 visible = shadowed(
-            VKRT_DEVICE_ARG context, media,
+        const real4 passage =
             VKRT_DEVICE(shadowTransmittance)(frame.viewerSide, query.shadowDirection, query.shadowLength,
-                                             frame.excludeOnViewerSide, query.lightPrimitive),
-            query.distance);
-        const real3 reflected = reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight,
-                                               query.irradiance * visible / query.divisor, query.weight,
-                                               query.untracedWeight);
+                                             frame.excludeOnViewerSide, query.lightPrimitive);
+        const real3 visible = shadowed(VKRT_DEVICE_ARG context, media, real3(passage), query.distance);
+        // Whitted's traced lobes see the light through holes alone (shadowPassage); paths' shadow rays stop at
+        // transmissive surfaces, so both groups see the same.
+        const real3 tracedVisible = context.paths ? visible : real3(passage.w);
+        const real3 reflected =
+            reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight,
+                           query.irradiance / query.divisor, query.weight * tracedVisible,
+                           query.untracedWeight * visible);
         if (q < punctualQueries) {
             punctualSum += reflected;
         } else if (q < areaEnd) {
@@ -502,6 +505,17 @@ VKRT_FN real3 escapedRadiance(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context,
     }
 #endif
     return context.background;
+}
+
+// Whitted's branch of weight `weight` (the largest channel of its throughput) against the cut: traced when at
+// least the cut, else with probability weight / cut (axis `axis` of the node's roulette pair), its weight then
+// divided by that; 0 when not traced. Russian roulette rather than a hard cut keeps the estimate unbiased: a
+// light sample's weight against a glossy lobe counts on the lobe's traced branch bringing the rest, which a cut
+// branch lost (a glossy highlight seen through a dark pane came out 5% dark).
+VKRT_FN real branchSurvival(VKRT_IN(ShadingContext) context, uint node, uint axis, real weight, real cut) {
+    if (weight >= cut) return 1.0;
+    const real p = weight / cut;
+    return stratified(context, vkrtNodeDimension(node, VKRT_DIM_BRANCH_ROULETTE), axis) < p ? p : 0.0;
 }
 
 // The shading step at `hit` of `ray`, whose weight including absorption on the way is `pathThroughput`.
@@ -612,7 +626,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     const bool untracedSampled = continues && context.paths;
     local += directLight(VKRT_DEVICE_ARG context, ray.node, ray.media, frame, surface, lobeSampled, untracedSampled);
     result.radiance = local;
-    // Whitted cuts branches that would add little; a path goes on until Russian roulette ends it (continuePath).
+    // Whitted's branches that would add little survive Russian roulette (branchSurvival); a path goes on until
+    // its own roulette ends it (continuePath).
     const real cut = context.paths ? 0.0 : context.minThroughput;
 
     // The path's continuation through the untraced lobes: a direction with density cos / pi about the shading
@@ -626,7 +641,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         const real pdf = cosinePdf(normal, direction);
         if (pdf > 0.0 && dot(geometricNormal, direction) > 0.0) {
             const real3 weight = reflectedLight(surface, normal, frame.coatNormal, toViewer, direction,
-                                                real3(1.0 / pdf), 0.0, 1.0);
+                                                real3(1.0 / pdf), real3(0.0), real3(1.0));
             if (maxComponent(weight) > 0.0) {
                 result.scatters = true;
                 result.scatterWeight = weight;
@@ -693,7 +708,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         reflectPdf = delta ? 0.0 : lobePdf(surface, normal, frame.coatNormal, toViewer, reflected);
     }
 #endif
-    if (maxComponent(pathThroughput * reflectWeight) >= cut) {
+    const real reflectSurvival =
+        branchSurvival(context, ray.node, 0u, maxComponent(pathThroughput * reflectWeight), cut);
+    if (reflectSurvival > 0.0) {
+        reflectWeight /= reflectSurvival;
         result.reflects = true;
         result.reflectionWeight = reflectWeight;
         result.reflection = withCone(rayState(frame.viewerSide, reflected, pathThroughput * reflectWeight,
@@ -726,7 +744,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                               ggxG1(cosOut, surface.alpha);
         }
     }
-    if (passes && maxComponent(pathThroughput * transmitWeight) >= cut) {
+    const real transmitSurvival =
+        passes ? branchSurvival(context, ray.node, 1u, maxComponent(pathThroughput * transmitWeight), cut) : 0.0;
+    if (transmitSurvival > 0.0) {
+        transmitWeight /= transmitSurvival;
         result.transmits = true;
         result.transmissionWeight = transmitWeight;
         result.transmission = withCone(rayState(VKRT_DEVICE(offsetOrigin)(hit.position, hit.errorScale, -geometricNormal),

@@ -37,6 +37,18 @@ using uint = uint32_t;
 // alone shrank to nothing there, and the devices parted by rounding).
 #define VKRT_TIE_EPSILON 9.5367431640625e-7
 
+// New rays start this times the magnitude of their hit point's numbers (the larger of its error scale and its
+// largest coordinate) off the surface they leave, on both renderers: 2^-18, about 32 times the float rounding
+// of that magnitude, so a GPU ray cannot start behind the surface, and 4 times a tie's width, so a ray leaving
+// the winner of a tie clears the coincident surface it won over (a CPU offset of 1e-9 started the ray below
+// that surface, which then shadowed all of it). Relative, so tiny and huge scenes behave alike.
+#define VKRT_RAY_OFFSET_EPSILON 3.814697265625e-6
+
+// Shadow rays to a point on a light stop this fraction of the distance short of it, above float rounding, so
+// that a surface the light lies on does not shadow it; on both renderers, so that a surface that near the
+// light is passed by both alike.
+#define VKRT_SHADOW_RAY_SHORTENING 1e-5
+
 // The deepest ray tree (--max-depth); the GPU's stack of pending rays holds one more entry than this.
 #define VKRT_MAX_RAY_DEPTH 24
 

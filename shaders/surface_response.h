@@ -366,6 +366,14 @@ VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks
     return (1.0 - inputs.coverage) + inputs.coverage * transmitted;
 }
 
+// A shadow ray's passage, as the shadow walk returns it: in xyz the product of the crossed surfaces' shadowTint,
+// which lights the lobes no ray is traced for; in w the product of their holes alone (1 - coverage), which
+// lights Whitted's traced lobes: their own rays bring the light that transmissive surfaces let through, and
+// with the transmission in the light sample too, a glossy surface behind glass counted that light twice.
+VKRT_FN real4 shadowPassage(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
+    return real4(shadowTint(inputs, transmissionBlocks), 1.0 - inputs.coverage);
+}
+
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.
 VKRT_FN real3 fresnelAt(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
     return (1.0 - s.metallic) * dielectricReflectance(s, cosH, eta) + s.metallic * fresnelSchlick(s.albedo, cosH);
@@ -464,13 +472,14 @@ VKRT_FN bool reflectsLights(VKRT_IN(SurfaceResponse) s) {
 // viewer: Lambert plus the specular lobe, under the sheen, if any, which scales them and adds its own lobe, and
 // the coat, if any, which adds its own lobe about `coatNormal`. The traced lobes are weighted `tracedWeight`,
 // the others (diffuse, sheen, a specular lobe or coat that is not traced) `untracedWeight`: the multiple
-// importance sampling weights of a light sample against the strategies that also reach each lobe.
+// importance sampling weights of a light sample against the strategies that also reach each lobe, times what
+// each group sees of the light (directLight's shadow passage), per channel.
 //
 // A scene without rough or traced lobes (VKRT_HAS_ROUGH_SPECULAR, VKRT_HAS_TRACED_LOBES; scene_features.cpp)
 // has no metal, transmission, coat or KHR_materials_specular factor above 0: its specular lobe is 0 everywhere,
 // and its shader leaves the lobe out.
 VKRT_FN real3 reflectedLight(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal, real3 toViewer,
-                             real3 toLight, real3 irradiance, real tracedWeight, real untracedWeight) {
+                             real3 toLight, real3 irradiance, real3 tracedWeight, real3 untracedWeight) {
 #if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)
     const real3 brdf = untracedWeight * s.diffuse / VKRT_PI +
                        (s.traced ? tracedWeight : untracedWeight) * specularBrdf(s, normal, toViewer, toLight);

@@ -103,17 +103,17 @@ const bool vkrtTransmissionBlocksShadows = true;
 const bool vkrtTransmissionBlocksShadows = false;
 #endif
 
-// Multiplies `transmittance` by the transmission of a surface of material `materialIndex` crossed at
-// barycentrics / texture coordinates (u, v); true when it is now opaque. Only the holes of alpha-tested and
-// blended surfaces let the path integrator's shadow rays through; without them (no VKRT_HAS_ALPHA: every
-// surface covers its points fully) every surface stops them, and the material is not read.
-bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec3 transmittance) {
+// Multiplies `transmittance` by the passage of a surface of material `materialIndex` crossed at barycentrics /
+// texture coordinates (u, v) (surface_response.h's shadowPassage); true when it is now opaque. Only the holes
+// of alpha-tested and blended surfaces let the path integrator's shadow rays through; without them (no
+// VKRT_HAS_ALPHA: every surface covers its points fully) every surface stops them, and the material is not read.
+bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec4 transmittance) {
 #if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS))
     const SurfaceMaterial material = device_material(materialIndex);
-    transmittance *= shadowTint(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
-    if (maxComponent(transmittance) > 0.0) return false;
+    transmittance *= shadowPassage(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
+    if (maxComponent(transmittance.xyz) > 0.0) return false;
 #endif
-    transmittance = vec3(0.0);  // opaque
+    transmittance = vec4(0.0);  // opaque
     return true;
 }
 
@@ -121,7 +121,7 @@ bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout ve
 // A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip); in SHADOW
 // mode, every crossing in (tMin, tMax) filters `transmittance` instead (true once opaque).
 bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limit, const int mode, out float t,
-                out float u, out float v, inout vec3 transmittance) {
+                out float u, out float v, inout vec4 transmittance) {
     float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
     uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
     solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
@@ -161,7 +161,7 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
 // loop of one pass a crossing: on lavapipe every call site runs, masked, at every pass of the leaf loop whether
 // or not a lane crosses there (issue 13).
 bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin, float tMax,
-                    inout vec3 transmittance) {
+                    inout vec4 transmittance) {
     float t0 = 0.0, t1 = 0.0, u = 0.0, v = 0.0;
     uint crossings = 0u;
     bool sphere = false;
@@ -196,7 +196,7 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
 // are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
-                   float originScale, const int mode, inout Hit hit, inout vec3 transmittance) {
+                   float originScale, const int mode, inout Hit hit, inout vec4 transmittance) {
 #ifdef VKRT_HAS_SHAPES
     const GpuPrimitive primitive = primitiveAt(index);
     if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
@@ -258,7 +258,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
-                 inout vec3 transmittance, out bool complete) {
+                 inout vec4 transmittance, out bool complete) {
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
     complete = true;
     if (params.primitiveCount == 0u) return false;
@@ -336,7 +336,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
 }
 
 bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
-    vec3 unused = vec3(1.0);
+    vec4 unused = vec4(1.0);
     bool walked;
     const bool found = traverseBvh(r, exclude, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
     complete = complete && walked;
@@ -344,7 +344,7 @@ bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hi
 }
 
 bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool complete) {
-    vec3 unused = vec3(1.0);
+    vec4 unused = vec4(1.0);
     bool walked;
     const bool found = traverseBvh(r, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_ANY, hit, unused, walked);
     complete = complete && walked;
@@ -352,9 +352,10 @@ bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool comp
 }
 
 // Fraction of light passing from the ray's origin to tMax: 0 behind an opaque surface, the product of the
-// transmission tints of transmissive ones (shadow rays do not refract).
-vec3 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB, inout bool complete) {
-    vec3 transmittance = vec3(1.0);
+// transmission tints of transmissive ones (shadow rays do not refract) in xyz, and of their holes in w
+// (surface_response.h's shadowPassage).
+vec4 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB, inout bool complete) {
+    vec4 transmittance = vec4(1.0);
     Hit unused;
     bool walked;
     traverseBvh(shearRay(ray), excludeA, excludeB, 0.0, tMax, VKRT_TRACE_SHADOW, unused, transmittance, walked);

@@ -44,12 +44,67 @@ TEST(Cli, BadUsageExitsTwoWithOneLine) {
          {"", "--scene", "--bogus", "--scene x.gltf --width -3", "--scene x.gltf --spp many",
           "--scene x.gltf --out image.bmp", "--scene x.gltf --device tpu", "--scene x.gltf --shutter 1 0",
           "--scene x.gltf --shutter 0", "--scene x.gltf --integrator bdpt", "--scene x.gltf --max-depth 1025",
-          "--scene x.gltf --shader-features some"}) {
+          "--scene x.gltf --shader-features some", "--scene x.gltf --background 1,2,3,",
+          "--scene x.gltf --ambient 1,", "--scene x.gltf --stats ''", "--scene x.gltf --reference ''",
+          "--scene x.gltf --environment ''", "--scene x.gltf --stats x.gltf",
+          "--scene x.gltf --out r.pfm --reference r.pfm"}) {
         const auto result = test::runVkrt(arguments);
         EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.output;
         EXPECT_EQ(result.output.rfind("vkrt: error: ", 0), 0u) << result.output;
         EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
     }
+}
+
+// Whole numbers are decimal whatever leading zeros they have (CLI11 alone read "010" as octal 8 and refused
+// "08").
+TEST(Cli, WholeNumbersAreDecimal) {
+    const auto folder = test::temporaryFolder();
+    const auto result = test::runVkrt(
+        "--scene " + kCornell + " --device cpu --width 016 --height 08 --spp 010 " +
+        "--seed 0100 --quiet --out " + quoted(folder / "x.pfm") + " --stats " + quoted(folder / "x.json"));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    std::ifstream file(folder / "x.json");
+    const nlohmann::json stats = nlohmann::json::parse(file);
+    EXPECT_EQ(stats["width"], 16);
+    EXPECT_EQ(stats["height"], 8);
+    EXPECT_EQ(stats["spp"], 10);
+    EXPECT_EQ(stats["seed"], 100);
+}
+
+// A scene whose file name is not UTF-8 (Linux names are bytes) still gets its stats and report written.
+TEST(Cli, StatsOfASceneNamedInAnyBytesAreWritten) {
+    const auto folder = test::temporaryFolder();
+    const std::filesystem::path scene = folder / "caf\xe9.gltf";
+    std::filesystem::copy_file(test::sourceDir() / "scenes/cornell.gltf", scene);
+    const auto result =
+        test::runVkrt("--scene " + quoted(scene) + " --device cpu --width 8 --spp 1 --quiet --out " +
+                      quoted(folder / "x.png") + " --stats " + quoted(folder / "x.json") + " --report " +
+                      quoted(folder / "r.json"));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    for (const char* written : {"x.json", "r.json"}) {
+        std::ifstream file(folder / written);
+        nlohmann::json parsed;
+        EXPECT_NO_THROW(parsed = nlohmann::json::parse(file)) << written;
+        EXPECT_TRUE(parsed.is_object()) << written;
+    }
+}
+
+// An output path that is a symbolic link is written through: the link stays, the file it names gets the image
+// (the atomic write's rename used to replace the link with a file).
+TEST(Cli, OutputThroughASymbolicLinkWritesTheFileItNames) {
+    const auto folder = test::temporaryFolder();
+    std::filesystem::create_directories(folder / "real");
+    std::filesystem::create_symlink(folder / "real" / "target.pfm", folder / "link.pfm");
+    std::filesystem::create_symlink(folder / "real" / "stats.json", folder / "stats.json");
+    const auto result =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --spp 1 --quiet --out " +
+                      quoted(folder / "link.pfm") + " --stats " + quoted(folder / "stats.json"));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    for (const char* link : {"link.pfm", "stats.json"}) {
+        EXPECT_TRUE(std::filesystem::is_symlink(folder / link)) << link;
+    }
+    EXPECT_EQ(readImage((folder / "real" / "target.pfm").string()).width, 8);
+    EXPECT_TRUE(std::filesystem::is_regular_file(folder / "real" / "stats.json"));
 }
 
 TEST(Cli, CameraOutOfRangeIsBadInput) {

@@ -516,13 +516,26 @@ TEST(GltfLoader, HugeGroundDoesNotPullTheOriginAway) {
     // Placed where the file says, whatever the origin.
     EXPECT_NEAR(scene.spheres[2].center.x + scene.origin.x, 1.5, 1e-6);
     EXPECT_NEAR(scene.spheres[0].center.y + scene.origin.y, -100000.0, 1e-2);
+
+    // One object on the ground: the median of two centres would be the ground's, 1e6 below the object (where
+    // the GPU's ray offsets were 4 units and its contact shadows vanished); the ground stands for its top.
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"translation": [0, -1000000, 0], "extensions": {"VKRT_sphere": {"radius": 1000000}}},
+            {"translation": [2, 0.3, -1], "extensions": {"VKRT_sphere": {"radius": 0.3}}}
+        ]})");
+    const Scene one = loadGltf(file.string());
+    EXPECT_LT(glm::length(one.origin - glm::dvec3(2.0, 0.3, -1.0)), 1.0)
+        << one.origin.x << " " << one.origin.y << " " << one.origin.z;
 }
 
 // Texture coordinates: a non-finite one is refused, as positions, colours and tangents are; a texture reading
-// TEXCOORD_1 on a mesh without it reads TEXCOORD_0, and vkrt says so.
+// TEXCOORD_1 on a mesh without it reads TEXCOORD_0 (its values, not zeros), and vkrt says so; one reading a
+// set the mesh lacks altogether is named too.
 TEST(GltfLoader, TextureCoordinatesAreFiniteAndTheSetATextureReadsIsThere) {
     const auto folder = test::temporaryFolder();
-    auto write = [&](float u, int texCoord) {
+    auto write = [&](float u, int texCoord, const char* attributes = R"("POSITION": 0, "TEXCOORD_0": 1)") {
         const std::vector<float> data = {0, 0, 0, 1, 0, 0, 0, 1, 0, u, 0, 1, 0, 0, 1};
         test::writeText(folder / "triangle.bin", std::string(reinterpret_cast<const char*>(data.data()), 60));
         const std::filesystem::path file = folder / "triangle.gltf";
@@ -538,7 +551,8 @@ TEST(GltfLoader, TextureCoordinatesAreFiniteAndTheSetATextureReadsIsThere) {
             "textures": [{"source": 0}],
             "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": )" +
                                   std::to_string(texCoord) + R"(}}}],
-            "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+            "meshes": [{"primitives": [{"attributes": {)" +
+                                  attributes + R"(}, "material": 0}]}],
             "nodes": [{"mesh": 0}]
         })");
         return file.string();
@@ -550,6 +564,16 @@ TEST(GltfLoader, TextureCoordinatesAreFiniteAndTheSetATextureReadsIsThere) {
                   "has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0"),
               std::string::npos)
         << second.warnings[0];
+    ASSERT_EQ(second.uv1.size(), 1u);
+    for (int corner = 0; corner < 3; ++corner) EXPECT_EQ(second.uv1[0][corner], second.shading[0].uv[corner]);
+    for (int texCoord : {0, 1}) {
+        const Scene none = loadGltf(write(0.5f, texCoord, R"("POSITION": 0)"));
+        ASSERT_EQ(none.warnings.size(), 1u);
+        EXPECT_NE(none.warnings[0].find("has no TEXCOORD_" + std::to_string(texCoord) +
+                                        ", which its material's textures read; they read (0, 0)"),
+                  std::string::npos)
+            << none.warnings[0];
+    }
     try {
         loadGltf(write(std::nanf(""), 0));
         ADD_FAILURE() << "a NaN texture coordinate was accepted";

@@ -1,6 +1,8 @@
 // The path integrator against closed forms, on the GPU and the CPU reference alike: an enclosure whose walls
-// all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, depth D sums D + 2 terms of that series,
-// and a Lambertian sphere in a white furnace shows its albedo.
+// all emit and reflect diffusely has radiance 1 / (1 - A) everywhere, depth D sums D + 2 terms of that
+// series, and a Lambertian sphere in a white furnace shows its albedo. And light through glass counted once,
+// by paths and by Whitted's glossy lobes, whose light samples and traced rays share it by multiple importance
+// sampling.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -22,6 +24,13 @@ namespace {
 
 using test::bvhFor;
 using test::Gpu;
+
+// The mean of an image's red channel.
+double meanRed(const Image& image) {
+    double sum = 0.0;
+    for (const glm::vec3& p : image.pixels) sum += p.x;
+    return sum / static_cast<double>(image.pixels.size());
+}
 
 // The cube [-1, 1]^3 with its faces turned inwards, every face of material 0.
 void addInwardCube(Scene& scene) {
@@ -218,6 +227,103 @@ TEST_F(Gpu, PathsCountLightThroughGlassOnce) {
         const double without = mean((gpu ? open.gpu : open.cpu).image), with = mean((gpu ? glazed.gpu : glazed.cpu).image);
         EXPECT_GT(without, 0.3) << "the ceiling lights the floor";
         EXPECT_NEAR(with, without, 0.02 * without) << (gpu ? "gpu" : "cpu");
+    }
+}
+
+// A glossy floor (white metal of roughness 0.3) under a glowing ceiling, seen through a clear thin pane of
+// index 1, with Whitted's distributed ray tracing: the floor must look as it does without the pane. Its
+// traced reflections bring the ceiling's light through the pane; the light samples, which pass transmissive
+// surfaces for the diffuse lobes' sake, must not light the traced lobe through it as well (that doubled it:
+// 0.46 against 0.235 in a review's scene).
+TEST_F(Gpu, WhittedGlossyLobesCountLightThroughGlassOnce) {
+    auto render = [&](bool pane) {
+        Scene scene;
+        Material metal = test::lambertian(1.0f);
+        metal.metallic = 1.0f;
+        metal.roughness = 0.3f;
+        scene.materials.push_back(metal);
+        Material glow = test::lambertian(0.0f);
+        glow.emission = glm::vec3(1.0f);
+        scene.materials.push_back(glow);
+        addFlatQuad(scene, {-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}, 0);  // the floor, facing +z
+        addFlatQuad(scene, {-1, -1, 2}, {-1, 1, 2}, {1, 1, 2}, {1, -1, 2}, 1);  // the lamp, facing -z
+        if (pane) {
+            Material glass = test::lambertian(1.0f);
+            glass.transmission = 1.0f;
+            glass.ior = 1.0f;
+            glass.roughness = 0.0f;
+            scene.materials.push_back(glass);
+            addFlatQuad(scene, {-4, -4, 1}, {4, -4, 1}, {4, 4, 1}, {-4, 4, 1}, 2);
+        }
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera = test::squareCamera();
+        camera.position = {0.3, -0.2, 0.5};  // under the pane, looking down at the floor
+        RenderSettings settings;
+        settings.integrator = Integrator::Whitted;
+        settings.ambient = glm::dvec3(0.0);
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 256;
+        return test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    };
+    const auto open = render(false), glazed = render(true);
+    for (const bool gpu : {true, false}) {
+        const double without = meanRed((gpu ? open.gpu : open.cpu).image);
+        const double with = meanRed((gpu ? glazed.gpu : glazed.cpu).image);
+        EXPECT_GT(without, 0.05) << "the lamp lights the floor";
+        EXPECT_NEAR(with, without, 0.03 * without) << (gpu ? "gpu" : "cpu");
+    }
+}
+
+// Whitted's branches below the throughput cut (1e-3) survive Russian roulette: a black glossy wall (F0 0.04,
+// roughness 0.5) with a large lamp's highlight, seen from the other side through a thin pane that passes 2%
+// (or all) of the light (and is not between the lamp and the wall), must come out 2% as bright. A hard cut
+// dropped the traced lobe's share behind the dark pane while the light samples kept their weight against it
+// (a review measured 0.0190 instead of 0.02).
+TEST_F(Gpu, WhittedBranchesBelowTheCutKeepTheirShare) {
+    const glm::vec3 y(0, 1, 0), towardsLamp(0.70710678f, 0, 0.70710678f),
+        across(-0.70710678f, 0, 0.70710678f);
+    auto render = [&](float paneAlbedo) {
+        Scene scene;
+        Material wall = test::lambertian(0.0f);
+        wall.specularFactor = 1.0f;  // the dielectric's F0 of 0.04
+        wall.roughness = 0.5f;
+        scene.materials.push_back(wall);
+        Material glow = test::lambertian(0.0f);
+        glow.emission = glm::vec3(1.0f);
+        scene.materials.push_back(glow);
+        Material pane = test::lambertian(paneAlbedo);
+        pane.transmission = 1.0f;
+        pane.ior = 1.0f;
+        pane.roughness = 0.0f;
+        scene.materials.push_back(pane);
+        addFlatQuad(scene, {-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}, 0);  // the wall, facing +z
+        const glm::vec3 lamp = 3.0f * towardsLamp * 1.41421356f;  // (3, 0, 3), facing the wall's middle
+        addFlatQuad(scene, lamp - 3.0f * y - 3.0f * across, lamp - 3.0f * y + 3.0f * across,
+                    lamp + 3.0f * y + 3.0f * across, lamp + 3.0f * y - 3.0f * across, 1);
+        const glm::vec3 glass(-1.5f, 0.0f, 1.5f);  // across the camera's view, on the other side
+        addFlatQuad(scene, glass - y + towardsLamp, glass - y - towardsLamp, glass + y - towardsLamp,
+                    glass + y + towardsLamp, 2);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera = test::squareCamera();  // orthographic, 1 x 1
+        camera.position = {-2.0, 0.0, 2.0};
+        camera.forward = {0.70710678, 0.0, -0.70710678};
+        camera.up = {0.70710678, 0.0, 0.70710678};
+        camera.right = {0.0, -1.0, 0.0};
+        RenderSettings settings;
+        settings.integrator = Integrator::Whitted;
+        settings.ambient = glm::dvec3(0.0);
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 256;
+        return test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    };
+    const auto clear = render(1.0f), dark = render(0.02f);
+    for (const bool gpu : {true, false}) {
+        const double bright = meanRed((gpu ? clear.gpu : clear.cpu).image);
+        const double dim = meanRed((gpu ? dark.gpu : dark.cpu).image);
+        EXPECT_GT(bright, 0.01) << "the lamp's highlight is seen";
+        EXPECT_NEAR(dim / bright, 0.02, 0.0004) << (gpu ? "gpu" : "cpu") << ": " << dim << " / " << bright;
     }
 }
 

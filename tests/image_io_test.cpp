@@ -72,6 +72,13 @@ TEST(ToneMap, ClampClipsEachChannelAndExposureDoubles) {
     EXPECT_EQ(toneMap({0.5, 2.0, -1.0}, ToneMap::Clamp), glm::dvec3(0.5, 1.0, 0.0));
     EXPECT_EQ(toneMap({0.25, 0.25, 0.25}, ToneMap::Clamp, 1.0), glm::dvec3(0.5));  // one stop doubles
     EXPECT_EQ(toneMap({std::nan(""), 0.5, 0.5}, ToneMap::PbrNeutral).x, 0.0);
+    // Any exposure saturates to white, never to black (infinity over infinity was NaN, shown as 0).
+    for (ToneMap curve : {ToneMap::Clamp, ToneMap::Aces, ToneMap::PbrNeutral}) {
+        for (double exposure : {600.0, 1024.0}) {
+            EXPECT_NEAR(toneMap({0.5, 0.5, 0.5}, curve, exposure).x, 1.0, 1e-6)
+                << toneMapName(curve) << " at " << exposure;
+        }
+    }
 }
 
 TEST(ToneMap, AcesFollowsNarkowiczsFit) {

@@ -183,7 +183,9 @@ TEST(MemoryCli, HostEstimateCoversWhatTheRenderTakes) {
         const double estimated = estimate[1] - estimate[0];
         const double measured = peak[1] - peak[0];
         EXPECT_GE(estimated, 0.9 * measured) << device;
-        if (deviceInHostMemory) EXPECT_LE(estimated, 1.6 * measured) << device;
+        if (deviceInHostMemory) {
+            EXPECT_LE(estimated, 1.6 * measured) << device;
+        }
     }
 }
 
@@ -277,15 +279,18 @@ TEST(MemoryCli, LostDeviceKeepsTheTilesCopiedAndExitsOne) {
 TEST(MemoryCli, LostDeviceBeforeAnySampleWritesNothing) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "x.png";
-    const test::CommandResult r =
-        test::runCommand("VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=1 '" + std::string(VKRT_BINARY) + "' " +
-                         cornell() + " --width 32 --spp 4 --out '" + out.string() + "'");
+    const auto stats = folder / "x.json";
+    test::writeText(stats, "an earlier run's");
+    const test::CommandResult r = test::runCommand(
+        "VKRT_VALIDATE=1 VKRT_SIMULATE_DEVICE_LOSS=1 '" + std::string(VKRT_BINARY) + "' " + cornell() +
+        " --width 32 --spp 4 --out '" + out.string() + "' --stats '" + stats.string() + "'");
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(
         r.output.find("the device was lost (simulated at dispatch 1); no samples were kept, nothing written"),
         std::string::npos)
         << r.output;
     EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_EQ(test::readText(stats), "an earlier run's");  // the stats are not written either
 }
 
 }  // namespace

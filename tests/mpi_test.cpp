@@ -155,6 +155,72 @@ TEST(Mpi, RanksMustRenderTheSameImage) {
     EXPECT_NE(job.output.find("every rank needs the same scene and render options"), std::string::npos)
         << job.output;
     EXPECT_FALSE(std::filesystem::exists(out));
+    // Any option that changes the image, not only the size: light samples, filter, background, aperture.
+    for (const char* option :
+         {"--light-samples 4", "--filter gaussian", "--background 5", "--aperture 0.1"}) {
+        const test::CommandResult other =
+            test::runCommand(mpirun() + " -np 1 " + vkrt() + " " + render("cpu", out) + " : -np 1 " + vkrt() +
+                             " " + render("cpu", out) + " " + option);
+        EXPECT_EQ(other.exitCode, 2) << option << "\n" << other.output;
+        EXPECT_NE(other.output.find("every rank needs the same scene and render options"), std::string::npos)
+            << other.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << option;
+    }
+}
+
+// Rank 0's --report decides for every rank: a report asked of rank 1 alone is not rank 1's to make (it once
+// mixed its reference's samples into the image), and one asked of rank 0 alone has every rank render the
+// reference with it (it once hung the job).
+TEST(Mpi, ReportIsRankZerosToAsk) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult one = test::runVkrt(render("cpu", folder / "one.pfm", 8) + " --quiet");
+    ASSERT_EQ(one.exitCode, 0) << one.output;
+    const std::string report = " --report '" + (folder / "report.json").string() + "'";
+    for (const bool onRoot : {false, true}) {
+        const std::string out = (folder / (onRoot ? "root.pfm" : "other.pfm")).string();
+        const test::CommandResult job =
+            test::runCommand("timeout 120 env " + mpirun() + " -np 1 " + vkrt() + " " +
+                             render("cpu", out, 8) + (onRoot ? report : "") + " : -np 1 " + vkrt() + " " +
+                             render("cpu", out, 8) + (onRoot ? "" : report));
+        ASSERT_EQ(job.exitCode, 0) << job.output;
+        EXPECT_EQ(compareImages(readImage(out), readImage((folder / "one.pfm").string())).rmse, 0.0)
+            << (onRoot ? "report on rank 0" : "report on rank 1");
+    }
+    EXPECT_TRUE(std::filesystem::exists(folder / "report.json"));
+}
+
+// --help or --list-devices given to one rank of a job prints and ends every rank, never a hang.
+TEST(Mpi, ListDevicesOnOneRankEndsTheJob) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult job =
+        test::runCommand("timeout 60 env " + mpirun() + " -np 1 " + vkrt() + " " +
+                         render("cpu", folder / "x.png") + " : -np 1 " + vkrt() + " --list-devices");
+    EXPECT_NE(job.exitCode, 124) << job.output;  // timeout's: the job hung
+    EXPECT_NE(job.exitCode, 0) << job.output;    // rank 0 was asked to render and did not
+    EXPECT_NE(job.output.find("0: "), std::string::npos) << job.output;  // the list
+    EXPECT_NE(job.output.find("given --help or --list-devices"), std::string::npos) << job.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
+}
+
+// The stats of a job whose rank 0 is a GPU rank keep its device figures as one process does: its memory and
+// tiles (they were zeros), and its rays per GPU second from its own rays (not the job's over its GPU time).
+TEST(Mpi, StatsKeepRankZerosGpuFigures) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    const test::CommandResult job = test::runCommand(
+        "VKRT_VALIDATE=1 " + mpirun() + " -np 2 " + vkrt() + " " + render("gpu", folder / "tiled.pfm", 8) +
+        " --max-device-memory 60K --stats '" + (folder / "tiled.json").string() + "'");
+    ASSERT_EQ(job.exitCode, 0) << job.output;
+    const nlohmann::json s = readJson(folder / "tiled.json");
+    EXPECT_GT(s["memory"]["tiles"].get<int>(), 1) << s["memory"].dump();
+    EXPECT_GT(s["memory"]["device_budget_bytes"].get<double>(), 0.0);
+    const nlohmann::json& rays = s["per_rank"][0]["rays"];
+    const double rank0Rays =
+        rays["primary"].get<double>() + rays["shadow"].get<double>() + rays["secondary"].get<double>();
+    EXPECT_NEAR(s["mrays_per_gpu_s"].get<double>(), rank0Rays / s["gpu_ms"].get<double>() / 1e3,
+                1e-9 * s["mrays_per_gpu_s"].get<double>());
 }
 
 // A rank whose device is lost part way ends the job too: a shared render is all or nothing.
@@ -185,6 +251,17 @@ TEST(Mpi, TimeLimitEndsEveryRank) {
     EXPECT_GE(s["spp"].get<int>(), 1);
     EXPECT_LT(s["spp_max"].get<int>(), 1000000);
     for (const nlohmann::json& rank : s["per_rank"]) EXPECT_LT(rank["render_ms"].get<double>(), 5000.0);
+
+    // A time limit that passes once every sample is handed out stops nothing: the render of one pixel, whose
+    // one sample the CPU finishes once begun, is whole.
+    const test::CommandResult whole = test::runCommand(
+        mpirun() + " -np 2 " + vkrt() + " --scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() +
+        "' --device cpu --threads 1 --width 1 --height 1 --spp 1 --time-limit 0.000001 --out '" +
+        (folder / "whole.pfm").string() + "' --stats '" + (folder / "whole.json").string() + "'");
+    ASSERT_EQ(whole.exitCode, 0) << whole.output;
+    const nlohmann::json w = readJson(folder / "whole.json");
+    EXPECT_EQ(w["spp"], 1);
+    EXPECT_FALSE(w["stopped_by_time_limit"].get<bool>());
 }
 
 // A job the time limit stops between checkpoints ends its report with the image rank 0 writes, as one process

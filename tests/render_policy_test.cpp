@@ -196,6 +196,23 @@ TEST(RenderPolicy, HeightFollowsTheCameraAspectRatioWhenNotAsked) {
     EXPECT_EQ(setup.camera.name, "front");
 }
 
+// A height from a narrow aspect ratio beyond the largest image side is refused (it overflowed an int, and
+// came out as any height from 1 up); a wide one's height is at least 1.
+TEST(RenderPolicy, HeightFromTheAspectRatioStaysWithinTheLargestSide) {
+    for (const double aspect : {0.001, 1.49e-8, 1e-30}) {
+        Scene scene = darkSquare();
+        scene.cameras.push_back(cameraInFront(aspect));
+        RenderRequest request;
+        request.settings.width = 64;
+        EXPECT_THROW(resolveRender(request, scene), SceneError) << aspect;
+    }
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(1e30));
+    RenderRequest request;
+    request.settings.width = 64;
+    EXPECT_EQ(resolveRender(request, scene).settings.height, 1);
+}
+
 TEST(RenderPolicy, HeightFollowsAnOrthographicCamerasMagnificationsWhenNotAsked) {
     // xmag 2 and ymag 1 see a 4 x 2 view: a 64-pixel-wide image of it is 32 high, not stretched to 64.
     Scene scene = darkSquare();

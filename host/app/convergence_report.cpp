@@ -44,7 +44,8 @@ void ConvergenceReport::write(const std::string& path, const nlohmann::json& con
                                                {"relmse", p.relMse},
                                                {"fraction_off_1pct", p.fractionOff}});
             }
-            out << json.dump(2) << "\n";
+            out << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+                << "\n";  // paths need not be UTF-8
         }
         if (!out.flush()) throw std::runtime_error(path + ": cannot write");
     });

@@ -48,9 +48,9 @@ RenderSettings referenceRenderSettings(const RenderSettings& settings) {
 }
 
 std::string announceRenderedReference(const Options& options, const RenderSettings& referenceSettings,
-                                      bool gpu, int ranks) {
+                                      const std::string& device, int ranks) {
     const std::string by = ranks > 1 ? " on " + std::to_string(ranks) + " ranks" : std::string();
-    const std::string source = std::string(gpu ? "gpu" : "cpu") + " render made by this run" + by + ", " +
+    const std::string source = device + " render made by this run" + by + ", " +
                                std::to_string(referenceSettings.samplesPerPixel) + " spp, seed " +
                                std::to_string(referenceSettings.seed);
     if (!options.quiet) std::fprintf(stderr, "vkrt: reference: %s\n", source.c_str());

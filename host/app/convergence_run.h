@@ -19,9 +19,10 @@ ConvergenceReport referenceFromFile(const Options& options, const RenderSettings
 RenderSettings referenceRenderSettings(const RenderSettings& settings);
 
 // Where that reference comes from, as the report names it (said on stderr unless --quiet): a render on the
-// GPU or the CPU, by one process or by `ranks` ranks.
+// GPU or the CPU (`device`: "gpu", "cpu", or "gpu and cpu" for a job with both), by one process or by `ranks`
+// ranks.
 std::string announceRenderedReference(const Options& options, const RenderSettings& referenceSettings,
-                                      bool gpu, int ranks);
+                                      const std::string& device, int ranks);
 
 // Writes the --report file, when asked (its context names the ranks when there are several), and sums up the
 // last checkpoint's error in one line unless --quiet.

@@ -30,6 +30,16 @@ GpuRenderOptions gpuRenderOptions(const Options& options) {
     return gpuOptions;
 }
 
+void recordDeviceMemory(const GpuRenderer& renderer, RunReport& report) {
+    const GpuRenderReport& g = renderer.report();
+    report.memory.deviceEstimateBytes = g.memory.need.total();
+    report.memory.deviceBudgetBytes = g.memory.budgetBytes;
+    report.memory.tiles = g.memory.tiles;
+    report.memory.tileRows = g.memory.tileRows;
+    report.memory.hostCopies = g.hostCopies;
+    report.deviceLost = g.deviceLost;
+}
+
 RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context,
                            const GpuRenderer& renderer) {
     const GpuRenderReport& g = renderer.report();

@@ -21,6 +21,9 @@ GpuRenderOptions gpuRenderOptions(const Options& options);
 // The GPU tracer's figures for the stats.
 RunReport::Gpu gpuReportOf(const Options& options, const VulkanContext& context, const GpuRenderer& renderer);
 
+// The renderer's device memory, tiles and copies, and a lost device, into the run's report.
+void recordDeviceMemory(const GpuRenderer& renderer, RunReport& report);
+
 // Throws GpuError when the validation layer said anything.
 void throwOnValidationMessages(const VulkanContext& context);
 

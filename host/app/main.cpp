@@ -31,6 +31,20 @@ int fail(const MpiJob& job, int exitCode, const char* message) {
     return exitCode;
 }
 
+// --help's text or --list-devices' list.
+void printInformation(const Options& options) {
+    if (options.help) {
+        std::fputs(helpText().c_str(), stdout);
+        return;
+    }
+    for (const DeviceDescription& d : listDevices()) {
+        std::printf("%d: %s (%s, Vulkan %s%s%s)%s%s\n", d.index, d.name.c_str(), d.type.c_str(),
+                    d.apiVersion.c_str(), d.driver.empty() ? "" : ", ", d.driver.c_str(),
+                    d.usable ? "" : " unusable: ", d.unusableBecause.c_str());
+        for (const std::string& heap : d.memoryHeaps) std::printf("   %s\n", heap.c_str());
+    }
+}
+
 // The render `options` ask for, by this process alone or as one rank of an MPI job; returns the exit code.
 int run(Options options, const MpiJob& job) {
     // One image, one stats file and one report, from rank 0, which alone checks where they go; the others say
@@ -61,17 +75,20 @@ int main(int argc, char** argv) {
     const MpiJob job(argc, argv);
     try {
         Options options = parseOptions(argc, argv);
-        if (options.help) {
-            std::fputs(helpText().c_str(), stdout);
-            return 0;
-        }
-        if (options.listDevices) {
-            for (const DeviceDescription& d : listDevices()) {
-                std::printf("%d: %s (%s, Vulkan %s%s%s)%s%s\n", d.index, d.name.c_str(), d.type.c_str(),
-                            d.apiVersion.c_str(), d.driver.empty() ? "" : ", ", d.driver.c_str(),
-                            d.usable ? "" : " unusable: ", d.unusableBecause.c_str());
-                for (const std::string& heap : d.memoryHeaps) std::printf("   %s\n", heap.c_str());
+        // --help and --list-devices print and render nothing. In a job, any rank given one ends every rank
+        // (each must learn it, or the others wait for it forever): it is printed once, and a rank that was
+        // asked to render says why it did not.
+        const bool printsOnly = options.help || options.listDevices;
+        if (job.shared() ? job.anyRank(printsOnly) : printsOnly) {
+            const bool rootPrints = job.shared() ? job.fromRoot(printsOnly) : printsOnly;
+            if (!printsOnly) {
+                std::fprintf(stderr,
+                             "vkrt: rank %d: error: another rank was given --help or --list-devices, so "
+                             "this one renders nothing; give every rank the same options\n",
+                             job.rank());
+                return kExitBadInput;
             }
+            if (job.rank() == 0 || !rootPrints) printInformation(options);
             return 0;
         }
         handleStopSignals();

@@ -42,13 +42,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
             if (!runReport && rendered.stopped == StopReason::DeviceLost)
                 throw GpuError(renderer.report().deviceLost + " while rendering the reference for --report");
             if (runReport) {
-                const GpuRenderReport& g = renderer.report();
-                runReport->memory.deviceEstimateBytes = g.memory.need.total();
-                runReport->memory.deviceBudgetBytes = g.memory.budgetBytes;
-                runReport->memory.tiles = g.memory.tiles;
-                runReport->memory.tileRows = g.memory.tileRows;
-                runReport->memory.hostCopies = g.hostCopies;
-                runReport->deviceLost = g.deviceLost;
+                recordDeviceMemory(renderer, *runReport);
                 runReport->gpu = gpuReportOf(options, *context, renderer);
             }
             throwOnValidationMessages(*context);
@@ -72,7 +66,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     } else if (!options.reportPath.empty()) {
         const RenderSettings referenceSettings = referenceRenderSettings(settings);
         const std::string source =
-            announceRenderedReference(options, referenceSettings, context != nullptr, 1);
+            announceRenderedReference(options, referenceSettings, context ? "gpu" : "cpu", 1);
         convergence.emplace(render(referenceSettings, "reference", {}, nullptr).image, source);
     }
     CheckpointCallback checkpoint;
@@ -86,16 +80,20 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     // The image and the stats; a lost device keeps the samples the host had copied, if any.
     const bool deviceLost = result.stopped == StopReason::DeviceLost;
     const bool anySamples = result.mostSamples > 0;
-    if (!deviceLost || anySamples)
-        writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    // A device lost before any sample was kept writes nothing at all: the image and the stats of an earlier
+    // run at those paths stay as they were.
+    if (deviceLost && !anySamples) {
+        std::fprintf(stderr, "vkrt: error: %s; no samples were kept, nothing written\n",
+                     report.deviceLost.c_str());
+        return kExitRuntimeFailure;
+    }
+    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, camera, report);
     writeStats(options, report);
     if (deviceLost) {
-        const std::string kept =
-            anySamples ? "wrote the samples done (" + std::to_string(result.fewestSamples) + " to " +
-                             std::to_string(result.mostSamples) + " per pixel) to " + options.outputPath
-                       : std::string("no samples were kept, nothing written");
-        std::fprintf(stderr, "vkrt: error: %s; %s\n", report.deviceLost.c_str(), kept.c_str());
+        std::fprintf(stderr, "vkrt: error: %s; wrote the samples done (%u to %u per pixel) to %s\n",
+                     report.deviceLost.c_str(), result.fewestSamples, result.mostSamples,
+                     options.outputPath.c_str());
         return kExitRuntimeFailure;
     }
 

@@ -27,6 +27,7 @@ constexpr double kBeyondFloat = 0x1.ffffffp+127;
 
 // A colour: one value for grey, or three separated by commas (R,G,B). Empty when malformed.
 std::optional<glm::dvec3> parseColor(const std::string& text) {
+    if (!text.empty() && text.back() == ',') return std::nullopt;  // getline yields no empty last part
     std::vector<double> parts;
     std::stringstream stream(text);
     std::string part;
@@ -53,9 +54,15 @@ std::optional<T> parseNumber(const std::string& text) {
     if (error != std::errc() || ptr != end) return std::nullopt;
     return value;
 }
+// A whole number in decimal, rewritten without leading zeros or sign: CLI11 then converts with base 0, which
+// read "010" as octal 8 (and "08" as out of range). A transform, so that the rewritten text is the one
+// converted.
 const CLI::Validator kInteger(
     [](std::string& text) {
-        return parseNumber<long long>(text) ? std::string() : "'" + text + "' is not a whole number";
+        const std::optional<long long> value = parseNumber<long long>(text);
+        if (!value) return "'" + text + "' is not a whole number";
+        text = std::to_string(*value);
+        return std::string();
     },
     "");
 const CLI::Validator kFinite(
@@ -162,17 +169,17 @@ struct CommandLine {
             ->capture_default_str();
         app.add_option("--width", s.width, "image width in pixels")
             ->type_name("W")
-            ->check(kInteger)
-            ->check(CLI::Range(1, 16384))
+            ->transform(kInteger)
+            ->check(CLI::Range(1, kMaxImageSide))
             ->capture_default_str();
         app.add_option("--height", height, "image height in pixels")
             ->type_name("H")
-            ->check(kInteger)
-            ->check(CLI::Range(1, 16384))
+            ->transform(kInteger)
+            ->check(CLI::Range(1, kMaxImageSide))
             ->default_str("width / the camera's aspect ratio, else the width");
         app.add_option("--spp", s.samplesPerPixel, "samples per pixel (jittered, stratified)")
             ->type_name("N")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(1, 1 << 24))
             ->capture_default_str();
         app.add_option("--integrator", integrator,
@@ -186,15 +193,15 @@ struct CommandLine {
                        "bounces after the first hit: paths 0-" + std::to_string(kMaxPathDepth) +
                            ", Whitted 0-" + std::to_string(VKRT_MAX_RAY_DEPTH))
             ->type_name("D")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(0, kMaxPathDepth))
-            ->default_str(std::to_string(kDefaultPathDepth) + " for paths, " + std::to_string(kDefaultWhittedDepth) +
-                          " for Whitted");
+            ->default_str(std::to_string(kDefaultPathDepth) + " for paths, " +
+                          std::to_string(kDefaultWhittedDepth) + " for Whitted");
         app.add_option(
                "--light-samples", s.lightSamples,
                "area-light samples per shading point (1-" + std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
             ->type_name("N")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(1, static_cast<int>(VKRT_MAX_LIGHT_SAMPLES)))
             ->capture_default_str();
         app.add_flag("--no-mis", noMis,
@@ -209,7 +216,7 @@ struct CommandLine {
             ->capture_default_str();
         app.add_option("--device-index", options.deviceIndex, "which Vulkan device (see --list-devices)")
             ->type_name("N")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(0, 255))
             ->default_str("discrete GPU first");
         app.add_flag("--list-devices", options.listDevices, "print the Vulkan devices and exit");
@@ -277,14 +284,14 @@ struct CommandLine {
             ->check(kPositive);
         app.add_option("--seed", s.seed, "seed of the counter-based random numbers")
             ->type_name("S")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(0u, 2147483647u))
             ->capture_default_str();
         app.add_option("--camera", options.request.camera,
                        "which camera of the file to use, counted in the order the scene's nodes are walked "
                        "(depth first from its roots)")
             ->type_name("N")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(0, 1 << 20))
             ->capture_default_str();
         app.add_option("--ambient", ambient,
@@ -328,7 +335,7 @@ struct CommandLine {
             ->capture_default_str();
         app.add_option("--threads", s.threads, "CPU threads (0 = all)")
             ->type_name("N")
-            ->check(kInteger)
+            ->transform(kInteger)
             ->check(CLI::Range(0, 1024))
             ->capture_default_str();
         app.add_option("--stats", options.statsPath, "write render statistics as JSON")
@@ -392,6 +399,16 @@ Options parseOptions(int argc, const char* const argv[]) {
     }
     commandLine.finish();
     const Options& options = commandLine.options;
+    // A file option given an empty name is a mistake, not the option left out (an empty --reference once
+    // rendered its own reference at 16 times the samples instead).
+    const std::pair<const char*, const std::string*> files[] = {
+        {"--scene", &options.scenePath},         {"--out", &options.outputPath},
+        {"--stats", &options.statsPath},         {"--report", &options.reportPath},
+        {"--reference", &options.referencePath}, {"--environment", &options.environmentPath}};
+    for (const auto& [name, path] : files) {
+        if (commandLine.app.count(name) > 0 && path->empty())
+            throw UsageError(std::string(name) + " needs a file name");
+    }
     if (!options.help && !options.listDevices && options.scenePath.empty()) {
         throw UsageError("--scene FILE is required (see --help)");
     }
@@ -405,6 +422,17 @@ Options parseOptions(int argc, const char* const argv[]) {
             if (!a.empty() && !b.empty() && sameFile(a, b)) {
                 throw UsageError(std::string(written[i].first) + " and " + written[j].first +
                                  " name the same file: " + b);
+            }
+        }
+        // Nor does a run write over what it reads.
+        const std::pair<const char*, const std::string*> read[] = {
+            {"--scene", &options.scenePath},
+            {"--reference", &options.referencePath},
+            {"--environment", &options.environmentPath}};
+        for (const auto& [name, path] : read) {
+            const std::string& output = *written[i].second;
+            if (!output.empty() && !path->empty() && sameFile(output, *path)) {
+                throw UsageError(std::string(written[i].first) + " would write over " + name + ": " + output);
             }
         }
     }

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <system_error>
 
+#include "common/atomic_file.h"
+
 namespace vkrt {
 namespace {
 
@@ -22,8 +24,15 @@ void checkReadable(const char* option, const std::string& path) {
 
 // The folder that will hold `path` exists and can take a new file (outputs are written to a temporary file
 // there first, then renamed).
-void checkWritable(const char* option, const std::string& path) {
-    if (path.empty()) return;
+void checkWritable(const char* option, const std::string& asked) {
+    if (asked.empty()) return;
+    const OutputTarget output = outputTarget(asked);
+    if (output.direct) {  // a device or a pipe, written as it is
+        if (access(asked.c_str(), W_OK) != 0)
+            throw UsageError(std::string(option) + ": " + asked + ": is not writable");
+        return;
+    }
+    const std::string path = output.path.string();
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
         throw UsageError(std::string(option) + ": " + path + ": is a directory");

@@ -1,7 +1,10 @@
 #include "app/rank_render.h"
 
 #include <cstdlib>
+#include <filesystem>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,68 @@
 #include "image/image_io.h"
 
 namespace vkrt {
+namespace {
+
+// What makes a rank's image, one "name: value" line each (numbers to the last bit), so that ranks given
+// different options are refused rather than mixed into one image; not how it is made (threads, device).
+std::string renderIdentity(const Options& options, const RenderSetup& setup) {
+    const RenderSettings& s = setup.settings;
+    const Camera& c = setup.camera;
+    std::ostringstream out;
+    out << std::setprecision(17);
+    const auto line = [&](const char* name, const auto&... values) {
+        out << name << ":";
+        ((out << " " << values), ...);
+        out << "\n";
+    };
+    const auto vector = [](const glm::dvec3& v) {
+        std::ostringstream text;
+        text << std::setprecision(17) << v.x << "," << v.y << "," << v.z;
+        return text.str();
+    };
+    const auto file = [](const std::string& path) {
+        std::error_code error;
+        const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, error);
+        return error ? path : canonical.string();
+    };
+    line("scene", file(options.scenePath));
+    line("size", std::to_string(s.width) + "x" + std::to_string(s.height));
+    line("spp", s.samplesPerPixel);
+    line("seed", s.seed);
+    line("integrator", integratorName(s.integrator));
+    line("max depth", s.maxDepth);
+    line("ambient", vector(s.ambient));
+    line("background", vector(s.background));
+    line("min throughput", s.minThroughput);
+    line("filter", static_cast<int>(s.pixelFilter));
+    line("light samples", s.lightSamples);
+    line("mis", s.multipleImportanceSampling);
+    line("energy compensation", s.energyCompensation);
+    line("camera", c.name, static_cast<int>(c.projection), vector(c.position), vector(c.forward),
+         vector(c.up), c.yfov, c.xmag, c.ymag);
+    line("aperture", c.aperture);
+    line("focus distance", c.focusDistance);
+    if (options.shutter)
+        line("shutter", (*options.shutter)[0], (*options.shutter)[1]);
+    else
+        line("shutter", "the scene's");
+    line("environment", options.environmentPath.empty() ? std::string("none") : file(options.environmentPath),
+         options.environmentRotation, options.environmentStrength);
+    return out.str();
+}
+
+// The first line in which two identities differ: "<that line>, rank 0 <its line>".
+std::string firstDifference(const std::string& rank, const std::string& root) {
+    std::istringstream a(rank), b(root);
+    std::string lineA, lineB;
+    while (std::getline(a, lineA)) {
+        std::getline(b, lineB);
+        if (lineA != lineB) return "with " + lineA + ", rank 0 with " + lineB;
+    }
+    return "another image";
+}
+
+}  // namespace
 
 int renderShared(const MpiJob& job, const Options& options, const PreparedRender& prepared,
                  RunReport& report) {
@@ -50,6 +115,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
                 stop, onProgress, shareOptions);
             if (forStats) {
                 gpu = gpuReportOf(options, *context, renderer);
+                recordDeviceMemory(renderer, report);
                 mine.deviceName = gpu->deviceName;
             }
         } else {
@@ -72,29 +138,32 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     shareOptions.stopRequested = &stopRequested();
     shareOptions.pixels = pixels;
 
-    // Every rank must render the same image (on whatever device): a different size would not even add up.
-    const std::string renderOf =
-        options.scenePath + ", " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-        ", " + std::to_string(settings.samplesPerPixel) + " spp, seed " + std::to_string(settings.seed) +
-        ", " + integratorName(settings.integrator) + " depth " + std::to_string(settings.maxDepth) +
-        ", camera " + setup.camera.name;
-    const std::vector<std::string> renders = job.gatherToRoot(renderOf);
+    // Every rank must render the same image (on whatever device): a different size would not even add up, and
+    // different settings would be mixed into one image.
+    const std::vector<std::string> renders = job.gatherToRoot(renderIdentity(options, setup));
     for (size_t rank = 1; rank < renders.size(); ++rank) {
         if (renders[rank] != renders[0]) {
-            throw UsageError("rank " + std::to_string(rank) + " renders " + renders[rank] + ", rank 0 " +
-                             renders[0] + ": every rank needs the same scene and render options");
+            throw UsageError("rank " + std::to_string(rank) + " renders " +
+                             firstDifference(renders[rank], renders[0]) +
+                             ": every rank needs the same scene and render options");
         }
     }
+    const bool anyGpu = job.anyRank(context != nullptr), anyCpu = job.anyRank(context == nullptr);
 
     // Error against run time (rank 0): a reference from a file, or a render shared as the render is, with
-    // another seed and 16 times the samples.
+    // another seed and 16 times the samples. Rank 0's options decide for every rank: the others' report
+    // options are not theirs to use (an MPMD job may give them other ones), and all must render the
+    // reference.
     std::optional<ConvergenceReport> convergence;
-    if (!options.referencePath.empty()) {
+    if (job.fromRoot(!options.referencePath.empty())) {
         if (job.rank() == 0) convergence.emplace(referenceFromFile(options, settings));
-    } else if (!options.reportPath.empty()) {
+    } else if (job.fromRoot(!options.reportPath.empty())) {
         const RenderSettings referenceSettings = referenceRenderSettings(settings);
-        const std::string source =
-            announceRenderedReference(options, referenceSettings, context != nullptr, job.size());
+        const std::string source = announceRenderedReference(options, referenceSettings,
+                                                             anyGpu && anyCpu ? "gpu and cpu"
+                                                             : anyGpu         ? "gpu"
+                                                                              : "cpu",
+                                                             job.size());
         // The reference renders all its samples (no time limit); an interrupt leaves nothing to keep.
         RankShare reference =
             share(referenceSettings, "reference", StopCondition(&stopRequested(), 0.0), shareOptions, false);
@@ -139,6 +208,10 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     writeStats(options, report);
     if (convergence) writeConvergence(options, *convergence, report, settings, job.size());
     printRenderSummary(options, report, job.size());
+    if (!options.quiet && result.fewestSamples == 0) {
+        std::fprintf(stderr,
+                     "vkrt: warning: the render stopped before every pixel had a sample; those are black\n");
+    }
     // An interrupt on another rank (mpirun forwards SIGTERM) ends the job as one on this one would.
     if (result.stopped == StopReason::Requested) return stoppedExitCode();
     return 0;

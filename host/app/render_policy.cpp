@@ -56,7 +56,14 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
         const double aspect =
             file.projection == Projection::Orthographic ? std::abs(file.xmag / file.ymag) : file.aspectRatio;
         if (aspect > 0.0 && std::isfinite(aspect)) {
-            settings.height = std::max(1, static_cast<int>(std::lround(settings.width / aspect)));
+            const double height = std::max(1.0, std::round(settings.width / aspect));
+            if (!(height <= kMaxImageSide)) {
+                throw SceneError("camera " + std::to_string(request.camera) + "'s aspect ratio " +
+                                 std::to_string(aspect) + " makes the image " +
+                                 std::to_string(settings.width) + " wide and more than " +
+                                 std::to_string(kMaxImageSide) + " pixels high; give --height");
+            }
+            settings.height = static_cast<int>(height);
         }
     }
 

@@ -81,7 +81,10 @@ nlohmann::json toJson(const RunReport& r) {
         json["device_type"] = g.deviceType;
         json["driver"] = g.driver;
         json["gpu_ms"] = g.gpuMs;
-        json["mrays_per_gpu_s"] = g.gpuMs > 0.0 ? static_cast<double>(r.rays.total()) / g.gpuMs / 1e3 : 0.0;
+        // The rays of the GPU timed: under MPI, rank 0's own (its figures are these), not the job's.
+        const RayCounters& timedRays = r.ranks.empty() ? r.rays : r.ranks.front().rays;
+        json["mrays_per_gpu_s"] =
+            g.gpuMs > 0.0 ? static_cast<double>(timedRays.total()) / g.gpuMs / 1e3 : 0.0;
         json["features"] = g.features;
         json["scene_access"] = g.sceneAccess;
         json["gpu_memory_bytes"] = g.deviceMemoryBytes;
@@ -112,7 +115,9 @@ nlohmann::json toJson(const RunReport& r) {
 void writeJson(const nlohmann::json& json, const std::string& path) {
     writeFileAtomically(path, [&](const std::string& temporary) {
         std::ofstream file(temporary);
-        file << json.dump(2) << "\n";
+        // Names in it (paths) need not be UTF-8 on Linux: bytes that are not become U+FFFD rather than an
+        // error.
+        file << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
         if (!file.flush()) throw std::runtime_error(path + ": cannot write");
     });
 }

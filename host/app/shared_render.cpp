@@ -63,12 +63,15 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
     uint64_t count = 1;
     double samplesPerMs = 0.0;
     for (;;) {
-        // Asked to stop between batches (every rank takes at least one): the others take no more either.
-        if (share.stopped == StopReason::None && share.batches > 0 && stop.stop()) {
+        uint64_t first = share.stopped != StopReason::None ? phaseEnd : counter.fetchAdd(count);
+        // Asked to stop between batches (every rank takes at least one): the samples just taken are left, and
+        // the others take no more either. Only while samples were left to take: a time limit or a signal
+        // after the last one stops nothing, as in one process.
+        if (first < phaseEnd && share.stopped == StopReason::None && share.batches > 0 && stop.stop()) {
             share.stopped = stop.reason();
             counter.fetchAdd(kClosed);
+            first = phaseEnd;
         }
-        const uint64_t first = share.stopped != StopReason::None ? phaseEnd : counter.fetchAdd(count);
         if (first >= phaseEnd) {
             if (!phased) break;
             // The phase's end, every rank together: stop if any rank stopped, else a checkpoint when due.

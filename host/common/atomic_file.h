@@ -13,6 +13,32 @@
 
 namespace vkrt {
 
+// Where writing `path` goes: through a symbolic link to the file it names (so the link stays a link), and
+// `direct` when that is not a regular file or a new one (a device such as /dev/stdout, or a pipe), which is
+// written as it is, since it cannot be replaced by a rename.
+struct OutputTarget {
+    std::filesystem::path path;
+    bool direct = false;
+};
+
+inline OutputTarget outputTarget(const std::string& path) {
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);  // through links
+    if (!error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+        !std::filesystem::is_directory(status)) {
+        return {path, true};
+    }
+    // Each link in turn (the file it names need not exist yet), at most as many as the system follows.
+    std::filesystem::path file(path);
+    for (int links = 0;
+         links < 40 && std::filesystem::is_symlink(std::filesystem::symlink_status(file, error)); ++links) {
+        const std::filesystem::path target = std::filesystem::read_symlink(file, error);
+        if (error) break;
+        file = target.is_absolute() ? target : file.parent_path() / target;
+    }
+    return {file, false};
+}
+
 // The temporary file being written, for a signal handler that ends the process to remove (unlink() is
 // async-signal-safe): empty when none, or a path longer than the buffer.
 inline char gTemporaryFileBeingWritten[4096] = {};
@@ -20,7 +46,13 @@ inline char gTemporaryFileBeingWritten[4096] = {};
 // Calls write(temporaryPath), then renames the temporary file to `path`. If write throws or the rename
 // fails, the temporary file is removed and nothing appears at `path`.
 template <typename Write>
-void writeFileAtomically(const std::string& path, Write&& write) {
+void writeFileAtomically(const std::string& asked, Write&& write) {
+    const OutputTarget output = outputTarget(asked);
+    if (output.direct) {
+        write(asked);
+        return;
+    }
+    const std::string path = output.path.string();
     std::random_device device;
     std::ostringstream suffix;
     suffix << ".tmp-" << std::hex << std::setfill('0') << std::setw(8) << device() << std::setw(8)

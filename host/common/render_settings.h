@@ -23,6 +23,9 @@ inline const char* integratorName(Integrator integrator) {
 // The most bounces a path may take (Whitted's ray tree is bounded by VKRT_MAX_RAY_DEPTH on the GPU).
 inline constexpr int kMaxPathDepth = 1024;
 
+// The largest image side, in pixels (--width, --height, and a height from the camera's aspect ratio).
+inline constexpr int kMaxImageSide = 16384;
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
@@ -32,7 +35,8 @@ struct RenderSettings {
     uint32_t seed = 0;
     glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's alone; paths ignore it)
     glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
-    double minThroughput = 1e-3;  // Whitted: branches of the ray tree weighted less than this are cut
+    double minThroughput =
+        1e-3;  // Whitted: branches of the ray tree weighted less than this face Russian roulette
     PixelFilter pixelFilter = PixelFilter::Box;
     int lightSamples = 1;  // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
     // Glossy lobes that are both traced and lit by light samples combine the two by the power heuristic;

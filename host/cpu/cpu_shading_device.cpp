@@ -114,16 +114,16 @@ double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, 
     return shading::solidAnglePdfFromArea(pick / area, distance2, cosLight);
 }
 
-glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction,
+glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction,
                                                  double tMax, uint32_t excludeA, uint32_t excludeB) const {
     ++counters_.shadow;
     const Scene& scene = data_.scene;
     const RayT<double> ray{origin, direction};
-    glm::dvec3 result(1.0);
+    glm::dvec4 result(1.0);
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice, a solid
     // more often).
     auto cross = [&](uint32_t primitive, uint32_t material, glm::dvec2 hitUv) {
-        result *= shading::shadowTint(
+        result *= shading::shadowPassage(
             shading::sampleMaterial(*this, data_.materials[material], primitive, hitUv, 0.0),
             data_.transmissionBlocksShadows);
     };
@@ -141,7 +141,7 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
                     shading::shapePoint(scene.shapes[shape].type, crossing.face, crossing.flip,
                                         shading::affineRows(toObject), origin, direction, crossing.t);
                 cross(primitive, scene.shapes[shape].material, p.uv);
-                if (shading::maxComponent(result) <= 0.0) return true;
+                if (shading::maxComponent(glm::dvec3(result)) <= 0.0) return true;
             }
             return false;
         }
@@ -163,7 +163,7 @@ glm::dvec3 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
             if (!intersectTriangle(triangle, origin, direction, 0.0, rayMax, hit)) return false;
             cross(primitive, triangle.material, {hit.u, hit.v});
         }
-        return shading::maxComponent(result) <= 0.0;  // fully blocked: stop looking
+        return shading::maxComponent(glm::dvec3(result)) <= 0.0;  // fully blocked: stop looking
     });
     return result;
 }

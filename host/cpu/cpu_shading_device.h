@@ -79,19 +79,20 @@ class CpuShadingDevice {
     double environmentColumnCdf(uint32_t i) const { return data_.environment.environmentColumnCdf(i); }
 
     // The fraction of light passing from `origin` to distance tMax along `direction`: 0 behind an opaque
-    // surface, the product of the tints of transmissive ones (shadow rays do not refract).
-    glm::dvec3 shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
+    // surface, the product of the tints of transmissive ones (shadow rays do not refract) in xyz, and of
+    // their holes in w (surface_response.h's shadowPassage).
+    glm::dvec4 shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
                                    uint32_t excludeA, uint32_t excludeB) const;
 
-    // New rays start a hair off the surface, on the side they leave from. The offset is relative to the
-    // magnitude of the numbers the position came from, so it is scale-invariant; in double precision 1e-9 is
-    // far above the rounding of the hit point (about 1e-16 relative) and far below any feature float geometry
-    // can resolve (6e-8). Excluding the primitive just hit removes the remaining risk of hitting it again.
-    // Shadow rays to a point on a light stop 1e-9 of the distance short of it, far above double rounding.
-    double shadowRayLength(double distance) const { return distance * (1.0 - 1e-9); }
+    // New rays start off the surface, on the side they leave from, by the GPU's relative offset
+    // (shared.h's VKRT_RAY_OFFSET_EPSILON), far above the rounding of a double-precision hit point: so both
+    // renderers treat surfaces within a tie's width of the one a ray leaves alike. Excluding the primitive
+    // just hit removes the remaining risk of hitting it again. Shadow rays to a point on a light stop as
+    // short of it as the GPU's (VKRT_SHADOW_RAY_SHORTENING).
+    double shadowRayLength(double distance) const { return distance * (1.0 - VKRT_SHADOW_RAY_SHORTENING); }
 
     glm::dvec3 offsetOrigin(const glm::dvec3& position, double errorScale, const glm::dvec3& normal) const {
-        return position + 1e-9 * std::max(shading::maxAbs(position), errorScale) * normal;
+        return position + VKRT_RAY_OFFSET_EPSILON * std::max(shading::maxAbs(position), errorScale) * normal;
     }
 
     double time() const { return time_; }

@@ -65,10 +65,12 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     p.shape = VKRT_NO_PRIMITIVE;
     p.uv = {hit.u, hit.v};
     p.tangent = glm::dvec4(0.0);
-    // The point along the ray, and the magnitude of the numbers it came from; rounding errors are relative to
-    // it.
+    // The point along the ray. Its error scale, which sizes the new rays' offset (cpu_shading_device.h), is
+    // the GPU's (trace.comp's hitPointOf): the smaller of the magnitudes of the ray's numbers and of the
+    // surface's, from which the GPU computes the point, so that both renderers offset new rays alike.
     p.position = ray.origin + hit.t * ray.direction;
-    p.errorScale = shading::maxAbs(ray.origin) + hit.t;
+    const double rayScale = shading::maxAbs(ray.origin) + hit.t;
+    p.errorScale = rayScale;
     if (scene_.isSolid(hit.primitive)) {
         // The crossed shape and face (encodeCrossing); the point projected onto the face.
         p.shape = static_cast<uint32_t>(hit.u);
@@ -81,7 +83,8 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
                                 ray.origin, ray.direction, hit.t);
         p.material = shape.material;
         p.position = glm::dvec3(toWorld * glm::dvec4(s.local, 1.0));
-        p.errorScale = shading::shapeScale(shading::affineRows(toWorld));
+        p.errorScale = std::min(rayScale + shading::maxAbs(glm::dvec3(toWorld[3])),
+                                shading::shapeScale(shading::affineRows(toWorld)));
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
         return p;
@@ -92,7 +95,7 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
         const glm::dvec3 center(sphere.center);
         p.geometricNormal = p.normal = glm::normalize(p.position - center);
         p.position = center + static_cast<double>(sphere.radius) * p.normal;
-        p.errorScale = shading::maxAbs(center) + sphere.radius;
+        p.errorScale = std::min(rayScale, shading::maxAbs(center) + sphere.radius);
         p.uv = shading::sphereUv(p.normal);
         return p;
     }
@@ -100,6 +103,9 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     const Triangle& opened = scene_.triangles[hit.primitive];  // at the shutter's opening
     const Triangle now = scene_.triangleAt(hit.primitive, time);
     p.geometricNormal = geometricNormalOf(now);
+    p.errorScale =
+        std::min(rayScale, std::max({shading::maxAbs(glm::dvec3(now.v0)), shading::maxAbs(glm::dvec3(now.v1)),
+                                     shading::maxAbs(glm::dvec3(now.v2))}));
     p.normal =
         glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
                                             glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));

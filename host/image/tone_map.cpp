@@ -55,6 +55,9 @@ glm::dvec3 toneMap(glm::dvec3 linear, ToneMap toneMap, double exposure) {
     glm::dvec3 v = linear * std::exp2(exposure);
     for (int c = 0; c < 3; ++c) {
         if (!(v[c] > 0.0)) v[c] = 0.0;  // negative and NaN both map to black
+        // Beyond any curve's shoulder, and below where the curves' squares overflow (infinity over infinity
+        // made a large exposure's white black).
+        v[c] = std::min(v[c], 1e30);
     }
     switch (toneMap) {
         case ToneMap::Aces:

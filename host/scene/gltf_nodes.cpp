@@ -77,11 +77,45 @@ void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots) {
     }
 }
 
+namespace {
+
+// A part of the scene as approximateCenter sees it: the world box of a mesh primitive's POSITION bounds, or
+// of a sphere or shape.
+struct Part {
+    glm::dvec3 centre;
+    glm::dvec3 halfSize;
+    double size() const { return std::max({halfSize.x, halfSize.y, halfSize.z}); }
+};
+
+// The world half-size of a local box of half-size `half` under `world`'s linear part.
+glm::dvec3 worldHalfSize(const glm::dmat4& world, const glm::dvec3& half) {
+    glm::dvec3 result(0.0);
+    for (int column = 0; column < 3; ++column) result += glm::abs(glm::dvec3(world[column])) * half[column];
+    return result;
+}
+
+// Per axis, the median of `points` (the lower of the middle two for an even count).
+glm::dvec3 medianOf(const std::vector<glm::dvec3>& points) {
+    glm::dvec3 median;
+    std::vector<double> values(points.size());
+    for (int axis = 0; axis < 3; ++axis) {
+        for (size_t i = 0; i < points.size(); ++i) values[i] = points[i][axis];
+        const auto middle = values.begin() + static_cast<std::ptrdiff_t>((values.size() - 1) / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        median[axis] = *middle;
+    }
+    return median;
+}
+
+}  // namespace
+
 glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>& roots) {
     const tinygltf::Model& model = context.model;
-    std::vector<glm::dvec3> centres;
-    auto add = [&](const glm::dvec3& q) {
-        if (std::isfinite(q.x + q.y + q.z)) centres.push_back(q);
+    std::vector<Part> parts;
+    auto add = [&](const glm::dvec3& centre, const glm::dvec3& halfSize) {
+        if (std::isfinite(centre.x + centre.y + centre.z) &&
+            std::isfinite(halfSize.x + halfSize.y + halfSize.z))
+            parts.push_back({centre, halfSize});
     };
     // Depth first with a stack of its own: a hierarchy can be deeper than the call stack.
     std::vector<std::pair<int, glm::dmat4>> pending;
@@ -91,7 +125,7 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         pending.pop_back();
         const tinygltf::Node& node = model.nodes[nodeIndex];
         const glm::dmat4 world = parent * localTransform(context, nodeIndex);
-        // The centre of each primitive's POSITION bounds.
+        // Each primitive's POSITION bounds.
         if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) {
             for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
                 auto position = primitive.attributes.find("POSITION");
@@ -103,31 +137,50 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                 if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
                 // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
                 glm::dvec4 centre(0.0, 0.0, 0.0, 1.0);
+                glm::dvec3 half(0.0);
                 for (int axis = 0; axis < 3; ++axis) {
-                    centre[axis] = 0.5 * (normalizedValue(accessor.minValues[axis], accessor.componentType,
-                                                          accessor.normalized) +
-                                          normalizedValue(accessor.maxValues[axis], accessor.componentType,
-                                                          accessor.normalized));
+                    const double low = normalizedValue(accessor.minValues[axis], accessor.componentType,
+                                                       accessor.normalized);
+                    const double high = normalizedValue(accessor.maxValues[axis], accessor.componentType,
+                                                        accessor.normalized);
+                    centre[axis] = 0.5 * (low + high);
+                    half[axis] = 0.5 * std::abs(high - low);
                 }
-                add(glm::dvec3(world * centre));
+                add(glm::dvec3(world * centre), worldHalfSize(world, half));
             }
         }
-        // A sphere's or shape's centre.
-        if (node.extensions.count("VKRT_sphere") || node.extensions.count("VKRT_shape"))
-            add(glm::dvec3(world[3]));
+        // A sphere of its radius, a shape of its canonical [-1, 1]^3, about the node's origin.
+        if (auto sphere = node.extensions.find("VKRT_sphere"); sphere != node.extensions.end()) {
+            const tinygltf::Value& radius = sphere->second.Get("radius");
+            const double r = radius.IsNumber() ? std::abs(radius.GetNumberAsDouble()) : 0.0;
+            add(glm::dvec3(world[3]), worldHalfSize(world, glm::dvec3(r)));
+        }
+        if (node.extensions.count("VKRT_shape"))
+            add(glm::dvec3(world[3]), worldHalfSize(world, glm::dvec3(1.0)));
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             pending.emplace_back(*child, world);
     }
-    if (centres.empty()) return glm::dvec3(0.0);
-    glm::dvec3 median;
-    std::vector<double> values(centres.size());
-    for (int axis = 0; axis < 3; ++axis) {
-        for (size_t i = 0; i < centres.size(); ++i) values[i] = centres[i][axis];
-        const auto middle = values.begin() + static_cast<std::ptrdiff_t>((values.size() - 1) / 2);
-        std::nth_element(values.begin(), middle, values.end());
-        median[axis] = *middle;
+    if (parts.empty()) return glm::dvec3(0.0);
+    // Parts far larger than the typical one (a ground sphere or plane under the objects) stand for the point
+    // of their box nearest the others' median, not for their centre, which can lie far from everything seen:
+    // with two parts, a median of centres is the ground's.
+    std::vector<double> sizes(parts.size());
+    for (size_t i = 0; i < parts.size(); ++i) sizes[i] = parts[i].size();
+    const auto middle = sizes.begin() + static_cast<std::ptrdiff_t>((sizes.size() - 1) / 2);
+    std::nth_element(sizes.begin(), middle, sizes.end());
+    const double large = 64.0 * *middle;
+    std::vector<glm::dvec3> typical;
+    for (const Part& part : parts)
+        if (part.size() <= large) typical.push_back(part.centre);
+    const glm::dvec3 typicalMedian = medianOf(typical);  // never empty: the median part is typical
+    std::vector<glm::dvec3> representatives;
+    for (const Part& part : parts) {
+        representatives.push_back(
+            part.size() <= large
+                ? part.centre
+                : glm::clamp(typicalMedian, part.centre - part.halfSize, part.centre + part.halfSize));
     }
-    return median;
+    return medianOf(representatives);
 }
 
 }  // namespace vkrt

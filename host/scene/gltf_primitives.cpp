@@ -146,15 +146,23 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         decoded.material = static_cast<uint32_t>(primitive.material);
     }
     // A texture that reads the second set where the primitive has none reads the first (the glTF validator
-    // calls it an error; vkrt says so and renders).
-    if (decoded.uvs1.empty()) {
-        for (const TextureSlot* slot : context_.scene.materials[decoded.material].textureSlots()) {
-            if (slot->used() && slot->texCoord == 1) {
-                context_.warn(where +
-                              " has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0");
-                break;
-            }
-        }
+    // calls it an error; vkrt says so and renders): the first set is the primitive's second too, for its
+    // textures, its vertex tangent frames and its derived ones alike. A texture that reads a set the
+    // primitive lacks altogether reads (0, 0), and vkrt says that too.
+    const auto readsSet = [&](int set) {
+        for (const TextureSlot* slot : context_.scene.materials[decoded.material].textureSlots())
+            if (slot->used() && slot->texCoord == set) return true;
+        return false;
+    };
+    if (decoded.uvs.empty() && readsSet(0)) {
+        context_.warn(where + " has no TEXCOORD_0, which its material's textures read; they read (0, 0)");
+    }
+    if (decoded.uvs1.empty() && readsSet(1)) {
+        context_.warn(where +
+                      (decoded.uvs.empty()
+                           ? " has no TEXCOORD_1, which its material's textures read; they read (0, 0)"
+                           : " has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0"));
+        decoded.uvs1 = decoded.uvs;
     }
     decodeTangents(primitive, decoded);
     return decoded;

@@ -149,7 +149,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
             const real3 fresnel = fresnelAt(s, d.w, c.y);
             r1 = real4(fresnel.x, fresnel.y, fresnel.z, s.alpha);
         } else {
-            const real3 light = reflectedLight(s, normal, normal, toViewer, toLight, xyz(b), c.z, 1.0);
+            const real3 light =
+                reflectedLight(s, normal, normal, toViewer, toLight, xyz(b), real3(c.z), real3(1.0));
             r0 = real4(light.x, light.y, light.z, s.transmission);
             r1 = real4(s.diffuse.x, s.specular.x, s.specular.y, (s.mirror ? 1.0 : 0.0) + (s.traced ? 2.0 : 0.0));
         }

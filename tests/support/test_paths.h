@@ -16,6 +16,7 @@ bool haveScenesReal();
 std::string shaderCacheDir();
 
 void writeText(const std::filesystem::path& path, const std::string& text);
+std::string readText(const std::filesystem::path& path);  // the whole file; empty when it cannot be read
 
 // Every .gltf and .glb file under a folder, sorted.
 std::vector<std::filesystem::path> gltfFilesUnder(const std::filesystem::path& folder);
