@@ -367,9 +367,10 @@ VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks
 }
 
 // A shadow ray's passage, as the shadow walk returns it: in xyz the product of the crossed surfaces' shadowTint,
-// which lights the lobes no ray is traced for; in w the product of their holes alone (1 - coverage), which
-// lights Whitted's traced lobes: their own rays bring the light that transmissive surfaces let through, and
-// with the transmission in the light sample too, a glossy surface behind glass counted that light twice.
+// which lights the lobes no ray is traced for; in w the product of their holes alone (1 - coverage), by which
+// area lights and the environment light Whitted's traced lobes: their own rays bring the light of those that
+// transmissive surfaces let through, and with the transmission in the light sample too, a glossy surface
+// behind glass counted that light twice.
 VKRT_FN real4 shadowPassage(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
     return real4(shadowTint(inputs, transmissionBlocks), 1.0 - inputs.coverage);
 }

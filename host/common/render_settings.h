@@ -35,8 +35,7 @@ struct RenderSettings {
     uint32_t seed = 0;
     glm::dvec3 ambient{0.05};     // ambient radiance; lights the diffuse albedo (Whitted's alone; paths ignore it)
     glm::dvec3 background{0.0};   // radiance seen by rays that leave the scene
-    double minThroughput =
-        1e-3;  // Whitted: branches of the ray tree weighted less than this face Russian roulette
+    double minThroughput = 1e-3;  // Whitted: branches of the ray tree weighted less than this are cut
     PixelFilter pixelFilter = PixelFilter::Box;
     int lightSamples = 1;  // area-light samples per shading point (at most VKRT_MAX_LIGHT_SAMPLES)
     // Glossy lobes that are both traced and lit by light samples combine the two by the power heuristic;

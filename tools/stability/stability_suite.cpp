@@ -364,18 +364,10 @@ StabilityResult nestedDielectrics(const VulkanContext& context, const StabilityO
         finalizeScene(scene);
         return scene;
     };
-    // As deep as Whitted's trees go: each ray's crossings of the inner sphere take two levels of the depth,
-    // and at the default 8 the branches that Russian roulette keeps alive (branchSurvival) ended two levels
-    // sooner than without the sphere (a mean difference of 3e-4 that more samples did not shrink). And 8
-    // times the samples: the roulette draws other numbers where the sphere's crossings renumber the ray
-    // tree's nodes, a noise of 1.7e-4 at 4 samples a pixel, 5e-5 at 32.
-    RenderSettings settings = settingsFor(options);
-    settings.maxDepth = VKRT_MAX_RAY_DEPTH;
-    settings.samplesPerPixel = 8 * options.samplesPerPixel;
-    const Rendered r = renderBoth(context, build(true), camera, settings, options);
+    const Rendered r = renderBoth(context, build(true), camera, settingsFor(options), options);
     StabilityResult result = measure(options, groupOf(kind), name, r);
     if (innerIor == 1.33f) {
-        const Rendered water = renderBoth(context, build(false), camera, settings, options);
+        const Rendered water = renderBoth(context, build(false), camera, settingsFor(options), options);
         setInvariance(result, r.gpu, water.gpu);
     }
     return result;
