@@ -57,6 +57,10 @@ std::vector<BadArguments> badArguments() {
         {VKRT_STABILITY_REPORT, "stability_report", "--long-samples -1", "--long-samples"},
         {VKRT_STABILITY_REPORT, "stability_report", "--dump", "--dump"},
         {VKRT_STABILITY_REPORT, "stability_report", "--json --dump out extra", "extra"},
+        {VKRT_PACK_SCENE, "pack_scene", "", "input"},
+        {VKRT_PACK_SCENE, "pack_scene", "--draco /nonexistent/scene.gltf out.glb", "input"},
+        {VKRT_PACK_SCENE, "pack_scene", "--draco --webp " + quotedCornell() + " out.glb", "excludes"},
+        {VKRT_PACK_SCENE, "pack_scene", quotedCornell() + " out.glb", "--draco or --webp"},
     };
 }
 
@@ -77,6 +81,7 @@ TEST(ToolsCli, HelpListsTheOptionsAndExitsZero) {
         {VKRT_BVH_BENCHMARK, {"--triangles", "--runs", "--threads", "--scene", "--embree"}},
         {VKRT_RAY_BENCHMARK, {"--scene", "--triangles", "--width", "--height", "--runs", "--device-index"}},
         {VKRT_STABILITY_REPORT, {"--size", "--spp", "--long-samples", "--json", "--dump"}},
+        {VKRT_PACK_SCENE, {"--draco", "--webp", "input", "output"}},
     };
     for (const auto& [tool, options] : tools) {
         SCOPED_TRACE(tool);

@@ -22,6 +22,8 @@
 #include <tiny_gltf.h>
 #include <webp/encode.h>
 
+#include "command_line.h"
+#include "common/atomic_file.h"
 #include "scene/gltf_schema.h"
 
 namespace {
@@ -206,27 +208,39 @@ std::string webpImages(const tinygltf::Model& model, nlohmann::json& document) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::string mode = argc == 4 ? argv[1] : "";
-    if (mode != "--draco" && mode != "--webp") {
-        std::fprintf(stderr, "usage: pack_scene --draco|--webp IN.gltf OUT.glb\n");
+    CLI::App app{
+        "Writes a glTF scene as a GLB with its meshes Draco-compressed (KHR_draco_mesh_compression) or "
+        "its images as WebP (EXT_texture_webp).",
+        "pack_scene"};
+    bool draco = false, webp = false;
+    std::string input, output;
+    CLI::Option* dracoFlag = app.add_flag("--draco", draco, "compress every mesh with Draco");
+    app.add_flag("--webp", webp, "re-encode every image as lossless WebP")->excludes(dracoFlag);
+    app.add_option("input", input, "the glTF scene (.gltf)")->required()->check(CLI::ExistingFile);
+    app.add_option("output", output, "the GLB to write")->required();
+    if (const std::optional<int> exitCode = vkrt::parseCommandLine(app, argc, argv)) return *exitCode;
+    if (draco == webp) {
+        std::fprintf(stderr, "pack_scene: error: give --draco or --webp (see --help)\n");
         return 2;
     }
     tinygltf::TinyGLTF gltf;
     tinygltf::Model model;
     std::string error, warning;
-    if (!gltf.LoadASCIIFromFile(&model, &error, &warning, argv[2])) {
-        std::fprintf(stderr, "pack_scene: %s: %s\n", argv[2], error.c_str());
+    if (!gltf.LoadASCIIFromFile(&model, &error, &warning, input)) {
+        std::fprintf(stderr, "pack_scene: error: %s: %s\n", input.c_str(), error.c_str());
         return 2;
     }
     try {
-        std::ifstream in(argv[2]);
+        std::ifstream in(input);
         nlohmann::json document = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
-        const std::string bin = mode == "--draco" ? dracoMeshes(model, document) : webpImages(model, document);
-        std::ofstream out(argv[3], std::ios::binary);
-        out << vkrt::glbFile(document.dump(), bin);
-        if (!out) throw std::runtime_error(std::string("cannot write ") + argv[3]);
+        const std::string bin = draco ? dracoMeshes(model, document) : webpImages(model, document);
+        vkrt::writeFileAtomically(output, [&](const std::string& temporary) {
+            std::ofstream out(temporary, std::ios::binary);
+            out << vkrt::glbFile(document.dump(), bin);
+            if (!out) throw std::runtime_error("cannot write " + output);
+        });
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "pack_scene: %s: %s\n", argv[2], e.what());
+        std::fprintf(stderr, "pack_scene: error: %s: %s\n", input.c_str(), e.what());
         return 2;
     }
     return 0;
