@@ -45,7 +45,8 @@ using uint = uint32_t;
 #define VKRT_DIM_SCATTER_U 50u
 #define VKRT_DIM_SCATTER_V 51u
 #define VKRT_DIM_PATH_BRANCH 52u
-// Whitted's Russian roulette of a glossy reflection weighted below the cut (axis 0).
+// Whitted's Russian roulette of a branch weighted below the cut: a glossy reflection (axis 0), a glossy ray's
+// transmission (axis 1).
 #define VKRT_DIM_BRANCH_ROULETTE 53u
 // The clear coat's lobe (KHR_materials_clearcoat): its microfacet normal, and whether the reflection follows it.
 #define VKRT_DIM_COAT_U 56u

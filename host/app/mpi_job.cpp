@@ -126,6 +126,13 @@ bool MpiJob::fromRoot(bool value) const {
     return value;
 }
 
+double MpiJob::fromRoot(double value) const {
+#ifdef VKRT_WITH_MPI
+    if (initialized_) MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+#endif
+    return value;
+}
+
 void MpiJob::sumToRoot([[maybe_unused]] double* values, [[maybe_unused]] size_t count) const {
 #ifdef VKRT_WITH_MPI
     if (initialized_) sumToRootInPieces(rank_, values, count, MPI_DOUBLE);

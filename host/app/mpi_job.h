@@ -41,6 +41,7 @@ class MpiJob {
     bool anyRank(bool value) const;
     // Rank 0's `value`, on every rank.
     bool fromRoot(bool value) const;
+    double fromRoot(double value) const;
     // Element-wise sums of every rank's values, left in rank 0's (the others' are unchanged).
     void sumToRoot(double* values, size_t count) const;
     void sumToRoot(uint64_t* values, size_t count) const;

@@ -32,8 +32,9 @@ EnvironmentMap loadEnvironment(const Options& options) {
 
 // Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
 // records the estimate and what was available.
-void checkHostMemoryFor(const Options& options, const Scene& scene, const RenderSettings& settings,
-                        const VulkanContext* context, RunReport::Memory& memory) {
+void checkHostMemoryFor(const Options& options, bool measuresError, const Scene& scene,
+                        const RenderSettings& settings, const VulkanContext* context,
+                        RunReport::Memory& memory) {
     HostMemoryInputs inputs;
     inputs.triangles = scene.triangles.size();
     inputs.textureBytes = packedTextureBytes(scene);
@@ -46,7 +47,7 @@ void checkHostMemoryFor(const Options& options, const Scene& scene, const Render
         if (options.maxDeviceMemoryBytes > 0)
             inputs.deviceBudgetBytes = std::min(inputs.deviceBudgetBytes, options.maxDeviceMemoryBytes);
     }
-    inputs.report = !options.reportPath.empty() || !options.referencePath.empty();
+    inputs.report = measuresError;
     inputs.outputPath = options.outputPath;
     const MemoryNeed need = estimateHostMemory(inputs);
     HostMemory available = availableHostMemory();
@@ -104,8 +105,10 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
     if (contextError) std::rethrow_exception(contextError);
 
     // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
-    checkHostMemoryFor(options, prepared.scene, prepared.setup.settings, prepared.context.get(),
-                       report.memory);
+    // Error against run time is rank 0's to ask for, and every rank of a job renders its reference then.
+    const bool measuresError = job.fromRoot(!options.reportPath.empty() || !options.referencePath.empty());
+    checkHostMemoryFor(options, measuresError, prepared.scene, prepared.setup.settings,
+                       prepared.context.get(), report.memory);
 
     // Acceleration structure.
     prepared.bvh = buildSceneBvh(prepared.scene);

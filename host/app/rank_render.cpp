@@ -181,7 +181,8 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
             convergence->add(samples, renderMs, 0.0, averageOf(sums, settings.width, settings.height));
         };
     }
-    shareOptions.checkpointEveryMs = options.reportEveryMs;  // every rank's phases end where rank 0's do
+    // Every rank's phases end where rank 0's do: its --report-every-ms, whatever the others were given.
+    shareOptions.checkpointEveryMs = job.fromRoot(options.reportEveryMs);
 
     // The render itself, and every rank's share of it summed on rank 0.
     RankShare rendered = share(settings, context ? "gpu" : "cpu",
