@@ -25,6 +25,19 @@ namespace {
 using test::bvhFor;
 using test::Gpu;
 
+// A thin pane at height z over [-4, 4]^2 that transmits everything (index 1: no Fresnel reflection), of a
+// material of its own.
+void addClearPane(Scene& scene, float z) {
+    Material glass = test::lambertian(1.0f);
+    glass.transmission = 1.0f;
+    glass.ior = 1.0f;
+    glass.roughness = 0.0f;
+    glass.specularFactor = 1.0f;
+    scene.materials.push_back(glass);
+    const uint32_t material = static_cast<uint32_t>(scene.materials.size() - 1);
+    addFlatQuad(scene, {-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}, material);
+}
+
 // The mean of an image's red channel.
 double meanRed(const Image& image) {
     double sum = 0.0;
@@ -198,15 +211,7 @@ TEST_F(Gpu, PathsCountLightThroughGlassOnce) {
         scene.materials.push_back(glow);
         addFlatQuad(scene, {-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}, 0);  // the floor, facing +z
         addFlatQuad(scene, {-4, -4, 2}, {-4, 4, 2}, {4, 4, 2}, {4, -4, 2}, 1);  // the ceiling, facing -z
-        if (pane) {
-            Material glass = test::lambertian(1.0f);
-            glass.transmission = 1.0f;
-            glass.ior = 1.0f;
-            glass.roughness = 0.0f;
-            glass.specularFactor = 1.0f;
-            scene.materials.push_back(glass);
-            addFlatQuad(scene, {-4, -4, 1}, {4, -4, 1}, {4, 4, 1}, {-4, 4, 1}, 2);
-        }
+        if (pane) addClearPane(scene, 1.0f);
         finalizeScene(scene);
         const FlatBvh bvh = bvhFor(scene);
         Camera camera = test::squareCamera();
@@ -255,14 +260,7 @@ TEST_F(Gpu, WhittedGlossyLobesCountLightThroughGlassOnce) {
         } else {
             addFlatQuad(scene, {-1, -1, 2}, {-1, 1, 2}, {1, 1, 2}, {1, -1, 2}, 1);  // the lamp, facing -z
         }
-        if (pane) {
-            Material glass = test::lambertian(1.0f);
-            glass.transmission = 1.0f;
-            glass.ior = 1.0f;
-            glass.roughness = 0.0f;
-            scene.materials.push_back(glass);
-            addFlatQuad(scene, {-4, -4, 1}, {4, -4, 1}, {4, 4, 1}, {-4, 4, 1}, 2);
-        }
+        if (pane) addClearPane(scene, 1.0f);
         finalizeScene(scene);
         const FlatBvh bvh = bvhFor(scene);
         Camera camera = test::squareCamera();
