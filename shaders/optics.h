@@ -93,11 +93,15 @@ VKRT_FN real3 turnWithFace(real3 v, real3 edgeFrom, real3 normalFrom, real3 edge
 // The unit normal of a triangle's plane (right-handed winding), its cross product evaluated as written: no
 // product is fused into a multiply-add, so a component whose two products are equal (0 on an axis-aligned face)
 // is exactly 0 on every device, as on the CPU; a fused one would leave it at plus or minus a rounding error,
-// which orthonormalBasis's branch could see.
+// which orthonormalBasis's branch could see. `normalize` squares the components, which in single precision
+// overflows beyond a cross product of about 1.8e19 (a triangle's edges near 4e9) and flushes to zero below about
+// 1e-19 (edges near 3e-10): such a cross product is divided by its largest component first.
 VKRT_FN real3 planeNormal(real3 v0, real3 v1, real3 v2) {
     const real3 a = v1 - v0, b = v2 - v0;
     VKRT_PRECISE const real3 normal = real3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-    return normalize(normal);
+    const real lengthSquared = dot(normal, normal);
+    if (lengthSquared > 1e-30 && lengthSquared < 1e30) return normalize(normal);
+    return normalize(normal / max(abs(normal.x), max(abs(normal.y), abs(normal.z))));
 }
 
 // An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis, Revisited",

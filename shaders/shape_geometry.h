@@ -253,6 +253,36 @@ VKRT_FN real2 shapeUv(uint type, uint face, real3 p) {
     return real2(u, 0.5 * (1.0 - p.y));
 }
 
+// The tangent frame of shapeUv on face `face` at p (object space) of a shape placed by `toWorld`, as a normal
+// texture reads it (GpuTangents): in xyz a unit vector along which u grows, in w the sign that turns
+// w * cross(normal, tangent) up the texture (the way v falls, as tangent_frames.cpp decides it for meshes), with
+// `normal` the world normal the hit reports. Mirroring maps and reversed normals change w. Zero where u has no
+// direction (a sphere's poles, a side's axis): the normal then stays.
+VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) toWorld, real3 normal) {
+    // dP/du and dP/dv in object space, each up to a positive factor.
+    real3 dpdu = real3(p.z, 0.0, -p.x);
+    real3 dpdv = real3(0.0, -1.0, 0.0);
+    if (type == VKRT_SHAPE_SPHERE) {
+        dpdv = real3(p.y * p.x, -(p.x * p.x + p.z * p.z), p.y * p.z);
+    } else if (type == VKRT_SHAPE_BOX) {
+        const int axis = int(face / 2u);
+        dpdu = real3(0.0);
+        dpdu[(axis + 1) % 3] = 1.0;
+        dpdv = real3(0.0);
+        dpdv[(axis + 2) % 3] = -1.0;
+    } else if (face != VKRT_FACE_SIDE) {
+        dpdu = real3(1.0, 0.0, 0.0);
+        dpdv = real3(0.0, 0.0, 1.0);
+    } else if (type != VKRT_SHAPE_CYLINDER) {
+        dpdv = real3(p.x, -2.0 * sqrt(p.x * p.x + p.z * p.z), p.z);  // the cone's side narrows towards the apex
+    }
+    const real3 along = affineVector(toWorld, dpdu);
+    const real3 tangent = along - normal * dot(normal, along);
+    const real size = sqrt(dot(tangent, tangent));
+    if (!(size > 1e-12 * sqrt(dot(along, along)))) return real4(0.0);
+    return real4(tangent / size, dot(cross(normal, tangent), affineVector(toWorld, dpdv)) > 0.0 ? -1.0 : 1.0);
+}
+
 // Whether p (object space) is inside shape `type`.
 VKRT_FN bool shapeContains(uint type, real3 p) {
     if (type == VKRT_SHAPE_SPHERE) return dot(p, p) <= 1.0;

@@ -78,6 +78,15 @@ VKRT_FN real2 sphereUv(real3 n) {
     return real2(u, acos(clamp(n.y, -1.0, 1.0)) / VKRT_PI);
 }
 
+// The tangent frame of sphereUv at outward unit normal n, as a normal texture reads it (GpuTangents): the unit
+// direction in which u grows in xyz, and in w the sign that turns w * cross(n, tangent) up the texture (the way
+// v falls), which is +1 everywhere on the sphere. Zero at the poles, where u has no direction (the normal stays).
+VKRT_FN real4 sphereTangent(real3 n) {
+    const real3 along = real3(n.z, 0.0, -n.x);
+    const real size = sqrt(along.x * along.x + along.z * along.z);
+    return size > 0.0 ? real4(along / size, 1.0) : real4(0.0);
+}
+
 // 1 - cos(theta_max) of the cone a sphere subtends from a point at squared distance `distance2` from its
 // centre, written as sin^2 / (1 + cos) to keep its digits for small, distant spheres.
 VKRT_FN real coneOneMinusCos(real radius, real distance2) {

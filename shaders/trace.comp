@@ -139,6 +139,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.material = shape.material;
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
+#ifdef VKRT_HAS_NORMAL_MAPS
+        p.tangent = shapeTangent(shape.type, code >> 1u, s.local, toWorld, s.normal);
+#endif
         const float rayScale = maxAbs(ray.origin) + hit.t + maxAbs(vec3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w));
         const float scale = shapeScale(toWorld);
         surface = rayScale < scale ? SurfacePoint(ray.origin + hit.t * ray.direction, rayScale)
@@ -150,6 +153,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         surface = sphereHitPoint(ray.origin, ray.direction, hit.t, primitive.v0, primitive.v1.x, p.geometricNormal);
         p.normal = p.geometricNormal;
         p.uv = sphereUv(p.geometricNormal);
+#ifdef VKRT_HAS_NORMAL_MAPS
+        p.tangent = sphereTangent(p.geometricNormal);
+#endif
     } else
 #endif
     {

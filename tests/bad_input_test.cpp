@@ -189,6 +189,15 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "uniformly"},
+        {"sphere under a scale of zero",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back(
+                 {{"scale", {0.0, 0.0, 0.0}}, {"extensions", {{"VKRT_sphere", {{"radius", 1.0}}}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "scales the sphere to nothing"},
         {"animation keys out of order",
          [](auto&, auto& file) { writeJson(file, animatedTriangle(1.0f, 0.0f)); }, "increasing"},
         {"animation with fewer values than keys",
@@ -535,6 +544,10 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
     notFinite.at(0, 0) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
     writeImage(negative, (folder / "negative.exr").string());
     writeImage(notFinite, (folder / "nan.exr").string());
+    Image bright(2, 1);
+    bright.at(0, 0) = glm::vec3(1.0f);
+    bright.at(1, 0) = glm::vec3(5.0f);  // times a strength of 1e38, beyond float's range
+    writeImage(bright, (folder / "bright.exr").string());
     const std::string scene = "'" + (test::sourceDir() / "scenes/environment.gltf").string() + "'";
     struct Case {
         std::string options;
@@ -554,6 +567,9 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
                "zero-run.hdr: cannot read Radiance HDR: truncated or corrupt run-length data"},
           Case{"--environment-strength -1", "must not be negative"},
           Case{"--environment-strength 1e39", "beyond single precision's range"},
+          Case{"--environment '" + (folder / "bright.exr").string() + "' --environment-strength 1e38",
+               "texel (1, 0) of the environment map times the strength 1e+38 is beyond single precision's "
+               "range"},
           Case{"--environment-rotation inf", "is not finite"}}) {
         SCOPED_TRACE(c.options);
         const auto output = folder / "out.png";

@@ -589,13 +589,17 @@ TEST(Cli, StatsReportTextureMemory) {
 // sums hold them.
 TEST(Cli, RadianceBeyondFloatSumsIsLeftOutAndCounted) {
     const auto folder = test::temporaryFolder();
+    // A uniform map of radiance 1 at strength 3e38: every texel stays a float, four samples' sum does not.
+    Image uniform(8, 4);
+    for (glm::vec3& texel : uniform.pixels) texel = glm::vec3(1.0f);
+    writeImage(uniform, (folder / "uniform.exr").string());
     for (const char* device : {"gpu", "cpu"}) {
         SCOPED_TRACE(device);
         const auto image = folder / (std::string(device) + ".pfm");
         const auto stats = folder / (std::string(device) + ".json");
         const auto result = test::runVkrt(
             "--scene " + quoted(test::sourceDir() / "scenes/environment.gltf") + " --environment " +
-            quoted(test::sourceDir() / "scenes/sky.hdr") + " --environment-strength 3e38 --device " + device +
+            quoted(folder / "uniform.exr") + " --environment-strength 3e38 --device " + device +
             " --width 16 --height 10 --spp 4 --out " + quoted(image) + " --stats " + quoted(stats));
         ASSERT_EQ(result.exitCode, 0) << result.output;
         const Image pixels = readImage(image.string());

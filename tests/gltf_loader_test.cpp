@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "common/memory_need.h"
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/mipmaps.h"
@@ -685,6 +686,28 @@ std::filesystem::path writeInstancedMeshes(const std::filesystem::path& folder, 
     const std::filesystem::path file = folder / (name + ".gltf");
     test::writeText(file, document.dump());
     return file;
+}
+
+// The triangles a file places are counted against the host memory before they are placed: a file of a few
+// bytes whose instances make a billion triangles is refused in one line (MemoryError, exit 2), not after
+// taking all the memory there is. The interleaved meshes place 9 triangles: allowed the memory of 9 they
+// load, of 8 not.
+TEST(GltfLoader, PlacedTrianglesAreCountedAgainstTheMemoryBeforeTheyArePlaced) {
+    const std::filesystem::path file = writeInstancedMeshes(test::temporaryFolder(), true);
+    LoadOptions options;
+    options.maxSceneBytes = 9 * (sizeof(Triangle) + sizeof(TriangleShading));
+    EXPECT_EQ(loadGltf(file.string(), options).triangles.size(), 9u);
+    options.maxSceneBytes -= 1;
+    options.memorySource = "--max-memory";
+    try {
+        loadGltf(file.string(), options);
+        ADD_FAILURE() << "loaded 9 triangles in the memory of fewer";
+    } catch (const MemoryError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+        EXPECT_NE(message.find("up to 9 triangles"), std::string::npos) << message;
+        EXPECT_NE(message.find("(--max-memory)"), std::string::npos) << message;
+    }
 }
 
 TEST(GltfLoader, SharedMeshInstancesArePlacedPerNode) {

@@ -139,6 +139,44 @@ TEST_F(Gpu, PathsInAGlowingCsgCavitySeeOneOverOneMinusAlbedo) {
     expectGlowingEnclosure(context(), scene, {0.1, 0.05, -0.2}, {1.0, 0.2, 0.3}, albedo, "CSG cavity");
 }
 
+TEST_F(Gpu, PathsInsideAGlowingSphereSeeOneOverOneMinusAlbedo) {
+    // The same closed form inside a double-sided VKRT_sphere, whose points are the light samples' origins and
+    // their targets at once. Seen from a point on the sphere, its sampler must take the inside (points
+    // uniform by area), not the cone of a point outside, which rounding chose about half the time when the
+    // samples were drawn from the hit point itself (the level came out 0.90 of 1 on the GPU and 0.90 on the
+    // CPU, with 0.5 of emission and albedo 0.5). One-sided, the sphere emits outwards only: inside, every
+    // pixel is black (it had leaked 0.05).
+    const float albedo = 0.5f;
+    for (const bool doubleSided : {true, false}) {
+        Scene scene;
+        Material wall = test::lambertian(albedo);
+        wall.emission = glm::vec3(1.0f);
+        wall.doubleSided = doubleSided;
+        scene.materials.push_back(wall);
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        finalizeScene(scene);
+        if (doubleSided) {
+            expectGlowingEnclosure(context(), scene, {0.1, 0.05, -0.2}, {1.0, 0.2, 0.3}, albedo,
+                                   "inside a sphere");
+            continue;
+        }
+        Camera camera;
+        camera.yfov = 1.4;
+        RenderSettings settings;
+        settings.integrator = Integrator::Path;
+        settings.ambient = glm::dvec3(0.0);
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 16;
+        const auto [gpu, cpu] =
+            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+        for (const RenderResult* result : {&gpu, &cpu}) {
+            float brightest = 0.0f;
+            for (const glm::vec3& p : result->image.pixels) brightest = std::max({brightest, p.x, p.y, p.z});
+            EXPECT_EQ(brightest, 0.0f) << (result == &gpu ? "gpu" : "cpu") << ", one-sided";
+        }
+    }
+}
+
 TEST_F(Gpu, PathsStopAtTheMaximumDepth) {
     // Paths of at most D bounces (before Russian roulette starts) see the first D + 2 terms of the series,
     // 1 + A + ... + A^(D+1): every hit's emission, and at the last hit a light sample, which takes full weight

@@ -19,7 +19,6 @@
 
 #include "cpu/reference_renderer.h"
 #include "scene/gltf_loader.h"
-#include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
 #include "shape_geometry.h"
 #include "support/gpu_fixture.h"
@@ -154,21 +153,7 @@ TEST_F(Gpu, SmoothNormalsAndNormalMapsTurnWithAMovingMesh) {
             white.normalTexture.texture = 0;
         }
         still.materials.push_back(white);
-        still.triangles = makeUvSphere(glm::vec3(0.0f), 1.0f, 48, 96);
-        still.shading.resize(still.triangles.size());
-        for (size_t i = 0; i < still.triangles.size(); ++i) {
-            const Triangle& t = still.triangles[i];
-            const glm::vec3 corners[3] = {t.v0, t.v1, t.v2};
-            std::array<glm::vec4, 3> tangents;
-            for (int k = 0; k < 3; ++k) {
-                const glm::vec3 n = glm::normalize(corners[k]);
-                still.shading[i].normal[k] = n;
-                const glm::vec3 east = glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), n);  // none at the poles
-                tangents[k] =
-                    glm::vec4(glm::length(east) > 1e-3f ? glm::normalize(east) : glm::vec3(1, 0, 0), 1.0f);
-            }
-            if (normalMap) still.tangents.push_back(tangents);
-        }
+        test::addUvSphereMesh(still, 48, 96, 0, normalMap);
         // From near the camera: the shadow terminator, where a tilted normal's light ends abruptly and the
         // turning facets move it, lies outside the part of the disk compared.
         PunctualLight sun;

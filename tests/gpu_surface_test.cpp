@@ -469,15 +469,21 @@ TEST_F(GpuSurfaces, TrilinearFilteringBlendsLevels) {
 }
 
 TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
-    // Alpha is compiled in only where some surface can have a hole; normal maps only where a normal-mapped
-    // material meets a tangent frame; levels of detail only where a texture has levels or another filter
-    // when minified; unlit, clear coat and sheen where a material has them.
+    // Vertex normals are compiled in where one is not its face's normal, however slightly (1e-3 radians turn
+    // a mirror's reflection by 2e-3); alpha only where some surface can have a hole; normal maps only where a
+    // normal-mapped material meets a tangent frame or a sphere or shape, which makes its own; levels of
+    // detail only where a texture has levels or another filter when minified; unlit, clear coat and sheen
+    // where a material has them.
     Scene scene;
     Material material = lambertian(1.0f);
     material.alphaMode = AlphaMode::Blend;  // alpha 1 everywhere: no holes
     scene.materials.push_back(material);
     test::addUnitSquare(scene, 0);
     finalizeScene(scene);
+    EXPECT_FALSE(detectFeatures(scene).smoothNormals);
+    Scene tilted = scene;
+    tilted.shading[0].normal[0] = glm::vec3(0.0f, std::sin(1e-3f), std::cos(1e-3f));
+    EXPECT_TRUE(detectFeatures(tilted).smoothNormals);
     EXPECT_FALSE(detectFeatures(scene).alpha);
     scene.materials[0].alphaMode = AlphaMode::Mask;
     scene.materials[0].baseColor.a = 0.25f;  // below the cutoff: all hole
@@ -485,6 +491,10 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     scene.materials[0].normalTexture.texture = 0;
     scene.textures.push_back(textureOf(1, 1, {normalTexel({0.0, 0.0, 1.0})}));
     EXPECT_FALSE(detectFeatures(scene).normalMaps);  // no triangle has a tangent frame
+    Scene withSphere = scene;
+    withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -2.0f), 0.5f, 0});
+    finalizeScene(withSphere);
+    EXPECT_TRUE(detectFeatures(withSphere).normalMaps);  // a sphere makes its own frame
     scene.tangents.assign(2, {});
     EXPECT_TRUE(detectFeatures(scene).normalMaps);
     // The 1x1 normal texture has no level below it and one filter: no level of detail to choose.

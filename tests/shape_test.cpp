@@ -835,6 +835,83 @@ double ellipsoidAreaByNanson(const glm::dmat3& linear, int n) {
     return sum * (M_PI / n) * (2.0 * M_PI / n);
 }
 
+TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
+    // Where a ray meets each face of each shape under an affine map with shear and a mirror, shapeTangent
+    // gives the frame a normal texture expects (glTF 2.0, 3.9.3; tangent_frames.cpp for meshes): a unit
+    // tangent perpendicular to the normal, along the tangential part of dP/du, and a bitangent w *
+    // cross(normal, tangent) on the side of -dP/dv (up the texture), with dP/du and dP/dv found from
+    // differences of shapeUv between nearby points of the face; with the normal reversed too (a CSG
+    // difference's inner faces). A VKRT_sphere's frame (sphereTangent) is the sphere shape's under the
+    // identity.
+    const glm::dmat4 toWorld = glm::dmat4(glm::dvec4(0.8, 0.1, -0.3, 0.0), glm::dvec4(0.4, 0.6, 0.2, 0.0),
+                                          glm::dvec4(-0.2, 0.3, -0.9, 0.0), glm::dvec4(0.5, -1.0, 2.0, 1.0));
+    ASSERT_LT(glm::determinant(toWorld), 0.0);  // a mirror
+    const glm::dmat4 toObject = glm::inverse(toWorld);
+    const shading::AffineRows toObjectRows = shading::affineRows(toObject),
+                              toWorldRows = shading::affineRows(toWorld);
+    const shading::AffineRows identity = shading::affineRows(glm::dmat4(1.0));
+    const glm::dvec3 center(toWorld[3]);
+    for (const uint32_t type : kShapeTypes) {
+        SCOPED_TRACE(shapeName(type));
+        std::mt19937_64 rng(3000 + type);
+        int checked = 0;
+        for (int i = 0; i < 1000; ++i) {
+            const glm::dvec3 origin = center + 4.0 * randomUnit(rng);
+            const glm::dvec3 direction = glm::normalize(center + 0.8 * randomUnit(rng) - origin);
+            const glm::dvec3 o = transformPoint(toObject, origin), d(toObject * glm::dvec4(direction, 0.0));
+            double tIn, tOut;
+            uint32_t face, faceOut;
+            if (!shading::shapeInterval(type, o, d, tIn, tOut, face, faceOut)) continue;
+            const shading::ShapePoint hit =
+                shading::shapePoint(type, face, false, toObjectRows, origin, direction, tIn);
+            const glm::dvec3 p = hit.local;
+            // Away from the face's rim, a sphere's poles and the seam of u, where differences cross to
+            // another face or wrap.
+            const double rho = std::sqrt(p.x * p.x + p.z * p.z);
+            const glm::dvec3 a = glm::abs(p);
+            const int axis = static_cast<int>(face / 2u);
+            const double rim = type == VKRT_SHAPE_BOX ? std::max(a[(axis + 1) % 3], a[(axis + 2) % 3])
+                               : type == VKRT_SHAPE_SPHERE || face == VKRT_FACE_SIDE ? a.y
+                                                                                     : rho;
+            const bool nearRim =
+                rim > 0.999 || (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE && rho < 1e-2);
+            if (nearRim) continue;
+            const glm::dvec3 objectNormal = shading::shapeNormal(type, face, p);
+            const glm::dvec3 t1 = glm::normalize(glm::cross(objectNormal, glm::dvec3(0.3, 0.5, 0.8)));
+            const glm::dvec3 t2 = glm::cross(objectNormal, t1);
+            constexpr double kStep = 1e-6;
+            const glm::dvec3 p1 = shading::shapeSnap(type, face, p + kStep * t1);
+            const glm::dvec3 p2 = shading::shapeSnap(type, face, p + kStep * t2);
+            const glm::dvec2 uv = shading::shapeUv(type, face, p);
+            const glm::dvec2 d1 = shading::shapeUv(type, face, p1) - uv,
+                             d2 = shading::shapeUv(type, face, p2) - uv;
+            if (std::abs(d1.x) > 0.25 || std::abs(d2.x) > 0.25) continue;  // across u's seam
+            const double determinant = d1.x * d2.y - d2.x * d1.y;
+            const glm::dvec3 e1 = p1 - p, e2 = p2 - p;
+            const glm::dvec3 dpdu(toWorld * glm::dvec4((e1 * d2.y - e2 * d1.y) / determinant, 0.0));
+            const glm::dvec3 dpdv(toWorld * glm::dvec4((e2 * d1.x - e1 * d2.x) / determinant, 0.0));
+            for (const bool flip : {false, true}) {
+                const glm::dvec3 normal = flip ? -hit.normal : hit.normal;
+                const glm::dvec4 frame = shading::shapeTangent(type, face, p, toWorldRows, normal);
+                const glm::dvec3 tangent(frame);
+                EXPECT_NEAR(glm::length(tangent), 1.0, 1e-12) << "ray " << i;
+                EXPECT_NEAR(glm::dot(tangent, normal), 0.0, 1e-12) << "ray " << i;
+                EXPECT_GT(glm::dot(tangent, glm::normalize(dpdu - normal * glm::dot(normal, dpdu))),
+                          1.0 - 1e-6)
+                    << "ray " << i;
+                EXPECT_TRUE(frame.w == 1.0 || frame.w == -1.0) << "ray " << i;
+                EXPECT_GT(glm::dot(frame.w * glm::cross(normal, tangent), -dpdv), 0.0) << "ray " << i;
+            }
+            if (type == VKRT_SHAPE_SPHERE) {
+                const glm::dvec4 canonical = shading::shapeTangent(type, face, p, identity, p);
+                EXPECT_LT(glm::length(shading::sphereTangent(p) - canonical), 1e-12) << "ray " << i;
+            }
+            ++checked;
+        }
+        EXPECT_GT(checked, 200);
+    }
+}
+
 TEST(ShapeLight, DensitiesIntegrateToTheTrueWorldArea) {
     // Points from sampleShapePoint with density shapePointDensity (per world area): E[1/density] is the
     // surface's world area, and E[f/density] the integral of f over it, for any f. Exact for the box (the
@@ -1090,6 +1167,83 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
                 checkerPixels += pixel.x < 1e-5f || pixel.x > 1.0f - 1e-5f;
             EXPECT_EQ(checkerPixels, 256)
                 << (withSpeck ? "with a speck first" : "alone") << ", " << (image == &gpu ? "gpu" : "cpu");
+        }
+    }
+}
+
+// A normal texture turns the normals of a VKRT_sphere and of a sphere shape (plain, turned about +y,
+// mirrored) as it turns those of a finely tessellated sphere whose tangents point east, the way u grows, with
+// the bitangent north, up the texture: tilted towards the bitangent (north) and towards the tangent (east)
+// under a sun from the upper right, each image is the mesh's within 1% of the brightest inside the disk (away
+// from the silhouette, where the facets cover pixels differently); the mirrored shape's tangent points west,
+// so only the northward tilt is the same there. Both devices, and each a clear change from the sphere without
+// a map.
+TEST_F(ShapeGpu, NormalTexturesTurnSpheresAndShapesAsMeshes) {
+    RenderSettings settings;
+    settings.integrator = Integrator::Whitted;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 4;
+    settings.ambient = glm::dvec3(0.0);
+    PunctualLight sun;
+    sun.type = LightType::Directional;
+    sun.direction = -glm::normalize(glm::vec3(0.3f, 0.4f, 1.0f));
+    sun.intensity = 2.0f;
+    Material white = test::lambertian(1.0f);
+    // The maps' one texel in tangent space: none, towards the bitangent, towards the tangent.
+    const uint32_t flat = 0xffff8080u, north = 0xffe0cc80u, east = 0xffe080ccu;
+    enum class Surface { Mesh, Sphere, Shape, TurnedShape, MirroredShape };
+    auto render = [&](Surface surface, uint32_t texel) {
+        Scene scene;
+        scene.lights.push_back(sun);
+        scene.textures.push_back(test::textureOf(1, 1, {texel}));
+        Material material = white;
+        material.normalTexture.texture = 0;
+        scene.materials.push_back(material);
+        if (surface == Surface::Mesh) {
+            test::addUvSphereMesh(scene, 64, 128, 0, true);
+        } else if (surface == Surface::Sphere) {
+            scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        } else {
+            const glm::dmat4 pose = surface == Surface::TurnedShape
+                                        ? trs({}, 0.7, {0.0, 1.0, 0.0}, glm::dvec3(1.0))
+                                    : surface == Surface::MirroredShape ? trs({}, 0.0, {}, {-1.0, 1.0, 1.0})
+                                                                        : glm::dmat4(1.0);
+            addSolid(scene, {makeShape(VKRT_SHAPE_SPHERE, 0, pose)}, insideOne());
+        }
+        finalizeScene(scene);
+        return test::renderGpuAndCpu(context(), scene, bvhFor(scene), test::sphereCamera(), settings,
+                                     test::shaderCacheDir());
+    };
+    // The largest difference of two images inside the disk, and the brightest pixel there of the first.
+    auto differenceInDisk = [&](const Image& a, const Image& b, double& brightest) {
+        double worst = 0.0;
+        brightest = 0.0;
+        for (int y = 0; y < settings.height; ++y) {
+            for (int x = 0; x < settings.width; ++x) {
+                const double u = 2.0 * (x + 0.5) / settings.width - 1.0,
+                             v = 2.0 * (y + 0.5) / settings.height - 1.0;
+                if (u * u + v * v > 0.8 * 0.8) continue;
+                worst = std::max(worst, static_cast<double>(std::abs(a.at(x, y).x - b.at(x, y).x)));
+                brightest = std::max(brightest, static_cast<double>(a.at(x, y).x));
+            }
+        }
+        return worst;
+    };
+    const test::RenderPair plain = render(Surface::Sphere, flat);
+    for (const uint32_t texel : {north, east}) {
+        const test::RenderPair mesh = render(Surface::Mesh, texel);
+        double brightest = 0.0;
+        EXPECT_GT(differenceInDisk(mesh.cpu.image, plain.cpu.image, brightest), 0.1 * brightest);
+        std::vector<Surface> surfaces = {Surface::Sphere, Surface::Shape, Surface::TurnedShape};
+        if (texel == north) surfaces.push_back(Surface::MirroredShape);
+        for (const Surface surface : surfaces) {
+            SCOPED_TRACE(testing::Message()
+                         << (texel == north ? "north" : "east") << ", surface " << static_cast<int>(surface));
+            const test::RenderPair pair = render(surface, texel);
+            EXPECT_LT(differenceInDisk(mesh.gpu.image, pair.gpu.image, brightest), 0.01 * brightest);
+            EXPECT_GT(brightest, 0.2);
+            EXPECT_LT(differenceInDisk(mesh.cpu.image, pair.cpu.image, brightest), 0.01 * brightest);
+            test::expectMatchesReference(pair.gpu.image, pair.cpu.image, "normal-textured-sphere");
         }
     }
 }

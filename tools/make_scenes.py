@@ -37,8 +37,8 @@ spheres with KHR_materials_specular factors 1, 0 (purely Lambertian) and 1 tinte
 vertex colours (COLOR_0) blend red, green, blue and white under a checker read through TEXCOORD_1.
 
 surfaces.gltf: normal maps and alpha: two panels of domes that exist only in their normal texture (one with
-tangents derived from its texture coordinates, one a mirrored instance with TANGENT given: both look alike),
-a MASK screen whose holes let the sun through onto the floor, a BLEND pane of alpha 0.35 in front of a
+tangents derived from its texture coordinates, one a mirrored instance with TANGENT given: both look alike)
+and the same domes on an analytic ball and box (their frames from their own texture coordinates), a MASK screen whose holes let the sun through onto the floor, a BLEND pane of alpha 0.35 in front of a
 sphere of red paint under a clear coat (KHR_materials_clearcoat), a velvet ball (KHR_materials_sheen), an unlit sign (KHR_materials_unlit) and a window striped by its transmission texture, under a low sun
 and a point light.
 
@@ -392,6 +392,12 @@ def surfaces():
                                        [[1.0, 0.0, 0.0, 1.0]] * 4)])
     # Mirrored in x: the node's transform flips the frame's handedness, which the loader must follow.
     g.node("panel, TANGENT, mirrored", mesh=given, translation=[0.8, 0.0, -1.5], scale=[-1.0, 1.0, 1.0])
+
+    # The same domes on an analytic ball and a turned box (VKRT_sphere, VKRT_shape): their tangent frames come
+    # from their own texture coordinates.
+    g.sphere("bumpy ball", [2.05, 0.32, 1.55], 0.32, bumps)
+    g.shape("bumpy box", "box", bumps, translation=[-2.2, 0.3, -0.3], scale=[0.3, 0.3, 0.3],
+            rotation=[0.0, math.sin(math.radians(15.0)), 0.0, math.cos(math.radians(15.0))])
 
     # A screen with round holes (alpha 0 inside circles, MASK) casting a dotted shadow.
     holes = []

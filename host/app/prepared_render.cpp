@@ -32,6 +32,14 @@ EnvironmentMap loadEnvironment(const Options& options) {
 
 // Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
 // records the estimate and what was available.
+// What the machine has for the render, or --max-memory when that is less.
+HostMemory hostMemoryFor(const Options& options) {
+    HostMemory available = availableHostMemory();
+    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
+        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    return available;
+}
+
 void checkHostMemoryFor(const Options& options, bool measuresError, const Scene& scene,
                         const RenderSettings& settings, const VulkanContext* context,
                         RunReport::Memory& memory) {
@@ -50,9 +58,7 @@ void checkHostMemoryFor(const Options& options, bool measuresError, const Scene&
     inputs.report = measuresError;
     inputs.outputPath = options.outputPath;
     const MemoryNeed need = estimateHostMemory(inputs);
-    HostMemory available = availableHostMemory();
-    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
-        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    const HostMemory available = hostMemoryFor(options);
     checkHostMemory(need, available);
     memory.hostEstimateBytes = need.total();
     memory.hostAvailableBytes = available.bytes;
@@ -81,6 +87,9 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
             const auto loadStart = std::chrono::steady_clock::now();
             LoadOptions loadOptions;
             loadOptions.shutter = options.shutter;
+            const HostMemory memory = hostMemoryFor(options);
+            loadOptions.maxSceneBytes = memory.bytes;
+            loadOptions.memorySource = memory.source;
             Scene scene = loadGltf(options.scenePath, loadOptions);
             if (!options.environmentPath.empty()) scene.environment = loadEnvironment(options);
             addNeutralEnvironment(options.request, scene);

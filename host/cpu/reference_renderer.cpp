@@ -87,6 +87,8 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
                                 shading::shapeScale(shading::affineRows(toWorld)));
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
+        p.tangent =
+            shading::shapeTangent(shape.type, code / 2u, s.local, shading::affineRows(toWorld), s.normal);
         return p;
     }
     if (p.sphere) {
@@ -97,6 +99,7 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
         p.position = center + static_cast<double>(sphere.radius) * p.normal;
         p.errorScale = std::min(rayScale, shading::maxAbs(center) + sphere.radius);
         p.uv = shading::sphereUv(p.normal);
+        p.tangent = shading::sphereTangent(p.normal);
         return p;
     }
     const TriangleShading& shading = scene_.shading[hit.primitive];

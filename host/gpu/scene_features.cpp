@@ -67,10 +67,15 @@ bool absorbs(const Material& material) {
     return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
+// Whether every vertex normal of `t` is its face's normal: to within the rounding of a unit vector to single
+// precision (the loader's own geometric normal where a file has none), 1.4e-6 radians. A looser test dropped
+// normals that matter: vertex normals 1e-3 radians off their faces, a finely tessellated curved mirror's,
+// rendered faceted without them.
 bool isFlat(const Triangle& t, const TriangleShading& s) {
-    const glm::vec3 face = glm::normalize(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+    const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
+    const glm::dvec3 face = glm::normalize(glm::cross(v1 - v0, v2 - v0));
     for (const glm::vec3& n : s.normal) {
-        if (glm::dot(n, face) < 1.0f - 1e-6f) return false;
+        if (!(1.0 - glm::dot(glm::normalize(glm::dvec3(n)), face) < 1e-12)) return false;
     }
     return true;
 }
@@ -102,14 +107,15 @@ std::vector<std::string> SceneFeatures::names() const {
 SceneFeatures detectFeatures(const Scene& scene) {
     SceneFeatures features;
     std::vector<bool> used(scene.materials.size(), false);
+    std::vector<bool> onAnalytic(scene.materials.size(), false);  // used by a sphere or a shape
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         used[scene.triangles[i].material] = true;
         if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i]))
             features.smoothNormals = true;
     }
-    for (const Sphere& sphere : scene.spheres) used[sphere.material] = true;
+    for (const Sphere& sphere : scene.spheres) used[sphere.material] = onAnalytic[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
-    for (const Shape& shape : scene.shapes) used[shape.material] = true;
+    for (const Shape& shape : scene.shapes) used[shape.material] = onAnalytic[shape.material] = true;
     features.shapes = !scene.solids.empty();
     features.vertexColors = !scene.vertexColors.empty();
     features.motion = scene.moving();
@@ -134,8 +140,10 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.roughSpecular |= hasRoughSpecular(material);
         features.tracedLobes |= tracesLobe(material);
         features.glossyLobes |= tracesGlossyLobe(material);
+        // Meshes carry their tangent frames (none: no mesh has a normal texture); spheres and shapes compute
+        // theirs.
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
-                               !scene.tangents.empty();
+                               (!scene.tangents.empty() || onAnalytic[m]);
         // COLOR_0's alpha multiplies the base colour's.
         features.alpha |= material.partlyCovered() ||
                           (material.alphaMode != AlphaMode::Opaque && !scene.vertexColors.empty());

@@ -1,6 +1,7 @@
 #include "scene/environment_map.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "scene/scene_error.h"
 
@@ -38,7 +39,18 @@ EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height
             }
         }
     }
-    for (glm::vec3& t : texels) t *= static_cast<float>(strength);
+    // Scaled, every texel must still be a float: one beyond made the sampling tables NaN and the image wrong.
+    for (size_t i = 0; i < texels.size(); ++i) {
+        glm::vec3& t = texels[i];
+        t *= static_cast<float>(strength);
+        if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
+            char factor[32];
+            std::snprintf(factor, sizeof factor, "%g", strength);
+            throw SceneError(path + ": texel (" + std::to_string(i % width) + ", " +
+                             std::to_string(i / width) + ") of the environment map times the strength " +
+                             factor + " is beyond single precision's range");
+        }
+    }
     return {.path = path,
             .width = width,
             .height = height,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -11,6 +12,7 @@
 #include <tiny_gltf.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/memory_need.h"
 #include "scene/gltf_animation.h"
 #include "scene/gltf_cameras.h"
 #include "scene/gltf_compression.h"
@@ -49,13 +51,35 @@ class GltfConverter {
     void walk(int root, const Poses& parents);
     // Places one node's mesh, camera, light, sphere and solid; returns its poses, its children's parents.
     Poses place(int nodeIndex, const Poses& parents);
+    // Counts `instances` more placements of mesh `meshIndex` against the host memory the options allow,
+    // before any of them is placed.
+    void reserveTriangles(int meshIndex, uint64_t instances, const std::string& where);
 
     GltfContext context_;
     LoadOptions options_;
     NodeAnimations animations_;
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
+    uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
 };
+
+// The most triangles a mesh's primitives can make, from their accessors' counts (zero for what the decoder
+// will refuse or skip).
+uint64_t triangleBound(const tinygltf::Model& model, const tinygltf::Mesh& mesh) {
+    uint64_t bound = 0;
+    for (const tinygltf::Primitive& primitive : mesh.primitives) {
+        const auto position = primitive.attributes.find("POSITION");
+        const int accessor = primitive.indices >= 0                   ? primitive.indices
+                             : position != primitive.attributes.end() ? position->second
+                                                                      : -1;
+        if (accessor < 0 || accessor >= static_cast<int>(model.accessors.size())) continue;
+        const uint64_t count = model.accessors[static_cast<size_t>(accessor)].count;
+        if (primitive.mode == TINYGLTF_MODE_TRIANGLES) bound += count / 3;
+        if (primitive.mode == TINYGLTF_MODE_TRIANGLE_STRIP || primitive.mode == TINYGLTF_MODE_TRIANGLE_FAN)
+            bound += count > 2 ? count - 2 : 0;
+    }
+    return bound;
+}
 
 Scene GltfConverter::convert() {
     Scene& scene = context_.scene;
@@ -120,6 +144,28 @@ void GltfConverter::chooseShutter() {
     }
 }
 
+void GltfConverter::reserveTriangles(int meshIndex, uint64_t instances, const std::string& where) {
+    // Each triangle keeps its corners and material, and its shading (normals, texture coordinates), at each
+    // pose.
+    const uint64_t bytesPerTriangle = (sizeof(Triangle) + sizeof(TriangleShading)) * poseTimes_.size();
+    const uint64_t limit = options_.maxSceneBytes / bytesPerTriangle;
+    const uint64_t bound =
+        triangleBound(context_.model, context_.model.meshes[static_cast<size_t>(meshIndex)]);
+    if (bound > 0 && instances > (limit - std::min(limit, triangleBound_)) / bound) {
+        const double total =
+            static_cast<double>(triangleBound_) + static_cast<double>(bound) * static_cast<double>(instances);
+        const double bytes = std::min(total * static_cast<double>(bytesPerTriangle), 1.8e19);
+        char count[32];
+        std::snprintf(count, sizeof count, "%.3g", total);
+        throw MemoryError(context_.path + ": " + where + " places mesh " + std::to_string(meshIndex) + " " +
+                          std::to_string(instances) + " time(s): the scene would hold up to " + count +
+                          " triangles, about " + formatBytes(static_cast<uint64_t>(bytes)) +
+                          " of host memory, and " + formatBytes(options_.maxSceneBytes) + " is available (" +
+                          options_.memorySource + ")");
+    }
+    triangleBound_ += bound * instances;
+}
+
 void GltfConverter::walk(int root, const Poses& rootParents) {
     // Depth first, parents before children and children in order, with a stack of its own: a file's
     // hierarchy can be deeper than the call stack.
@@ -150,9 +196,12 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
         }
         auto instancing = node.extensions.find("EXT_mesh_gpu_instancing");
         if (instancing == node.extensions.end()) {
+            reserveTriangles(node.mesh, 1, where);
             meshes_.addInstance(node.mesh, poses);
         } else {
-            for (const glm::dmat4& instance : instanceTransforms(context_, instancing->second, where)) {
+            const std::vector<glm::dmat4> instances = instanceTransforms(context_, instancing->second, where);
+            reserveTriangles(node.mesh, instances.size(), where);
+            for (const glm::dmat4& instance : instances) {
                 Poses instancePoses = poses;
                 for (glm::dmat4& pose : instancePoses) pose = pose * instance;
                 meshes_.addInstance(node.mesh, instancePoses);

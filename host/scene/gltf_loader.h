@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -18,6 +19,10 @@ struct LoadOptions {
     // Motion blur: the shutter interval in the file's animation time (seconds); when absent, the scene's
     // extras {"shutter": [open, close]}, else closed at 0 (no motion).
     std::optional<std::array<double, 2>> shutter;
+    // The host memory the placed triangles may take: a file whose nodes and instances place more (counted
+    // from its accessors, before any is placed) is refused with a MemoryError naming the figures.
+    uint64_t maxSceneBytes = UINT64_MAX;
+    std::string memorySource = "unlimited";  // where maxSceneBytes comes from, for that error
 };
 
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});

@@ -1,5 +1,6 @@
 #include "support/unit_square.h"
 
+#include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
 #include "support/test_paths.h"
 
@@ -52,6 +53,24 @@ Camera sphereCamera() {
     camera.position = {0.0, 0.0, 5.0};
     camera.xmag = camera.ymag = 1.0;
     return camera;
+}
+
+void addUvSphereMesh(Scene& scene, int rings, int segments, uint32_t material, bool tangents) {
+    for (const Triangle& t : makeUvSphere(glm::vec3(0.0f), 1.0f, rings, segments, material)) {
+        const glm::vec3 corners[3] = {t.v0, t.v1, t.v2};
+        TriangleShading shading{};
+        std::array<glm::vec4, 3> frames;
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 n = glm::normalize(corners[k]);
+            shading.normal[k] = n;
+            const glm::vec3 east = glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), n);
+            frames[k] =
+                glm::vec4(glm::length(east) > 1e-3f ? glm::normalize(east) : glm::vec3(1, 0, 0), 1.0f);
+        }
+        scene.triangles.push_back(t);
+        scene.shading.push_back(shading);
+        if (tangents) scene.tangents.push_back(frames);
+    }
 }
 
 RenderSettings ambientOnly(int size) {

@@ -27,6 +27,11 @@ Camera squareCamera();
 // disk.
 Camera sphereCamera();
 
+// The unit sphere around the origin as a mesh of `rings` x `segments` triangles of material `material`, with
+// smooth normals and, when `tangents`, each corner's tangent frame pointing east (the way u grows on a
+// VKRT_sphere: +y cross n, none at the poles) with w = 1 (the bitangent points north, up the texture).
+void addUvSphereMesh(Scene& scene, int rings, int segments, uint32_t material, bool tangents);
+
 // Lit by ambient radiance 1 alone (background 0.25): a Lambertian dielectric shows its albedo; one with a
 // specular layer, (1 - F0) of it, plus F0 where the layer's lobe is not traced.
 RenderSettings ambientOnly(int size);

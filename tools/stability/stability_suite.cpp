@@ -188,7 +188,7 @@ void invarianceCases(const VulkanContext& context, const StabilityOptions& optio
         const RenderSetup unitSetup = resolveRender(request, unit);
         const Rendered reference = renderBoth(context, unit, unitSetup.camera, unitSetup.settings, options);
         results.push_back(measure(options, "scale", std::string(sceneName) + " x1", reference));
-        for (double scale : {1e-5, 1e-3, 1e3, 1e6}) {
+        for (double scale : {1e-10, 1e-5, 1e-3, 1e3, 1e6, 1e10}) {
             std::ostringstream name;
             name << sceneName << " x" << scale;
             const Scene scene = transformedVariant(path, scale, 0.0, options.workDir, name.str());
