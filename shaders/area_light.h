@@ -44,6 +44,16 @@ VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3
 
 // A point of a sphere picked with probability `pick`, uniform in the cone of directions it subtends from
 // `from` (pbrt-v4, Sphere::Sample), or uniform by area when `from` is inside.
+// Whether sphere lights are sampled by area from `from` at squared distance `distance2` from the centre: from
+// inside, and from points within a ten-thousandth of the radius of the surface, where the cone of a point
+// outside closes up. Uniform area sampling is right from any point, so the shell only trades variance for
+// robustness: a shading point on the sphere itself (an emitter seen from inside) rounds to either side of it,
+// and the cone's sampler then drew every point next to the shading point (light leaked inside a one-sided
+// sphere, a double-sided one came out 10% dark). sphereLightSolidAnglePdf decides alike.
+VKRT_FN bool sphereSampledByArea(real radius, real distance2) {
+    return distance2 <= radius * radius * (1.0 + 2e-4);
+}
+
 VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, real pick, real3 from, real u,
                                      real v) {
     LightPoint p;
@@ -53,7 +63,7 @@ VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, 
     const real distance2 = dot(toCenter, toCenter);
     const real phi = 2.0 * VKRT_PI * v;
     real oneMinusCosMax = 0.0;
-    if (distance2 <= radius * radius) {
+    if (sphereSampledByArea(radius, distance2)) {
         const real z = 1.0 - 2.0 * u, ring = sqrt(max(0.0, 1.0 - z * z));
         p.normal = real3(ring * cos(phi), ring * sin(phi), z);
         p.pdfArea = pick / (4.0 * VKRT_PI * radius * radius);
@@ -98,7 +108,8 @@ VKRT_FN real sphereLightSolidAnglePdf(real3 center, real radius, real pick, real
     if (!(cosLight > 0.0)) return 0.0;
     const real3 toCenter = center - from;
     const real centerDistance2 = dot(toCenter, toCenter);
-    if (centerDistance2 > radius * radius) return pick / (2.0 * VKRT_PI * coneOneMinusCos(radius, centerDistance2));
+    if (!sphereSampledByArea(radius, centerDistance2))
+        return pick / (2.0 * VKRT_PI * coneOneMinusCos(radius, centerDistance2));
     return pick / (4.0 * VKRT_PI * radius * radius) * distance2 / cosLight;
 }
 

@@ -38,7 +38,7 @@ struct CameraRay {
 // fast it widens (the spread angle), one pixel across: a perspective camera's rays start as points and
 // spread by a pixel's angle; an orthographic camera's keep a pixel's width.
 VKRT_FN real2 cameraCone(VKRT_IN(CameraFrame) camera) {
-    if (camera.projection == VKRT_PROJECTION_ORTHOGRAPHIC) return real2(2.0 * camera.ymag / camera.height, 0.0);
+    if (camera.projection == VKRT_PROJECTION_ORTHOGRAPHIC) return real2(2.0 * abs(camera.ymag) / camera.height, 0.0);
     return real2(0.0, 2.0 * camera.tanHalfFov / camera.height);
 }
 

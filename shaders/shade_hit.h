@@ -350,10 +350,7 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uint node, VKRT_IN(ShadingFrame) frame,
                             VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled, uint k,
                             VKRT_OUT(LightQuery) query) {
-    // The light is seen from where the shadow ray and a lobe's ray start, the offset origin, as the lobe's MIS
-    // weight sees it (lightSolidAnglePdf from the ray's origin): from the hit point itself, which lies on the
-    // sphere it hit, an emissive sphere's sampler would take the inside for the outside about half the time.
-    const real3 point = frame.viewerSide;
+    const real3 point = frame.position;
     const LightPoint light = VKRT_DEVICE(sampleAreaLight)(
         stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u),
         stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u),
@@ -369,11 +366,13 @@ VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, u
     real cosLight = -dot(light.normal, toLight);
     if (emitter.doubleSided) cosLight = abs(cosLight);
     if (!(cosLight > 0.0) || !facesLight(frame, toLight)) return false;
-    // The shadow ray runs from the offset origin to the light's point, so it ends at the point (solids are not
-    // skipped: a CSG light can shadow itself).
+    // The shadow ray runs from the offset origin to the light's point, so it ends at the point whatever the
+    // offset (solids are not skipped: a CSG light can shadow itself).
+    const real3 originToLight = light.position - frame.viewerSide;
+    const real shadowDistance = length(originToLight);
     query.toLight = toLight;
-    query.shadowDirection = toLight;
-    query.shadowLength = VKRT_DEVICE(shadowRayLength)(distance);
+    query.shadowDirection = originToLight / shadowDistance;
+    query.shadowLength = VKRT_DEVICE(shadowRayLength)(shadowDistance);
     query.lightPrimitive = light.primitive;
     query.distance = distance;
     // Irradiance estimate: L_e cos(theta_light) / (d^2 pdf_area).

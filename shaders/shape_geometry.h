@@ -257,7 +257,7 @@ VKRT_FN real2 shapeUv(uint type, uint face, real3 p) {
 // texture reads it (GpuTangents): in xyz a unit vector along which u grows, in w the sign that turns
 // w * cross(normal, tangent) up the texture (the way v falls, as tangent_frames.cpp decides it for meshes), with
 // `normal` the world normal the hit reports. Mirroring maps and reversed normals change w. Zero where u has no
-// direction (a sphere's poles, a side's axis): the normal then stays.
+// direction (a sphere's poles, a cone's apex): the normal then stays.
 VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) toWorld, real3 normal) {
     // dP/du and dP/dv in object space, each up to a positive factor.
     real3 dpdu = real3(p.z, 0.0, -p.x);
@@ -276,10 +276,15 @@ VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) to
     } else if (type != VKRT_SHAPE_CYLINDER) {
         dpdv = real3(p.x, -2.0 * sqrt(p.x * p.x + p.z * p.z), p.z);  // the cone's side narrows towards the apex
     }
-    const real3 along = affineVector(toWorld, dpdu);
+    // Divided by its largest component before anything is squared: a shape's scale can be beyond what a square
+    // keeps in single precision.
+    real3 along = affineVector(toWorld, dpdu);
+    const real largest = max(abs(along.x), max(abs(along.y), abs(along.z)));
+    if (!(largest > 0.0)) return real4(0.0);
+    along /= largest;
     const real3 tangent = along - normal * dot(normal, along);
     const real size = sqrt(dot(tangent, tangent));
-    if (!(size > 1e-12 * sqrt(dot(along, along)))) return real4(0.0);
+    if (!(size > 1e-6)) return real4(0.0);
     return real4(tangent / size, dot(cross(normal, tangent), affineVector(toWorld, dpdv)) > 0.0 ? -1.0 : 1.0);
 }
 

@@ -68,10 +68,10 @@ json validTriangle(const std::vector<uint8_t>& bytes = triangleBytes()) {
 }
 
 // The one triangle, plus an animation of node 0's translation with keys at `times` (2 keys, 2 values).
-json animatedTriangle(float firstTime, float secondTime, int valueCount = 2) {
+json animatedTriangle(float firstTime, float secondTime, int valueCount = 2, float last = 0.0f) {
     std::vector<uint8_t> bytes = triangleBytes();
     const float keys[2] = {firstTime, secondTime};
-    const float values[6] = {0, 0, 0, 1, 0, 0};
+    const float values[6] = {0, 0, 0, 1, last, last};
     bytes.resize(44 + 8 + 24);
     std::memcpy(bytes.data() + 44, keys, 8);
     std::memcpy(bytes.data() + 52, values, 24);
@@ -189,15 +189,14 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "uniformly"},
-        {"sphere under a scale of zero",
+        {"sphere scaled to nothing within the shutter",
          [](auto&, auto& file) {
-             json d = validTriangle();
-             d["nodes"].push_back(
-                 {{"scale", {0.0, 0.0, 0.0}}, {"extensions", {{"VKRT_sphere", {{"radius", 1.0}}}}}});
-             d["scenes"][0]["nodes"].push_back(1);
+             json d = animatedTriangle(0.0f, 1.0f, 2, 1.0f);                 // keys (0, 0, 0) and (1, 1, 1)
+             d["animations"][0]["channels"][0]["target"]["path"] = "scale";  // scale 0 at the opening
+             d["nodes"][0]["extensions"] = {{"VKRT_sphere", {{"radius", 1.0}}}};
              writeJson(file, d);
          },
-         "scales the sphere to nothing"},
+         "scales it to nothing within the shutter"},
         {"animation keys out of order",
          [](auto&, auto& file) { writeJson(file, animatedTriangle(1.0f, 0.0f)); }, "increasing"},
         {"animation with fewer values than keys",
@@ -400,6 +399,15 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "scene: scene 1 does not exist (the file has 1)"},
+        {"camera whose far plane is not beyond its near plane",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["cameras"] = json::array();
+             d["cameras"].push_back(
+                 {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 1.0}, {"zfar", 0.5}}}});
+             writeJson(file, d);
+         },
+         "cameras[0].perspective.zfar: expected more than znear"},
         {"camera without its projection",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -605,6 +613,7 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
           Case{"--background 1e39", "--background: '1e39' is not one finite value"},
           Case{"--aperture 1e39", "--aperture: '1e39' is beyond single precision's range"},
           Case{"--stats " + out, "--out and --stats name the same file"},
+          Case{"--report-every-ms 5", "--report-every-ms needs --report or --reference"},
           Case{"--report '" + (folder / "r.json").string() + "' --stats '" + (folder / "./r.json").string() +
                    "'",
                "--stats and --report name the same file"},
@@ -721,6 +730,36 @@ TEST(BadInput, ValidAnimationLoadsAndMoves) {
     ASSERT_TRUE(scene.moving());
     EXPECT_EQ(scene.motionSegments, 1);  // linear translation: one exact segment
     EXPECT_NEAR(scene.trianglePose(0, 1).v0.x - scene.triangles[0].v0.x, 1.0f, 1e-6f);
+}
+
+// A shutter that closes at the double 0.1, just below the last key, 0.1f, to which it rounds in float: the
+// pose there is the last key's. The key search compared in float, found no key after the time and read
+// beyond the times and values (AddressSanitizer in tools/sanitize_check.sh).
+TEST(BadInput, ShutterJustBelowTheLastKeyTakesItsPose) {
+    const auto file = test::temporaryFolder() / "animated.gltf";
+    json d = animatedTriangle(0.0f, 0.1f);
+    d["scenes"][0]["extras"]["shutter"] = {0.0, 0.1};
+    ASSERT_LT(0.1, static_cast<double>(0.1f));
+    writeJson(file, d);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_TRUE(scene.moving());
+    EXPECT_NEAR(scene.trianglePose(0, 1).v0.x - scene.triangles[0].v0.x, 1.0f, 1e-6f);
+}
+
+// A sphere whose node is scaled to nothing is hidden, as glTF hides such a node: skipped with a warning, as a
+// mesh's vanished triangles are (it once failed the file).
+TEST(BadInput, SphereScaledToNothingIsSkipped) {
+    const auto file = test::temporaryFolder() / "hidden.gltf";
+    json d = validTriangle();
+    d["nodes"].push_back({{"scale", {0.0, 0.0, 0.0}}, {"extensions", {{"VKRT_sphere", {{"radius", 1.0}}}}}});
+    d["scenes"][0]["nodes"].push_back(1);
+    writeJson(file, d);
+    const Scene scene = loadGltf(file.string());
+    EXPECT_TRUE(scene.spheres.empty());
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("VKRT_sphere: the node scales it to nothing; it is skipped"),
+              std::string::npos)
+        << scene.warnings[0];
 }
 
 TEST(BadInput, ValidTriangleLoads) {

@@ -538,6 +538,15 @@ TEST(Cli, ReportWithoutReferenceMakesOneAndSaysSo) {
     ASSERT_EQ(limited.exitCode, 0) << limited.output;
     EXPECT_NE(limited.output.find("--time-limit does not bound this reference (64 spp)"), std::string::npos)
         << limited.output;
+    // After the largest seed, the reference's is 0: one that --seed takes, so it can be rendered again (it
+    // was 2147483648, which --seed refuses).
+    const auto last =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --spp 1 --seed 2147483647 --report " +
+                      quoted(report) + " --out " + quoted(folder / "x.png"));
+    ASSERT_EQ(last.exitCode, 0) << last.output;
+    EXPECT_NE(last.output.find("vkrt: reference: cpu render made by this run, 16 spp, seed 0\n"),
+              std::string::npos)
+        << last.output;
 }
 
 TEST(Cli, ReferenceOfTheWrongSizeIsBadInput) {

@@ -142,10 +142,10 @@ TEST_F(Gpu, PathsInAGlowingCsgCavitySeeOneOverOneMinusAlbedo) {
 TEST_F(Gpu, PathsInsideAGlowingSphereSeeOneOverOneMinusAlbedo) {
     // The same closed form inside a double-sided VKRT_sphere, whose points are the light samples' origins and
     // their targets at once. Seen from a point on the sphere, its sampler must take the inside (points
-    // uniform by area), not the cone of a point outside, which rounding chose about half the time when the
-    // samples were drawn from the hit point itself (the level came out 0.90 of 1 on the GPU and 0.90 on the
-    // CPU, with 0.5 of emission and albedo 0.5). One-sided, the sphere emits outwards only: inside, every
-    // pixel is black (it had leaked 0.05).
+    // uniform by area), not the cone of a point outside, which it chose about half the time, the hit point
+    // rounding to either side of the surface (the level came out 0.90 of 1 on the GPU and 0.90 on the CPU,
+    // with 0.5 of emission and albedo 0.5). One-sided, the sphere emits outwards only: inside, every pixel is
+    // black (it had leaked 0.05).
     const float albedo = 0.5f;
     for (const bool doubleSided : {true, false}) {
         Scene scene;

@@ -403,6 +403,20 @@ TEST_F(GpuSurfaces, RayConesPickTheMipmapLevel) {
             }
         }
     }
+    // A negative ymag (glTF: SHOULD NOT, yet valid) turns the orthographic image upside down and leaves the
+    // cones as wide: the same grey at 8 pixels (the cone's negative width once chose no level: the checker
+    // aliased).
+    Scene flipped = scene;
+    flipped.materials.push_back(material);
+    test::addUnitSquare(flipped, 0);
+    finalizeScene(flipped);
+    Camera upsideDown = test::squareCamera();
+    upsideDown.ymag = -upsideDown.ymag;
+    const test::RenderPair turned = test::renderGpuAndCpu(context(), flipped, test::bvhFor(flipped),
+                                                          upsideDown, ambientOnly(8), test::shaderCacheDir());
+    for (const Image* image : {&turned.gpu.image, &turned.cpu.image}) {
+        for (const glm::vec3& pixel : image->pixels) ASSERT_NEAR(pixel.x, grey, 1e-5) << "ymag < 0";
+    }
     scene.textures[0] = checkerTexture(1);
     scene.textures[0].minNearest = true;
     scene.textures[0].mipmaps = MipmapMode::None;

@@ -668,14 +668,20 @@ TEST(ShapeGeometry, IntervalsAgreeWithPointClassificationAndEndOnTheSurface) {
     }
 }
 
+// An affine map with shear and a mirror (a negative determinant), translated off the origin.
+glm::dmat4 shearedMirror() {
+    const glm::dmat4 m(glm::dvec4(0.8, 0.1, -0.3, 0.0), glm::dvec4(0.4, 0.6, 0.2, 0.0),
+                       glm::dvec4(-0.2, 0.3, -0.9, 0.0), glm::dvec4(0.5, -1.0, 2.0, 1.0));
+    EXPECT_LT(glm::determinant(m), 0.0);
+    return m;
+}
+
 TEST(ShapeGeometry, PlacedShapesHaveNormalsByTheInverseTranspose) {
     // Each shape under an affine map with shear and a mirror: shapePoint's world normal is a unit vector
     // perpendicular to the images of two object-space tangents at the point, on the side of the image of
     // the object-space outward normal (so outward, also mirrored); reversed when `flip`; its point is the
     // ray's point at t.
-    const glm::dmat4 toWorld = glm::dmat4(glm::dvec4(0.8, 0.1, -0.3, 0.0), glm::dvec4(0.4, 0.6, 0.2, 0.0),
-                                          glm::dvec4(-0.2, 0.3, -0.9, 0.0), glm::dvec4(0.5, -1.0, 2.0, 1.0));
-    ASSERT_LT(glm::determinant(toWorld), 0.0);  // a mirror
+    const glm::dmat4 toWorld = shearedMirror();
     const glm::dmat4 toObject = glm::inverse(toWorld);
     const shading::AffineRows rows = shading::affineRows(toObject);
     const glm::dvec3 center(toWorld[3]);
@@ -843,9 +849,7 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
     // differences of shapeUv between nearby points of the face; with the normal reversed too (a CSG
     // difference's inner faces). A VKRT_sphere's frame (sphereTangent) is the sphere shape's under the
     // identity.
-    const glm::dmat4 toWorld = glm::dmat4(glm::dvec4(0.8, 0.1, -0.3, 0.0), glm::dvec4(0.4, 0.6, 0.2, 0.0),
-                                          glm::dvec4(-0.2, 0.3, -0.9, 0.0), glm::dvec4(0.5, -1.0, 2.0, 1.0));
-    ASSERT_LT(glm::determinant(toWorld), 0.0);  // a mirror
+    const glm::dmat4 toWorld = shearedMirror();
     const glm::dmat4 toObject = glm::inverse(toWorld);
     const shading::AffineRows toObjectRows = shading::affineRows(toObject),
                               toWorldRows = shading::affineRows(toWorld);

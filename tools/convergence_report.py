@@ -114,9 +114,9 @@ def svg_plot(path, title, series):
     out.append('<text x="16" y="%d" transform="rotate(-90 16 %d)" text-anchor="middle">RMSE against the reference</text>'
                % ((top + height - bottom) // 2, (top + height - bottom) // 2))
     for i, (name, pts, slope) in enumerate(series):
-        coords = " ".join("%.1f,%.1f" % (px(p["render_ms"]), py(p["rmse"])) for p in pts if p["rmse"] > 0)
+        coords = " ".join("%.1f,%.1f" % (px(p["render_ms"]), py(p["rmse"])) for p in positive(pts))
         out.append('<polyline points="%s" fill="none" stroke="%s" stroke-width="2"/>' % (coords, COLORS[name]))
-        for p in pts:
+        for p in positive(pts):  # a log axis has no place for an exact image's 0
             out.append('<circle cx="%.1f" cy="%.1f" r="3" fill="%s"/>' % (px(p["render_ms"]), py(p["rmse"]), COLORS[name]))
         out.append('<text x="%d" y="%d" fill="%s">%s: slope %.2f</text>' % (width - right - 170, top + 20 + 18 * i,
                                                                           COLORS[name], name.upper(), slope))

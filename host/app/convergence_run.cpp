@@ -43,7 +43,9 @@ ConvergenceReport referenceFromFile(const Options& options, const RenderSettings
 RenderSettings referenceRenderSettings(const RenderSettings& settings) {
     RenderSettings referenceSettings = settings;
     referenceSettings.samplesPerPixel = settings.samplesPerPixel * kReferenceSampleFactor;
-    referenceSettings.seed = settings.seed + 1;
+    // The next seed, within --seed's range (0 after its largest), so that the reference can be rendered
+    // again.
+    referenceSettings.seed = settings.seed >= kMaxSeed ? 0u : settings.seed + 1;
     return referenceSettings;
 }
 

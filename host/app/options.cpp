@@ -285,7 +285,7 @@ struct CommandLine {
         app.add_option("--seed", s.seed, "seed of the counter-based random numbers")
             ->type_name("S")
             ->transform(kInteger)
-            ->check(CLI::Range(0u, 2147483647u))
+            ->check(CLI::Range(0u, kMaxSeed))
             ->capture_default_str();
         app.add_option("--camera", options.request.camera,
                        "which camera of the file to use, counted in the order the scene's nodes are walked "
@@ -412,6 +412,10 @@ Options parseOptions(int argc, const char* const argv[]) {
     if (!options.help && !options.listDevices && options.scenePath.empty()) {
         throw UsageError("--scene FILE is required (see --help)");
     }
+    // Checkpoints measure the error against a reference: without one, --report-every-ms did nothing,
+    // silently.
+    if (options.reportEveryMs > 0.0 && options.reportPath.empty() && options.referencePath.empty())
+        throw UsageError("--report-every-ms needs --report or --reference");
     // The files a run writes are distinct: one would overwrite another.
     const std::pair<const char*, const std::string*> written[] = {
         {"--out", &options.outputPath}, {"--stats", &options.statsPath}, {"--report", &options.reportPath}};

@@ -26,6 +26,9 @@ inline constexpr int kMaxPathDepth = 1024;
 // The largest image side, in pixels (--width, --height, and a height from the camera's aspect ratio).
 inline constexpr int kMaxImageSide = 16384;
 
+// The largest seed --seed accepts; a reference rendered for --report takes the next, wrapping to 0.
+inline constexpr uint32_t kMaxSeed = 2147483647u;
+
 struct RenderSettings {
     int width = 512;
     int height = 512;

@@ -87,6 +87,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     if (planner_.loopBudget() > 0 && context.hasSubgroupArithmetic())
         defines_.push_back("VKRT_COUNT_LOOP_PASSES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    if (data_.features.largeTriangles && context.hasShaderFloat64())
+        defines_.push_back("VKRT_TRIANGLE_FLOAT64");
     if (context.keepsIeeeFloats()) defines_.push_back("VKRT_IEEE_FLOATS");
     if (settings.integrator == Integrator::Path) defines_.push_back("VKRT_PATHS");
     if (settings.pixelFilter != PixelFilter::Box) {

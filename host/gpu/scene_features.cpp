@@ -1,6 +1,8 @@
 #include "gpu/scene_features.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "media.h"
 #include "microfacet.h"
@@ -40,6 +42,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::tracedLobes, "traced_lobes", "VKRT_HAS_TRACED_LOBES"},
     {&SceneFeatures::glossyLobes, "glossy_lobes", "VKRT_HAS_GLOSSY_LOBES"},
     {&SceneFeatures::roughRefraction, "rough_refraction", "VKRT_HAS_ROUGH_REFRACTION"},
+    {&SceneFeatures::largeTriangles, "large_triangles", "VKRT_HAS_LARGE_TRIANGLES"},
 };
 
 // Whether some point of `material` may trace a lobe (surface_response.h's `traced` and `coatTraced`): a
@@ -67,15 +70,39 @@ bool absorbs(const Material& material) {
     return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
-// Whether every vertex normal of `t` is its face's normal: to within the rounding of a unit vector to single
-// precision (the loader's own geometric normal where a file has none), 1.4e-6 radians. A looser test dropped
-// normals that matter: vertex normals 1e-3 radians off their faces, a finely tessellated curved mirror's,
-// rendered faceted without them.
+// Whether every vertex normal of `t` is its face's normal, to within 1e-4 radians: the rounding of float
+// corners and normals in real files (a Cornell box's are up to 5e-5 off). The test once allowed 1.4e-3, which
+// dropped normals that matter: a finely tessellated curved mirror's, 6e-4 off their faces, rendered faceted.
+// Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
+// shape (a ground quad under the objects on it): the distance the GPU's float triangle test gives is off by
+// float epsilon times the corners' distance from the ray, which such a triangle makes far larger than the
+// rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double (VKRT_TRIANGLE_FLOAT64).
+bool hasLargeTriangles(const Scene& scene) {
+    if (scene.triangles.empty()) return false;
+    std::vector<float> lengths(scene.triangles.size());
+    for (size_t i = 0; i < lengths.size(); ++i) {
+        const Triangle& t = scene.triangles[i];
+        lengths[i] = std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
+    }
+    const float longest = *std::max_element(lengths.begin(), lengths.end());
+    auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+    std::nth_element(lengths.begin(), middle, lengths.end());
+    float typical = *middle;
+    for (const Sphere& sphere : scene.spheres) typical = std::min(typical, 2.0f * sphere.radius);
+    for (const Shape& shape : scene.shapes) {
+        const glm::mat3 linear(shape.toWorld);
+        typical = std::min(typical, 2.0f * std::max({glm::length(linear[0]), glm::length(linear[1]),
+                                                     glm::length(linear[2])}));
+    }
+    return longest > 1024.0f * typical;
+}
+
 bool isFlat(const Triangle& t, const TriangleShading& s) {
     const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
     const glm::dvec3 face = glm::normalize(glm::cross(v1 - v0, v2 - v0));
     for (const glm::vec3& n : s.normal) {
-        if (!(1.0 - glm::dot(glm::normalize(glm::dvec3(n)), face) < 1e-12)) return false;
+        if (!(1.0 - glm::dot(glm::normalize(glm::dvec3(n)), face) < 5e-9))
+            return false;  // cos(1e-4) = 1 - 5e-9
     }
     return true;
 }
@@ -159,6 +186,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     features.areaLights =
         !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();
+    features.largeTriangles = hasLargeTriangles(scene);
     return features;
 }
 

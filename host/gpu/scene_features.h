@@ -34,6 +34,7 @@ struct SceneFeatures {
     bool roughRefraction = false;  // a volume's surface can refract roughly (its compensation reads a table)
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
     bool environment = false;   // an environment map lights the scene (--environment)
+    bool largeTriangles = false;  // a triangle 1024 times the median one, or the smallest sphere or shape
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();

@@ -21,8 +21,12 @@ void locate(const std::vector<float>& times, double time, size_t& k, double& fra
         fraction = 1.0;
         return;
     }
-    k = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), static_cast<float>(time)) -
-                            times.begin()) -
+    // Compared in double: a time just below the last key that rounds up to it in float found no key after it
+    // (k = n - 1, and the reads beyond both arrays).
+    k = static_cast<size_t>(
+            std::upper_bound(times.begin(), times.end(), time,
+                             [](double t, float key) { return t < static_cast<double>(key); }) -
+            times.begin()) -
         1;
     fraction = (time - times[k]) / (static_cast<double>(times[k + 1]) - times[k]);
 }

@@ -226,8 +226,9 @@ Sphere placeSphere(GltfContext& context, const tinygltf::Value& extension, const
     const glm::dmat3 linear(world);
     const double sx = glm::length(linear[0]), sy = glm::length(linear[1]), sz = glm::length(linear[2]);
     const double scale = (sx + sy + sz) / 3.0;
-    if (!(scale > 0.0)) context.fail(sphereWhere + ": the node transform scales the sphere to nothing");
-    if (std::abs(sx - scale) > 1e-4 * scale || std::abs(sy - scale) > 1e-4 * scale ||
+    if (scale == 0.0)
+        return {glm::vec3(world[3]), 0.0f, material};  // hidden by its node (the caller decides)
+    if (!(scale > 0.0) || std::abs(sx - scale) > 1e-4 * scale || std::abs(sy - scale) > 1e-4 * scale ||
         std::abs(sz - scale) > 1e-4 * scale) {
         context.fail(sphereWhere + ": the node transform must scale uniformly (a sphere stays a sphere)");
     }

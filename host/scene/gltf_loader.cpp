@@ -145,9 +145,9 @@ void GltfConverter::chooseShutter() {
 }
 
 void GltfConverter::reserveTriangles(int meshIndex, uint64_t instances, const std::string& where) {
-    // Each triangle keeps its corners and material, and its shading (normals, texture coordinates), at each
-    // pose.
-    const uint64_t bytesPerTriangle = (sizeof(Triangle) + sizeof(TriangleShading)) * poseTimes_.size();
+    // Each triangle keeps its corners and material at each pose, and its shading (normals, texture
+    // coordinates).
+    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
     const uint64_t limit = options_.maxSceneBytes / bytesPerTriangle;
     const uint64_t bound =
         triangleBound(context_.model, context_.model.meshes[static_cast<size_t>(meshIndex)]);
@@ -214,9 +214,23 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
     if (light != node.extensions.end()) addLight(context_, light->second, world, where);
     auto sphere = node.extensions.find("VKRT_sphere");
     if (sphere != node.extensions.end()) {
-        context_.scene.spheres.push_back(placeSphere(context_, sphere->second, world, where));
-        for (size_t k = 1; k < poses.size(); ++k)
-            context_.scene.spherePoses.push_back(placeSphere(context_, sphere->second, poses[k], where));
+        std::vector<Sphere> placed;
+        for (const glm::dmat4& pose : poses)
+            placed.push_back(placeSphere(context_, sphere->second, pose, where));
+        const auto vanishes = [](const Sphere& s) { return s.radius == 0.0f; };
+        if (std::all_of(placed.begin(), placed.end(), vanishes)) {
+            // Scaled to nothing throughout, as glTF hides a node: skipped, as a mesh's vanished triangles
+            // are.
+            context_.warn(where + " VKRT_sphere: the node scales it to nothing; it is skipped");
+        } else if (std::any_of(placed.begin(), placed.end(), vanishes)) {
+            context_.fail(where +
+                          " VKRT_sphere: the node scales it to nothing within the shutter; an animated "
+                          "sphere keeps a radius");
+        } else {
+            context_.scene.spheres.push_back(placed[0]);
+            context_.scene.spherePoses.insert(context_.scene.spherePoses.end(), placed.begin() + 1,
+                                              placed.end());
+        }
     }
     if (hasSolid(node)) {
         addSolid(context_, nodeIndex, poses, [&](int child) {

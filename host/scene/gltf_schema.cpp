@@ -538,6 +538,7 @@ private:
             number(p, "yfov", at, kPositive, true);
             number(p, "znear", at, kPositive, true);
             number(p, "zfar", at, kPositive);
+            clipRange(p, at);
         } else {
             const Json& o = requiredObject(camera, "orthographic", where);
             const std::string at = member(where, "orthographic");
@@ -545,6 +546,15 @@ private:
             number(o, "ymag", at, kAny, true);
             number(o, "znear", at, kNonNegative, true);
             number(o, "zfar", at, kPositive, true);
+            clipRange(o, at);
+        }
+    }
+
+    // glTF 2.0 (5.12, 5.13): zfar, where given, MUST be greater than znear.
+    void clipRange(const Json& projection, const std::string& where) const {
+        if (projection.contains("zfar") && projection.contains("znear") &&
+            !(projection["zfar"].get<double>() > projection["znear"].get<double>())) {
+            fail(member(where, "zfar"), "expected more than znear");
         }
     }
 
