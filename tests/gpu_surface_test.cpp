@@ -498,6 +498,9 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     Scene tilted = scene;
     tilted.shading[0].normal[0] = glm::vec3(0.0f, std::sin(1e-3f), std::cos(1e-3f));
     EXPECT_TRUE(detectFeatures(tilted).smoothNormals);
+    // A file's flat normals rounded to floats (a Cornell box's are up to 5e-5 radians off) stay flat.
+    tilted.shading[0].normal[0] = glm::vec3(0.0f, std::sin(5e-5f), std::cos(5e-5f));
+    EXPECT_FALSE(detectFeatures(tilted).smoothNormals);
     EXPECT_FALSE(detectFeatures(scene).alpha);
     scene.materials[0].alphaMode = AlphaMode::Mask;
     scene.materials[0].baseColor.a = 0.25f;  // below the cutoff: all hole
