@@ -42,8 +42,6 @@ VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3
     return p;
 }
 
-// A point of a sphere picked with probability `pick`, uniform in the cone of directions it subtends from
-// `from` (pbrt-v4, Sphere::Sample), or uniform by area when `from` is inside.
 // Whether sphere lights are sampled by area from `from` at squared distance `distance2` from the centre: from
 // inside, and from points within a ten-thousandth of the radius of the surface, where the cone of a point
 // outside closes up. Uniform area sampling is right from any point, so the shell only trades variance for
@@ -54,6 +52,8 @@ VKRT_FN bool sphereSampledByArea(real radius, real distance2) {
     return distance2 <= radius * radius * (1.0 + 2e-4);
 }
 
+// A point of a sphere picked with probability `pick`, uniform in the cone of directions it subtends from
+// `from` (pbrt-v4, Sphere::Sample), or uniform by area from inside or on its surface (sphereSampledByArea).
 VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, real pick, real3 from, real u,
                                      real v) {
     LightPoint p;

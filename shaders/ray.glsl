@@ -24,9 +24,9 @@ struct SurfacePoint {
 // Along the ray, the distance t is the watertight test's, computed from the corners relative to the origin in
 // float: off by about float epsilon times the corners' distance, which a huge triangle seen from nearby makes
 // far more than the point's own rounding (a unit sphere on a ground quad 2e5 across lost its contact shadows
-// in 0.7% of the pixels). With VKRT_TRIANGLE_FLOAT64 (a device with shaderFloat64) the distance to the
-// triangle's plane is then computed again in double, where float corners, origin and direction are exact and
-// the plane's normal nearly so.
+// in 0.7% of the pixels). With VKRT_TRIANGLE_FLOAT64 (a scene with large triangles, scene_features.cpp, on a
+// device with shaderFloat64) the distance to the triangle's plane is then computed again in double, where
+// float corners, origin and direction are exact and the plane's normal nearly so.
 SurfacePoint hitPoint(vec3 origin, vec3 direction, float t, vec3 v0, vec3 v1, vec3 v2, float u, float v) {
     const float vertexScale = max(maxAbs(v0), max(maxAbs(v1), maxAbs(v2)));
     const float rayScale = maxAbs(origin) + t;
