@@ -530,6 +530,11 @@ TEST(Cli, ReportWithoutReferenceMakesOneAndSaysSo) {
     EXPECT_NE(json["reference"].get<std::string>().find("64 spp, seed 1"), std::string::npos)
         << json["reference"];
     EXPECT_EQ(json["checkpoints"].size(), 3u);
+    // What made the image, as the stats name it: each integrator converges to its own image.
+    EXPECT_EQ(json.value("integrator", ""), "path");
+    EXPECT_EQ(json.value("spp_requested", 0), 4);
+    EXPECT_EQ(json.value("max_depth", 0), 64);
+    EXPECT_EQ(json.value("light_samples", 0), 1);
     // The reference renders all its samples whatever the time limit (a reference cut short would not be one):
     // vkrt says so, since with many samples it can take far longer than the limit.
     const auto limited =

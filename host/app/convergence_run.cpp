@@ -78,7 +78,13 @@ void writeConvergence(const Options& options, const ConvergenceReport& convergen
             {"width", settings.width},
             {"height", settings.height},
             {"spp", report.samplesRendered},
+            {"spp_requested", settings.samplesPerPixel},
+            {"integrator", integratorName(settings.integrator)},
+            {"max_depth", settings.maxDepth},
+            {"light_samples", settings.lightSamples},
             {"seed", settings.seed}};
+        // What else makes the image, as the stats name it.
+        if (!options.environmentPath.empty()) context["environment"] = options.environmentPath;
         if (ranks > 1) context["ranks"] = ranks;
         convergence.write(options.reportPath, context);
     }
