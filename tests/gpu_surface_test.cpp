@@ -512,6 +512,11 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -2.0f), 0.5f, 0});
     finalizeScene(withSphere);
     EXPECT_TRUE(detectFeatures(withSphere).normalMaps);  // a sphere makes its own frame
+    // A triangle 1024 times as long as the smallest sphere takes its hit distance again in double.
+    EXPECT_FALSE(detectFeatures(withSphere).largeTriangles);
+    withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -2.0f), 5e-4f, 0});
+    finalizeScene(withSphere);
+    EXPECT_TRUE(detectFeatures(withSphere).largeTriangles);
     scene.tangents.assign(2, {});
     EXPECT_TRUE(detectFeatures(scene).normalMaps);
     // The 1x1 normal texture has no level below it and one filter: no level of detail to choose.

@@ -30,8 +30,6 @@ EnvironmentMap loadEnvironment(const Options& options) {
                               options.environmentRotation, options.environmentStrength);
 }
 
-// Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
-// records the estimate and what was available.
 // What the machine has for the render, or --max-memory when that is less.
 HostMemory hostMemoryFor(const Options& options) {
     HostMemory available = availableHostMemory();
@@ -40,6 +38,8 @@ HostMemory hostMemoryFor(const Options& options) {
     return available;
 }
 
+// Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
+// records the estimate and what was available.
 void checkHostMemoryFor(const Options& options, bool measuresError, const Scene& scene,
                         const RenderSettings& settings, const VulkanContext* context,
                         RunReport::Memory& memory) {

@@ -70,21 +70,25 @@ bool absorbs(const Material& material) {
     return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
-// Whether every vertex normal of `t` is its face's normal, to within 1e-4 radians: the rounding of float
-// corners and normals in real files (a Cornell box's are up to 5e-5 off). The test once allowed 1.4e-3, which
-// dropped normals that matter: a finely tessellated curved mirror's, 6e-4 off their faces, rendered faceted.
 // Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
 // shape (a ground quad under the objects on it): the distance the GPU's float triangle test gives is off by
 // float epsilon times the corners' distance from the ray, which such a triangle makes far larger than the
 // rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double (VKRT_TRIANGLE_FLOAT64).
 bool hasLargeTriangles(const Scene& scene) {
     if (scene.triangles.empty()) return false;
-    std::vector<float> lengths(scene.triangles.size());
-    for (size_t i = 0; i < lengths.size(); ++i) {
-        const Triangle& t = scene.triangles[i];
-        lengths[i] = std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
+    auto longestEdge = [](const Triangle& t) {
+        return std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
+    };
+    // The longest of all, and the median of at most 65536 spread over the scene: a threshold 1024 times it
+    // needs no more, and a large scene no copy of all its lengths.
+    const size_t stride = std::max<size_t>(1, scene.triangles.size() / 65536);
+    float longest = 0.0f;
+    std::vector<float> lengths;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const float length = longestEdge(scene.triangles[i]);
+        longest = std::max(longest, length);
+        if (i % stride == 0) lengths.push_back(length);
     }
-    const float longest = *std::max_element(lengths.begin(), lengths.end());
     auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
     std::nth_element(lengths.begin(), middle, lengths.end());
     float typical = *middle;
@@ -97,6 +101,9 @@ bool hasLargeTriangles(const Scene& scene) {
     return longest > 1024.0f * typical;
 }
 
+// Whether every vertex normal of `t` is its face's normal, to within 1e-4 radians: the rounding of float
+// corners and normals in real files (a Cornell box's are up to 5e-5 off). The test once allowed 1.4e-3, which
+// dropped normals that matter: a finely tessellated curved mirror's, 6e-4 off their faces, rendered faceted.
 bool isFlat(const Triangle& t, const TriangleShading& s) {
     const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
     const glm::dvec3 face = glm::normalize(glm::cross(v1 - v0, v2 - v0));
