@@ -13,6 +13,7 @@
 #include "image/image_io.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
+#include "support/gltf_document.h"
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
@@ -22,17 +23,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string base64(const std::vector<uint8_t>& bytes) {
-    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        const size_t available = std::min<size_t>(3, bytes.size() - i);
-        uint32_t chunk = 0;
-        for (size_t k = 0; k < 3; ++k) chunk = (chunk << 8) | (k < available ? bytes[i + k] : 0);
-        for (size_t k = 0; k < 4; ++k) out += k <= available ? alphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
-    }
-    return out;
-}
+using test::base64;
 
 std::filesystem::path fileFor(const std::filesystem::path& folder, std::string name) {
     std::replace(name.begin(), name.end(), ' ', '-');
@@ -779,35 +770,4 @@ TEST(BadInput, ValidTriangleLoads) {
 }
 
 }  // namespace
-// What a file uses that vkrt leaves out is named, once per file: skins and morph targets.
-TEST(BadInput, SkinsAndMorphTargetsAreWarnedAboutOnce) {
-    const auto folder = test::temporaryFolder();
-    // The triangle's bytes, then one identity matrix: tinygltf wants a skin's inverseBindMatrices.
-    std::vector<uint8_t> bytes = triangleBytes();
-    const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    bytes.resize(44 + sizeof(identity));
-    std::memcpy(bytes.data() + 44, identity, sizeof(identity));
-    json d = validTriangle(bytes);
-    d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 64}});
-    d["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 1}, {"type", "MAT4"}});
-    d["nodes"] = {{{"mesh", 0}, {"skin", 0}}, {{"name", "joint"}}};
-    d["skins"] = {{{"joints", {1}}, {"inverseBindMatrices", 2}}};
-    d["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}};
-    d["meshes"].push_back(d["meshes"][0]);
-    d["nodes"].push_back({{"mesh", 1}, {"translation", {2.0, 0.0, 0.0}}});
-    d["scenes"][0]["nodes"] = {0, 1, 2};
-    const auto file = folder / "skinned.gltf";
-    writeJson(file, d);
-    const Scene scene = loadGltf(file.string());
-    int skins = 0, morphs = 0;
-    for (const std::string& warning : scene.warnings) {
-        skins += warning.find("skins are not supported") != std::string::npos ? 1 : 0;
-        morphs +=
-            warning.find("morph targets are not supported: 2 primitive(s)") != std::string::npos ? 1 : 0;
-    }
-    EXPECT_EQ(skins, 1);
-    EXPECT_EQ(morphs, 1);
-    EXPECT_EQ(scene.triangles.size(), 2u);  // both meshes render, in their base shape
-}
-
 }  // namespace vkrt

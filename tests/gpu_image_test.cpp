@@ -81,7 +81,8 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{own("glossy.gltf"), 80, 50, 4}, SceneCase{own("motion-blur.gltf"), 80, 60, 4},
                       SceneCase{own("textures.gltf"), 80, 50, 4}, SceneCase{own("surfaces.gltf"), 80, 50, 4},
                       SceneCase{own("environment.gltf"), 80, 50, 4}, SceneCase{own("csg.gltf"), 80, 50, 4},
-                      SceneCase{own("outdoor.gltf"), 64, 64, 4}, SceneCase{own("cornell-meshopt.glb"), 64, 64, 4},
+                      SceneCase{own("outdoor.gltf"), 64, 64, 4}, SceneCase{own("deform.gltf"), 72, 48, 4},
+                      SceneCase{own("cornell-meshopt.glb"), 64, 64, 4},
                       SceneCase{own("cornell-draco.glb"), 64, 64, 4},
                       SceneCase{own("textures-webp.glb"), 80, 50, 4},
                       SceneCase{own("cornell.gltf"), 64, 64, 4, Integrator::Whitted},
@@ -101,7 +102,8 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
                       SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2},
                       SceneCase{real("khronos-Avocado/glTF/Avocado.gltf"), 48, 48, 2},
-                      SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48, 2}),
+                      SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48,
+                                2}),
     [](const ::testing::TestParamInfo<SceneCase>& info) {
         std::string name = std::filesystem::path(info.param.path).stem().string() +
                            (info.param.integrator == Integrator::Whitted ? "Whitted" : "");

@@ -179,6 +179,40 @@ class GltfBuilder:
         self.gltf["meshes"].append({"name": name, "primitives": out})
         return len(self.gltf["meshes"]) - 1
 
+    def deforming_mesh(self, name, positions, normals, indices, material, joints=None, weights=None, targets=(),
+                       target_weights=None):
+        """A one-primitive mesh that deforms: `joints` and `weights` (four per vertex: JOINTS_0 as unsigned
+        shorts, WEIGHTS_0) for a skin, `targets` a list of (position displacements, normal displacements or
+        None) morph targets, `target_weights` the mesh's default weights."""
+        attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
+        if normals is not None:
+            attributes["NORMAL"] = self.vec3_accessor(normals)
+        if joints is not None:
+            payload = b"".join(struct.pack("<4H", *j) for j in joints)
+            attributes["JOINTS_0"] = self._accessor(self._view(payload, 34962), 5123, len(joints), "VEC4")
+            attributes["WEIGHTS_0"] = self.vec4_accessor(weights)
+        primitive = {"attributes": attributes, "indices": self.index_accessor(indices), "material": material}
+        if targets:
+            primitive["targets"] = []
+            for displacements, normal_displacements in targets:
+                target = {"POSITION": self.vec3_accessor(displacements, with_bounds=True)}
+                if normal_displacements is not None:
+                    target["NORMAL"] = self.vec3_accessor(normal_displacements)
+                primitive["targets"].append(target)
+        mesh = {"name": name, "primitives": [primitive]}
+        if target_weights is not None:
+            mesh["weights"] = list(target_weights)
+        self.gltf["meshes"].append(mesh)
+        return len(self.gltf["meshes"]) - 1
+
+    def skin(self, joints, inverse_bind_matrices):
+        """A skin over the nodes `joints`, with one column-major 4x4 inverse bind matrix (16 numbers) each."""
+        flat = [c for m in inverse_bind_matrices for c in m]
+        view = self._view(struct.pack("<%df" % len(flat), *flat), None)
+        accessor = self._accessor(view, 5126, len(inverse_bind_matrices), "MAT4")
+        self.gltf.setdefault("skins", []).append({"joints": list(joints), "inverseBindMatrices": accessor})
+        return len(self.gltf["skins"]) - 1
+
     def node(self, name, parent=None, **fields):
         self.gltf["nodes"].append({"name": name, **fields})
         index = len(self.gltf["nodes"]) - 1
@@ -208,13 +242,14 @@ class GltfBuilder:
         return self.node(name, parent=parent, **transform, extensions={"VKRT_csg": {"operation": operation}})
 
     def animate(self, node, path, times, values, interpolation="LINEAR"):
-        """One animation channel (translation, rotation or scale of `node`) with its own sampler."""
+        """One animation channel (translation, rotation, scale or morph-target weights of `node`) with its own
+        sampler; `values` holds one vector (for weights: one weight per target) per key."""
         times_view = self._view(struct.pack("<%df" % len(times), *times), None)
         times_accessor = self._accessor(times_view, 5126, len(times), "SCALAR", min=[min(times)], max=[max(times)])
-        kind = "VEC4" if path == "rotation" else "VEC3"
+        kind = {"rotation": "VEC4", "weights": "SCALAR"}.get(path, "VEC3")
         flat = [c for v in values for c in v]
         values_view = self._view(struct.pack("<%df" % len(flat), *flat), None)
-        values_accessor = self._accessor(values_view, 5126, len(values), kind)
+        values_accessor = self._accessor(values_view, 5126, len(flat) if path == "weights" else len(values), kind)
         animations = self.gltf.setdefault("animations", [])
         if not animations:
             animations.append({"name": "motion", "channels": [], "samplers": []})

@@ -25,6 +25,12 @@ motion-blur.gltf: motion blur: over a checkerboard, a cube sliding at 1.5 units/
 degrees/s (glTF LINEAR animations) and a ball that jumps (STEP) during the half-second shutter given in the
 scene's extras.
 
+deform.gltf: skins and morph targets (glTF 2.0 sections 3.7.2.2 and 3.7.3): a tube skinned to two joints, its
+upper joint turned 50 degrees at rest so the tube bends where the joints' weights blend, and a ball with two morph
+targets (towards a rounded box, and squashed), placed twice: with its mesh's weights (0.6 of the box) and with
+its node's (the squash alone). An animation straightens the knee to 10 degrees and moves the first ball's weights
+to (0, 0.8) over one second, seen with --shutter 0 1.
+
 environment.gltf and sky.hdr: a scene without lights of its own, for --environment: a Lambertian white, a
 rough gold and a mirror sphere and a glass sphere on a grey floor; sky.hdr is a small (64 x 32)
 equirectangular Radiance map (top row the zenith, +Y) with a blue gradient sky, a brown ground and a sun
@@ -67,7 +73,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gltf_builder import GltfBuilder, merge, quad, uv_sphere  # noqa: E402
+from gltf_builder import GltfBuilder, cross, dot, merge, quad, sub, uv_sphere  # noqa: E402
 
 SCENES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
 
@@ -556,6 +562,105 @@ def quaternion_product(a, b):
             a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]]
 
 
+def vertex_normals(positions, indices):
+    """Smooth normals: each vertex's faces' area-weighted normals, summed over the vertices at its position (a UV
+    sphere's seam and poles repeat positions)."""
+    sums = {}
+    for t in range(0, len(indices), 3):
+        a, b, c = (positions[i] for i in indices[t:t + 3])
+        n = cross(sub(b, a), sub(c, a))
+        for i in indices[t:t + 3]:
+            key = tuple(round(x, 9) for x in positions[i])
+            sums[key] = [sums.get(key, [0.0, 0.0, 0.0])[k] + n[k] for k in range(3)]
+    normals = []
+    for p in positions:
+        n = sums[tuple(round(x, 9) for x in p)]
+        length = math.sqrt(dot(n, n))
+        normals.append([x / length for x in n])
+    return normals
+
+
+def deform():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    light_grey = g.material("light grey", base_color=(0.7, 0.7, 0.7))
+    dark_grey = g.material("dark grey", base_color=(0.35, 0.35, 0.38))
+    tube_paint = g.material("tube", base_color=(0.15, 0.45, 0.8), roughness=0.35)
+    ball_paint = g.material("ball", base_color=(0.85, 0.3, 0.1), roughness=0.4)
+    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
+    g.node("floor", mesh=g.mesh("floor", [(light_cells[0], None, light_cells[1], light_grey),
+                                          (dark_cells[0], None, dark_cells[1], dark_grey)]))
+
+    # The tube, modelled in its bind pose (upright, its foot at `foot`), skinned to a hip at its foot and a knee
+    # 1.2 above it: below 0.9 the hip alone, above 1.5 the knee alone, blended linearly between.
+    foot, radius, height, rings, segments = [-0.6, 0.0, -0.5], 0.22, 2.4, 24, 20
+    positions, normals, joints, weights, indices = [], [], [], [], []
+    for r in range(rings + 1):
+        y = height * r / rings
+        knee = min(max((y - 0.9) / 0.6, 0.0), 1.0)
+        for k in range(segments + 1):
+            phi = 2 * math.pi * k / segments
+            n = [math.cos(phi), 0.0, -math.sin(phi)]
+            positions.append([foot[0] + radius * n[0], y, foot[2] + radius * n[2]])
+            normals.append(n)
+            joints.append([0, 1, 0, 0])
+            weights.append([1.0 - knee, knee, 0.0, 0.0])
+    for r in range(rings):
+        for k in range(segments):
+            a = r * (segments + 1) + k
+            b = a + segments + 1
+            indices += [a, a + 1, b + 1, a, b + 1, b]
+    centre = len(positions)  # the top cap: a fan about its centre, on the knee alone
+    positions.append([foot[0], height, foot[2]])
+    normals.append([0.0, 1.0, 0.0])
+    joints.append([0, 1, 0, 0])
+    weights.append([0.0, 1.0, 0.0, 0.0])
+    for k in range(segments):
+        phi0, phi1 = 2 * math.pi * k / segments, 2 * math.pi * (k + 1) / segments
+        for phi in (phi0, phi1):
+            positions.append([foot[0] + radius * math.cos(phi), height, foot[2] - radius * math.sin(phi)])
+            normals.append([0.0, 1.0, 0.0])
+            joints.append([0, 1, 0, 0])
+            weights.append([0.0, 1.0, 0.0, 0.0])
+        indices += [centre, len(positions) - 2, len(positions) - 1]
+    tube = g.deforming_mesh("tube", positions, normals, indices, tube_paint, joints=joints, weights=weights)
+    hip = g.node("hip", translation=foot)
+    knee = g.node("knee", parent=hip, translation=[0.0, 1.2, 0.0], rotation=axis_angle([0.0, 0.0, 1.0], 50.0))
+    inverse_binds = [[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -foot[0], -foot[1], -foot[2], 1],
+                     [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -foot[0], -foot[1] - 1.2, -foot[2], 1]]
+    g.node("bent tube", mesh=tube, skin=g.skin([hip, knee], inverse_binds))
+    g.animate(knee, "rotation", [0.0, 1.0], [axis_angle([0.0, 0.0, 1.0], 50.0), axis_angle([0.0, 0.0, 1.0], 10.0)])
+
+    # The ball: a UV sphere of radius 0.55, its targets the displacements to a box (each point moved along its
+    # direction onto the box of half-size 0.5) and to a squashed ball (half as high, 1.3 times as wide); each
+    # target's normal displacements from its full-weight shape's own normals.
+    ball, ball_normals, ball_indices = uv_sphere([0.0, 0.0, 0.0], 0.55, 24, 32)
+    boxed, squashed = [], []
+    for p in ball:
+        largest = max(abs(c) for c in p)
+        boxed.append([0.5 * c / largest - c for c in p])
+        squashed.append([0.3 * p[0], -0.5 * p[1], 0.3 * p[2]])
+    targets = []
+    for displacement in (boxed, squashed):
+        shape = [[p[k] + d[k] for k in range(3)] for p, d in zip(ball, displacement)]
+        shape_normals = vertex_normals(shape, ball_indices)
+        targets.append((displacement, [[m[k] - n[k] for k in range(3)] for m, n in zip(shape_normals, ball_normals)]))
+    morph = g.deforming_mesh("morphing ball", ball, ball_normals, ball_indices, ball_paint, targets=targets,
+                             target_weights=[0.6, 0.0])
+    boxy = g.node("boxy ball", mesh=morph, translation=[0.7, 0.55, 0.4])
+    g.node("squashed ball", mesh=morph, translation=[1.9, 0.275, -0.7], weights=[0.0, 1.0])
+    g.animate(boxy, "weights", [0.0, 1.0], [[0.6, 0.0], [0.0, 0.8]])
+
+    eye, target = [0.3, 2.4, 6.4], [0.3, 0.95, 0.0]
+    camera = g.perspective_camera("deform-camera", math.radians(42.0), aspect_ratio=1.5)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    light = g.light({"type": "point", "name": "lamp", "color": [1.0, 0.97, 0.9], "intensity": 60.0})
+    g.node("lamp", translation=[2.5, 5.0, 4.0], extensions={"KHR_lights_punctual": {"light": light}})
+    sun = g.light({"type": "directional", "name": "sun", "color": [0.9, 0.95, 1.0], "intensity": 1.5})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.4, -1.0, -0.6]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    g.write(os.path.join(OUTPUT, "deform.gltf"))
+
+
 def csg():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     g.required.update(("VKRT_shape", "VKRT_csg"))  # without them a viewer would show an empty floor
@@ -647,3 +752,4 @@ if __name__ == "__main__":
     environment()
     outdoor()
     csg()
+    deform()

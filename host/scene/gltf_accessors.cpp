@@ -143,8 +143,8 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
     }
     if (wantIndices && (accessor.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
                         accessor.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
-                        accessor.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)) {
-        fail(name + " must use an unsigned integer component type");
+                        accessor.componentType == TINYGLTF_COMPONENT_TYPE_SHORT || accessor.normalized)) {
+        fail(name + " must use an unsigned integer component type, not normalized");
     }
     if (!wantIndices && accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !accessor.normalized) {
         if (!quantized_) fail(name + " must be FLOAT or normalized integers (or use KHR_mesh_quantization)");
@@ -257,7 +257,12 @@ std::vector<float> AccessorReader::readFloats(int accessorIndex, int components,
 }
 
 std::vector<uint32_t> AccessorReader::readIndices(int accessorIndex, const std::string& what) const {
-    std::vector<double> values = readComponents(accessorIndex, 1, true, what);
+    return readUnsigned(accessorIndex, 1, what);
+}
+
+std::vector<uint32_t> AccessorReader::readUnsigned(int accessorIndex, int components,
+                                                   const std::string& what) const {
+    std::vector<double> values = readComponents(accessorIndex, components, true, what);
     std::vector<uint32_t> result(values.size());
     for (size_t i = 0; i < values.size(); ++i) result[i] = static_cast<uint32_t>(values[i]);
     return result;

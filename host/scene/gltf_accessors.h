@@ -32,6 +32,9 @@ class AccessorReader {
     // Reads a scalar unsigned-integer accessor (mesh indices).
     std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what) const;
 
+    // Reads `components` unsigned integers per element (a skinned primitive's JOINTS_n).
+    std::vector<uint32_t> readUnsigned(int accessorIndex, int components, const std::string& what) const;
+
     // The element count of an accessor, after checking that the index is valid.
     size_t count(int accessorIndex, const std::string& what) const;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "scene/gltf_transforms.h"
 #include "scene/scene_error.h"
@@ -31,42 +32,57 @@ void locate(const std::vector<float>& times, double time, size_t& k, double& fra
     fraction = (time - times[k]) / (static_cast<double>(times[k + 1]) - times[k]);
 }
 
-glm::dvec4 keyValue(const AnimationChannel& channel, size_t key, int components, int part) {
+// Component `c` of a key's value (`part` 0, 1, 2: a CUBICSPLINE key's in-tangent, value, out-tangent).
+double keyComponent(const AnimationChannel& channel, size_t key, int part, int c) {
     const int stride = channel.interpolation == Interpolation::CubicSpline ? 3 : 1;
-    const size_t base = (key * stride + part) * components;
+    return channel.values[(key * stride + part) * channel.components + c];
+}
+
+glm::dvec4 keyValue(const AnimationChannel& channel, size_t key, int part) {
     glm::dvec4 v(0.0);
-    for (int c = 0; c < components; ++c) v[c] = channel.values[base + c];
+    for (int c = 0; c < std::min(channel.components, 4); ++c) v[c] = keyComponent(channel, key, part, c);
     return v;
 }
 
-// The channel's value at `time` (xyz for vectors, xyzw for quaternions).
-glm::dvec4 sample(const AnimationChannel& channel, double time) {
-    const int components = channel.path == AnimatedPath::Rotation ? 4 : 3;
+// The channel's component `c` at `time`, interpolated on its own (a vector's or the weights' component).
+double sampleComponent(const AnimationChannel& channel, int c, double time) {
     const int valuePart = channel.interpolation == Interpolation::CubicSpline ? 1 : 0;
     size_t k;
     double s;
     locate(channel.times, time, k, s);
-    if (channel.times.size() == 1) return keyValue(channel, 0, components, valuePart);
-    const glm::dvec4 a = keyValue(channel, k, components, valuePart);
-    const glm::dvec4 b = keyValue(channel, k + 1, components, valuePart);
+    if (channel.times.size() == 1) return keyComponent(channel, 0, valuePart, c);
+    const double a = keyComponent(channel, k, valuePart, c);
+    const double b = keyComponent(channel, k + 1, valuePart, c);
     if (channel.interpolation == Interpolation::Step) return s >= 1.0 ? b : a;
     if (channel.interpolation == Interpolation::CubicSpline) {
         // glTF 2.0 Appendix C: Hermite spline with the keys' out- and in-tangents scaled by the interval.
         const double dt = static_cast<double>(channel.times[k + 1]) - channel.times[k];
-        const glm::dvec4 outTangent = keyValue(channel, k, components, 2);
-        const glm::dvec4 inTangent = keyValue(channel, k + 1, components, 0);
+        const double outTangent = keyComponent(channel, k, 2, c);
+        const double inTangent = keyComponent(channel, k + 1, 0, c);
         const double s2 = s * s, s3 = s2 * s;
-        glm::dvec4 v = (2 * s3 - 3 * s2 + 1) * a + dt * (s3 - 2 * s2 + s) * outTangent +
-                       (-2 * s3 + 3 * s2) * b + dt * (s3 - s2) * inTangent;
-        if (components == 4) v = v / glm::length(v);
-        return v;
+        return (2 * s3 - 3 * s2 + 1) * a + dt * (s3 - 2 * s2 + s) * outTangent + (-2 * s3 + 3 * s2) * b +
+               dt * (s3 - s2) * inTangent;
     }
-    if (components == 4) {
+    return a + s * (b - a);
+}
+
+// The channel's value at `time` (xyz for vectors, xyzw for quaternions).
+glm::dvec4 sample(const AnimationChannel& channel, double time) {
+    if (channel.path == AnimatedPath::Rotation && channel.interpolation == Interpolation::Linear &&
+        channel.times.size() > 1) {
+        size_t k;
+        double s;
+        locate(channel.times, time, k, s);
+        const glm::dvec4 a = keyValue(channel, k, 0), b = keyValue(channel, k + 1, 0);
         const glm::dquat qa(a.w, a.x, a.y, a.z), qb(b.w, b.x, b.y, b.z);
         const glm::dquat q = glm::slerp(glm::normalize(qa), glm::normalize(qb), s);
         return {q.x, q.y, q.z, q.w};
     }
-    return a + s * (b - a);
+    glm::dvec4 v(0.0);
+    for (int c = 0; c < std::min(channel.components, 4); ++c) v[c] = sampleComponent(channel, c, time);
+    if (channel.path == AnimatedPath::Rotation && channel.interpolation == Interpolation::CubicSpline)
+        v = v / glm::length(v);
+    return v;
 }
 
 }  // namespace
@@ -76,7 +92,8 @@ glm::dmat4 NodeTrs::matrix() const {
 }
 
 NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors,
-                               const std::string& path) {
+                               const std::string& path)
+    : path_(path) {
     auto fail = [&](const std::string& message) { throw SceneError(path + ": " + message); };
     for (size_t a = 0; a < model.animations.size(); ++a) {
         const tinygltf::Animation& animation = model.animations[a];
@@ -91,12 +108,14 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReade
                 channel.path = AnimatedPath::Rotation;
             else if (source.target_path == "scale")
                 channel.path = AnimatedPath::Scale;
+            else if (source.target_path == "weights")
+                channel.path = AnimatedPath::Weights;
             else
-                continue;  // morph-target weights and extension paths do not move geometry here
+                continue;  // extension paths do not move geometry
             if (source.target_node < 0 || source.target_node >= static_cast<int>(model.nodes.size()))
                 fail(channelWhere + " targets node " + std::to_string(source.target_node) +
                      ", which does not exist");
-            if (!model.nodes[source.target_node].matrix.empty())
+            if (channel.path != AnimatedPath::Weights && !model.nodes[source.target_node].matrix.empty())
                 fail(channelWhere + " animates a node that has a matrix (glTF allows only TRS nodes)");
             if (source.sampler < 0 || source.sampler >= static_cast<int>(animation.samplers.size()))
                 fail(channelWhere + " refers to sampler " + std::to_string(source.sampler) +
@@ -111,9 +130,21 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReade
             else
                 fail(channelWhere + " has unknown interpolation '" + sampler.interpolation + "'");
             channel.times = accessors.readFloats(sampler.input, 1, channelWhere + " input");
-            const int components = channel.path == AnimatedPath::Rotation ? 4 : 3;
-            channel.values = accessors.readFloats(sampler.output, components, channelWhere + " output");
-            const size_t perKey = (channel.interpolation == Interpolation::CubicSpline ? 3 : 1) * components;
+            const size_t parts = channel.interpolation == Interpolation::CubicSpline ? 3 : 1;
+            if (channel.path == AnimatedPath::Weights) {
+                // Scalars, one per morph target for each key (and each tangent).
+                channel.values = accessors.readFloats(sampler.output, 1, channelWhere + " output");
+                const size_t perKey =
+                    channel.times.empty() ? 0 : channel.values.size() / (channel.times.size() * parts);
+                if (perKey == 0 || perKey > 65536)
+                    fail(channelWhere + ": the sampler's input and output counts do not match");
+                channel.components = static_cast<int>(perKey);
+            } else {
+                channel.components = channel.path == AnimatedPath::Rotation ? 4 : 3;
+                channel.values =
+                    accessors.readFloats(sampler.output, channel.components, channelWhere + " output");
+            }
+            const size_t perKey = parts * static_cast<size_t>(channel.components);
             if (channel.times.empty() || channel.values.size() != channel.times.size() * perKey)
                 fail(channelWhere + ": the sampler's input and output counts do not match");
             for (size_t i = 0; i < channel.times.size(); ++i) {
@@ -131,7 +162,8 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReade
 bool NodeAnimations::linearTranslationOnly(double open, double close) const {
     for (const auto& [node, channels] : channels_) {
         for (const AnimationChannel& channel : channels) {
-            if (channel.path != AnimatedPath::Translation || channel.interpolation != Interpolation::Linear)
+            if (channel.path == AnimatedPath::Rotation || channel.path == AnimatedPath::Scale ||
+                channel.interpolation != Interpolation::Linear)
                 return false;
             for (float t : channel.times) {
                 if (t > open && t < close) return false;
@@ -141,11 +173,43 @@ bool NodeAnimations::linearTranslationOnly(double open, double close) const {
     return true;
 }
 
+bool NodeAnimations::animates(int node) const {
+    const auto it = channels_.find(node);
+    if (it == channels_.end()) return false;
+    return std::any_of(it->second.begin(), it->second.end(),
+                       [](const AnimationChannel& channel) { return channel.path != AnimatedPath::Weights; });
+}
+
+bool NodeAnimations::animatesWeights(int node) const {
+    const auto it = channels_.find(node);
+    if (it == channels_.end()) return false;
+    return std::any_of(it->second.begin(), it->second.end(),
+                       [](const AnimationChannel& channel) { return channel.path == AnimatedPath::Weights; });
+}
+
+std::vector<double> NodeAnimations::evaluateWeights(int node, std::vector<double> rest, double time) const {
+    const auto it = channels_.find(node);
+    if (it == channels_.end()) return rest;
+    for (const AnimationChannel& channel : it->second) {
+        if (channel.path != AnimatedPath::Weights) continue;
+        if (static_cast<size_t>(channel.components) != rest.size()) {
+            throw SceneError(path_ + ": an animation gives node " + std::to_string(node) + " " +
+                             std::to_string(channel.components) +
+                             " morph-target weight(s) per key; its mesh has " + std::to_string(rest.size()) +
+                             " morph target(s)");
+        }
+        for (int c = 0; c < channel.components; ++c)
+            rest[static_cast<size_t>(c)] = sampleComponent(channel, c, time);
+    }
+    return rest;
+}
+
 NodeTrs NodeAnimations::evaluate(int node, const NodeTrs& rest, double time) const {
     NodeTrs trs = rest;
     auto it = channels_.find(node);
     if (it == channels_.end()) return trs;
     for (const AnimationChannel& channel : it->second) {
+        if (channel.path == AnimatedPath::Weights) continue;  // evaluateWeights
         const glm::dvec4 v = sample(channel, time);
         switch (channel.path) {
             case AnimatedPath::Translation:
@@ -159,6 +223,8 @@ NodeTrs NodeAnimations::evaluate(int node, const NodeTrs& rest, double time) con
             }
             case AnimatedPath::Scale:
                 trs.scale = glm::dvec3(v);
+                break;
+            case AnimatedPath::Weights:
                 break;
         }
     }

@@ -50,23 +50,6 @@ void checkExtensions(GltfContext& context) {
     }
 }
 
-void warnAboutUnsupportedFeatures(GltfContext& context) {
-    const tinygltf::Model& model = context.model;
-    if (!model.skins.empty()) {
-        context.warn("skins are not supported: " + std::to_string(model.skins.size()) +
-                     " skin(s) ignored, skinned meshes render in their rest pose");
-    }
-    size_t morphed = 0;
-    for (const tinygltf::Mesh& mesh : model.meshes) {
-        for (const tinygltf::Primitive& primitive : mesh.primitives)
-            morphed += primitive.targets.empty() ? 0 : 1;
-    }
-    if (morphed > 0) {
-        context.warn("morph targets are not supported: " + std::to_string(morphed) +
-                     " primitive(s) render with their base shape");
-    }
-}
-
 std::optional<std::string> unsupportedRequiredExtension(const nlohmann::json& document) {
     if (!document.is_object() || !document.contains("extensionsRequired") ||
         !document["extensionsRequired"].is_array()) {

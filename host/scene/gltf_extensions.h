@@ -18,10 +18,6 @@ namespace vkrt {
 // Fails on a required extension vkrt does not support; warns about an unsupported optional one.
 void checkExtensions(GltfContext& context);
 
-// What a file uses that vkrt leaves out, one warning each: skins (meshes render in their rest pose) and morph
-// targets (meshes render with their base shape).
-void warnAboutUnsupportedFeatures(GltfContext& context);
-
 // The first extension a glTF document requires and vkrt does not support, read from its JSON directly: tinygltf
 // may reject such a file (KHR_texture_basisu's images are in a format it cannot read) before the loader can
 // name the reason.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -54,6 +55,13 @@ class GltfConverter {
     // Counts `instances` more placements of mesh `meshIndex` against the host memory the options allow,
     // before any of them is placed.
     void reserveTriangles(int meshIndex, uint64_t instances, const std::string& where);
+    // Where the mesh of node `nodeIndex`, whose world transforms are `poses`, is at each pose time: with its
+    // morph targets' weights and, when the node has a skin, its joints' matrices.
+    std::vector<InstancePose> meshPoses(int nodeIndex, const Poses& poses, const std::string& where);
+    // Every node's world transform at each pose time (a skin's joints can be anywhere in the graph).
+    const std::vector<Poses>& nodeWorlds();
+    // A skin's inverse bind matrices, one per joint (the identity where the skin gives none).
+    const std::vector<glm::dmat4>& inverseBindMatrices(int skinIndex);
 
     GltfContext context_;
     LoadOptions options_;
@@ -61,6 +69,9 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
+    glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
+    std::vector<Poses> nodeWorlds_;  // filled when a skinned node is first placed
+    std::map<int, std::vector<glm::dmat4>> inverseBinds_;
 };
 
 // The most triangles a mesh's primitives can make, from their accessors' counts (zero for what the decoder
@@ -85,7 +96,6 @@ Scene GltfConverter::convert() {
     Scene& scene = context_.scene;
     scene.sourcePath = context_.path;
     checkExtensions(context_);
-    warnAboutUnsupportedFeatures(context_);
     convertTextures(context_);
     convertMaterials(context_);
 
@@ -93,9 +103,9 @@ Scene GltfConverter::convert() {
     checkNodeGraph(context_, roots);
     // Walk with the scene's approximate centre moved to the origin (re-centring keeps float precision).
     scene.origin = approximateCenter(context_, roots);
-    const glm::dmat4 recentre = glm::translate(glm::dmat4(1.0), -scene.origin);
+    recentre_ = glm::translate(glm::dmat4(1.0), -scene.origin);
     chooseShutter();
-    for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre));
+    for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
 
     meshes_.warnAboutSkipped();
     if (scene.triangles.empty() && scene.spheres.empty() && scene.solids.empty())
@@ -195,16 +205,19 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
             context_.fail(where + " refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
         }
         auto instancing = node.extensions.find("EXT_mesh_gpu_instancing");
+        const std::vector<InstancePose> meshAt = meshPoses(nodeIndex, poses, where);
         if (instancing == node.extensions.end()) {
             reserveTriangles(node.mesh, 1, where);
-            meshes_.addInstance(node.mesh, poses);
+            meshes_.addInstance(node.mesh, meshAt);
         } else {
             const std::vector<glm::dmat4> instances = instanceTransforms(context_, instancing->second, where);
             reserveTriangles(node.mesh, instances.size(), where);
+            if (node.skin >= 0)
+                context_.warn(where + ": the instances of a skinned mesh all follow its joints");
             for (const glm::dmat4& instance : instances) {
-                Poses instancePoses = poses;
-                for (glm::dmat4& pose : instancePoses) pose = pose * instance;
-                meshes_.addInstance(node.mesh, instancePoses);
+                std::vector<InstancePose> instanceAt = meshAt;
+                for (InstancePose& pose : instanceAt) pose.world = pose.world * instance;
+                meshes_.addInstance(node.mesh, instanceAt);
             }
         }
     }
@@ -241,6 +254,92 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
         });
     }
     return poses;
+}
+
+std::vector<InstancePose> GltfConverter::meshPoses(int nodeIndex, const Poses& poses,
+                                                   const std::string& where) {
+    const tinygltf::Model& model = context_.model;
+    const tinygltf::Node& node = model.nodes[nodeIndex];
+    // The weights at rest: the node's, else its mesh's, else zero (glTF 2.0 section 3.7.2.2).
+    const size_t targets = meshes_.morphTargetCount(node.mesh);
+    const std::vector<double>& given = node.weights.empty() ? model.meshes[node.mesh].weights : node.weights;
+    std::vector<double> rest(targets, 0.0);
+    if (!given.empty()) {
+        if (given.size() != targets) {
+            context_.fail(where + (node.weights.empty() ? "'s mesh" : "") + " has " +
+                          std::to_string(given.size()) + " morph-target weight(s) for " +
+                          std::to_string(targets) + " morph target(s)");
+        }
+        rest = given;
+    }
+    std::vector<InstancePose> result(poses.size());
+    for (size_t k = 0; k < poses.size(); ++k) {
+        result[k].world = poses[k];
+        result[k].weights = animations_.evaluateWeights(nodeIndex, rest, poseTimes_[k]);
+    }
+    if (node.skin < 0) return result;
+    if (node.skin >= static_cast<int>(model.skins.size()))
+        context_.fail(where + " refers to skin " + std::to_string(node.skin) + ", which does not exist");
+    // Joint matrices: each joint's world transform times its inverse bind matrix; the skinned node's own
+    // transform is not applied to its skinned primitives (glTF 2.0 section 3.7.3.3).
+    const std::vector<int>& joints = model.skins[node.skin].joints;
+    const std::vector<glm::dmat4>& inverseBinds = inverseBindMatrices(node.skin);
+    const std::vector<Poses>& worlds = nodeWorlds();
+    for (size_t k = 0; k < poses.size(); ++k) {
+        for (size_t j = 0; j < joints.size(); ++j)
+            result[k].joints.push_back(worlds[static_cast<size_t>(joints[j])][k] * inverseBinds[j]);
+    }
+    return result;
+}
+
+const std::vector<GltfConverter::Poses>& GltfConverter::nodeWorlds() {
+    if (!nodeWorlds_.empty()) return nodeWorlds_;
+    const std::vector<tinygltf::Node>& nodes = context_.model.nodes;
+    // The graph is a forest (checkNodeGraph): from each node without a parent, parents before children.
+    std::vector<bool> isChild(nodes.size(), false);
+    for (const tinygltf::Node& node : nodes)
+        for (int child : node.children) isChild[static_cast<size_t>(child)] = true;
+    nodeWorlds_.assign(nodes.size(), Poses());
+    std::vector<std::pair<int, const Poses*>> pending;
+    const Poses top(poseTimes_.size(), recentre_);
+    for (size_t n = 0; n < nodes.size(); ++n)
+        if (!isChild[n]) pending.emplace_back(static_cast<int>(n), &top);
+    while (!pending.empty()) {
+        const auto [nodeIndex, parents] = pending.back();
+        pending.pop_back();
+        Poses& world = nodeWorlds_[static_cast<size_t>(nodeIndex)];
+        world.resize(poseTimes_.size());
+        for (size_t k = 0; k < world.size(); ++k)
+            world[k] = (*parents)[k] * localTransformAt(context_, animations_, nodeIndex, poseTimes_[k]);
+        for (int child : nodes[static_cast<size_t>(nodeIndex)].children) pending.emplace_back(child, &world);
+    }
+    return nodeWorlds_;
+}
+
+const std::vector<glm::dmat4>& GltfConverter::inverseBindMatrices(int skinIndex) {
+    auto found = inverseBinds_.find(skinIndex);
+    if (found != inverseBinds_.end()) return found->second;
+    const tinygltf::Skin& skin = context_.model.skins[static_cast<size_t>(skinIndex)];
+    const std::string where = describe("skin", skinIndex, skin.name);
+    std::vector<glm::dmat4> matrices(skin.joints.size(), glm::dmat4(1.0));
+    if (skin.inverseBindMatrices >= 0) {
+        const std::vector<float> values =
+            context_.accessors.readFloats(skin.inverseBindMatrices, 16, where + " inverseBindMatrices");
+        if (values.size() < 16 * matrices.size()) {
+            context_.fail(where + " has " + std::to_string(values.size() / 16) +
+                          " inverse bind matrices for " + std::to_string(matrices.size()) + " joints");
+        }
+        for (size_t j = 0; j < matrices.size(); ++j) {
+            for (int column = 0; column < 4; ++column) {
+                for (int row = 0; row < 4; ++row) {
+                    const float value = values[16 * j + 4 * column + row];  // column-major
+                    if (!std::isfinite(value)) context_.fail(where + " has a non-finite inverse bind matrix");
+                    matrices[j][column][row] = value;
+                }
+            }
+        }
+    }
+    return inverseBinds_.emplace(skinIndex, std::move(matrices)).first->second;
 }
 
 bool hasGlbMagic(const std::string& path) {

@@ -11,7 +11,7 @@
 
 namespace vkrt {
 
-void MeshInstancer::addInstance(int meshIndex, const std::vector<glm::dmat4>& poses) {
+void MeshInstancer::addInstance(int meshIndex, const std::vector<InstancePose>& poses) {
     // Decode each primitive on the mesh's first instance, placing it before decoding the next, so that
     // errors come in the order the file's content meets them; later instances only place.
     std::vector<DecodedPrimitive>& primitives = decoded_[meshIndex];
@@ -30,6 +30,9 @@ void MeshInstancer::warnAboutSkipped() {
         context_.warn("primitives with mode " + std::to_string(mode) +
                       " (points or lines) skipped: vkrt renders triangles");
     }
+    for (const std::string& name : ignoredTargetAttributes_)
+        context_.warn("morph targets' " + name +
+                      " displacements are ignored (vkrt morphs POSITION, NORMAL and TANGENT)");
 }
 
 DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
@@ -165,7 +168,76 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         decoded.uvs1 = decoded.uvs;
     }
     decodeTangents(primitive, decoded);
+    decodeDeformation(primitive, decoded);
     return decoded;
+}
+
+void MeshInstancer::decodeDeformation(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {
+    const std::string& where = decoded.where;
+    const size_t vertexCount = decoded.positions.size() / 3;
+    const AccessorReader& accessors = context_.accessors;
+    // Each target's displacements of the attributes the primitive has; others are passed over, once said.
+    for (size_t t = 0; t < primitive.targets.size(); ++t) {
+        MorphTarget target;
+        for (const auto& [name, accessor] : primitive.targets[t]) {
+            const std::string what = where + " morph target " + std::to_string(t) + " " + name;
+            std::vector<float>* values =
+                name == "POSITION"  ? &target.positions
+                : name == "NORMAL"  ? (decoded.normals.empty() ? nullptr : &target.normals)
+                : name == "TANGENT" ? (decoded.tangents.empty() ? nullptr : &target.tangents)
+                                    : nullptr;
+            if (!values) {
+                if (name != "NORMAL" && name != "TANGENT") ignoredTargetAttributes_.insert(name);
+                continue;
+            }
+            *values = accessors.readFloats(accessor, 3, what);
+            if (values->size() != decoded.positions.size())
+                context_.fail(what + " and POSITION counts differ");
+            for (size_t i = 0; i < values->size(); ++i) {
+                if (!std::isfinite((*values)[i]))
+                    context_.fail(what + " has a non-finite value at vertex " + std::to_string(i / 3));
+            }
+        }
+        decoded.targets.push_back(std::move(target));
+    }
+    // Joints and their weights, four per set; a second set adds four more influences.
+    for (int set = 0; set < 2; ++set) {
+        const std::string jointsName = set == 0 ? "JOINTS_0" : "JOINTS_1";
+        const std::string weightsName = set == 0 ? "WEIGHTS_0" : "WEIGHTS_1";
+        const auto joints = primitive.attributes.find(jointsName);
+        const auto weights = primitive.attributes.find(weightsName);
+        if (joints == primitive.attributes.end() && weights == primitive.attributes.end()) break;
+        if (joints == primitive.attributes.end() || weights == primitive.attributes.end())
+            context_.fail(where + " has one of " + jointsName + " and " + weightsName + " without the other");
+        const std::vector<uint32_t> jointSet =
+            accessors.readUnsigned(joints->second, 4, where + " " + jointsName);
+        const std::vector<float> weightSet =
+            accessors.readFloats(weights->second, 4, where + " " + weightsName);
+        if (jointSet.size() != 4 * vertexCount || weightSet.size() != 4 * vertexCount)
+            context_.fail(where + " " + jointsName + ", " + weightsName + " and POSITION counts differ");
+        for (size_t i = 0; i < weightSet.size(); ++i) {
+            if (!(weightSet[i] >= 0.0f) || !std::isfinite(weightSet[i]))
+                context_.fail(where + " " + weightsName + " has a negative or non-finite value at vertex " +
+                              std::to_string(i / 4));
+        }
+        // Interleaved per vertex: the first set's four influences, then the second's.
+        const int influences = decoded.influences + 4;
+        std::vector<uint32_t> allJoints(static_cast<size_t>(influences) * vertexCount);
+        std::vector<float> allWeights(allJoints.size());
+        for (size_t v = 0; v < vertexCount; ++v) {
+            for (int i = 0; i < influences; ++i) {
+                const size_t to = static_cast<size_t>(influences) * v + i;
+                const bool earlier = i < decoded.influences;
+                const size_t from = earlier ? static_cast<size_t>(decoded.influences) * v + i
+                                            : 4 * v + (i - decoded.influences);
+                allJoints[to] = earlier ? decoded.joints[from] : jointSet[from];
+                allWeights[to] = earlier ? decoded.jointWeights[from] : weightSet[from];
+            }
+        }
+        decoded.joints = std::move(allJoints);
+        decoded.jointWeights = std::move(allWeights);
+        decoded.influences = influences;
+    }
 }
 
 void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {
@@ -190,23 +262,6 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     if (!uvs.empty()) decoded.tangents = vertexTangents(decoded.positions, decoded.normals, uvs, decoded.faces);
 }
 
-std::array<glm::vec4, 3> MeshInstancer::placedTangents(const std::vector<float>& tangents,
-                                                       const std::array<uint32_t, 3>& face,
-                                                       const glm::dmat3& linear, bool mirrored) {
-    // A tangent is a direction along the surface: it moves with the linear part of the transform. A mirroring
-    // transform flips the handedness of the frame, so the bitangent's sign flips with it.
-    std::array<glm::vec4, 3> corners{};
-    for (int k = 0; k < 3; ++k) {
-        const float* t = &tangents[4 * face[k]];
-        const glm::dvec3 placed = linear * glm::dvec3(t[0], t[1], t[2]);
-        const double length = glm::length(placed);
-        if (!(length > 0.0) || !std::isfinite(length)) continue;  // zero: no frame, no perturbation
-        const double w = (t[3] < 0.0f ? -1.0 : 1.0) * (mirrored ? -1.0 : 1.0);
-        corners[k] = glm::vec4(glm::dvec4(placed / length, w));
-    }
-    return corners;
-}
-
 std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
                                                      const std::array<uint32_t, 3>& face,
                                                      const glm::vec3& geometric) {
@@ -220,27 +275,106 @@ std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& pri
     return {frame, frame, frame};
 }
 
-void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<glm::dmat4>& poses) {
+namespace {
+
+// Attribute `attribute` (`stride` floats per vertex, its first three displaced) of vertex `v`, with the morph
+// targets' displacements at `weights`.
+glm::dvec3 morphed(const std::vector<float>& base, int stride, const std::vector<MorphTarget>& targets,
+                   std::vector<float> MorphTarget::*attribute, const std::vector<double>& weights,
+                   uint32_t v) {
+    const float* b = &base[static_cast<size_t>(stride) * v];
+    glm::dvec3 value(b[0], b[1], b[2]);
+    for (size_t t = 0; t < targets.size() && t < weights.size(); ++t) {
+        const std::vector<float>& delta = targets[t].*attribute;
+        if (delta.empty() || weights[t] == 0.0) continue;
+        value += weights[t] * glm::dvec3(delta[3 * v], delta[3 * v + 1], delta[3 * v + 2]);
+    }
+    return value;
+}
+
+// The transform of vertex `v` of a skinned primitive at `pose`: its joints' matrices weighted (glTF 2.0
+// section 3.7.3.3), the weights scaled to sum to 1 (8-bit weights rarely sum to it exactly); the node's own
+// transform for a vertex that no joint weighs.
+glm::dmat4 skinTransform(const DecodedPrimitive& primitive, const InstancePose& pose, uint32_t v) {
+    const size_t first = static_cast<size_t>(primitive.influences) * v;
+    double total = 0.0;
+    for (int i = 0; i < primitive.influences; ++i) total += primitive.jointWeights[first + i];
+    if (!(total > 0.0)) return pose.world;
+    glm::dmat4 blend(0.0);
+    for (int i = 0; i < primitive.influences; ++i) {
+        const double weight = primitive.jointWeights[first + i];
+        if (weight != 0.0) blend += (weight / total) * pose.joints[primitive.joints[first + i]];
+    }
+    return blend;
+}
+
+}  // namespace
+
+size_t MeshInstancer::morphTargetCount(int meshIndex) const {
+    size_t count = 0;
+    for (const tinygltf::Primitive& primitive : context_.model.meshes[meshIndex].primitives)
+        count = std::max(count, primitive.targets.size());
+    return count;
+}
+
+void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses) {
     if (primitive.skipped) return;
     const std::string& where = primitive.where;
     const std::vector<float>& positions = primitive.positions;
     const std::vector<float>& normals = primitive.normals;
     const std::vector<float>& uvs = primitive.uvs;
     const uint32_t material = primitive.material;
-    const glm::dmat4& world = poses[0];
+    const InstancePose& opening = poses[0];
 
-    const glm::dmat3 linear(world);
-    const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
-    const bool mirrored = glm::determinant(linear) < 0.0;  // mirroring reverses the winding
-    auto placed = [&](const glm::dmat4& transform, uint32_t v) {
-        return glm::vec3(transform *
-                         glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
+    // A primitive is skinned when its node has joints and it has weights for them, and morphed when one of
+    // its targets has a weight; otherwise the node's transform places it rigidly.
+    const bool skinned = primitive.influences > 0 && !opening.joints.empty();
+    if (skinned) {
+        for (uint32_t joint : primitive.joints) {
+            if (joint >= opening.joints.size()) {
+                context_.fail(where + " JOINTS refers to joint " + std::to_string(joint) +
+                              "; the node's skin has " + std::to_string(opening.joints.size()));
+            }
+        }
+    }
+    bool morphs = false;
+    for (const InstancePose& pose : poses)
+        for (double weight : pose.weights) morphs |= weight != 0.0;
+    morphs &= !primitive.targets.empty();
+    auto objectPosition = [&](const InstancePose& pose, uint32_t v) {
+        return morphs ? morphed(positions, 3, primitive.targets, &MorphTarget::positions, pose.weights, v)
+                      : glm::dvec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
     };
-    auto worldPosition = [&](uint32_t v) { return placed(world, v); };
+    auto placed = [&](const InstancePose& pose, uint32_t v) {
+        const glm::dvec4 p(objectPosition(pose, v), 1.0);
+        return glm::vec3(skinned ? skinTransform(primitive, pose, v) * p : pose.world * p);
+    };
+
+    // At the opening, the maps of the vertices' directions: one for a rigid placement, one per corner when
+    // skinned. Mirroring reverses the winding.
+    const glm::dmat3 rigidLinear(opening.world);
+    const glm::dmat3 rigidNormalMatrix = glm::transpose(glm::inverse(rigidLinear));
     for (auto face : primitive.faces) {
+        std::array<glm::dmat3, 3> linear{rigidLinear, rigidLinear, rigidLinear};
+        std::array<glm::dmat3, 3> normalMatrix{rigidNormalMatrix, rigidNormalMatrix, rigidNormalMatrix};
+        double determinant = glm::determinant(rigidLinear);
+        if (skinned) {
+            determinant = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                linear[k] = glm::dmat3(skinTransform(primitive, opening, face[k]));
+                normalMatrix[k] = glm::transpose(glm::inverse(linear[k]));
+                determinant += glm::determinant(linear[k]);
+            }
+        }
+        const bool mirrored = determinant < 0.0;
+        if (mirrored) {
+            std::swap(face[1], face[2]);
+            std::swap(linear[1], linear[2]);
+            std::swap(normalMatrix[1], normalMatrix[2]);
+        }
         // Place the triangle at the shutter's opening; drop it when it has no area.
-        if (mirrored) std::swap(face[1], face[2]);
-        Triangle triangle{worldPosition(face[0]), worldPosition(face[1]), worldPosition(face[2]), material};
+        Triangle triangle{placed(opening, face[0]), placed(opening, face[1]), placed(opening, face[2]),
+                          material};
         if (!std::isfinite(triangle.v0.x + triangle.v0.y + triangle.v0.z + triangle.v1.x + triangle.v1.y +
                            triangle.v1.z + triangle.v2.x + triangle.v2.y + triangle.v2.z)) {
             context_.fail(where + " has a vertex that its node transform moves out of floating-point range");
@@ -259,9 +393,12 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<g
             const uint32_t v = face[k];
             shading.normal[k] = geometric;
             if (!normals.empty()) {
-                glm::dvec3 n =
-                    normalMatrix * glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
-                double length = glm::length(n);
+                const glm::dvec3 n =
+                    normalMatrix[k] *
+                    (morphs
+                         ? morphed(normals, 3, primitive.targets, &MorphTarget::normals, opening.weights, v)
+                         : glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]));
+                const double length = glm::length(n);
                 if (length > 0.0 && std::isfinite(length)) shading.normal[k] = glm::vec3(n / length);
             }
             if (!uvs.empty()) shading.uv[k] = glm::vec2(uvs[2 * v], uvs[2 * v + 1]);
@@ -275,11 +412,27 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<g
             context_.scene.uv1.push_back(corner);
         }
         if (primitive.normalMapped) {
-            // Tangent frames start with this primitive: the triangles before it have none.
+            // Tangent frames start with this primitive: the triangles before it have none. A tangent is a
+            // direction along the surface: it moves with the linear part of the transform, and a mirroring
+            // transform flips the handedness of the frame, so the bitangent's sign flips with it.
             context_.scene.tangents.resize(context_.scene.triangles.size(), {});
-            context_.scene.tangents.push_back(primitive.tangents.empty()
-                                                  ? flatTangents(primitive, triangle, face, geometric)
-                                                  : placedTangents(primitive.tangents, face, linear, mirrored));
+            std::array<glm::vec4, 3> frame{};
+            if (primitive.tangents.empty()) {
+                frame = flatTangents(primitive, triangle, face, geometric);
+            } else {
+                for (int k = 0; k < 3; ++k) {
+                    const uint32_t v = face[k];
+                    const glm::dvec3 t = linear[k] * morphed(primitive.tangents, 4, primitive.targets,
+                                                             &MorphTarget::tangents, opening.weights, v);
+                    const double length = glm::length(t);
+                    if (!(length > 0.0) || !std::isfinite(length))
+                        continue;  // zero: no frame, no perturbation
+                    const double w =
+                        (primitive.tangents[4 * v + 3] < 0.0f ? -1.0 : 1.0) * (mirrored ? -1.0 : 1.0);
+                    frame[k] = glm::vec4(glm::dvec4(t / length, w));
+                }
+            }
+            context_.scene.tangents.push_back(frame);
         }
         if (!primitive.colors.empty()) {
             // Vertex colours start with this primitive: the triangles before it are white.

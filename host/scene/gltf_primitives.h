@@ -1,6 +1,6 @@
 // glTF mesh primitives to world-space triangles. Each mesh's primitives are decoded once (accessors read,
 // indices checked, strips and fans unrolled, material resolved) and the decoded data is then placed once
-// per node instance.
+// per node instance: by the node's transform, or by its skin's joints, with its morph targets weighted.
 #pragma once
 
 #include <array>
@@ -21,6 +21,14 @@ struct Primitive;
 
 namespace vkrt {
 
+// One morph target of a primitive (glTF 2.0 section 3.7.2.2): displacements of its vertices, each list
+// empty where the target leaves that attribute alone.
+struct MorphTarget {
+    std::vector<float> positions;  // 3 per vertex
+    std::vector<float> normals;    // 3 per vertex
+    std::vector<float> tangents;   // 3 per vertex (the bitangent's sign stays)
+};
+
 // One primitive in its mesh's own space, as the accessors give it.
 struct DecodedPrimitive {
     std::string where;                           // "mesh i ('name') primitive p", for messages
@@ -34,6 +42,19 @@ struct DecodedPrimitive {
     std::vector<float> tangents;                 // normal-mapped with normals: 4 per vertex (tangent_frames.h)
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
+    std::vector<MorphTarget> targets;  // morph targets, in the order of the mesh's weights
+    // Skinning (glTF 2.0 section 3.7.3): JOINTS_0 and WEIGHTS_0, then JOINTS_1 and WEIGHTS_1 where given,
+    // `influences` (4 or 8) per vertex; empty for a primitive without them.
+    int influences = 0;
+    std::vector<uint32_t> joints;
+    std::vector<float> jointWeights;
+};
+
+// Where one instance of a mesh is at one pose time (the shutter's opening or a motion segment's end).
+struct InstancePose {
+    glm::dmat4 world{1.0};           // the node's world transform
+    std::vector<glm::dmat4> joints;  // a skinned node's joints: world transform times inverse bind matrix
+    std::vector<double> weights;     // the morph targets' weights (the node's, else the mesh's, else zero)
 };
 
 class MeshInstancer {
@@ -41,8 +62,12 @@ class MeshInstancer {
     explicit MeshInstancer(GltfContext& context) : context_(context) {}
 
     // Appends mesh `meshIndex` placed by `poses` (the shutter's opening, then the end of each motion
-    // segment): its triangles, their shading and their later poses.
-    void addInstance(int meshIndex, const std::vector<glm::dmat4>& poses);
+    // segment): its triangles, their shading and their later poses. A skinned primitive's vertices follow
+    // the poses' joints, which replace the node's transform (glTF 2.0 section 3.7.3.3).
+    void addInstance(int meshIndex, const std::vector<InstancePose>& poses);
+
+    // The most morph targets a primitive of mesh `meshIndex` has (the count its weights must have).
+    size_t morphTargetCount(int meshIndex) const;
 
     // Warnings for what instances skipped: degenerate triangles and point or line primitives.
     void warnAboutSkipped();
@@ -51,11 +76,9 @@ class MeshInstancer {
     DecodedPrimitive decode(int meshIndex, size_t primitiveIndex);
     // TANGENT, or tangents derived from the normal texture's coordinates, for a normal-mapped primitive.
     void decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
-    void place(const DecodedPrimitive& primitive, const std::vector<glm::dmat4>& poses);
-    // The file's (or derived) tangents of a face, placed in the world.
-    static std::array<glm::vec4, 3> placedTangents(const std::vector<float>& tangents,
-                                                   const std::array<uint32_t, 3>& face, const glm::dmat3& linear,
-                                                   bool mirrored);
+    // Morph targets, and skinning's joints and weights, of a primitive.
+    void decodeDeformation(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
+    void place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses);
     // The frame of a flat face (a primitive without normals), from its placed corners.
     std::array<glm::vec4, 3> flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
                                           const std::array<uint32_t, 3>& face, const glm::vec3& geometric);
@@ -65,6 +88,7 @@ class MeshInstancer {
     std::map<int, std::vector<DecodedPrimitive>> decoded_;
     size_t degenerateTriangles_ = 0;
     std::set<int> skippedModes_;
+    std::set<std::string> ignoredTargetAttributes_;  // morph targets' TEXCOORD_n, COLOR_n, ...
 };
 
 }  // namespace vkrt

@@ -81,7 +81,7 @@ public:
         }
         // Every top-level collection is an array of objects before any index into one is checked.
         for (const char* key : {"accessors", "animations", "buffers", "bufferViews", "cameras", "images",
-                                "materials", "meshes", "nodes", "samplers", "scenes", "textures"}) {
+                                "materials", "meshes", "nodes", "samplers", "scenes", "skins", "textures"}) {
             eachObject(root_, key, "", [](const Json&, const std::string&) {});
         }
         lightCount_ = 0;
@@ -99,6 +99,13 @@ public:
         });
         eachObject(root_, "nodes", "", [&](const Json& node, const std::string& where) { this->node(node, where); });
         eachObject(root_, "meshes", "", [&](const Json& mesh, const std::string& where) { this->mesh(mesh, where); });
+        eachObject(root_, "skins", "", [&](const Json& skin, const std::string& where) {
+            name(skin, where);
+            index(skin, "inverseBindMatrices", where, "accessors", "accessor");
+            index(skin, "skeleton", where, "nodes", "node");
+            array(skin, "joints", where, true, 1);
+            indices(skin, "joints", where, "nodes", "node");
+        });
         eachObject(root_, "accessors", "",
                    [&](const Json& accessor, const std::string& where) { this->accessor(accessor, where); });
         eachObject(root_, "bufferViews", "", [&](const Json& view, const std::string& where) {
@@ -366,6 +373,7 @@ private:
         name(node, where);
         index(node, "camera", where, "cameras", "camera");
         index(node, "mesh", where, "meshes", "mesh");
+        index(node, "skin", where, "skins", "skin");
         indices(node, "children", where, "nodes", "node");
         numbers(node, "matrix", where, 16, kAny);
         numbers(node, "rotation", where, 4, Range{-1.0, 1.0});

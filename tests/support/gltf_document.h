@@ -1,0 +1,80 @@
+// glTF documents built in memory by tests: the JSON, and binary data appended to one buffer (a base64 data
+// URI when written), each array its own buffer view and accessor.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/test_paths.h"
+
+namespace vkrt::test {
+
+inline std::string base64(const std::vector<uint8_t>& bytes) {
+    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        const size_t available = std::min<size_t>(3, bytes.size() - i);
+        uint32_t chunk = 0;
+        for (size_t k = 0; k < 3; ++k) chunk = (chunk << 8) | (k < available ? bytes[i + k] : 0);
+        for (size_t k = 0; k < 4; ++k) out += k <= available ? alphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
+}
+
+class GltfDocument {
+  public:
+    nlohmann::json json = {
+        {"asset", {{"version", "2.0"}}}, {"scene", 0}, {"scenes", {{{"nodes", nlohmann::json::array()}}}}};
+
+    // An accessor of `type` ("SCALAR", "VEC3", "MAT4", ...) over `values`: floats (5126) or unsigned shorts
+    // (5123).
+    int floats(const std::vector<float>& values, const char* type) { return accessor(values, 5126, type); }
+    int unsignedShorts(const std::vector<uint16_t>& values, const char* type) {
+        return accessor(values, 5123, type);
+    }
+
+    // Appends a node (a scene root when `root`) and returns its index.
+    int node(const nlohmann::json& fields, bool root = true) {
+        json["nodes"].push_back(fields);
+        const int index = static_cast<int>(json["nodes"].size()) - 1;
+        if (root) json["scenes"][0]["nodes"].push_back(index);
+        return index;
+    }
+
+    void write(const std::filesystem::path& file) {
+        nlohmann::json document = json;
+        document["buffers"] = {{{"byteLength", bytes_.size()},
+                                {"uri", "data:application/octet-stream;base64," + base64(bytes_)}}};
+        writeText(file, document.dump());
+    }
+
+  private:
+    template <typename T>
+    int accessor(const std::vector<T>& values, int componentType, const char* type) {
+        static const std::pair<const char*, size_t> kComponents[] = {
+            {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
+        size_t components = 1;
+        for (const auto& [name, count] : kComponents)
+            if (std::string(name) == type) components = count;
+        while (bytes_.size() % 4 != 0) bytes_.push_back(0);
+        const size_t offset = bytes_.size();
+        bytes_.resize(offset + values.size() * sizeof(T));
+        std::memcpy(bytes_.data() + offset, values.data(), values.size() * sizeof(T));
+        json["bufferViews"].push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
+        json["accessors"].push_back({{"bufferView", json["bufferViews"].size() - 1},
+                                     {"componentType", componentType},
+                                     {"count", values.size() / components},
+                                     {"type", type}});
+        return static_cast<int>(json["accessors"].size()) - 1;
+    }
+
+    std::vector<uint8_t> bytes_;
+};
+
+}  // namespace vkrt::test
