@@ -1,9 +1,14 @@
 // Image writers and metrics: exact round trips for linear formats, the sRGB curve, atomic writes.
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +24,41 @@ Image gradient(int w, int h) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) image.at(x, y) = glm::vec3(x * 0.37f, y * 1e-3f, 1e4f / (1 + x + y));
     return image;
+}
+
+// A write that fails where the file's last bytes go out (here a file-size limit one byte short: stdio's
+// buffer holds the end until the file is closed) is an error, and leaves no file: tinyexr's
+// SaveEXR did not check the closing, and a cut-off EXR was reported as written.
+TEST(ImageIo, AWriteThatFailsAtTheCloseLeavesNoFile) {
+    const auto folder = test::temporaryFolder();
+    const Image image = gradient(64, 64);
+    for (const char* name : {"a.exr", "a.png", "a.pfm"}) {
+        const std::string path = (folder / name).string();
+        writeImage(image, path);
+        const auto size = std::filesystem::file_size(path);
+        std::filesystem::remove(path);
+        // In a child process, limited to all but the last byte.
+        const pid_t child = fork();
+        ASSERT_GE(child, 0);
+        if (child == 0) {
+            std::signal(SIGXFSZ, SIG_IGN);
+            const rlimit limit{size - 1, size - 1};
+            setrlimit(RLIMIT_FSIZE, &limit);
+            try {
+                writeImage(image, path);
+            } catch (const ImageError&) {
+                _exit(std::filesystem::exists(path) ? 3 : 0);
+            }
+            _exit(2);
+        }
+        int status = 0;
+        waitpid(child, &status, 0);
+        ASSERT_TRUE(WIFEXITED(status)) << name;
+        EXPECT_EQ(WEXITSTATUS(status), 0)
+            << name << (WEXITSTATUS(status) == 2 ? ": reported as written" : ": a file is left");
+        for (const auto& entry : std::filesystem::directory_iterator(folder))
+            ADD_FAILURE() << name << ": left " << entry.path();
+    }
 }
 
 TEST(ImageIo, LinearFormatsRoundTripExactly) {

@@ -4,10 +4,12 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 
 #include <stb_image.h>
@@ -26,6 +28,16 @@ std::string lowerExtension(const std::string& path) {
     return extension;
 }
 
+// Writes `size` bytes to `path`, checking the closing too: some file systems (NFS, quotas, a full disk)
+// report a failed write only when the last buffered bytes go out.
+void writeBytes(const std::string& path, const char* data, size_t size) {
+    std::ofstream file(path, std::ios::binary);
+    if (!file) throw ImageError(path + ": cannot open for writing");
+    file.write(data, static_cast<std::streamsize>(size));
+    file.close();
+    if (file.fail()) throw ImageError(path + ": write failed");
+}
+
 void writePng(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
     std::vector<unsigned char> bytes(static_cast<size_t>(image.width) * image.height * 3);
     for (size_t i = 0; i < image.pixels.size(); ++i) {
@@ -42,23 +54,51 @@ void writePng(const Image& image, const std::string& path, double exposure, Tone
                                 image.width * 3)) {
         throw ImageError(path + ": cannot encode PNG");
     }
-    std::ofstream file(path, std::ios::binary);
-    if (!file) throw ImageError(path + ": cannot open for writing");
-    file.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
-    file.close();  // some file systems (NFS, quotas) report a failed write only here
-    if (file.fail()) throw ImageError(path + ": write failed");
+    writeBytes(path, encoded.data(), encoded.size());
 }
 
 void writeExr(const Image& image, const std::string& path) {
-    std::vector<float> rgb(image.pixels.size() * 3);
-    std::memcpy(rgb.data(), image.pixels.data(), rgb.size() * sizeof(float));
+    // Encoded in memory, then written and checked, as PNGs are: tinyexr's SaveEXR does not check the file's
+    // closing, where the last buffered bytes are written (a full disk left a cut-off EXR, reported as
+    // written). Channels B, G, R (the order EXR viewers expect), 32-bit floats so that references keep their
+    // precision, ZIP-compressed but for tiny images (as SaveEXR does).
+    const size_t count = image.pixels.size();
+    std::vector<float> planes[3];
+    for (int c = 0; c < 3; ++c) {
+        planes[c].resize(count);
+        for (size_t i = 0; i < count; ++i) planes[c][i] = image.pixels[i][2 - c];
+    }
+    float* channels[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+    EXRImage exrImage;
+    InitEXRImage(&exrImage);
+    exrImage.num_channels = 3;
+    exrImage.images = reinterpret_cast<unsigned char**>(channels);
+    exrImage.width = image.width;
+    exrImage.height = image.height;
+    EXRChannelInfo info[3] = {};
+    int pixelTypes[3], requestedTypes[3];
+    for (int c = 0; c < 3; ++c) {
+        info[c].name[0] = "BGR"[c];
+        pixelTypes[c] = requestedTypes[c] = TINYEXR_PIXELTYPE_FLOAT;
+    }
+    EXRHeader header;
+    InitEXRHeader(&header);
+    header.compression_type =
+        image.width < 16 && image.height < 16 ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
+    header.num_channels = 3;
+    header.channels = info;
+    header.pixel_types = pixelTypes;
+    header.requested_pixel_types = requestedTypes;
+    unsigned char* encoded = nullptr;
     const char* error = nullptr;
-    // save_as_fp16 = 0: full 32-bit floats, so references keep their precision.
-    if (SaveEXR(rgb.data(), image.width, image.height, 3, 0, path.c_str(), &error) != TINYEXR_SUCCESS) {
+    const size_t size = SaveEXRImageToMemory(&exrImage, &header, &encoded, &error);
+    if (size == 0) {
         std::string message = error ? error : "unknown error";
         if (error) FreeEXRErrorMessage(error);
-        throw ImageError(path + ": cannot write EXR: " + message);
+        throw ImageError(path + ": cannot encode EXR: " + message);
     }
+    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(encoded, &std::free);
+    writeBytes(path, reinterpret_cast<const char*>(encoded), size);
 }
 
 // Portable float map: little-endian (negative scale), rows stored bottom to top.
