@@ -656,11 +656,12 @@ TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
         std::string expected;
     };
     for (const Case& c :
-         {Case{"--scene '" + (test::sourceDir() / "scenes").string() + "' --out '" + (folder / "a.png").string() + "'",
+         {Case{"--scene '" + (test::sourceDir() / "scenes").string() + "' --out '" +
+                   (folder / "a.png").string() + "'",
                "--scene: " + (test::sourceDir() / "scenes").string() + ": is a directory"},
           Case{"--scene " + scene + " --out '" + (folder / "no/such/dir/x.png").string() + "'",
-               "--out: " + (folder / "no/such/dir/x.png").string() + ": folder " + (folder / "no/such/dir").string() +
-                   " does not exist"},
+               "--out: " + (folder / "no/such/dir/x.png").string() + ": folder " +
+                   (folder / "no/such/dir").string() + " does not exist"},
           Case{"--scene " + scene + " --out '" + (folder / "folder.png").string() + "'",
                "--out: " + (folder / "folder.png").string() + ": is a directory"},
           Case{"--scene " + scene + " --out '" + (folder / "b.png").string() + "' --stats '" +
@@ -668,7 +669,16 @@ TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
                "--stats: " + (folder / "missing/s.json").string() + ": folder"},
           Case{"--scene " + scene + " --out '" + (folder / "c.png").string() + "' --report '" +
                    (folder / "missing/r.csv").string() + "'",
-               "--report: " + (folder / "missing/r.csv").string() + ": folder"}}) {
+               "--report: " + (folder / "missing/r.csv").string() + ": folder"},
+          // A name longer than the file system holds failed only at the rename, after the render; a device as
+          // the scene (/dev/zero) was read until the memory ran out.
+          Case{"--scene " + scene + " --out '" + (folder / (std::string(252, 'n') + ".png")).string() + "'",
+               ": the file name has 256 bytes; the folder's file system takes at most"},
+          Case{"--scene " + scene + " --out '" + (folder / "d.png").string() + "' --stats '" +
+                   (folder / (std::string(300, 's') + ".json")).string() + "'",
+               "--stats: "},
+          Case{"--scene /dev/zero --out '" + (folder / "e.png").string() + "'",
+               "--scene: /dev/zero: is not a regular file"}}) {
         SCOPED_TRACE(c.options);
         const test::CommandResult result = test::runVkrt(c.options + huge);
         EXPECT_EQ(result.exitCode, 2) << result.output;

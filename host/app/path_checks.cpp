@@ -19,6 +19,9 @@ void checkReadable(const char* option, const std::string& path) {
         throw UsageError(std::string(option) + ": " + path + ": cannot open: no such file");
     if (status.type() == std::filesystem::file_type::directory)
         throw UsageError(std::string(option) + ": " + path + ": is a directory");
+    // A device or a pipe has no end to read to (/dev/zero filled the memory).
+    if (status.type() != std::filesystem::file_type::regular)
+        throw UsageError(std::string(option) + ": " + path + ": is not a regular file");
     if (!std::ifstream(path, std::ios::binary)) throw UsageError(std::string(option) + ": " + path + ": cannot read");
 }
 
@@ -42,6 +45,19 @@ void checkWritable(const char* option, const std::string& asked) {
         throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " does not exist");
     if (access(folder.c_str(), W_OK | X_OK) != 0)
         throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " is not writable");
+    // A name the folder's file system cannot hold failed only at the rename, after the render.
+    const long longestName = pathconf(folder.c_str(), _PC_NAME_MAX);
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (longestName > 0 && name.size() > static_cast<size_t>(longestName)) {
+        throw UsageError(std::string(option) + ": " + path + ": the file name has " +
+                         std::to_string(name.size()) + " bytes; the folder's file system takes at most " +
+                         std::to_string(longestName));
+    }
+    const long longestPath = pathconf(folder.c_str(), _PC_PATH_MAX);
+    if (longestPath > 0 && path.size() >= static_cast<size_t>(longestPath)) {
+        throw UsageError(std::string(option) + ": the path has " + std::to_string(path.size()) +
+                         " bytes; the system takes fewer than " + std::to_string(longestPath));
+    }
 }
 
 }  // namespace
