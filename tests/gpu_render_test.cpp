@@ -756,7 +756,7 @@ TEST_F(Gpu, TiledRenderEqualsTheWholeImage) {
     EXPECT_EQ(wholeReport.memory.tiles, 1u);
     EXPECT_EQ(tiledReport.memory.tiles, 5u);  // 30 rows in bands of at most 7: 5 bands of 6
     EXPECT_EQ(tiledReport.memory.tileRows, 6u);
-    EXPECT_EQ(tiledReport.hostCopies, 5u);
+    EXPECT_EQ(tiledReport.hostCopies, 20u);  // passes to 1, 2, 4 and 5 samples, each tile copied once a pass
     EXPECT_LE(tiledReport.memory.need.total(), tiled.maxDeviceMemoryBytes);
     EXPECT_EQ(b.fewestSamples, 5u);
     EXPECT_EQ(b.mostSamples, 5u);
@@ -807,7 +807,8 @@ TEST_F(Gpu, RenderThatDoesNotFitIsRefusedBeforeAllocating) {
     EXPECT_NO_THROW(GpuRenderer(context(), scene, bvh, camera, settings, options));
 }
 
-// A device lost part way: the tiles copied before it are kept exactly, the rest stay black.
+// A device lost part way: the tiles copied before it are kept exactly. A tiled image's passes double its
+// samples (1, then 2): lost in the second pass, the tile it finished has both samples and the others one.
 TEST_F(Gpu, LostDeviceKeepsTheTilesCopiedBeforeIt) {
     const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
     RenderSettings settings;
@@ -818,17 +819,43 @@ TEST_F(Gpu, LostDeviceKeepsTheTilesCopiedBeforeIt) {
     options.hostCopyEveryMs = 1e9;    // copies only when the tile changes
     options.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 8);
     const Image whole = renderGpu(scene, bvh, camera, settings, options).image;
-    options.simulateDeviceLossAtDispatch = 2 * 16 + 1;  // the first of the third tile
+    RenderSettings once = settings;
+    once.samplesPerPixel = 1;
+    const Image first = renderGpu(scene, bvh, camera, once, options).image;
+    options.simulateDeviceLossAtDispatch = 3 * 8 + 8 + 1;  // the second pass's first of the second tile
     GpuRenderReport report;
     const RenderResult lost = renderGpu(scene, bvh, camera, settings, options, &report);
     EXPECT_EQ(report.memory.tiles, 3u);
     EXPECT_EQ(lost.stopped, StopReason::DeviceLost);
     EXPECT_EQ(report.deviceLost, "the device was lost (simulated at dispatch 33)");
-    EXPECT_EQ(lost.fewestSamples, 0u);
+    EXPECT_EQ(lost.fewestSamples, 1u);
     EXPECT_EQ(lost.mostSamples, 2u);
     for (int y = 0; y < 24; ++y)
         for (int x = 0; x < 24; ++x)
-            ASSERT_EQ(lost.image.at(x, y), y < 16 ? whole.at(x, y) : glm::vec3(0.0f)) << x << ", " << y;
+            ASSERT_EQ(lost.image.at(x, y), y < 8 ? whole.at(x, y) : first.at(x, y)) << x << ", " << y;
+}
+
+// A tiled render stopped a quarter of the way through (here by its progress; a time limit or an interrupt
+// alike) has samples in every row: its passes double the samples of every tile in turn (all the samples of
+// one tile before the next left three of its four tiles black).
+TEST_F(Gpu, TiledRenderStoppedEarlyHasSamplesEverywhere) {
+    const auto [scene, bvh, camera] = ownScene("cornell.gltf", 1.0);
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 16;
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    options.targetDispatchMs = 1e-6;  // one row, one sample per dispatch
+    options.maxDeviceMemoryBytes = roomForRows(context(), scene, bvh, settings.width, 8);
+    std::atomic<bool> stopNow{false};
+    GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+    const RenderResult result =
+        renderer.render([&](uint64_t done, uint64_t total) { stopNow = stopNow || 4 * done >= total; }, {},
+                        0.0, StopCondition(&stopNow, 0.0));
+    EXPECT_EQ(renderer.report().memory.tiles, 4u);
+    EXPECT_EQ(result.stopped, StopReason::Requested);
+    EXPECT_GE(result.fewestSamples, 2u);  // passes to 1, 2 and 4 samples: the third a quarter of the way
+    EXPECT_LT(result.mostSamples, 16u);
 }
 
 // Copies by time keep the samples of a render in one tile: with a copy after every dispatch, a device lost

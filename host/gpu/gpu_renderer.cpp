@@ -301,9 +301,12 @@ RenderResult GpuRenderer::renderRange(uint32_t first, uint32_t end, std::vector<
     uint32_t checkpointed = first;  // the samples of the last checkpoint's image
     try {
         // Passes end where the schedule says (every power of two, with checkpoints); within a pass, tile by
-        // tile.
+        // tile. A tiled image's passes double its samples even without checkpoints, so that a time limit or
+        // an interrupt leaves every tile with some (a pass of all the samples left most tiles black).
+        const bool tiled = report_.memory.tileRows < height;
         while (done < end && result.stopped == StopReason::None) {
-            const uint32_t passEnd = schedule.passEnd(done);
+            uint32_t passEnd = schedule.passEnd(done);
+            if (tiled) passEnd = std::min(passEnd, done + std::max(1u, done - first));
             for (uint32_t tile = 0; tile < height && result.stopped == StopReason::None;
                  tile += report_.memory.tileRows) {
                 if (tile != tileRowStart_) {
