@@ -256,7 +256,7 @@ std::vector<BadCase> badCases() {
              d["meshes"][0]["primitives"][0]["material"] = 0;
              writeJson(file, d);
          },
-         "image 0 ('garbage.png') is not an image vkrt can decode"},
+         "image 0 ('garbage.png') could not be decoded: it is not an image vkrt can decode"},
         {"unsupported required extension",
          [](auto&, auto& file) {
              json d = validTriangle();

@@ -19,6 +19,7 @@
 #include "scene/gltf_loader.h"
 #include "scene/gltf_schema.h"
 #include "scene/scene_error.h"
+#include "support/gltf_document.h"
 #include "support/render_both.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
@@ -456,16 +457,21 @@ TEST(GltfCompression, WebpTexturesDecodeToTheirPixels) {
     const size_t size = WebPEncodeLosslessRGBA(pixels.data(), 4, 3, 16, &encoded);
     ASSERT_GT(size, 0u);
     test::writeText(folder / "texture.webp", bytesOf(encoded, size));
-    WebPFree(encoded);
     // The fallback for viewers without the extension: one grey pixel.
     const uint8_t grey[3] = {128, 128, 128};
     ASSERT_TRUE(stbi_write_png((folder / "fallback.png").string().c_str(), 1, 1, 3, grey, 3));
 
     const json withFallback = {{"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}};
     const json webpOnly = {{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
-    const json cases[2] = {
+    // Also embedded as a data URI of type image/webp, which tinygltf did not take for one (it looked for a
+    // file of that name).
+    const std::string dataUri =
+        "data:image/webp;base64," + test::base64(std::vector<uint8_t>(encoded, encoded + size));
+    const json cases[3] = {
         texturedTriangle(withFallback, {{{"uri", "fallback.png"}}, {{"uri", "texture.webp"}}}, false),
-        texturedTriangle(webpOnly, {{{"uri", "texture.webp"}}}, true)};
+        texturedTriangle(webpOnly, {{{"uri", "texture.webp"}}}, true),
+        texturedTriangle(webpOnly, {{{"uri", dataUri}}}, true)};
+    WebPFree(encoded);
     for (const json& document : cases) {
         test::writeText(folder / "quad.gltf", document.dump());
         const Scene scene = loadGltf((folder / "quad.gltf").string());
@@ -484,6 +490,41 @@ TEST(GltfCompression, WebpTexturesDecodeToTheirPixels) {
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("WebP"), std::string::npos) << e.what();
         EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+}
+
+// An image vkrt cannot decode stops the load only where a texture it reads uses it: not behind an optional
+// extension's fallback (a KHR_texture_basisu texture's KTX2 image, its core source a PNG), nor unused.
+TEST(GltfCompression, ImagesThatDoNotDecodeFailOnlyWhereUsed) {
+    const auto folder = test::temporaryFolder();
+    writeQuadData(folder);
+    const uint8_t grey[3] = {128, 128, 128};
+    ASSERT_TRUE(stbi_write_png((folder / "fallback.png").string().c_str(), 1, 1, 3, grey, 3));
+    test::writeText(folder / "logo.ktx2",
+                    std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(64, '\0'));
+    const json basisu = {{"source", 0}, {"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}};
+    json withFallback = texturedTriangle(basisu, {{{"uri", "fallback.png"}}, {{"uri", "logo.ktx2"}}}, false);
+    withFallback["extensionsUsed"] = {"KHR_texture_basisu"};
+    json unused =
+        texturedTriangle({{"source", 0}}, {{{"uri", "fallback.png"}}, {{"uri", "logo.ktx2"}}}, false);
+    for (const json& document : {withFallback, unused}) {
+        test::writeText(folder / "quad.gltf", document.dump());
+        const Scene scene = loadGltf((folder / "quad.gltf").string());
+        ASSERT_EQ(scene.textures.size(), 1u);
+        EXPECT_EQ(scene.textures[0].rgba, std::vector<uint8_t>({128, 128, 128, 255}));
+    }
+    // Used, it fails, saying why.
+    json used = texturedTriangle({{"source", 1}}, {{{"uri", "fallback.png"}}, {{"uri", "logo.ktx2"}}}, false);
+    test::writeText(folder / "quad.gltf", used.dump());
+    try {
+        loadGltf((folder / "quad.gltf").string());
+        ADD_FAILURE() << "a KTX2 image was used";
+    } catch (const SceneError& e) {
+        EXPECT_NE(
+            std::string(e.what()).find("image 1 ('logo.ktx2') could not be decoded: it is not an image vkrt "
+                                       "can decode"),
+            std::string::npos)
+            << e.what();
     }
 }
 

@@ -2,6 +2,7 @@
 // reader and the scene being filled, with the small readers of JSON values that several steps use.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ struct GltfContext {
     AccessorReader accessors;
     Scene scene;
     int defaultMaterial = -1;  // index of glTF's default material in scene.materials, once one needs it
+    std::map<int, std::string> imageFailures;  // why images did not decode, by index (loadGltfImage)
 };
 
 // "kind index ('name')", the way messages name a glTF object.

@@ -2,7 +2,10 @@
 // libwebp; and which image a texture shows.
 #pragma once
 
+#include <map>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace tinygltf {
 class Model;
@@ -12,11 +15,24 @@ struct Texture;
 
 namespace vkrt {
 
+// Why images could not be decoded, by image index.
+using ImageFailures = std::map<int, std::string>;
+
 // tinygltf's image loader (TinyGLTF::SetImageLoader): WebP data by libwebp, as 8-bit RGBA, anything else by
-// tinygltf's own loader.
+// tinygltf's own loader. An image that does not decode is left empty and its reason recorded in `userData`
+// (an ImageFailures): only a texture vkrt reads fails for it, not an image behind an extension's fallback (a
+// KHR_texture_basisu texture's KTX2 image) or one that no texture uses.
 bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* error, std::string* warning,
                    int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
                    void* userData);
+
+// Gives images whose data URI has a media type tinygltf does not know (image/webp, image/ktx2) the type
+// application/octet-stream, which it decodes (and then loadGltfImage reads the bytes for what they are); true
+// when the document changed.
+bool retypeImageDataUris(nlohmann::json& document);
+
+// An image as messages name it: "image i ('file.png')", a data URI cut short.
+std::string describeImage(const tinygltf::Model& model, int imageIndex);
 
 // The image texture `texture` shows: EXT_texture_webp's source where the texture has one, else its own (the
 // extension's `source` is the WebP image, the core one a fallback for viewers without it). -1 for none.

@@ -35,11 +35,14 @@ namespace {
 // cameras, lights and spheres in the world.
 class GltfConverter {
   public:
-    GltfConverter(const tinygltf::Model& model, std::string path, const LoadOptions& options)
+    GltfConverter(const tinygltf::Model& model, std::string path, const LoadOptions& options,
+                  ImageFailures imageFailures)
         : context_(model, std::move(path)),
           options_(options),
           animations_(model, context_.accessors, context_.path),
-          meshes_(context_) {}
+          meshes_(context_) {
+        context_.imageFailures = std::move(imageFailures);
+    }
 
     Scene convert();
 
@@ -395,10 +398,12 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
             throw SceneError(path + ": requires extension " + *extension + ", which vkrt does not support");
         validateGltfJson(document, path);
         rewritten = stubCompressedData(document);
+        rewritten |= retypeImageDataUris(document);
     }
 
     tinygltf::TinyGLTF reader;
-    reader.SetImageLoader(loadGltfImage, nullptr);
+    ImageFailures imageFailures;
+    reader.SetImageLoader(loadGltfImage, &imageFailures);
     reader.SetFsCallbacks(
         {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
@@ -429,7 +434,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         throw SceneError(path + ": " + message);
     }
     decompressMeshes(model, path);
-    GltfConverter converter(model, path, options);
+    GltfConverter converter(model, path, options, std::move(imageFailures));
     return converter.convert();
 }
 

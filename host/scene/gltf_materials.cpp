@@ -57,7 +57,7 @@ void decodeImage(const GltfContext& context, const tinygltf::Image& image, int i
     const size_t pixels = static_cast<size_t>(image.width) * image.height;
     const size_t bytesPerChannel = image.bits / 8;
     if (image.image.size() < pixels * image.component * bytesPerChannel) {
-        context.fail(describe("image", imageIndex, image.uri) + " has fewer pixels than its size");
+        context.fail(describeImage(context.model, imageIndex) + " has fewer pixels than its size");
     }
     texture.rgba.resize(pixels * 4);
     for (size_t p = 0; p < pixels; ++p) {

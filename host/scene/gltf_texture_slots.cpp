@@ -16,14 +16,16 @@ int textureIndex(const GltfContext& context, int gltfTexture, const std::string&
     }
     const tinygltf::Texture& texture = model.textures[gltfTexture];
     if (context.scene.textures[gltfTexture].rgba.empty()) {
-        std::string image = "its image";
         const int source = imageSource(texture);
-        if (source >= 0 && source < static_cast<int>(model.images.size())) {
-            const tinygltf::Image& img = model.images[source];
-            image = describe("image", source, img.uri.empty() ? img.name : img.uri);
+        if (source < 0 || source >= static_cast<int>(model.images.size())) {
+            context.fail(where + " uses texture " + std::to_string(gltfTexture) +
+                         ", which has no image vkrt reads");
         }
-        context.fail(where + " uses texture " + std::to_string(gltfTexture) + " but " + image +
-                     " is missing or could not be decoded");
+        const auto failure = context.imageFailures.find(source);
+        context.fail(where + " uses texture " + std::to_string(gltfTexture) + " but " +
+                     describeImage(model, source) +
+                     (failure != context.imageFailures.end() ? " could not be decoded: " + failure->second
+                                                             : " is missing or could not be decoded"));
     }
     return gltfTexture;
 }
