@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "common/memory_need.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
 #include "support/gltf_document.h"
@@ -44,6 +45,8 @@ std::array<glm::dvec3, 3> corners(const Scene& scene, size_t i, int pose = 0) {
 test::GltfDocument skinnedTriangle() {
     test::GltfDocument d;
     const int positions = d.floats({0, 0, 0, 2, 0, 0, 0, 1, 0}, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {2, 1, 0};
     const int normals = d.floats({1, 0, 0, 1, 0, 0, 1, 0, 0}, "VEC3");
     const int joints = d.unsignedShorts({0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}, "VEC4");
     const int weights = d.floats({1, 0, 0, 0, 1, 0, 0, 0, 0.6f, 0.2f, 0, 0}, "VEC4");
@@ -95,6 +98,34 @@ TEST(Skins, VerticesFollowTheirJointsWeightedAndTheNodeTransformIsIgnored) {
     expectNear(glm::vec3(closed[2]), {0, 1, 0}, "weighted at the close");
 }
 
+// glTF makes a skin's inverse bind matrices optional (identity matrices; tinygltf wanted them); the scene is
+// centred where the joints put a skinned mesh, not where its node is (1e9 away: at that distance float
+// coordinates lost the triangle); a skin's joints are counted against the memory before their matrices are
+// made.
+TEST(Skins, InverseBindMatricesAreOptionalAndTheJointsPlaceTheScene) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d = skinnedTriangle();
+    d.json["skins"][0].erase("inverseBindMatrices");
+    d.json["meshes"][0]["primitives"].erase(1);
+    d.json["nodes"][2]["translation"] = {1e9, 0, 0};
+    d.write(folder / "far.gltf");
+    const Scene scene = loadGltf((folder / "far.gltf").string());
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    EXPECT_LT(glm::length(scene.origin), 2.0);
+    // B's matrix is now its world transform alone: (2,0,0) turns to (0,2,0) and moves to (1,2,0).
+    const auto skinned = corners(scene, 0);
+    expectNear(glm::vec3(skinned[0]), {0, 0, 0}, "on A alone");
+    expectNear(glm::vec3(skinned[1]), {1, 2, 0}, "on B alone");
+    // A skin of 10,000 joints (all A) over its 17 poses, in 100 KB: refused before its matrices are made.
+    d.json["skins"][0]["joints"] = std::vector<int>(10000, 0);
+    d.write(folder / "joints.gltf");
+    LoadOptions small;
+    small.maxSceneBytes = 100000;
+    EXPECT_THROW(loadGltf((folder / "joints.gltf").string(), small), MemoryError);
+    small.maxSceneBytes = 100000000;
+    EXPECT_EQ(loadGltf((folder / "joints.gltf").string(), small).triangles.size(), 1u);
+}
+
 // A triangle (0,0,0), (1,0,0), (0,1,0) with normals +z and two targets: all corners up 1 in z; the third
 // corner up 2 in z, its normal displaced by (1, 0, -1). The mesh's weights are (0.5, 0); placed three times:
 // by a node without weights (animated to (1, 1) over the shutter), by one with (0, 1), and by one with (0.25,
@@ -102,6 +133,8 @@ TEST(Skins, VerticesFollowTheirJointsWeightedAndTheNodeTransformIsIgnored) {
 test::GltfDocument morphedTriangles() {
     test::GltfDocument d;
     const int positions = d.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
     const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
     const int up = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
     const int corner = d.floats({0, 0, 0, 0, 0, 0, 0, 0, 2}, "VEC3");
@@ -144,6 +177,45 @@ TEST(MorphTargets, WeightsComeFromTheNodeElseTheMeshAndAnimationsMoveThem) {
     expectNear(glm::vec3(closed[0]), {0, 0, 1}, "animated weights");
     expectNear(glm::vec3(closed[2]), {0, 1, 3}, "animated weights");
     expectNear(glm::vec3(corners(scene, 1, 1)[2]), {5, 1, 2}, "the node's weights do not move");
+}
+
+// Only the targets some node weighs are read, each counted against the memory: a target of 100,000 vertices
+// (a sparse accessor of 20 bytes) takes 1.2 MB once weighed, nothing while no node weighs it.
+TEST(MorphTargets, OnlyWeighedTargetsAreReadAndCounted) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d;
+    std::vector<float> positions(3 * 100000, 0.0f);
+    for (size_t v = 0; v < 100000; ++v)
+        positions[3 * v] = static_cast<float>(v % 2), positions[3 * v + 1] = static_cast<float>(v % 3);
+    const int position = d.floats(positions, "VEC3");
+    const int where = d.unsignedShorts({7, 0}, "SCALAR");
+    const int lift = d.floats({0, 0, 1}, "VEC3");
+    d.json["accessors"][where]["count"] = 1;
+    json target = {
+        {"count", 100000},
+        {"componentType", 5126},
+        {"type", "VEC3"},
+        {"sparse",
+         {{"count", 1},
+          {"indices", {{"bufferView", d.json["accessors"][where]["bufferView"]}, {"componentType", 5123}}},
+          {"values", {{"bufferView", d.json["accessors"][lift]["bufferView"]}}}}}};
+    d.json["accessors"].push_back(target);
+    const int sparseTarget = static_cast<int>(d.json["accessors"].size()) - 1;
+    const int indices = d.unsignedShorts({0, 1, 2, 0}, "SCALAR");
+    d.json["accessors"][indices]["count"] = 3;  // one triangle of the 100,000 vertices
+    d.json["meshes"] = {{{"primitives",
+                          {{{"attributes", {{"POSITION", position}}},
+                            {"indices", indices},
+                            {"targets", {{{"POSITION", sparseTarget}}}}}}},
+                         {"weights", {0.0}}}};
+    d.node({{"mesh", 0}});
+    d.write(folder / "unweighed.gltf");
+    LoadOptions small;
+    small.maxSceneBytes = 1000000;
+    EXPECT_NO_THROW(loadGltf((folder / "unweighed.gltf").string(), small));
+    d.json["meshes"][0]["weights"] = {1.0};
+    d.write(folder / "weighed.gltf");
+    EXPECT_THROW(loadGltf((folder / "weighed.gltf").string(), small), MemoryError);
 }
 
 // Malformed skins and targets: each refused with a message naming the problem.

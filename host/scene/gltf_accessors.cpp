@@ -130,8 +130,9 @@ constexpr size_t kMaxSparseOnlyElements = size_t{1} << 26;
 }  // namespace
 
 std::vector<double> AccessorReader::readComponents(int accessorIndex, int components, bool wantIndices,
-                                                   const std::string& what) const {
-    const size_t elementCount = count(accessorIndex, what);
+                                                   const std::string& what, size_t firstElements) const {
+    const size_t accessorCount = count(accessorIndex, what);
+    const size_t elementCount = std::min(accessorCount, firstElements);  // the elements read
     const tinygltf::Accessor& accessor = model_.accessors[accessorIndex];
     const std::string name = "accessor " + std::to_string(accessorIndex) + " (" + what + ")";
 
@@ -220,7 +221,7 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
     if (accessor.sparse.isSparse) {
         const auto& sparse = accessor.sparse;
         const size_t n = static_cast<size_t>(sparse.count);
-        if (sparse.count < 1 || n > elementCount) fail(name + " has an invalid sparse count");
+        if (sparse.count < 1 || n > accessorCount) fail(name + " has an invalid sparse count");
         const int indexSize = componentSize(sparse.indices.componentType);
         if (indexSize == 0 || sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
             fail(name + " has an invalid sparse index component type");
@@ -234,10 +235,11 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
         for (size_t i = 0; i < n; ++i) {
             const double target =
                 decodeComponent(indices.data + i * indexSize, sparse.indices.componentType, false);
-            if (target >= static_cast<double>(elementCount)) {
+            if (target >= static_cast<double>(accessorCount)) {
                 fail(name + " has a sparse index " + std::to_string(static_cast<uint64_t>(target)) +
                      " out of range");
             }
+            if (target >= static_cast<double>(elementCount)) continue;  // beyond the elements read
             const size_t at = static_cast<size_t>(target);
             for (int c = 0; c < components; ++c) {
                 values[at * components + c] = decodeComponent(replacements.data + i * elementSize + c * size,
@@ -248,9 +250,9 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
     return values;
 }
 
-std::vector<float> AccessorReader::readFloats(int accessorIndex, int components,
-                                              const std::string& what) const {
-    std::vector<double> values = readComponents(accessorIndex, components, false, what);
+std::vector<float> AccessorReader::readFloats(int accessorIndex, int components, const std::string& what,
+                                              size_t firstElements) const {
+    std::vector<double> values = readComponents(accessorIndex, components, false, what, firstElements);
     std::vector<float> result(values.size());
     for (size_t i = 0; i < values.size(); ++i) result[i] = static_cast<float>(values[i]);
     return result;

@@ -27,7 +27,9 @@ class AccessorReader {
     // that are not normalized are read as their values where the file uses KHR_mesh_quantization (whose
     // positions and texture coordinates are scaled back by the node's transform and the texture transform),
     // and refused otherwise.
-    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what) const;
+    // Only the first `firstElements` elements where given (a skin's inverse bind matrices beyond its joints).
+    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what,
+                                  size_t firstElements = SIZE_MAX) const;
 
     // Reads a scalar unsigned-integer accessor (mesh indices).
     std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what) const;
@@ -41,7 +43,7 @@ class AccessorReader {
   private:
     [[noreturn]] void fail(const std::string& message) const;
     std::vector<double> readComponents(int accessorIndex, int components, bool wantIndices,
-                                       const std::string& what) const;
+                                       const std::string& what, size_t firstElements = SIZE_MAX) const;
 
     const tinygltf::Model& model_;
     std::string file_;

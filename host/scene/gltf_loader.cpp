@@ -58,13 +58,20 @@ class GltfConverter {
     // Counts `instances` more placements of mesh `meshIndex` against the host memory the options allow,
     // before any of them is placed.
     void reserveTriangles(int meshIndex, uint64_t instances, const std::string& where);
+    // Counts `bytes` more of host memory for `what` against what the options allow.
+    void reserveBytes(uint64_t bytes, const std::string& what);
     // Where the mesh of node `nodeIndex`, whose world transforms are `poses`, is at each pose time: with its
     // morph targets' weights and, when the node has a skin, its joints' matrices.
     std::vector<InstancePose> meshPoses(int nodeIndex, const Poses& poses, const std::string& where);
-    // Every node's world transform at each pose time (a skin's joints can be anywhere in the graph).
-    const std::vector<Poses>& nodeWorlds();
-    // A skin's inverse bind matrices, one per joint (the identity where the skin gives none).
-    const std::vector<glm::dmat4>& inverseBindMatrices(int skinIndex);
+    // The node's morph-target weights at rest: its own, else its mesh's, else zero (glTF 2.0 3.7.2.2).
+    std::vector<double> restWeights(int nodeIndex, const std::string& where) const;
+    // Which morph targets of each mesh some node weighs (at rest or by an animation): only they are read.
+    void markLiveTargets();
+    // A node's world transform at each pose time (a skin's joints can be anywhere in the graph).
+    const Poses& worldOf(int nodeIndex);
+    // A skin's joint matrices at each pose time: each joint's world transform times its inverse bind matrix
+    // (the identity where the skin gives none).
+    const std::vector<std::vector<glm::dmat4>>& skinJoints(int skinIndex);
 
     GltfContext context_;
     LoadOptions options_;
@@ -72,9 +79,12 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
+    uint64_t otherBytes_ = 0;  // host memory counted beside the triangles (skins' joints, morph targets)
     glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
-    std::vector<Poses> nodeWorlds_;  // filled when a skinned node is first placed
-    std::map<int, std::vector<glm::dmat4>> inverseBinds_;
+    std::vector<int> parents_;       // each node's parent, -1 for none (filled when first needed)
+    std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
+    std::map<int, std::vector<std::vector<glm::dmat4>>> skinJoints_;  // by skin: per pose, per joint
+    std::map<int, std::vector<bool>> liveTargets_;                    // by mesh: per morph target
 };
 
 // The most triangles a mesh's primitives can make, from their accessors' counts (zero for what the decoder
@@ -108,6 +118,8 @@ Scene GltfConverter::convert() {
     scene.origin = approximateCenter(context_, roots);
     recentre_ = glm::translate(glm::dmat4(1.0), -scene.origin);
     chooseShutter();
+    markLiveTargets();
+    meshes_.setReserve([this](uint64_t bytes, const std::string& what) { reserveBytes(bytes, what); });
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
 
     meshes_.warnAboutSkipped();
@@ -161,7 +173,8 @@ void GltfConverter::reserveTriangles(int meshIndex, uint64_t instances, const st
     // Each triangle keeps its corners and material at each pose, and its shading (normals, texture
     // coordinates).
     const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
-    const uint64_t limit = options_.maxSceneBytes / bytesPerTriangle;
+    const uint64_t limit =
+        (options_.maxSceneBytes - std::min(options_.maxSceneBytes, otherBytes_)) / bytesPerTriangle;
     const uint64_t bound =
         triangleBound(context_.model, context_.model.meshes[static_cast<size_t>(meshIndex)]);
     if (bound > 0 && instances > (limit - std::min(limit, triangleBound_)) / bound) {
@@ -263,19 +276,8 @@ std::vector<InstancePose> GltfConverter::meshPoses(int nodeIndex, const Poses& p
                                                    const std::string& where) {
     const tinygltf::Model& model = context_.model;
     const tinygltf::Node& node = model.nodes[nodeIndex];
-    // The weights at rest: the node's, else its mesh's, else zero (glTF 2.0 section 3.7.2.2).
-    const size_t targets = meshes_.morphTargetCount(node.mesh);
-    const std::vector<double>& given = node.weights.empty() ? model.meshes[node.mesh].weights : node.weights;
-    std::vector<double> rest(targets, 0.0);
-    if (!given.empty()) {
-        if (given.size() != targets) {
-            context_.fail(where + (node.weights.empty() ? "'s mesh" : "") + " has " +
-                          std::to_string(given.size()) + " morph-target weight(s) for " +
-                          std::to_string(targets) + " morph target(s)");
-        }
-        rest = given;
-    }
     std::vector<InstancePose> result(poses.size());
+    const std::vector<double> rest = restWeights(nodeIndex, where);
     for (size_t k = 0; k < poses.size(); ++k) {
         result[k].world = poses[k];
         result[k].weights = animations_.evaluateWeights(nodeIndex, rest, poseTimes_[k]);
@@ -283,66 +285,126 @@ std::vector<InstancePose> GltfConverter::meshPoses(int nodeIndex, const Poses& p
     if (node.skin < 0) return result;
     if (node.skin >= static_cast<int>(model.skins.size()))
         context_.fail(where + " refers to skin " + std::to_string(node.skin) + ", which does not exist");
-    // Joint matrices: each joint's world transform times its inverse bind matrix; the skinned node's own
-    // transform is not applied to its skinned primitives (glTF 2.0 section 3.7.3.3).
-    const std::vector<int>& joints = model.skins[node.skin].joints;
-    const std::vector<glm::dmat4>& inverseBinds = inverseBindMatrices(node.skin);
-    const std::vector<Poses>& worlds = nodeWorlds();
-    for (size_t k = 0; k < poses.size(); ++k) {
-        for (size_t j = 0; j < joints.size(); ++j)
-            result[k].joints.push_back(worlds[static_cast<size_t>(joints[j])][k] * inverseBinds[j]);
-    }
+    const std::vector<std::vector<glm::dmat4>>& joints = skinJoints(node.skin);
+    for (size_t k = 0; k < poses.size(); ++k) result[k].joints = &joints[k];
     return result;
 }
 
-const std::vector<GltfConverter::Poses>& GltfConverter::nodeWorlds() {
-    if (!nodeWorlds_.empty()) return nodeWorlds_;
-    const std::vector<tinygltf::Node>& nodes = context_.model.nodes;
-    // The graph is a forest (checkNodeGraph): from each node without a parent, parents before children.
-    std::vector<bool> isChild(nodes.size(), false);
-    for (const tinygltf::Node& node : nodes)
-        for (int child : node.children) isChild[static_cast<size_t>(child)] = true;
-    nodeWorlds_.assign(nodes.size(), Poses());
-    std::vector<std::pair<int, const Poses*>> pending;
-    const Poses top(poseTimes_.size(), recentre_);
-    for (size_t n = 0; n < nodes.size(); ++n)
-        if (!isChild[n]) pending.emplace_back(static_cast<int>(n), &top);
-    while (!pending.empty()) {
-        const auto [nodeIndex, parents] = pending.back();
-        pending.pop_back();
-        Poses& world = nodeWorlds_[static_cast<size_t>(nodeIndex)];
-        world.resize(poseTimes_.size());
-        for (size_t k = 0; k < world.size(); ++k)
-            world[k] = (*parents)[k] * localTransformAt(context_, animations_, nodeIndex, poseTimes_[k]);
-        for (int child : nodes[static_cast<size_t>(nodeIndex)].children) pending.emplace_back(child, &world);
+std::vector<double> GltfConverter::restWeights(int nodeIndex, const std::string& where) const {
+    const tinygltf::Model& model = context_.model;
+    const tinygltf::Node& node = model.nodes[nodeIndex];
+    const size_t targets = meshes_.morphTargetCount(node.mesh);
+    const std::vector<double>& given = node.weights.empty() ? model.meshes[node.mesh].weights : node.weights;
+    if (given.empty()) return std::vector<double>(targets, 0.0);
+    if (given.size() != targets) {
+        context_.fail(where + (node.weights.empty() ? "'s mesh" : "") + " has " +
+                      std::to_string(given.size()) + " morph-target weight(s) for " +
+                      std::to_string(targets) + " morph target(s)");
     }
-    return nodeWorlds_;
+    return given;
 }
 
-const std::vector<glm::dmat4>& GltfConverter::inverseBindMatrices(int skinIndex) {
-    auto found = inverseBinds_.find(skinIndex);
-    if (found != inverseBinds_.end()) return found->second;
+void GltfConverter::markLiveTargets() {
+    const tinygltf::Model& model = context_.model;
+    for (size_t n = 0; n < model.nodes.size(); ++n) {
+        const tinygltf::Node& node = model.nodes[n];
+        if (node.mesh < 0 || node.mesh >= static_cast<int>(model.meshes.size())) continue;
+        const std::vector<double>& given =
+            node.weights.empty() ? model.meshes[node.mesh].weights : node.weights;
+        const bool animated = animations_.animatesWeights(static_cast<int>(n));
+        std::vector<bool>& live = liveTargets_[node.mesh];
+        live.resize(std::max(live.size(), meshes_.morphTargetCount(node.mesh)), false);
+        for (size_t t = 0; t < live.size(); ++t)
+            live[t] = live[t] || animated || (t < given.size() && given[t] != 0.0);
+    }
+    meshes_.setLiveTargets(&liveTargets_);
+}
+
+void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what) {
+    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
+    const double held = static_cast<double>(triangleBound_) * static_cast<double>(bytesPerTriangle) +
+                        static_cast<double>(otherBytes_);
+    if (held + static_cast<double>(bytes) > static_cast<double>(options_.maxSceneBytes)) {
+        throw MemoryError(context_.path + ": " + what + " would take " + formatBytes(bytes) +
+                          " of host memory beside the scene's " + formatBytes(static_cast<uint64_t>(held)) +
+                          ", and " + formatBytes(options_.maxSceneBytes) + " is available (" +
+                          options_.memorySource + ")");
+    }
+    otherBytes_ += bytes;
+}
+
+const GltfConverter::Poses& GltfConverter::worldOf(int nodeIndex) {
+    const std::vector<tinygltf::Node>& nodes = context_.model.nodes;
+    if (parents_.empty()) {
+        parents_.assign(nodes.size(), -1);
+        for (size_t n = 0; n < nodes.size(); ++n)
+            for (int child : nodes[n].children) parents_[static_cast<size_t>(child)] = static_cast<int>(n);
+    }
+    // The chain up to a node already known or a root (the graph is a forest: checkNodeGraph), then down it.
+    std::vector<int> chain;
+    for (int n = nodeIndex; n >= 0 && !worlds_.count(n); n = parents_[static_cast<size_t>(n)])
+        chain.push_back(n);
+    for (auto n = chain.rbegin(); n != chain.rend(); ++n) {
+        const int parent = parents_[static_cast<size_t>(*n)];
+        Poses world(poseTimes_.size());
+        for (size_t k = 0; k < world.size(); ++k) {
+            world[k] = (parent < 0 ? recentre_ : worlds_.at(parent)[k]) *
+                       localTransformAt(context_, animations_, *n, poseTimes_[k]);
+        }
+        worlds_.emplace(*n, std::move(world));
+    }
+    return worlds_.at(nodeIndex);
+}
+
+const std::vector<std::vector<glm::dmat4>>& GltfConverter::skinJoints(int skinIndex) {
+    auto found = skinJoints_.find(skinIndex);
+    if (found != skinJoints_.end()) return found->second;
     const tinygltf::Skin& skin = context_.model.skins[static_cast<size_t>(skinIndex)];
     const std::string where = describe("skin", skinIndex, skin.name);
-    std::vector<glm::dmat4> matrices(skin.joints.size(), glm::dmat4(1.0));
+    // The joints' matrices at each pose, and their inverse bind matrices read, before any is made.
+    reserveBytes(static_cast<uint64_t>(skin.joints.size()) * (poseTimes_.size() + 1) * sizeof(glm::dmat4),
+                 where + "'s " + std::to_string(skin.joints.size()) + " joints");
+    std::vector<glm::dmat4> inverseBinds(skin.joints.size(), glm::dmat4(1.0));  // the identity where none
     if (skin.inverseBindMatrices >= 0) {
-        const std::vector<float> values =
-            context_.accessors.readFloats(skin.inverseBindMatrices, 16, where + " inverseBindMatrices");
-        if (values.size() < 16 * matrices.size()) {
+        const std::vector<float> values = context_.accessors.readFloats(
+            skin.inverseBindMatrices, 16, where + " inverseBindMatrices", skin.joints.size());
+        if (values.size() < 16 * inverseBinds.size()) {
             context_.fail(where + " has " + std::to_string(values.size() / 16) +
-                          " inverse bind matrices for " + std::to_string(matrices.size()) + " joints");
+                          " inverse bind matrices for " + std::to_string(inverseBinds.size()) + " joints");
         }
-        for (size_t j = 0; j < matrices.size(); ++j) {
+        for (size_t j = 0; j < inverseBinds.size(); ++j) {
             for (int column = 0; column < 4; ++column) {
                 for (int row = 0; row < 4; ++row) {
                     const float value = values[16 * j + 4 * column + row];  // column-major
                     if (!std::isfinite(value)) context_.fail(where + " has a non-finite inverse bind matrix");
-                    matrices[j][column][row] = value;
+                    inverseBinds[j][column][row] = value;
                 }
             }
         }
     }
-    return inverseBinds_.emplace(skinIndex, std::move(matrices)).first->second;
+    // Each joint's world transform times its inverse bind matrix; the skinned node's own transform is not
+    // applied to its skinned primitives (glTF 2.0 section 3.7.3.3).
+    std::vector<std::vector<glm::dmat4>> joints(poseTimes_.size(),
+                                                std::vector<glm::dmat4>(skin.joints.size()));
+    for (size_t j = 0; j < skin.joints.size(); ++j) {
+        const Poses& world = worldOf(skin.joints[j]);
+        for (size_t k = 0; k < poseTimes_.size(); ++k) joints[k][j] = world[k] * inverseBinds[j];
+    }
+    return skinJoints_.emplace(skinIndex, std::move(joints)).first->second;
+}
+
+// tinygltf 2.7 refuses a skin without inverseBindMatrices, which glTF 2.0 makes optional (identity matrices,
+// section 3.7.3.1): -1 tells it, and skinJoints, that there are none. True when the document changed.
+bool markAbsentInverseBindMatrices(nlohmann::json& document) {
+    if (!document.is_object() || !document.contains("skins") || !document["skins"].is_array()) return false;
+    bool changed = false;
+    for (nlohmann::json& skin : document["skins"]) {
+        if (skin.is_object() && !skin.contains("inverseBindMatrices")) {
+            skin["inverseBindMatrices"] = -1;
+            changed = true;
+        }
+    }
+    return changed;
 }
 
 bool hasGlbMagic(const std::string& path) {
@@ -399,6 +461,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         validateGltfJson(document, path);
         rewritten = stubCompressedData(document);
         rewritten |= retypeImageDataUris(document);
+        rewritten |= markAbsentInverseBindMatrices(document);
     }
 
     tinygltf::TinyGLTF reader;

@@ -111,6 +111,24 @@ glm::dvec3 medianOf(const std::vector<glm::dvec3>& points) {
 
 glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>& roots) {
     const tinygltf::Model& model = context.model;
+    // A skinned mesh is where its joints put it, not where its node is (glTF 2.0 section 3.7.3.3): its bounds
+    // are placed by its skin's first joint, at rest, times that joint's inverse bind matrix.
+    std::vector<int> parent(model.nodes.size(), -1);
+    for (size_t n = 0; n < model.nodes.size(); ++n)
+        for (int child : model.nodes[n].children) parent[static_cast<size_t>(child)] = static_cast<int>(n);
+    auto skinnedPlacement = [&](const tinygltf::Skin& skin, int skinIndex) {
+        glm::dmat4 world(1.0);
+        for (int n = skin.joints[0]; n >= 0; n = parent[static_cast<size_t>(n)])
+            world = localTransform(context, n) * world;
+        if (skin.inverseBindMatrices < 0) return world;
+        const std::vector<float> first = context.accessors.readFloats(
+            skin.inverseBindMatrices, 16, describe("skin", skinIndex, skin.name) + " inverseBindMatrices", 1);
+        glm::dmat4 inverseBind(1.0);
+        for (int column = 0; column < 4; ++column)
+            for (int row = 0; row < 4; ++row)
+                inverseBind[column][row] = first[static_cast<size_t>(4 * column + row)];
+        return world * inverseBind;
+    };
     std::vector<Part> parts;
     auto add = [&](const glm::dvec3& centre, const glm::dvec3& halfSize) {
         if (std::isfinite(centre.x + centre.y + centre.z) &&
@@ -121,12 +139,16 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
     std::vector<std::pair<int, glm::dmat4>> pending;
     for (auto root = roots.rbegin(); root != roots.rend(); ++root) pending.emplace_back(*root, glm::dmat4(1.0));
     while (!pending.empty()) {
-        const auto [nodeIndex, parent] = pending.back();
+        const auto [nodeIndex, parentWorld] = pending.back();
         pending.pop_back();
         const tinygltf::Node& node = model.nodes[nodeIndex];
-        const glm::dmat4 world = parent * localTransform(context, nodeIndex);
+        const glm::dmat4 world = parentWorld * localTransform(context, nodeIndex);
         // Each primitive's POSITION bounds.
         if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) {
+            const bool skinned = node.skin >= 0 && node.skin < static_cast<int>(model.skins.size()) &&
+                                 !model.skins[static_cast<size_t>(node.skin)].joints.empty();
+            const glm::dmat4 meshWorld =
+                skinned ? skinnedPlacement(model.skins[static_cast<size_t>(node.skin)], node.skin) : world;
             for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
                 auto position = primitive.attributes.find("POSITION");
                 if (position == primitive.attributes.end() || position->second < 0 ||
@@ -146,7 +168,7 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                     centre[axis] = 0.5 * (low + high);
                     half[axis] = 0.5 * std::abs(high - low);
                 }
-                add(glm::dvec3(world * centre), worldHalfSize(world, half));
+                add(glm::dvec3(meshWorld * centre), worldHalfSize(meshWorld, half));
             }
         }
         // A sphere of its radius, a shape of its canonical [-1, 1]^3, about the node's origin.

@@ -168,17 +168,29 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         decoded.uvs1 = decoded.uvs;
     }
     decodeTangents(primitive, decoded);
-    decodeDeformation(primitive, decoded);
+    decodeDeformation(meshIndex, primitive, decoded);
     return decoded;
 }
 
-void MeshInstancer::decodeDeformation(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {
+bool MeshInstancer::liveTarget(int meshIndex, size_t target) const {
+    if (!liveTargets_) return true;
+    const auto live = liveTargets_->find(meshIndex);
+    return live != liveTargets_->end() && target < live->second.size() && live->second[target];
+}
+
+void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& primitive,
+                                      DecodedPrimitive& decoded) {
     const std::string& where = decoded.where;
     const size_t vertexCount = decoded.positions.size() / 3;
     const AccessorReader& accessors = context_.accessors;
-    // Each target's displacements of the attributes the primitive has; others are passed over, once said.
+    // Each weighed target's displacements of the attributes the primitive has, counted against the memory
+    // first; other attributes are passed over, once said. A target no node weighs is left empty.
     for (size_t t = 0; t < primitive.targets.size(); ++t) {
         MorphTarget target;
+        if (!liveTarget(meshIndex, t)) {
+            decoded.targets.push_back(std::move(target));
+            continue;
+        }
         for (const auto& [name, accessor] : primitive.targets[t]) {
             const std::string what = where + " morph target " + std::to_string(t) + " " + name;
             std::vector<float>* values =
@@ -190,6 +202,7 @@ void MeshInstancer::decodeDeformation(const tinygltf::Primitive& primitive, Deco
                 if (name != "NORMAL" && name != "TANGENT") ignoredTargetAttributes_.insert(name);
                 continue;
             }
+            if (reserve_) reserve_(vertexCount * 3 * sizeof(float), what);
             *values = accessors.readFloats(accessor, 3, what);
             if (values->size() != decoded.positions.size())
                 context_.fail(what + " and POSITION counts differ");
@@ -303,7 +316,7 @@ glm::dmat4 skinTransform(const DecodedPrimitive& primitive, const InstancePose& 
     glm::dmat4 blend(0.0);
     for (int i = 0; i < primitive.influences; ++i) {
         const double weight = primitive.jointWeights[first + i];
-        if (weight != 0.0) blend += (weight / total) * pose.joints[primitive.joints[first + i]];
+        if (weight != 0.0) blend += (weight / total) * (*pose.joints)[primitive.joints[first + i]];
     }
     return blend;
 }
@@ -328,12 +341,12 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
 
     // A primitive is skinned when its node has joints and it has weights for them, and morphed when one of
     // its targets has a weight; otherwise the node's transform places it rigidly.
-    const bool skinned = primitive.influences > 0 && !opening.joints.empty();
+    const bool skinned = primitive.influences > 0 && opening.joints != nullptr;
     if (skinned) {
         for (uint32_t joint : primitive.joints) {
-            if (joint >= opening.joints.size()) {
+            if (joint >= opening.joints->size()) {
                 context_.fail(where + " JOINTS refers to joint " + std::to_string(joint) +
-                              "; the node's skin has " + std::to_string(opening.joints.size()));
+                              "; the node's skin has " + std::to_string(opening.joints->size()));
             }
         }
     }
@@ -341,19 +354,36 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
     for (const InstancePose& pose : poses)
         for (double weight : pose.weights) morphs |= weight != 0.0;
     morphs &= !primitive.targets.empty();
-    auto objectPosition = [&](const InstancePose& pose, uint32_t v) {
-        return morphs ? morphed(positions, 3, primitive.targets, &MorphTarget::positions, pose.weights, v)
-                      : glm::dvec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    // Every vertex placed once for a pose (a vertex is a corner of about six triangles).
+    const size_t vertexCount = positions.size() / 3;
+    std::vector<glm::vec3> placed(vertexCount);
+    std::vector<glm::dmat3> skinLinear(skinned ? vertexCount
+                                               : 0);  // at the opening, for normals and tangents
+    auto placeVertices = [&](const InstancePose& pose, bool keepLinear) {
+        for (size_t v = 0; v < vertexCount; ++v) {
+            const uint32_t vertex = static_cast<uint32_t>(v);
+            const glm::dvec4 p(
+                morphs
+                    ? morphed(positions, 3, primitive.targets, &MorphTarget::positions, pose.weights, vertex)
+                    : glm::dvec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]),
+                1.0);
+            if (skinned) {
+                const glm::dmat4 transform = skinTransform(primitive, pose, vertex);
+                placed[v] = glm::vec3(transform * p);
+                if (keepLinear) skinLinear[v] = glm::dmat3(transform);
+            } else {
+                placed[v] = glm::vec3(pose.world * p);
+            }
+        }
     };
-    auto placed = [&](const InstancePose& pose, uint32_t v) {
-        const glm::dvec4 p(objectPosition(pose, v), 1.0);
-        return glm::vec3(skinned ? skinTransform(primitive, pose, v) * p : pose.world * p);
-    };
+    placeVertices(opening, true);
 
     // At the opening, the maps of the vertices' directions: one for a rigid placement, one per corner when
     // skinned. Mirroring reverses the winding.
     const glm::dmat3 rigidLinear(opening.world);
     const glm::dmat3 rigidNormalMatrix = glm::transpose(glm::inverse(rigidLinear));
+    const size_t firstTriangle = context_.scene.triangles.size();
+    std::vector<std::array<uint32_t, 3>> kept;  // the faces placed, as wound, for their later poses
     for (auto face : primitive.faces) {
         std::array<glm::dmat3, 3> linear{rigidLinear, rigidLinear, rigidLinear};
         std::array<glm::dmat3, 3> normalMatrix{rigidNormalMatrix, rigidNormalMatrix, rigidNormalMatrix};
@@ -361,7 +391,7 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
         if (skinned) {
             determinant = 0.0;
             for (int k = 0; k < 3; ++k) {
-                linear[k] = glm::dmat3(skinTransform(primitive, opening, face[k]));
+                linear[k] = skinLinear[face[k]];
                 normalMatrix[k] = glm::transpose(glm::inverse(linear[k]));
                 determinant += glm::determinant(linear[k]);
             }
@@ -373,8 +403,7 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
             std::swap(normalMatrix[1], normalMatrix[2]);
         }
         // Place the triangle at the shutter's opening; drop it when it has no area.
-        Triangle triangle{placed(opening, face[0]), placed(opening, face[1]), placed(opening, face[2]),
-                          material};
+        Triangle triangle{placed[face[0]], placed[face[1]], placed[face[2]], material};
         if (!std::isfinite(triangle.v0.x + triangle.v0.y + triangle.v0.z + triangle.v1.x + triangle.v1.y +
                            triangle.v1.z + triangle.v2.x + triangle.v2.y + triangle.v2.z)) {
             context_.fail(where + " has a vertex that its node transform moves out of floating-point range");
@@ -444,15 +473,25 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
         }
         context_.scene.triangles.push_back(triangle);
         context_.scene.shading.push_back(shading);
-        // The triangle's later poses, one per motion segment end.
-        for (size_t k = 1; k < poses.size(); ++k) {
-            const Triangle pose{placed(poses[k], face[0]), placed(poses[k], face[1]),
-                                placed(poses[k], face[2]), material};
+        if (poses.size() > 1) kept.push_back(face);
+    }
+    // The placed triangles' later poses, one per motion segment end: pose k of the primitive's i-th triangle
+    // is at i * segments + k - 1 past its first's.
+    if (kept.empty()) return;
+    const size_t segments = poses.size() - 1;
+    std::vector<Triangle>& later = context_.scene.trianglePoses;
+    const size_t firstPose = firstTriangle * segments;
+    later.resize(firstPose + kept.size() * segments);
+    for (size_t k = 1; k < poses.size(); ++k) {
+        placeVertices(poses[k], false);
+        for (size_t i = 0; i < kept.size(); ++i) {
+            const std::array<uint32_t, 3>& face = kept[i];
+            const Triangle pose{placed[face[0]], placed[face[1]], placed[face[2]], material};
             if (!std::isfinite(pose.v0.x + pose.v0.y + pose.v0.z + pose.v1.x + pose.v1.y + pose.v1.z +
                                pose.v2.x + pose.v2.y + pose.v2.z)) {
                 context_.fail(where + " has a vertex that its animation moves out of floating-point range");
             }
-            context_.scene.trianglePoses.push_back(pose);
+            later[firstPose + i * segments + (k - 1)] = pose;
         }
     }
 }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -53,7 +54,7 @@ struct DecodedPrimitive {
 // Where one instance of a mesh is at one pose time (the shutter's opening or a motion segment's end).
 struct InstancePose {
     glm::dmat4 world{1.0};           // the node's world transform
-    std::vector<glm::dmat4> joints;  // a skinned node's joints: world transform times inverse bind matrix
+    const std::vector<glm::dmat4>* joints = nullptr;  // a skinned node's: world transform times inverse bind
     std::vector<double> weights;     // the morph targets' weights (the node's, else the mesh's, else zero)
 };
 
@@ -69,15 +70,24 @@ class MeshInstancer {
     // The most morph targets a primitive of mesh `meshIndex` has (the count its weights must have).
     size_t morphTargetCount(int meshIndex) const;
 
+    // By mesh, which morph targets some node weighs: the others are not read (all are, without this).
+    void setLiveTargets(const std::map<int, std::vector<bool>>* live) { liveTargets_ = live; }
+    // Counts the host memory that decoded morph targets take (throws when it is more than is available).
+    void setReserve(std::function<void(uint64_t bytes, const std::string& what)> reserve) {
+        reserve_ = std::move(reserve);
+    }
+
     // Warnings for what instances skipped: degenerate triangles and point or line primitives.
     void warnAboutSkipped();
 
   private:
     DecodedPrimitive decode(int meshIndex, size_t primitiveIndex);
+    // Whether some node weighs morph target `target` of mesh `meshIndex`.
+    bool liveTarget(int meshIndex, size_t target) const;
     // TANGENT, or tangents derived from the normal texture's coordinates, for a normal-mapped primitive.
     void decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
     // Morph targets, and skinning's joints and weights, of a primitive.
-    void decodeDeformation(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
+    void decodeDeformation(int meshIndex, const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
     void place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses);
     // The frame of a flat face (a primitive without normals), from its placed corners.
     std::array<glm::vec4, 3> flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
@@ -89,6 +99,8 @@ class MeshInstancer {
     size_t degenerateTriangles_ = 0;
     std::set<int> skippedModes_;
     std::set<std::string> ignoredTargetAttributes_;  // morph targets' TEXCOORD_n, COLOR_n, ...
+    const std::map<int, std::vector<bool>>* liveTargets_ = nullptr;
+    std::function<void(uint64_t, const std::string&)> reserve_;
 };
 
 }  // namespace vkrt
