@@ -177,6 +177,36 @@ TEST(RenderPolicy, EmissiveTriangleLightsTheScene) {
     expectLit(scene, "an emissive triangle");
 }
 
+// A model whose only emitters are textured (DamagedHelmet's decals, made for image-based lighting) is lit by
+// them as it asks, and the command says how to light it otherwise; an untextured emitter is a lamp, said
+// nothing of.
+TEST(RenderPolicy, LightFromEmissiveTexturesAloneIsSaid) {
+    Scene scene = darkSquare();
+    const uint32_t glow = addEmissiveMaterial(scene);
+    addFlatTriangle(scene, {-1, 2, 0}, {1, 2, 0}, {0, 3, 0}, glow);
+    Texture white;
+    white.width = white.height = 1;
+    white.rgba = {255, 255, 255, 255};
+    scene.textures.push_back(white);
+    scene.materials[glow].emissiveTexture.texture = 0;
+    finalizeScene(scene);
+    ASSERT_TRUE(sceneHasLights(scene));
+    EXPECT_TRUE(onlyTexturedEmission(scene));
+    const RenderSetup setup = resolveRender(RenderRequest{}, scene);
+    ASSERT_EQ(setup.warnings.size(), 1u);
+    EXPECT_NE(setup.warnings[0].find("only lights are surfaces with emissive textures"), std::string::npos)
+        << setup.warnings[0];
+    RenderRequest ambient;
+    ambient.ambient = glm::dvec3(0.5);
+    EXPECT_TRUE(resolveRender(ambient, scene).warnings.empty());
+    // With a lamp beside them, nothing is said.
+    const uint32_t lamp = addEmissiveMaterial(scene);
+    addFlatTriangle(scene, {-1, 4, 0}, {1, 4, 0}, {0, 5, 0}, lamp);
+    finalizeScene(scene);
+    EXPECT_FALSE(onlyTexturedEmission(scene));
+    EXPECT_TRUE(resolveRender(RenderRequest{}, scene).warnings.empty());
+}
+
 TEST(RenderPolicy, EmissiveSphereLightsTheScene) {
     Scene scene = darkSquare();
     const uint32_t glow = addEmissiveMaterial(scene);

@@ -102,8 +102,25 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
         setup.warnings.push_back(
             "the scene has no lights; an ambient radiance of 1 lights it (--environment FILE lights it with "
             "a map)");
+    } else if (onlyTexturedEmission(scene) && !scene.environment.present() && !request.ambient) {
+        // A model made for image-based lighting (DamagedHelmet) comes out nearly black, lit by its decals
+        // alone.
+        setup.warnings.push_back(
+            "the scene's only lights are surfaces with emissive textures; if it looks dark, --environment "
+            "FILE or "
+            "--ambient R,G,B light it");
     }
     return setup;
+}
+
+bool onlyTexturedEmission(const Scene& scene) {
+    if (!scene.lights.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty() ||
+        scene.emissiveTriangles.empty()) {
+        return false;
+    }
+    return std::all_of(scene.emissiveTriangles.begin(), scene.emissiveTriangles.end(), [&](uint32_t t) {
+        return scene.materials[scene.triangles[t].material].emissiveTexture.used();
+    });
 }
 
 }  // namespace vkrt
