@@ -678,7 +678,7 @@ TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
                    (folder / (std::string(300, 's') + ".json")).string() + "'",
                "--stats: "},
           Case{"--scene /dev/zero --out '" + (folder / "e.png").string() + "'",
-               "--scene: /dev/zero: is not a regular file"}}) {
+               "--scene: /dev/zero: is a device, not a file"}}) {
         SCOPED_TRACE(c.options);
         const test::CommandResult result = test::runVkrt(c.options + huge);
         EXPECT_EQ(result.exitCode, 2) << result.output;

@@ -584,6 +584,31 @@ TEST(Cli, ToneMapAppliesToPngOnly) {
     EXPECT_EQ(render("clamp", "clamp.pfm"), render("aces", "aces.pfm"));
 }
 
+// Options the run makes no use of are said to, one line each (they were taken silently); used, nothing is
+// said.
+TEST(Cli, OptionsThatDoNothingAreSaid) {
+    const auto folder = test::temporaryFolder();
+    const auto unused =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
+                      "--validate --scene-access texels --max-device-memory 1G --environment-strength 2 " +
+                      "--exposure 1 --tonemap aces --out " + quoted(folder / "a.pfm"));
+    ASSERT_EQ(unused.exitCode, 0) << unused.output;
+    for (const char* said :
+         {"--validate is for the GPU; --device cpu ignores it", "--scene-access is for the GPU",
+          "--max-device-memory is for the GPU", "--environment-strength does nothing without --environment",
+          "--exposure is for PNG output", "--tonemap is for PNG output"}) {
+        EXPECT_NE(unused.output.find(std::string("vkrt: warning: ") + said), std::string::npos)
+            << said << "\n"
+            << unused.output;
+    }
+    const auto used = test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
+                                    "--exposure 1 --tonemap aces --environment " +
+                                    quoted(test::sourceDir() / "scenes/sky.hdr") +
+                                    " --environment-strength 2 --out " + quoted(folder / "b.png"));
+    ASSERT_EQ(used.exitCode, 0) << used.output;
+    EXPECT_EQ(used.output.find("warning"), std::string::npos) << used.output;
+}
+
 // The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,
 // each with its mipmaps down to 1x1 (1; 8, 4, 2 and 1; 2 and 1 texels).
 TEST(Cli, StatsReportTextureMemory) {

@@ -412,6 +412,30 @@ Options parseOptions(int argc, const char* const argv[]) {
     if (!options.help && !options.listDevices && options.scenePath.empty()) {
         throw UsageError("--scene FILE is required (see --help)");
     }
+    // Options this run makes no use of are said to, once each (they were taken silently).
+    Options& said = commandLine.options;
+    const auto given = [&](const char* name) { return commandLine.app.count(name) > 0; };
+    if (options.device == DeviceKind::Cpu) {
+        for (const char* name :
+             {"--device-index", "--max-device-memory", "--validate", "--shader-features", "--scene-access"}) {
+            if (given(name))
+                said.warnings.push_back(std::string(name) + " is for the GPU; --device cpu ignores it");
+        }
+    }
+    if (options.environmentPath.empty()) {
+        for (const char* name : {"--environment-rotation", "--environment-strength"}) {
+            if (given(name))
+                said.warnings.push_back(std::string(name) + " does nothing without --environment");
+        }
+    }
+    if (imageFormatFromPath(options.outputPath) != ImageFormat::Png) {
+        for (const char* name : {"--tonemap", "--exposure"}) {
+            if (given(name)) {
+                said.warnings.push_back(std::string(name) + " is for PNG output; " + options.outputPath +
+                                        " keeps the linear radiance");
+            }
+        }
+    }
     // Checkpoints measure the error against a reference: without one, --report-every-ms did nothing,
     // silently.
     if (options.reportEveryMs > 0.0 && options.reportPath.empty() && options.referencePath.empty())

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "app/render_policy.h"
 #include "image/tone_map.h"
@@ -20,6 +21,7 @@ class UsageError : public std::runtime_error {
 enum class DeviceKind { Gpu, Cpu };
 
 struct Options {
+    std::vector<std::string> warnings;  // options that do nothing in this run, one line each
     std::string scenePath;
     std::string outputPath = "out.png";
     std::string statsPath;  // empty: no stats file

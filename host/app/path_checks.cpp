@@ -19,9 +19,11 @@ void checkReadable(const char* option, const std::string& path) {
         throw UsageError(std::string(option) + ": " + path + ": cannot open: no such file");
     if (status.type() == std::filesystem::file_type::directory)
         throw UsageError(std::string(option) + ": " + path + ": is a directory");
-    // A device or a pipe has no end to read to (/dev/zero filled the memory).
-    if (status.type() != std::filesystem::file_type::regular)
-        throw UsageError(std::string(option) + ": " + path + ": is not a regular file");
+    // A device may have no end to read to (/dev/zero filled the memory); a pipe is read (<(command)).
+    if (status.type() == std::filesystem::file_type::character ||
+        status.type() == std::filesystem::file_type::block ||
+        status.type() == std::filesystem::file_type::socket)
+        throw UsageError(std::string(option) + ": " + path + ": is a device, not a file");
     if (!std::ifstream(path, std::ios::binary)) throw UsageError(std::string(option) + ": " + path + ": cannot read");
 }
 

@@ -105,6 +105,10 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
         }
     }
     prepared.scene = loaded.get();
+    if (!options.quiet) {
+        for (const std::string& warning : options.warnings)
+            std::fprintf(stderr, "vkrt: warning: %s\n", warning.c_str());
+    }
     warn(options, prepared.scene.warnings);
 
     // Settings and camera from what was asked and what the scene holds. A scene or a request that cannot be
