@@ -321,6 +321,8 @@ TEST(Mpi, ReportUnderTwoRanksEqualsOneProcess) {
     const nlohmann::json b = readJson(folder / "two.json");
     EXPECT_EQ(b["ranks"], 2);
     ASSERT_EQ(a["checkpoints"].size(), 5u);  // 1, 2, 4, 8, 16 samples
+    // No one GPU time belongs to a job's checkpoint: none is recorded (it read 0).
+    for (const nlohmann::json& q : b["checkpoints"]) EXPECT_TRUE(q["gpu_ms"].is_null()) << q;
     ASSERT_EQ(b["checkpoints"].size(), a["checkpoints"].size());
     for (size_t i = 0; i < a["checkpoints"].size(); ++i) {
         const nlohmann::json& p = a["checkpoints"][i];

@@ -1,5 +1,7 @@
 #include "app/convergence_report.h"
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -29,20 +31,22 @@ void ConvergenceReport::write(const std::string& path, const nlohmann::json& con
         if (csv) {
             out << "samples,render_ms,gpu_ms,rmse,relmse,fraction_off_1pct\n";
             for (const ConvergencePoint& p : points_) {
-                out << p.samples << "," << p.renderMs << "," << p.gpuMs << "," << p.rmse << "," << p.relMse
-                    << "," << p.fractionOff << "\n";
+                out << p.samples << "," << p.renderMs << ",";
+                if (std::isfinite(p.gpuMs)) out << p.gpuMs;  // empty where unknown (ranks of a job)
+                out << "," << p.rmse << "," << p.relMse << "," << p.fractionOff << "\n";
             }
         } else {
             nlohmann::json json = context;
             json["reference"] = source_;
             json["checkpoints"] = nlohmann::json::array();
             for (const ConvergencePoint& p : points_) {
-                json["checkpoints"].push_back({{"samples", p.samples},
-                                               {"render_ms", p.renderMs},
-                                               {"gpu_ms", p.gpuMs},
-                                               {"rmse", p.rmse},
-                                               {"relmse", p.relMse},
-                                               {"fraction_off_1pct", p.fractionOff}});
+                json["checkpoints"].push_back(
+                    {{"samples", p.samples},
+                     {"render_ms", p.renderMs},
+                     {"gpu_ms", std::isfinite(p.gpuMs) ? nlohmann::json(p.gpuMs) : nlohmann::json(nullptr)},
+                     {"rmse", p.rmse},
+                     {"relmse", p.relMse},
+                     {"fraction_off_1pct", p.fractionOff}});
             }
             out << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
                 << "\n";  // paths need not be UTF-8

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -178,7 +179,9 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     if (convergence) {
         shareOptions.checkpoint = [&](uint32_t samples, double renderMs,
                                       const std::vector<glm::dvec4>& sums) {
-            convergence->add(samples, renderMs, 0.0, averageOf(sums, settings.width, settings.height));
+            // No one GPU time belongs to a checkpoint of several ranks: left empty (it read 0).
+            convergence->add(samples, renderMs, std::numeric_limits<double>::quiet_NaN(),
+                             averageOf(sums, settings.width, settings.height));
         };
     }
     // Every rank's phases end where rank 0's do: its --report-every-ms, whatever the others were given.
