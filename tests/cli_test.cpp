@@ -1,7 +1,9 @@
 // The vkrt command: help, exit codes, outputs and the stats JSON.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app/progress_bar.h"
 #include "image/image_io.h"
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
@@ -582,6 +585,30 @@ TEST(Cli, ToneMapAppliesToPngOnly) {
     EXPECT_NE(render("clamp", "clamp.png"), render("aces", "aces.png"));
     EXPECT_NE(render("clamp", "clamp.png"), render("pbr-neutral", "neutral.png"));
     EXPECT_EQ(render("clamp", "clamp.pfm"), render("aces", "aces.pfm"));
+}
+
+// Where stderr is no terminal (a log, mpirun's forwarding, which drew no bar at all) progress comes as a line
+// now and then, none at the end; here every update is past the interval.
+TEST(Progress, WithoutATerminalLinesSayHowFarTheRenderIs) {
+    std::FILE* log = std::tmpfile();
+    ASSERT_NE(log, nullptr);
+    {
+        ProgressBar progress("gpu", true, log, std::chrono::milliseconds(0));
+        progress.update(1, 4);
+        progress.update(3, 4);
+        progress.update(4, 4);
+        progress.finish();
+        ProgressBar quiet("cpu", false, log, std::chrono::milliseconds(0));
+        quiet.update(1, 4);
+    }
+    std::rewind(log);
+    std::string text;
+    for (int c; (c = std::fgetc(log)) != EOF;) text += static_cast<char>(c);
+    std::fclose(log);
+    EXPECT_EQ(text.find('\r'), std::string::npos) << text;
+    EXPECT_NE(text.find("vkrt: gpu 25.0% after "), std::string::npos) << text;
+    EXPECT_NE(text.find("vkrt: gpu 75.0% after "), std::string::npos) << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2) << text;
 }
 
 // Options the run makes no use of are said to, one line each (they were taken silently); used, nothing is

@@ -1,36 +1,49 @@
 #include "app/progress_bar.h"
 
 #include <unistd.h>
-#include <cstdio>
 
 namespace vkrt {
 
-ProgressBar::ProgressBar(std::string label, bool enabled)
+ProgressBar::ProgressBar(std::string label, bool enabled, std::FILE* out, std::chrono::milliseconds lineEvery)
     : label_(std::move(label)),
-      enabled_(enabled && isatty(STDERR_FILENO)),
+      mode_(!enabled              ? Mode::Off
+            : isatty(fileno(out)) ? Mode::Bar
+                                  : Mode::Lines),
+      out_(out),
+      lineEvery_(lineEvery),
       start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
 
 void ProgressBar::update(uint64_t done, uint64_t total) {
-    if (!enabled_ || total == 0) return;
+    if (mode_ == Mode::Off || total == 0) return;
     const auto now = std::chrono::steady_clock::now();
-    if (done < total && drawn_ && now - lastDraw_ < std::chrono::milliseconds(100)) return;
-    lastDraw_ = now;
-    drawn_ = true;
     const double fraction = static_cast<double>(done) / static_cast<double>(total);
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    if (mode_ == Mode::Lines) {
+        // A line once `lineEvery` has passed since the last (or the start), none at the end: a short render
+        // says nothing.
+        if (done >= total || now - lastDraw_ < lineEvery_) return;
+        lastDraw_ = now;
+        std::fprintf(out_, "vkrt: %s %.1f%% after %.1f s, about %.1f s left\n", label_.c_str(),
+                     100.0 * fraction, elapsed, eta);
+        std::fflush(out_);
+        return;
+    }
+    if (done < total && drawn_ && now - lastDraw_ < std::chrono::milliseconds(100)) return;
+    lastDraw_ = now;
+    drawn_ = true;
     constexpr int width = 30;
     const int filled = static_cast<int>(fraction * width);
     std::string bar(filled, '#');
     bar.append(width - filled, '.');
-    std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.1fs elapsed, ETA %.1fs ", label_.c_str(), bar.c_str(),
+    std::fprintf(out_, "\r%s [%s] %5.1f%%  %.1fs elapsed, ETA %.1fs ", label_.c_str(), bar.c_str(),
                  100.0 * fraction, elapsed, eta);
-    std::fflush(stderr);
+    std::fflush(out_);
 }
 
 void ProgressBar::finish() {
-    if (enabled_ && drawn_) std::fprintf(stderr, "\n");
+    if (mode_ == Mode::Bar && drawn_) std::fprintf(out_, "\n");
     drawn_ = false;
 }
 
