@@ -78,6 +78,13 @@ TEST(HostMemory, EstimateGrowsWithPixelsTrianglesAndTheWayItIsRendered) {
     EXPECT_EQ(estimate(), gpu + 1000u) << "but no more than its budget: beyond it, the image is tiled";
     in.report = true;
     EXPECT_EQ(estimate(), gpu + 1000u + 24000000u) << "the reference and checkpoint images";
+    // A rank of an MPI job holds the copy of its sums it reduces, and at a checkpoint another (rank 0's
+    // memory rose to 1.76 times the estimate under a report).
+    in.shared = true;
+    EXPECT_EQ(estimate(), gpu + 1000u + 24000000u + 2u * 32000000u) << "sums reduced at checkpoints";
+    in.report = false;
+    EXPECT_EQ(estimate(), gpu + 1000u + 32000000u) << "sums reduced once";
+    in.shared = false;
     // Textures: packed on the host for the CPU reference; for the GPU, written into its buffers, through a
     // staging buffer unless the device's memory is the host's (and within its budget, then).
     in = HostMemoryInputs{};

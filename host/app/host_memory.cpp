@@ -61,6 +61,9 @@ MemoryNeed estimateHostMemory(const HostMemoryInputs& in) {
                                                          pixels * kDeviceAccumulationBytesPerPixel));
     }
     rendering.add("image sums", pixels * kSumBytesPerPixel);
+    // A rank's sums reduced onto rank 0 (the reduction's buffer), and at a checkpoint the copy reduced then.
+    if (in.shared)
+        rendering.add("sums reduced across ranks", (in.report ? 2 : 1) * pixels * kSumBytesPerPixel);
     rendering.add("image", pixels * kImageBytesPerPixel);
     rendering.add("reference and checkpoint images", referenceImages);
     MemoryNeed writing;

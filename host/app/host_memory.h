@@ -18,12 +18,14 @@ struct HostMemoryInputs {
     bool deviceInHostMemory = false;  // the Vulkan device is the CPU (lavapipe): its memory is the host's
     uint64_t deviceBudgetBytes = UINT64_MAX;  // the most that device will hold (it tiles the image beyond)
     bool report = false;     // --report or --reference: a reference image and checkpoint images too
+    bool shared = false;     // a rank of an MPI job: its sums are copied to be reduced (at checkpoints too)
     std::string outputPath;  // its extension decides the encoder's buffers
 };
 
 // The larger of two phases, part by part. Rendering: the BVH build, the scene packed for the GPU, on a CPU
 // Vulkan device the device's buffers, the image's sums and its average. Writing: the BVH, the image and the
-// encoder's buffers. Both: the reference and checkpoint images of a convergence report.
+// encoder's buffers. Both: the reference and checkpoint images of a convergence report. A rank of an MPI job
+// also holds the copy of its sums that it reduces, and at checkpoints a second one.
 MemoryNeed estimateHostMemory(const HostMemoryInputs& inputs);
 
 struct HostMemory {

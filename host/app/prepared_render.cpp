@@ -40,10 +40,11 @@ HostMemory hostMemoryFor(const Options& options) {
 
 // Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
 // records the estimate and what was available.
-void checkHostMemoryFor(const Options& options, bool measuresError, const Scene& scene,
+void checkHostMemoryFor(const Options& options, bool measuresError, bool shared, const Scene& scene,
                         const RenderSettings& settings, const VulkanContext* context,
                         RunReport::Memory& memory) {
     HostMemoryInputs inputs;
+    inputs.shared = shared;
     inputs.triangles = scene.triangles.size();
     inputs.textureBytes = packedTextureBytes(scene);
     inputs.width = settings.width;
@@ -120,7 +121,7 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
     // Host memory, before any is spent on the render (the device's is planned by the GPU renderer).
     // Error against run time is rank 0's to ask for, and every rank of a job renders its reference then.
     const bool measuresError = job.fromRoot(!options.reportPath.empty() || !options.referencePath.empty());
-    checkHostMemoryFor(options, measuresError, prepared.scene, prepared.setup.settings,
+    checkHostMemoryFor(options, measuresError, job.shared(), prepared.scene, prepared.setup.settings,
                        prepared.context.get(), report.memory);
 
     // Acceleration structure.
