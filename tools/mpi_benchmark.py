@@ -6,8 +6,8 @@
 
 The scene (default scenes/cornell.gltf, 128 x 128, 64 spp, path traced) is rendered by one vkrt process with
 `--threads 1` and by `mpirun -np RANKS vkrt --threads 1`, alternately, `--runs` times each after one warm-up
-run apiece. Prints JSON: the medians, minima and maxima of the render time (`render_ms` of `--stats`: for the
-ranks, from their common start to the sums reduced on rank 0), of the whole command's wall time (loading, the
+run apiece. Prints JSON: the medians, minima and maxima of the render time (`render_ms` of `--stats`: from the
+renderer's set-up, for the ranks rank 0's, to the sums reduced on rank 0), of the whole command's wall time (loading, the
 BVH and, under mpirun, the launch included) and of its CPU time (every process's, the launcher's too), and the
 ratios of the medians, ranks over one process: with N ranks on N free cores the render's ratio approaches 1/N,
 and the CPU time's ratio stays near 1 (what sharing costs). On a busy machine the first says little, the

@@ -1,5 +1,6 @@
 #include "app/rank_render.h"
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -96,8 +97,10 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     std::optional<RunReport::Gpu> gpu;
 
     // This rank's share of a render with `renderSettings` on its device; the renderer is made once for it.
+    std::chrono::steady_clock::time_point renderStart;
     auto share = [&](const RenderSettings& renderSettings, const char* label, const StopCondition& stop,
                      const ShareOptions& shareOptions, bool forStats) {
+        if (forStats) renderStart = std::chrono::steady_clock::now();  // before the renderer's set-up
         ProgressBar progress(label, !options.quiet);
         const auto onProgress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
         const uint32_t spp = static_cast<uint32_t>(renderSettings.samplesPerPixel);
@@ -198,8 +201,10 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     const RenderResult result =
         combineShares(job, rendered, mine, settings.width, settings.height, report.ranks);
     if (job.rank() != 0) return 0;
-    // The render took until the last rank's batch ended (the sums were reduced after it).
-    report.renderMs = millisecondsSince(rendered.started);
+    // The render took from rank 0's renderer set-up (the GPU's pipeline among it, as one process counts it;
+    // the ranks' set-ups run side by side) until the last rank's batch ended (the sums were reduced after
+    // it).
+    report.renderMs = millisecondsSince(renderStart);
 
     // Rank 0: the image and the stats, as one process writes them.
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
