@@ -283,6 +283,28 @@ TEST(MemoryCli, LostDeviceKeepsTheTilesCopiedAndExitsOne) {
     }
 }
 
+// The error report of a render whose device is lost is written too, with the checkpoints taken before the
+// loss (it was dropped, and an earlier run's stayed beside the new image).
+TEST(MemoryCli, LostDeviceWritesTheReportsCheckpoints) {
+    const auto folder = test::temporaryFolder();
+    const auto reference = folder / "reference.pfm";
+    ASSERT_EQ(test::runVkrt(cornell() + " --device cpu --width 40 --spp 4 --out '" + reference.string() + "'")
+                  .exitCode,
+              0);
+    const auto report = folder / "report.json";
+    test::writeText(report, "an earlier run's");
+    const test::CommandResult r =
+        test::runCommand("VKRT_SIMULATE_DEVICE_LOSS=30 '" + std::string(VKRT_BINARY) + "' " + cornell() +
+                         " --width 40 --spp 256 --out '" + (folder / "x.pfm").string() + "' --reference '" +
+                         reference.string() + "' --report '" + report.string() + "'");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("and the checkpoints before it to " + report.string()), std::string::npos)
+        << r.output;
+    const nlohmann::json written = readJson(report);
+    ASSERT_GE(written["checkpoints"].size(), 1u) << written.dump();
+    EXPECT_EQ(written["checkpoints"][0]["samples"], 1);
+}
+
 TEST(MemoryCli, LostDeviceBeforeAnySampleWritesNothing) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "x.png";

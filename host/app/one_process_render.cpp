@@ -91,9 +91,14 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     describeRun(options, scene, settings, camera, report);
     writeStats(options, report);
     if (deviceLost) {
-        std::fprintf(stderr, "vkrt: error: %s; wrote the samples done (%u to %u per pixel) to %s\n",
-                     report.deviceLost.c_str(), result.fewestSamples, result.mostSamples,
-                     options.outputPath.c_str());
+        // The report too, with the checkpoints taken before the loss (it was dropped, and an earlier run's
+        // stayed beside the new image).
+        if (convergence) writeConvergence(options, *convergence, report, settings, 1);
+        std::fprintf(
+            stderr, "vkrt: error: %s; wrote the samples done (%u to %u per pixel) to %s%s\n",
+            report.deviceLost.c_str(), result.fewestSamples, result.mostSamples, options.outputPath.c_str(),
+            options.reportPath.empty() ? ""
+                                       : (" and the checkpoints before it to " + options.reportPath).c_str());
         return kExitRuntimeFailure;
     }
 
