@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import tempfile
+from xml.etree import ElementTree
 
 tool, vkrt, scene = sys.argv[1:4]
 with tempfile.TemporaryDirectory() as out:
@@ -57,3 +58,23 @@ with tempfile.TemporaryDirectory() as out:
         assert summary[device]["slope"] is None, summary[device]["slope"]
     assert "| dark | path | gpu | - |" in open(os.path.join(out, "table.md")).read()
     print("convergence report, an exact black image: table and summary written")
+
+# Two scenes of one file name in two folders (glTF/X.gltf beside glTF-Binary/X.glb), a name XML must escape:
+# each keeps its own outputs (the second overwrote the first's), and the plots are well-formed SVG.
+with tempfile.TemporaryDirectory() as out:
+    paths = []
+    for folder in ("a", "b"):
+        os.makedirs(os.path.join(out, folder))
+        paths.append(os.path.join(out, folder, "R&D.gltf"))
+        with open(paths[-1], "w") as f:
+            json.dump(dark, f)
+    subprocess.run([sys.executable, tool, "--vkrt", vkrt, "--out-dir", out, "--width", "8", "--gpu-spp", "2",
+                    "--cpu-spp", "2", "--reference-spp", "4", "--integrators", "path"] + paths, check=True,
+                   stdout=subprocess.DEVNULL)
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    assert sorted(summary) == ["R&D-2-path", "R&D-path"], sorted(summary)
+    table = open(os.path.join(out, "table.md")).read()
+    assert "| R&D | path | gpu |" in table and "| R&D-2 | path | gpu |" in table, table
+    for name in ("R&D-path", "R&D-2-path"):
+        ElementTree.parse(os.path.join(out, name + ".svg"))
+    print("convergence report, two scenes of one name: each its own outputs, plots well-formed")

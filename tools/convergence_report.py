@@ -18,6 +18,7 @@ import math
 import os
 import subprocess
 import sys
+from xml.sax.saxutils import escape
 
 from vkrt_args import check_vkrt_and_scenes, integrators_from
 
@@ -76,8 +77,20 @@ def time_to(points, rmse):
     return None
 
 
+def unique_stems(scenes):
+    """Each scene's file name without its extension, with -2, -3, ... after those met before (glTF/X.gltf and
+    glTF-Binary/X.glb): the outputs are named by them, and one scene's would overwrite another's."""
+    stems, seen = [], {}
+    for scene in scenes:
+        stem = os.path.splitext(os.path.basename(scene))[0]
+        seen[stem] = seen.get(stem, 0) + 1
+        stems.append(stem if seen[stem] == 1 else "%s-%d" % (stem, seen[stem]))
+    return stems
+
+
 def svg_plot(path, title, series):
     """A log-log plot of RMSE against render time, one polyline per device, in plain SVG."""
+    title = escape(title)  # a scene's name may hold & or <
     width, height, left, right, top, bottom = 640, 420, 70, 20, 40, 50
     points = [p for _, pts, _ in series for p in positive(pts)]
     if not points:  # every error 0 (the image is exact): nothing a log axis can show
@@ -118,8 +131,9 @@ def svg_plot(path, title, series):
         out.append('<polyline points="%s" fill="none" stroke="%s" stroke-width="2"/>' % (coords, COLORS[name]))
         for p in positive(pts):  # a log axis has no place for an exact image's 0
             out.append('<circle cx="%.1f" cy="%.1f" r="3" fill="%s"/>' % (px(p["render_ms"]), py(p["rmse"]), COLORS[name]))
-        out.append('<text x="%d" y="%d" fill="%s">%s: slope %.2f</text>' % (width - right - 170, top + 20 + 18 * i,
-                                                                          COLORS[name], name.upper(), slope))
+        out.append('<text x="%d" y="%d" fill="%s">%s: slope %s</text>' % (
+            width - right - 170, top + 20 + 18 * i, COLORS[name], name.upper(),
+            "%.2f" % slope if math.isfinite(slope) else "-"))
     out.append("</svg>")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -147,9 +161,10 @@ def main():
              " | ms to RMSE %g |" % target,
              "|---|---|---|---|" + "---|" * (len(times) + 1)]
     summary = {}
-    for scene, integrator in [(s, i) for s in args.scenes for i in integrators]:
+    stems = unique_stems(args.scenes)
+    for index, integrator in [(k, i) for k in range(len(args.scenes)) for i in integrators]:
+        scene, stem = args.scenes[index], stems[index]
         # Whitted keeps the file names the report had before paths existed.
-        stem = os.path.splitext(os.path.basename(scene))[0]
         name = stem if integrator == "whitted" else stem + "-path"
         common = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width), "--integrator", integrator]
         reference = os.path.join(args.out_dir, name + "-reference.exr")

@@ -23,7 +23,7 @@ import sys
 import tempfile
 import time
 
-from vkrt_args import parse_with_vkrt_options
+from vkrt_args import given_options, parse_with_vkrt_options
 from vkrt_runs import summary
 
 DEFAULT_SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")
@@ -73,7 +73,7 @@ def main():
     # The default size and samples, except where the options after -- give their own.
     defaults = [DEFAULT_RENDER[i:i + 2] for i in range(0, len(DEFAULT_RENDER), 2)]
     render = [args.vkrt, "--scene", args.scene, "--device", args.device, "--threads", "1"] + \
-        [word for option in defaults if option[0] not in extra for word in option] + extra
+        [word for option in defaults if option[0] not in given_options(extra) for word in option] + extra
     launcher, environment = mpirun_prefix(args.ranks)
 
     # Open MPI binds each rank to a core; the one process is pinned to a core too, or the scheduler's moving it

@@ -21,6 +21,11 @@ def parse_with_vkrt_options(parser):
     return args, extra
 
 
+def given_options(extra):
+    """The option names among vkrt's arguments, whether written `--name value` or `--name=value`."""
+    return {word.split("=", 1)[0] for word in extra if word.startswith("--")}
+
+
 def integrators_from(parser, text):
     """The integrators that a comma-separated `--integrators` value names; a usage error unless each is path or
     whitted."""
