@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 
 #include <tiny_gltf.h>
 
@@ -116,18 +117,23 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
     std::vector<int> parent(model.nodes.size(), -1);
     for (size_t n = 0; n < model.nodes.size(); ++n)
         for (int child : model.nodes[n].children) parent[static_cast<size_t>(child)] = static_cast<int>(n);
+    std::map<int, glm::dmat4> placements;  // by skin: a chain of nodes sharing one skin walked it once each
     auto skinnedPlacement = [&](const tinygltf::Skin& skin, int skinIndex) {
+        const auto known = placements.find(skinIndex);
+        if (known != placements.end()) return known->second;
         glm::dmat4 world(1.0);
         for (int n = skin.joints[0]; n >= 0; n = parent[static_cast<size_t>(n)])
             world = localTransform(context, n) * world;
-        if (skin.inverseBindMatrices < 0) return world;
-        const std::vector<float> first = context.accessors.readFloats(
-            skin.inverseBindMatrices, 16, describe("skin", skinIndex, skin.name) + " inverseBindMatrices", 1);
         glm::dmat4 inverseBind(1.0);
-        for (int column = 0; column < 4; ++column)
-            for (int row = 0; row < 4; ++row)
-                inverseBind[column][row] = first[static_cast<size_t>(4 * column + row)];
-        return world * inverseBind;
+        if (skin.inverseBindMatrices >= 0) {
+            const std::vector<float> first = context.accessors.readFloats(
+                skin.inverseBindMatrices, 16, describe("skin", skinIndex, skin.name) + " inverseBindMatrices",
+                1);
+            for (int column = 0; column < 4; ++column)
+                for (int row = 0; row < 4; ++row)
+                    inverseBind[column][row] = first[static_cast<size_t>(4 * column + row)];
+        }
+        return placements[skinIndex] = world * inverseBind;
     };
     std::vector<Part> parts;
     auto add = [&](const glm::dvec3& centre, const glm::dvec3& halfSize) {

@@ -169,6 +169,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     }
     decodeTangents(primitive, decoded);
     decodeDeformation(meshIndex, primitive, decoded);
+    keepUsedVertices(decoded);
     return decoded;
 }
 
@@ -286,6 +287,54 @@ std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& pri
     const glm::vec4 frame = faceTangent({glm::dvec3(triangle.v0), glm::dvec3(triangle.v1), glm::dvec3(triangle.v2)},
                                         uv, glm::dvec3(geometric));
     return {frame, frame, frame};
+}
+
+namespace {
+
+// `values` (`stride` per vertex) of the vertices `used` lists, in its order.
+template <typename T>
+void keepVertices(std::vector<T>& values, size_t stride, const std::vector<uint32_t>& used) {
+    if (values.empty()) return;
+    std::vector<T> kept(used.size() * stride);
+    for (size_t i = 0; i < used.size(); ++i)
+        std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(used[i] * stride), stride,
+                    kept.begin() + static_cast<std::ptrdiff_t>(i * stride));
+    values = std::move(kept);
+}
+
+}  // namespace
+
+void MeshInstancer::keepUsedVertices(DecodedPrimitive& decoded) {
+    // Placing works on every vertex a primitive has, once per pose and instance: a sparse accessor that
+    // claims millions of vertices for one triangle (a file of a few KB) took minutes. Only the faces'
+    // vertices stay.
+    const size_t vertexCount = decoded.positions.size() / 3;
+    std::vector<uint32_t> index(vertexCount, UINT32_MAX), used;
+    for (const auto& face : decoded.faces) {
+        for (uint32_t v : face) {
+            if (index[v] != UINT32_MAX) continue;
+            index[v] = 0;
+            used.push_back(v);
+        }
+    }
+    if (used.size() == vertexCount) return;
+    std::sort(used.begin(), used.end());  // the file's order, so that nothing else changes
+    for (size_t i = 0; i < used.size(); ++i) index[used[i]] = static_cast<uint32_t>(i);
+    for (auto& face : decoded.faces)
+        for (uint32_t& v : face) v = index[v];
+    keepVertices(decoded.positions, 3, used);
+    keepVertices(decoded.normals, 3, used);
+    keepVertices(decoded.uvs, 2, used);
+    keepVertices(decoded.colors, 4, used);
+    keepVertices(decoded.uvs1, 2, used);
+    keepVertices(decoded.tangents, 4, used);
+    for (MorphTarget& target : decoded.targets) {
+        keepVertices(target.positions, 3, used);
+        keepVertices(target.normals, 3, used);
+        keepVertices(target.tangents, 3, used);
+    }
+    keepVertices(decoded.joints, static_cast<size_t>(decoded.influences), used);
+    keepVertices(decoded.jointWeights, static_cast<size_t>(decoded.influences), used);
 }
 
 namespace {

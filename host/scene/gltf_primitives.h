@@ -86,6 +86,8 @@ class MeshInstancer {
     bool liveTarget(int meshIndex, size_t target) const;
     // TANGENT, or tangents derived from the normal texture's coordinates, for a normal-mapped primitive.
     void decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
+    // Drops the vertices no face uses, from every per-vertex list (renumbering the faces).
+    static void keepUsedVertices(DecodedPrimitive& decoded);
     // Morph targets, and skinning's joints and weights, of a primitive.
     void decodeDeformation(int meshIndex, const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
     void place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses);
