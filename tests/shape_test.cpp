@@ -30,6 +30,7 @@
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 #include "shape_geometry.h"
+#include "support/gltf_document.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
 #include "support/run_command.h"
@@ -410,15 +411,7 @@ void addTriangleMesh(json& document) {
     std::vector<uint8_t> bytes(44);
     std::memcpy(bytes.data(), positions, 36);
     std::memcpy(bytes.data() + 36, indices, 8);
-    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string encoded;
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        const size_t available = std::min<size_t>(3, bytes.size() - i);
-        uint32_t chunk = 0;
-        for (size_t k = 0; k < 3; ++k) chunk = (chunk << 8) | (k < available ? bytes[i + k] : 0);
-        for (size_t k = 0; k < 4; ++k)
-            encoded += k <= available ? alphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
-    }
+    const std::string encoded = test::base64(bytes);
     document["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}};
     document["accessors"] = {{{"bufferView", 0},
                               {"componentType", 5126},

@@ -170,6 +170,13 @@ def checkerboard(size, cells, height):
     return merge(light), merge(dark)
 
 
+def checker_floor(g, name, light, dark):
+    """A node `name` with a checkerboard 20 units across of 20 x 20 cells at height 0, in materials light and dark."""
+    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
+    return g.node(name, mesh=g.mesh(name, [(light_cells[0], None, light_cells[1], light),
+                                           (dark_cells[0], None, dark_cells[1], dark)]))
+
+
 def whitted():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     yellow = g.material("yellow", base_color=(0.9, 0.75, 0.1))
@@ -177,12 +184,7 @@ def whitted():
     mirror = g.material("mirror", base_color=(0.9, 0.9, 0.9), metallic=1.0, roughness=0.0)
     glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
                        thickness=1.0)
-    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
-    mesh = g.mesh("checkerboard", [
-        (light_cells[0], None, light_cells[1], yellow),
-        (dark_cells[0], None, dark_cells[1], red),
-    ])
-    g.node("checkerboard", mesh=mesh)
+    checker_floor(g, "checkerboard", yellow, red)
     g.sphere("mirror sphere", [0.9, 1.0, -1.2], 1.0, mirror)
     g.sphere("glass sphere", [-0.6, 1.3, 0.8], 0.8, glass)
     eye, target = [0.0, 2.6, 6.5], [0.0, 0.9, 0.0]
@@ -287,9 +289,7 @@ def motion_blur():
     red = g.material("red", base_color=(0.8, 0.1, 0.05))
     blue = g.material("blue", base_color=(0.1, 0.3, 0.8), roughness=0.5)
     white = g.material("white", base_color=(0.85, 0.85, 0.85), roughness=0.3)
-    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
-    g.node("checkerboard", mesh=g.mesh("checkerboard", [(light_cells[0], None, light_cells[1], yellow),
-                                                        (dark_cells[0], None, dark_cells[1], red)]))
+    checker_floor(g, "checkerboard", yellow, red)
     # A cube sliding along x at 1.5 units per second (LINEAR), a cube spinning about y at 90 degrees per
     # second, and a ball that jumps (STEP) a quarter second into the shutter's half second.
     box = cube([0.0, 0.0, 0.0], 0.4)
@@ -586,9 +586,7 @@ def deform():
     dark_grey = g.material("dark grey", base_color=(0.35, 0.35, 0.38))
     tube_paint = g.material("tube", base_color=(0.15, 0.45, 0.8), roughness=0.35)
     ball_paint = g.material("ball", base_color=(0.85, 0.3, 0.1), roughness=0.4)
-    light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
-    g.node("floor", mesh=g.mesh("floor", [(light_cells[0], None, light_cells[1], light_grey),
-                                          (dark_cells[0], None, dark_cells[1], dark_grey)]))
+    checker_floor(g, "floor", light_grey, dark_grey)
 
     # The tube, modelled in its bind pose (upright, its foot at `foot`), skinned to a hip at its foot and a knee
     # 1.2 above it: below 0.9 the hip alone, above 1.5 the knee alone, blended linearly between.
