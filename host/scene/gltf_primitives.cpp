@@ -406,8 +406,8 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
     // Every vertex placed once for a pose (a vertex is a corner of about six triangles).
     const size_t vertexCount = positions.size() / 3;
     std::vector<glm::vec3> placed(vertexCount);
-    std::vector<glm::dmat3> skinLinear(skinned ? vertexCount
-                                               : 0);  // at the opening, for normals and tangents
+    // A skinned vertex's linear map at the opening, for its normal and tangent.
+    std::vector<glm::dmat3> skinLinear(skinned ? vertexCount : 0);
     auto placeVertices = [&](const InstancePose& pose, bool keepLinear) {
         for (size_t v = 0; v < vertexCount; ++v) {
             const uint32_t vertex = static_cast<uint32_t>(v);
