@@ -465,11 +465,17 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         const real4 passage =
             VKRT_DEVICE(shadowTransmittance)(frame.viewerSide, query.shadowDirection, query.shadowLength,
                                              frame.excludeOnViewerSide, query.lightPrimitive);
-        const real3 visible = shadowed(VKRT_DEVICE_ARG context, media, real3(passage), query.distance);
-        // Whitted's traced lobes see an area light or the environment through holes alone (shadowPassage) where
-        // their own rays find those through glass (lobeThroughGlass). No ray finds a punctual light, so its light
-        // sample lights them through glass too, as every light's does where the lobe's rays end at the glass or
-        // are not traced. Paths' shadow rays stop at transmissive surfaces, so both groups see the same.
+        // Paths see an area light or the environment through holes alone (shadowPassage): their own bounces bring
+        // the light that transmissive surfaces let through. No path finds a punctual light, so its light sample
+        // passes thin-walled transmissive surfaces, tinted (a window under the sun cast a black shadow); a
+        // volume's boundary stops it (shadowTint).
+        const bool pathsThroughHoles = context.paths && q >= punctualQueries;
+        const real3 visible =
+            shadowed(VKRT_DEVICE_ARG context, media, pathsThroughHoles ? real3(passage.w) : real3(passage), query.distance);
+        // Whitted's traced lobes see an area light or the environment through holes alone where their own rays
+        // find those through glass (lobeThroughGlass). No ray finds a punctual light, so its light sample lights
+        // them through glass too, as every light's does where the lobe's rays end at the glass or are not traced.
+        // Paths trace no lobe apart, so both groups see the same.
         const real3 tracedVisible = lobeThroughGlass && q >= punctualQueries ? real3(passage.w) : visible;
         const real3 reflected =
             reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight,

@@ -86,6 +86,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_TEXTURES
 #define VKRT_HAS_TRANSMISSION
 #define VKRT_HAS_VOLUMES
+#define VKRT_HAS_THIN_TRANSMISSION
 #define VKRT_HAS_ABSORPTION
 #define VKRT_HAS_PUNCTUAL_LIGHTS
 #define VKRT_HAS_AREA_LIGHTS

@@ -358,19 +358,19 @@ VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real 
 }
 
 // The fraction of light a surface lets through a shadow ray: all of it where the surface is missing (alpha),
-// and where it covers the point, what its transmission lets through (shadow rays do not refract), unless
-// `transmissionBlocks`: the path integrator's shadow rays stop at transmissive surfaces, since its paths
-// already bring the light through them by following their transmission (counting it both ways would double it).
+// and where it covers the point, what its transmission lets through (shadow rays do not refract, and no Fresnel
+// loss is taken), unless `transmissionBlocks` (the path integrator's shadow rays at a volume's boundary: light
+// refracted into and out of glass reaches a point along a bent line, which a straight shadow ray does not follow).
 VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
     const real3 transmitted = transmissionBlocks ? real3(0.0) : (1.0 - inputs.metallic) * inputs.transmission * inputs.albedo;
     return (1.0 - inputs.coverage) + inputs.coverage * transmitted;
 }
 
 // A shadow ray's passage, as the shadow walk returns it: in xyz the product of the crossed surfaces' shadowTint,
-// which lights the lobes no ray is traced for; in w the product of their holes alone (1 - coverage), by which
-// area lights and the environment light Whitted's traced lobes: their own rays bring the light of those that
-// transmissive surfaces let through, and with the transmission in the light sample too, a glossy surface
-// behind glass counted that light twice.
+// which lights the lobes no ray is traced for, and paths by punctual lights; in w the product of their holes
+// alone (1 - coverage), by which area lights and the environment light Whitted's traced lobes and paths: their
+// own rays bring the light of those that transmissive surfaces let through, and with the transmission in the
+// light sample too, a glossy surface behind glass counted that light twice.
 VKRT_FN real4 shadowPassage(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
     return real4(shadowTint(inputs, transmissionBlocks), 1.0 - inputs.coverage);
 }

@@ -96,21 +96,23 @@ float searchLimit(Hit hit, float tMax, float originScale, const int mode) {
     return min(tMax, hit.t + tieWidth(hit.t, originScale));
 }
 
-// The path integrator's shadow rays stop at transmissive surfaces (surface_response.h's shadowTint).
+// The path integrator's shadow rays stop at a volume's boundary (surface_response.h's shadowTint).
 #ifdef VKRT_PATHS
-const bool vkrtTransmissionBlocksShadows = true;
+const bool vkrtVolumesBlockShadows = true;
 #else
-const bool vkrtTransmissionBlocksShadows = false;
+const bool vkrtVolumesBlockShadows = false;
 #endif
 
 // Multiplies `transmittance` by the passage of a surface of material `materialIndex` crossed at barycentrics /
-// texture coordinates (u, v) (surface_response.h's shadowPassage); true when it is now opaque. Only the holes
-// of alpha-tested and blended surfaces let the path integrator's shadow rays through; without them (no
-// VKRT_HAS_ALPHA: every surface covers its points fully) every surface stops them, and the material is not read.
+// texture coordinates (u, v) (surface_response.h's shadowPassage); true when it is now opaque. The path
+// integrator's shadow rays pass only the holes of alpha-tested and blended surfaces, and, from punctual lights,
+// thin-walled transmissive surfaces; without either every surface stops them, and the material is not read.
 bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec4 transmittance) {
-#if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS))
+#if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS)) || \
+    (defined(VKRT_PATHS) && defined(VKRT_HAS_THIN_TRANSMISSION) && defined(VKRT_HAS_PUNCTUAL_LIGHTS))
     const SurfaceMaterial material = device_material(materialIndex);
-    transmittance *= shadowPassage(sampleMaterial(material, primitive, vec2(u, v), 0.0), vkrtTransmissionBlocksShadows);
+    transmittance *= shadowPassage(sampleMaterial(material, primitive, vec2(u, v), 0.0),
+                                   vkrtVolumesBlockShadows && material.volume);
     if (maxComponent(transmittance.xyz) > 0.0) return false;
 #endif
     transmittance = vec4(0.0);  // opaque

@@ -273,6 +273,54 @@ TEST_F(Gpu, PathsCountLightThroughGlassOnce) {
     }
 }
 
+// A point light over a thin-walled pane of index 1 (no Fresnel reflection) tinted (0.8, 0.6, 0.4), over a
+// Lambertian floor of albedo 0.5: paths light the floor through the pane, tinted, exactly as the closed form
+// says, albedo / pi * I cos / r^2 * tint (no path finds a punctual light, and the shadow rays stopped at the
+// pane: a window under the sun cast a black shadow). A volume's boundary still stops them: light refracted
+// into glass arrives along a bent line.
+TEST_F(Gpu, PathsLightThroughThinWalledPanesFromPunctualLights) {
+    const glm::dvec3 tint(0.8, 0.6, 0.4);
+    auto render = [&](float thickness) {
+        Scene scene;
+        scene.materials.push_back(test::lambertian(0.5f));
+        addClearPane(scene, 0.5f);
+        scene.materials.back().baseColor = glm::vec4(glm::vec3(tint), 1.0f);
+        scene.materials.back().thickness = thickness;
+        addFlatQuad(scene, {-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}, 0);  // the floor, facing +z
+        PunctualLight light;
+        light.position = {0.5, 0.5, 2.0};
+        light.intensity = 4.0f;
+        scene.lights.push_back(light);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera = test::squareCamera();
+        camera.position.z = 0.25;  // between the floor and the pane
+        RenderSettings settings;
+        settings.integrator = Integrator::Path;
+        settings.width = settings.height = 8;
+        settings.samplesPerPixel = 4;
+        return test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+    };
+    const auto thin = render(0.0f), volume = render(0.1f);
+    for (const bool gpu : {true, false}) {
+        const Image& image = (gpu ? thin.gpu : thin.cpu).image;
+        for (int y = 0; y < 8; ++y) {
+            for (int x = 0; x < 8; ++x) {
+                // The pixel's centre on the floor (the camera's film spans the unit square, its rows down y).
+                const glm::dvec2 p((x + 0.5) / 8.0, 1.0 - (y + 0.5) / 8.0);
+                const double r2 = glm::dot(p - 0.5, p - 0.5) + 4.0;
+                const double irradiance = 4.0 * (2.0 / std::sqrt(r2)) / r2;
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(image.at(x, y)[c], 0.5 / M_PI * irradiance * tint[c],
+                                0.01 * 0.5 / M_PI * irradiance)
+                        << (gpu ? "gpu" : "cpu") << " at " << x << ", " << y << " channel " << c;
+                }
+            }
+        }
+        EXPECT_EQ(meanRed((gpu ? volume.gpu : volume.cpu).image), 0.0) << (gpu ? "gpu" : "cpu");
+    }
+}
+
 // A glossy floor (white metal of roughness 0.3) under a lamp, seen through a clear thin pane of index 1, with
 // Whitted's distributed ray tracing: the floor must look as it does without the pane. Its traced reflections
 // bring an area lamp's light through the pane; the light samples, which pass transmissive surfaces for the

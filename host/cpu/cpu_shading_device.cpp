@@ -123,9 +123,9 @@ glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     // Each crossing of a transmissive surface multiplies by its tint (a sphere can be crossed twice, a solid
     // more often).
     auto cross = [&](uint32_t primitive, uint32_t material, glm::dvec2 hitUv) {
-        result *= shading::shadowPassage(
-            shading::sampleMaterial(*this, data_.materials[material], primitive, hitUv, 0.0),
-            data_.transmissionBlocksShadows);
+        const shading::SurfaceMaterial& crossed = data_.materials[material];
+        result *= shading::shadowPassage(shading::sampleMaterial(*this, crossed, primitive, hitUv, 0.0),
+                                         data_.volumesBlockShadows && crossed.volume);
     };
     traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
         if (scene.isSolid(primitive)) {  // never skipped (shade_hit.h's ShadingFrame)

@@ -35,7 +35,7 @@ struct CpuShadingScene {
     const std::vector<float>* sheenTable = nullptr;  // with a sheen material (sheen.h)
     const std::vector<float>* ggxAlbedoTable = nullptr;  // with a rough GGX lobe (energy_compensation.h)
     const std::vector<float>* ggxDielectricAlbedoTable = nullptr;  // with a rough refracting one
-    bool transmissionBlocksShadows = false;          // the path integrator's shadow rays (shadowTint)
+    bool volumesBlockShadows = false;  // the path integrator's shadow rays (shadowTint)
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.

@@ -28,7 +28,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       settings_(settings),
       shadingScene_(scene, bvh),
       camera_(cameraFrame(camera, settings.width, settings.height)) {
-    shadingScene_.transmissionBlocksShadows = settings.integrator == Integrator::Path;
+    shadingScene_.volumesBlockShadows = settings.integrator == Integrator::Path;
 }
 
 double ReferenceRenderer::shutterTime(uint32_t pixel, uint32_t sample) const {

@@ -22,6 +22,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::textures, "textures", "VKRT_HAS_TEXTURES"},
     {&SceneFeatures::transmission, "transmission", "VKRT_HAS_TRANSMISSION"},
     {&SceneFeatures::volumes, "volumes", "VKRT_HAS_VOLUMES"},
+    {&SceneFeatures::thinTransmission, "thin_transmission", "VKRT_HAS_THIN_TRANSMISSION"},
     {&SceneFeatures::absorption, "absorption", "VKRT_HAS_ABSORPTION"},
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
@@ -186,6 +187,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
                                (material.metallic < 1.0f || material.metallicRoughnessTexture.used());
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
+        features.thinTransmission |= transmits && !material.hasVolume();
         features.absorption |= transmits && material.hasVolume() && absorbs(material);
         features.roughRefraction |= transmits && refractsRoughly(material);
     }

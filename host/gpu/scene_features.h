@@ -14,6 +14,7 @@ struct SceneFeatures {
     bool textures = false;       // a material samples a texture
     bool transmission = false;   // a material transmits light
     bool volumes = false;        // a transmissive material bounds a volume (refraction, Beer's law)
+    bool thinTransmission = false;  // a transmissive material is thin-walled (no volume)
     bool absorption = false;     // light fades inside such a volume (a finite attenuation distance)
     bool punctualLights = false;
     bool areaLights = false;    // emissive triangles, spheres or shapes
