@@ -207,6 +207,24 @@ TEST(RenderPolicy, LightFromEmissiveTexturesAloneIsSaid) {
     EXPECT_TRUE(resolveRender(RenderRequest{}, scene).warnings.empty());
 }
 
+// A lens radius a million times the scene and its distance is refused: in single precision the GPU's rays
+// from a lens of radius 1e10 missed the scene the CPU's met, and gave a brighter image without a word.
+TEST(RenderPolicy, ALensTooLargeToAimIsRefused) {
+    Scene scene = darkSquare();
+    scene.cameras.push_back(cameraInFront(1.0));
+    RenderRequest request;
+    request.aperture = 1e5;  // 5 units away: within a million times
+    EXPECT_NO_THROW(resolveRender(request, scene));
+    request.aperture = 1e10;
+    try {
+        resolveRender(request, scene);
+        ADD_FAILURE() << "a lens of radius 1e10 was taken";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot be aimed in single precision"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(RenderPolicy, EmissiveSphereLightsTheScene) {
     Scene scene = darkSquare();
     const uint32_t glow = addEmissiveMaterial(scene);

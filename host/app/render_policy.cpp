@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "scene/camera_selection.h"
 #include "scene/scene_error.h"
@@ -80,6 +81,20 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
         camera.focusDistance =
             std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));
+    }
+    // A lens far larger than the scene and the focus distance cannot be aimed in single precision: the GPU's
+    // rays from a lens of radius 1e10 missed the scene the CPU's met (a brighter, wrong image, without a
+    // word).
+    const double reach = std::max({camera.focusDistance, glm::length(glm::dvec3(scene.bounds.extent())),
+                                   glm::length(glm::dvec3(scene.bounds.center()) - camera.position)});
+    if (camera.aperture > kMaxApertureOverScene * reach) {
+        char message[256];
+        std::snprintf(
+            message, sizeof message,
+            "the lens radius %.3g is more than %.0e times the largest of the scene's size, its distance "
+            "and the focus distance (%.3g): its rays cannot be aimed in single precision",
+            camera.aperture, kMaxApertureOverScene, reach);
+        throw SceneError(message);
     }
 
     // Ambient light: none under an environment (it lights the scene); a little in a lit scene; in a dark one,

@@ -65,6 +65,10 @@ bool addNeutralEnvironment(const RenderRequest& request, Scene& scene);
 // Punctual lights, emissive triangles, emissive spheres and emissive shapes light a scene.
 bool sceneHasLights(const Scene& scene);
 
+// The largest lens radius resolveRender takes, over the largest of the focus distance, the scene's size and
+// its distance from the camera.
+constexpr double kMaxApertureOverScene = 1e6;
+
 // Whether the scene's only lights are triangles whose emission comes through an emissive texture (decals and
 // screens of a model made for image-based lighting, rather than lamps).
 bool onlyTexturedEmission(const Scene& scene);
