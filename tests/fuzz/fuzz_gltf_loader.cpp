@@ -1,6 +1,6 @@
 // libFuzzer target for the glTF loader (-DVKRT_FUZZ=ON, clang): each input is loaded as the file it is (JSON,
 // or binary glTF when it starts with the GLB magic), then as the JSON chunk of a GLB container. Loading must end
-// in a Scene or a SceneError; anything else (a crash, a sanitizer report, another exception, a hang) is a
+// in a Scene, a SceneError or a MemoryError; anything else (a crash, a sanitizer report, another exception, a hang) is a
 // finding. tools/fuzz_loader.sh seeds and runs it; what it finds is kept in tests/fuzz/regressions/, which the
 // test suite loads on every build.
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "common/memory_need.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_error.h"
 
@@ -26,10 +27,17 @@ const std::filesystem::path& folder() {
 void load(const std::string& name, const std::string& bytes) {
     const std::filesystem::path file = folder() / name;
     std::ofstream(file, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    // What the scene would hold is counted against a gigabyte, as the command counts it against the memory
+    // available: beyond it, the loader refuses the file (a clean end, as bad input is).
+    vkrt::LoadOptions options;
+    options.maxSceneBytes = uint64_t{1} << 30;
+    options.memorySource = "the fuzzer's limit";
     try {
-        vkrt::loadGltf(file.string());
+        vkrt::loadGltf(file.string(), options);
     } catch (const vkrt::SceneError&) {
         // Bad input, reported: what the loader should do.
+    } catch (const vkrt::MemoryError&) {
+        // More than the limit, refused before it was taken.
     }
 }
 
