@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -448,7 +449,9 @@ std::vector<std::vector<double>> readCsv(const std::filesystem::path& path) {
         std::vector<double> row;
         std::stringstream fields(line);
         std::string field;
-        while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+        // An empty field (a CPU render's GPU time) is NaN.
+        while (std::getline(fields, field, ','))
+            row.push_back(field.empty() ? std::numeric_limits<double>::quiet_NaN() : std::stod(field));
         rows.push_back(row);
     }
     return rows;
@@ -478,6 +481,12 @@ TEST(Cli, ReportRecordsErrorAtEveryDoublingOfSamples) {
             ASSERT_EQ(rows.size(), 6u);  // 1, 2, 4, 8, 16, 32 samples
             for (size_t i = 0; i < rows.size(); ++i) {
                 EXPECT_EQ(rows[i][0], static_cast<double>(1u << i));
+                // The GPU's time; none for the CPU reference (it wrote 0, read as a measurement).
+                if (std::string(device) == "gpu") {
+                    EXPECT_GT(rows[i][2], 0.0);
+                } else {
+                    EXPECT_TRUE(std::isnan(rows[i][2])) << rows[i][2];
+                }
                 if (i > 0) {
                     EXPECT_GT(rows[i][1], rows[i - 1][1]) << "render time grows";
                 }

@@ -218,6 +218,21 @@ TEST(MorphTargets, OnlyWeighedTargetsAreReadAndCounted) {
     EXPECT_THROW(loadGltf((folder / "weighed.gltf").string(), small), MemoryError);
 }
 
+// A mesh no node skins is placed by its nodes, its JOINTS and WEIGHTS not read (malformed ones too, as before
+// skins were read).
+TEST(Skins, AMeshNoNodeSkinsIgnoresItsJointsAndWeights) {
+    test::GltfDocument d = skinnedTriangle();
+    d.json["nodes"][2].erase("skin");
+    d.json["meshes"][0]["primitives"].erase(1);
+    d.json["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] =
+        d.floats({1, 0, 0, 0, -1, 0, 0, 0, 0.6f, 0.2f, 0, 0}, "VEC4");
+    const auto file = test::temporaryFolder() / "rigid.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    expectNear(glm::vec3(corners(scene, 0)[1]), {102, 0, 0}, "placed by its node");
+}
+
 // Malformed skins and targets: each refused with a message naming the problem.
 TEST(Deformation, MalformedSkinsAndTargetsAreRefused) {
     const auto folder = test::temporaryFolder();

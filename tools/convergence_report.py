@@ -32,8 +32,9 @@ def run(command):
 
 
 def read_report(path):
+    """The report's checkpoints; a field vkrt leaves empty (the CPU's GPU time) is None."""
     with open(path) as f:
-        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+        return [{k: float(v) if v != "" else None for k, v in row.items()} for row in csv.DictReader(f)]
 
 
 def fit_slope(points):
@@ -80,11 +81,15 @@ def time_to(points, rmse):
 def unique_stems(scenes):
     """Each scene's file name without its extension, with -2, -3, ... after those met before (glTF/X.gltf and
     glTF-Binary/X.glb): the outputs are named by them, and one scene's would overwrite another's."""
-    stems, seen = [], {}
+    stems, taken = [], set()
     for scene in scenes:
         stem = os.path.splitext(os.path.basename(scene))[0]
-        seen[stem] = seen.get(stem, 0) + 1
-        stems.append(stem if seen[stem] == 1 else "%s-%d" % (stem, seen[stem]))
+        name, n = stem, 1
+        while name in taken:  # a/X, b/X and X-2 become X, X-2 and X-2-2
+            n += 1
+            name = "%s-%d" % (stem, n)
+        taken.add(name)
+        stems.append(name)
     return stems
 
 

@@ -68,7 +68,7 @@ std::string announceRenderedReference(const Options& options, const RenderSettin
 }
 
 void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
-                      const RenderSettings& settings, int ranks) {
+                      const RenderSettings& settings, int ranks, bool summarise) {
     // The report, with what was rendered.
     if (!options.reportPath.empty()) {
         nlohmann::json context = {
@@ -89,7 +89,7 @@ void writeConvergence(const Options& options, const ConvergenceReport& convergen
         convergence.write(options.reportPath, context);
     }
     // The error at the last checkpoint.
-    if (!options.quiet && !convergence.points().empty()) {
+    if (summarise && !options.quiet && !convergence.points().empty()) {
         const ConvergencePoint& last = convergence.points().back();
         std::fprintf(
             stderr,

@@ -25,8 +25,9 @@ std::string announceRenderedReference(const Options& options, const RenderSettin
                                       const std::string& device, int ranks);
 
 // Writes the --report file, when asked (its context names the ranks when there are several), and sums up the
-// last checkpoint's error in one line unless --quiet.
+// last checkpoint's error in one line unless --quiet or not `summarise` (a render that failed: the last
+// checkpoint is not the image written).
 void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
-                      const RenderSettings& settings, int ranks);
+                      const RenderSettings& settings, int ranks, bool summarise = true);
 
 }  // namespace vkrt

@@ -93,7 +93,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     if (deviceLost) {
         // The report too, with the checkpoints taken before the loss (it was dropped, and an earlier run's
         // stayed beside the new image).
-        if (convergence) writeConvergence(options, *convergence, report, settings, 1);
+        if (convergence) writeConvergence(options, *convergence, report, settings, 1, false);
         std::fprintf(
             stderr, "vkrt: error: %s; wrote the samples done (%u to %u per pixel) to %s%s\n",
             report.deviceLost.c_str(), result.fewestSamples, result.mostSamples, options.outputPath.c_str(),

@@ -19,7 +19,8 @@ void checkReadable(const char* option, const std::string& path) {
         throw UsageError(std::string(option) + ": " + path + ": cannot open: no such file");
     if (status.type() == std::filesystem::file_type::directory)
         throw UsageError(std::string(option) + ": " + path + ": is a directory");
-    // A device may have no end to read to (/dev/zero filled the memory); a pipe is read (<(command)).
+    // A device may have no end to read to (/dev/zero filled the memory). A pipe is left to the loader, which
+    // refuses what is not a regular file once it has something to read (opening one waits for a writer).
     if (status.type() == std::filesystem::file_type::character ||
         status.type() == std::filesystem::file_type::block ||
         status.type() == std::filesystem::file_type::socket)

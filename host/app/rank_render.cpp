@@ -183,8 +183,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
         shareOptions.checkpoint = [&](uint32_t samples, double renderMs,
                                       const std::vector<glm::dvec4>& sums) {
             // No one GPU time belongs to a checkpoint of several ranks: left empty (it read 0).
-            convergence->add(samples, renderMs, std::numeric_limits<double>::quiet_NaN(),
-                             averageOf(sums, settings.width, settings.height));
+            convergence->add(samples, renderMs, kNoGpuTime, averageOf(sums, settings.width, settings.height));
         };
     }
     // Every rank's phases end where rank 0's do: its --report-every-ms, whatever the others were given.

@@ -312,7 +312,7 @@ RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSa
         const double renderMs = schedule.renderMs();
         if (schedule.due(done, renderMs)) {
             schedule.take(renderMs, [&] {
-                checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+                checkpoint(done, renderMs, kNoGpuTime, averageOf(sums, settings_.width, settings_.height));
             });
             checkpointed = done;
         }
@@ -322,7 +322,7 @@ RenderResult ReferenceRenderer::renderRange(uint32_t firstSample, uint32_t endSa
     if (checkpoint && result.stopped != StopReason::None && (done != checkpointed || most > done)) {
         const double renderMs = schedule.renderMs();
         schedule.take(renderMs, [&] {
-            checkpoint(done, renderMs, 0.0, averageOf(sums, settings_.width, settings_.height));
+            checkpoint(done, renderMs, kNoGpuTime, averageOf(sums, settings_.width, settings_.height));
         });
     }
     result.fewestSamples = done - first;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 
 #include "common/render_settings.h"
 #include "common/stop_condition.h"
@@ -25,8 +26,11 @@ struct RenderResult {
 using ProgressCallback = std::function<void(uint64_t done, uint64_t total)>;
 
 // Called with the image so far at checkpoints of a progressive render: samples per pixel done, render time
-// so far (checkpoints excluded) and GPU time (0 on the CPU).
+// so far (checkpoints excluded) and GPU time (kNoGpuTime on the CPU, and for a job of several ranks).
 using CheckpointCallback =
     std::function<void(uint32_t samples, double renderMs, double gpuMs, const Image& image)>;
+
+// The GPU time of a checkpoint that has none of its own (reports leave it empty, null in JSON).
+inline constexpr double kNoGpuTime = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace vkrt

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -65,8 +66,9 @@ class GltfConverter {
     std::vector<InstancePose> meshPoses(int nodeIndex, const Poses& poses, const std::string& where);
     // The node's morph-target weights at rest: its own, else its mesh's, else zero (glTF 2.0 3.7.2.2).
     std::vector<double> restWeights(int nodeIndex, const std::string& where) const;
-    // Which morph targets of each mesh some node weighs (at rest or by an animation): only they are read.
-    void markLiveTargets();
+    // Which morph targets of each mesh some node weighs (at rest or by an animation), and which meshes some
+    // node skins: only their targets, and their joints and weights, are read.
+    void markDeformations();
     // A node's world transform at each pose time (a skin's joints can be anywhere in the graph).
     const Poses& worldOf(int nodeIndex);
     // A skin's joint matrices at each pose time: each joint's world transform times its inverse bind matrix
@@ -85,6 +87,7 @@ class GltfConverter {
     std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
     std::map<int, std::vector<std::vector<glm::dmat4>>> skinJoints_;  // by skin: per pose, per joint
     std::map<int, std::vector<bool>> liveTargets_;                    // by mesh: per morph target
+    std::set<int> skinnedMeshes_;
 };
 
 // The most triangles a mesh's primitives can make, from their accessors' counts (zero for what the decoder
@@ -118,7 +121,7 @@ Scene GltfConverter::convert() {
     scene.origin = approximateCenter(context_, roots);
     recentre_ = glm::translate(glm::dmat4(1.0), -scene.origin);
     chooseShutter();
-    markLiveTargets();
+    markDeformations();
     meshes_.setReserve([this](uint64_t bytes, const std::string& what) { reserveBytes(bytes, what); });
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
 
@@ -304,11 +307,12 @@ std::vector<double> GltfConverter::restWeights(int nodeIndex, const std::string&
     return given;
 }
 
-void GltfConverter::markLiveTargets() {
+void GltfConverter::markDeformations() {
     const tinygltf::Model& model = context_.model;
     for (size_t n = 0; n < model.nodes.size(); ++n) {
         const tinygltf::Node& node = model.nodes[n];
         if (node.mesh < 0 || node.mesh >= static_cast<int>(model.meshes.size())) continue;
+        if (node.skin >= 0) skinnedMeshes_.insert(node.mesh);
         const std::vector<double>& given =
             node.weights.empty() ? model.meshes[node.mesh].weights : node.weights;
         const bool animated = animations_.animatesWeights(static_cast<int>(n));
@@ -318,6 +322,7 @@ void GltfConverter::markLiveTargets() {
             live[t] = live[t] || animated || (t < given.size() && given[t] != 0.0);
     }
     meshes_.setLiveTargets(&liveTargets_);
+    meshes_.setSkinnedMeshes(&skinnedMeshes_);
 }
 
 void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what) {

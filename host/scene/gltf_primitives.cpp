@@ -214,7 +214,9 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
         }
         decoded.targets.push_back(std::move(target));
     }
-    // Joints and their weights, four per set; a second set adds four more influences.
+    // Joints and their weights, four per set; a second set adds four more influences. A mesh no node skins
+    // keeps its vertices where its nodes put them, and its JOINTS and WEIGHTS are not read.
+    if (skinnedMeshes_ && !skinnedMeshes_->count(meshIndex)) return;
     for (int set = 0; set < 2; ++set) {
         const std::string jointsName = set == 0 ? "JOINTS_0" : "JOINTS_1";
         const std::string weightsName = set == 0 ? "WEIGHTS_0" : "WEIGHTS_1";

@@ -72,6 +72,8 @@ class MeshInstancer {
 
     // By mesh, which morph targets some node weighs: the others are not read (all are, without this).
     void setLiveTargets(const std::map<int, std::vector<bool>>* live) { liveTargets_ = live; }
+    // The meshes some node skins: the others' joints and weights are not read (all are, without this).
+    void setSkinnedMeshes(const std::set<int>* skinned) { skinnedMeshes_ = skinned; }
     // Counts the host memory that decoded morph targets take (throws when it is more than is available).
     void setReserve(std::function<void(uint64_t bytes, const std::string& what)> reserve) {
         reserve_ = std::move(reserve);
@@ -102,6 +104,7 @@ class MeshInstancer {
     std::set<int> skippedModes_;
     std::set<std::string> ignoredTargetAttributes_;  // morph targets' TEXCOORD_n, COLOR_n, ...
     const std::map<int, std::vector<bool>>* liveTargets_ = nullptr;
+    const std::set<int>* skinnedMeshes_ = nullptr;
     std::function<void(uint64_t, const std::string&)> reserve_;
 };
 
