@@ -87,7 +87,7 @@ class GltfConverter {
     std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
     std::map<int, std::vector<std::vector<glm::dmat4>>> skinJoints_;  // by skin: per pose, per joint
     std::map<int, std::vector<bool>> liveTargets_;                    // by mesh: per morph target
-    std::set<int> skinnedMeshes_;
+    std::set<int> skinnedMeshes_;                                     // meshes some node skins
 };
 
 // The most triangles a mesh's primitives can make, from their accessors' counts (zero for what the decoder
@@ -366,8 +366,9 @@ const std::vector<std::vector<glm::dmat4>>& GltfConverter::skinJoints(int skinIn
     if (found != skinJoints_.end()) return found->second;
     const tinygltf::Skin& skin = context_.model.skins[static_cast<size_t>(skinIndex)];
     const std::string where = describe("skin", skinIndex, skin.name);
-    // The joints' matrices at each pose, and their inverse bind matrices read, before any is made.
-    reserveBytes(static_cast<uint64_t>(skin.joints.size()) * (poseTimes_.size() + 1) * sizeof(glm::dmat4),
+    // The joints' world transforms and matrices at each pose, and their inverse bind matrices, before any is
+    // made.
+    reserveBytes(static_cast<uint64_t>(skin.joints.size()) * (2 * poseTimes_.size() + 1) * sizeof(glm::dmat4),
                  where + "'s " + std::to_string(skin.joints.size()) + " joints");
     std::vector<glm::dmat4> inverseBinds(skin.joints.size(), glm::dmat4(1.0));  // the identity where none
     if (skin.inverseBindMatrices >= 0) {
