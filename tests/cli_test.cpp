@@ -16,7 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "app/progress_bar.h"
+#include "gpu/gpu_scene.h"
 #include "image/image_io.h"
+#include "support/gltf_document.h"
 #include "support/run_command.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
@@ -270,7 +272,7 @@ TEST(Cli, TimeLimitWritesTheImageWithFewerSamples) {
     EXPECT_TRUE(std::filesystem::exists(folder / "c.exr"));
 }
 
-// The GPU's single-precision triangle test holds to 1e18 from the scene's middle: a scene that reaches 1e30
+// The GPU's single-precision triangle test holds to 1e12 from the scene's middle: a scene that reaches 1e30
 // is refused there with one line naming the way out (its triangles vanished silently), and the CPU renders
 // it.
 TEST(Cli, SceneBeyondTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
@@ -293,7 +295,7 @@ TEST(Cli, SceneBeyondTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
     const auto gpu = test::runVkrt("--scene " + quoted(scene) + " --device gpu --width 8 --spp 1 --out " +
                                    quoted(folder / "gpu.pfm"));
     EXPECT_EQ(gpu.exitCode, 2) << gpu.output;
-    EXPECT_NE(gpu.output.find("the GPU's single-precision tests hold to 1e18 (--device cpu renders it)"),
+    EXPECT_NE(gpu.output.find("the GPU's single-precision tests hold to 1e12 (--device cpu renders it)"),
               std::string::npos)
         << gpu.output;
     EXPECT_FALSE(std::filesystem::exists(folder / "gpu.pfm"));
@@ -302,6 +304,30 @@ TEST(Cli, SceneBeyondTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
     ASSERT_EQ(cpu.exitCode, 0) << cpu.output;
     for (const glm::vec3& pixel : readImage((folder / "cpu.pfm").string()).pixels)
         EXPECT_NEAR(pixel.x, 1.0f, 1e-6f);
+    // The test's products are of three coordinates relative to the ray's origin: a unit triangle seen from
+    // 1e13 away vanished on the GPU too (the CPU saw it), and so did one 1e13 across.
+    for (const double far : {1e13, 1e11}) {
+        test::GltfDocument d;
+        const int positions = d.floats({-1, -1, 0, 1, -1, 0, 0, 1, 0}, "VEC3");
+        d.json["accessors"][positions]["min"] = {-1, -1, 0};
+        d.json["accessors"][positions]["max"] = {1, 1, 0};
+        d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
+        d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 1e-12}, {"znear", 1.0}}}}};
+        d.node({{"mesh", 0}});
+        d.node({{"camera", 0}, {"translation", {0.0, 0.0, far}}});
+        const auto farScene = folder / "far.gltf";
+        d.write(farScene);
+        const auto run = test::runVkrt("--scene " + quoted(farScene) +
+                                       " --device gpu --width 8 --spp 1 --out " + quoted(folder / "far.pfm"));
+        if (far > kGpuReach) {
+            EXPECT_EQ(run.exitCode, 2) << run.output;
+            EXPECT_NE(run.output.find("the camera is 1e+13 units from the scene's middle"), std::string::npos)
+                << run.output;
+        } else {
+            ASSERT_EQ(run.exitCode, 0) << run.output;
+            EXPECT_GT(readImage((folder / "far.pfm").string()).at(4, 4).x, 0.0f) << "the triangle is seen";
+        }
+    }
 }
 
 TEST(Cli, RendersEveryFormatAndWritesStats) {

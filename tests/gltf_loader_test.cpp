@@ -15,6 +15,7 @@
 #include "scene/mipmaps.h"
 #include "scene/scene_error.h"
 #include "scene/tangent_frames.h"
+#include "support/gltf_document.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
 #include "texture_sampling.h"
@@ -503,6 +504,20 @@ TEST(GltfLoader, ExtensionPathsAndOtherToolsExtrasAreAccepted) {
 // Positions are stored relative to where the scene's detail is: a ground sphere of radius 1e5 under small
 // objects does not pull the origin towards its centre (the middle of all bounds lay 5e4 below them, where the
 // GPU's float positions kept a hundredth of a unit and contact shadows differed from the CPU's).
+// Finite corners near float's range load: they were checked by their float sum, which overflowed
+// (2.5e38 + 2.3e38 is infinite) and refused the triangle as moved out of range.
+TEST(GltfLoader, CornersNearFloatsRangeLoad) {
+    test::GltfDocument d;
+    const int positions = d.floats(
+        {1.28e38f, -2.59e38f, -1.91e38f, -1.97e38f, 2.54e38f, -1.53e38f, 2.30e38f, 0.95e38f, -1.71e38f},
+        "VEC3");
+    d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
+    d.node({{"mesh", 0}});
+    const auto file = test::temporaryFolder() / "wide.gltf";
+    d.write(file);
+    EXPECT_EQ(loadGltf(file.string()).triangles.size(), 1u);
+}
+
 TEST(GltfLoader, HugeGroundDoesNotPullTheOriginAway) {
     const std::filesystem::path file = test::temporaryFolder() / "ground.gltf";
     test::writeText(file, R"({

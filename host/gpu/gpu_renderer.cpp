@@ -47,6 +47,14 @@ DispatchPlanner plannerFor(const GpuRenderOptions& options, const VulkanContext&
                            (invocations + width - 1) / width, cpuDevice ? VKRT_LLVMPIPE_LOOP_BUDGET : 0u);
 }
 
+// The scene packed for the GPU, once it and the camera are within the GPU's reach (a camera far away also
+// made every triangle test overflow).
+GpuSceneData packWithinReach(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
+                             const SceneFeatures* features) {
+    checkGpuReach(scene, &camera.position);
+    return packScene(scene, bvh, features);
+}
+
 }  // namespace
 
 GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
@@ -55,7 +63,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     : context_(context),
       settings_(settings),
       options_(options),
-      data_(packScene(scene, bvh, options.allFeatures ? &kAllFeatures : nullptr)),
+      data_(packWithinReach(scene, bvh, camera, options.allFeatures ? &kAllFeatures : nullptr)),
       planner_(plannerFor(options, context, settings)) {
     report_.packMs = millisecondsSince(constructed_);
     report_.targetDispatchMs = planner_.targetMs();

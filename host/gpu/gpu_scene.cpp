@@ -122,22 +122,34 @@ void packSolids(const Scene& scene, const LightTable& lights, GpuSceneData& data
 
 }  // namespace
 
-GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
-    // The GPU's watertight triangle test multiplies coordinates relative to the ray in single precision:
-    // beyond about 1e19 from the scene's middle the products overflow and every test fails, silently (a
-    // triangle with corners at 1e30 vanished). The CPU reference, in double precision, renders such scenes.
-    constexpr float kGpuReach = 1e18f;
-    float reach = 0.0f;
-    for (int axis = 0; axis < 3; ++axis)
-        reach = std::max({reach, std::abs(scene.bounds.min[axis]), std::abs(scene.bounds.max[axis])});
-    if (!scene.bounds.empty() && !(reach <= kGpuReach)) {
-        char extent[32];
-        std::snprintf(extent, sizeof extent, "%.3g", static_cast<double>(reach));
-        throw SceneError(
-            scene.sourcePath + ": the scene reaches " + extent +
-            " units from its middle; the GPU's single-precision tests hold to 1e18 (--device cpu "
-            "renders it)");
+void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
+    // The GPU's watertight triangle test multiplies three coordinates relative to the ray's origin in single
+    // precision (its distance's numerator): beyond about 7e12 the products overflow and every test fails,
+    // silently (a triangle 1e13 across, or seen from 1e13 away, vanished; one at 1e12 rendered as on the
+    // CPU). The CPU reference, in double precision, renders such scenes.
+    double reach = 0.0;
+    if (!scene.bounds.empty()) {
+        for (int axis = 0; axis < 3; ++axis) {
+            reach = std::max({reach, std::abs(static_cast<double>(scene.bounds.min[axis])),
+                              std::abs(static_cast<double>(scene.bounds.max[axis]))});
+        }
     }
+    const char* what = "the scene reaches";
+    if (eye && glm::length(*eye) > reach) {
+        reach = glm::length(*eye);
+        what = "the camera is";
+    }
+    if (!(reach <= kGpuReach)) {
+        char extent[32];
+        std::snprintf(extent, sizeof extent, "%.3g", reach);
+        throw SceneError(scene.sourcePath + ": " + what + " " + extent +
+                         " units from the scene's middle; the GPU's single-precision tests hold to 1e12 "
+                         "(--device cpu renders it)");
+    }
+}
+
+GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {
+    checkGpuReach(scene, nullptr);
     GpuSceneData data;
     data.features = features ? *features : detectFeatures(scene);
     data.nodes = collapseToWide(bvh);

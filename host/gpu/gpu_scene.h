@@ -60,6 +60,13 @@ struct GpuSceneData {
 // compiles and packs paths the scene does not need, which tests use to show leaving them out is exact).
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features = nullptr);
 
+// How far from the scene's middle (the re-centred origin) the GPU's single-precision triangle test holds.
+inline constexpr double kGpuReach = 1e12;
+
+// Throws SceneError, naming --device cpu, when the scene, or the camera at `eye` (when given), is farther
+// from its middle than kGpuReach. packScene checks the scene.
+void checkGpuReach(const Scene& scene, const glm::dvec3* eye);
+
 // The device memory each of the scene's buffers will take, by name (empty arrays take none).
 MemoryNeed sceneBufferNeed(const GpuSceneData& data);
 

@@ -356,6 +356,14 @@ glm::dvec3 morphed(const std::vector<float>& base, int stride, const std::vector
     return value;
 }
 
+// Whether every corner coordinate is finite (each on its own: their float sum overflowed for finite corners
+// near float's range).
+bool cornersFinite(const Triangle& t) {
+    for (const glm::vec3& corner : {t.v0, t.v1, t.v2})
+        if (!std::isfinite(corner.x) || !std::isfinite(corner.y) || !std::isfinite(corner.z)) return false;
+    return true;
+}
+
 // The transform of vertex `v` of a skinned primitive at `pose`: its joints' matrices weighted (glTF 2.0
 // section 3.7.3.3), the weights scaled to sum to 1 (8-bit weights rarely sum to it exactly); the node's own
 // transform for a vertex that no joint weighs.
@@ -455,8 +463,7 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
         }
         // Place the triangle at the shutter's opening; drop it when it has no area.
         Triangle triangle{placed[face[0]], placed[face[1]], placed[face[2]], material};
-        if (!std::isfinite(triangle.v0.x + triangle.v0.y + triangle.v0.z + triangle.v1.x + triangle.v1.y +
-                           triangle.v1.z + triangle.v2.x + triangle.v2.y + triangle.v2.z)) {
+        if (!cornersFinite(triangle)) {
             context_.fail(where + " has a vertex that its node transform moves out of floating-point range");
         }
         const glm::dvec3 cross = glm::cross(glm::dvec3(triangle.v1) - glm::dvec3(triangle.v0),
@@ -538,8 +545,7 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
         for (size_t i = 0; i < kept.size(); ++i) {
             const std::array<uint32_t, 3>& face = kept[i];
             const Triangle pose{placed[face[0]], placed[face[1]], placed[face[2]], material};
-            if (!std::isfinite(pose.v0.x + pose.v0.y + pose.v0.z + pose.v1.x + pose.v1.y + pose.v1.z +
-                               pose.v2.x + pose.v2.y + pose.v2.z)) {
+            if (!cornersFinite(pose)) {
                 context_.fail(where + " has a vertex that its animation moves out of floating-point range");
             }
             later[firstPose + i * segments + (k - 1)] = pose;
