@@ -500,6 +500,18 @@ TEST(Bvh, SahCostOfASingleLeafIsItsPrimitiveCount) {
     EXPECT_DOUBLE_EQ(measureBvh(bvh, config).sahCost, 2.0);  // identical centroids: one leaf of two
 }
 
+// A scene wider than about 1e19 has a root area beyond float: the cost, measured in double, stays finite (it
+// came out NaN, and the stats wrote null).
+TEST(Bvh, SahCostOfAVeryWideSceneIsFinite) {
+    const std::vector<Triangle> wide{{{-3e20f, 0, 0}, {-3e20f, 1e20f, 0}, {-3e20f, 0, 1e20f}, 0},
+                                     {{3e20f, 0, 0}, {3e20f, 1e20f, 0}, {3e20f, 0, 1e20f}, 0}};
+    const BvhConfig config;
+    const Bvh bvh = BinnedSahBuilder::build(triangleBounds(wide), config);
+    const double cost = measureBvh(bvh, config).sahCost;
+    EXPECT_TRUE(std::isfinite(cost)) << cost;
+    EXPECT_GT(cost, 0.0);
+}
+
 TEST(BvhTraversal, ClosestHitMatchesBruteForceOnSphere) {
     expectClosestHitsMatchBruteForce(makeUvSphere(glm::vec3(0.5f), 0.4f, 40, 80), 100000, "sphere");
 }

@@ -321,7 +321,13 @@ BvhStats measureBvh(const Bvh& bvh, const BvhConfig& config) {
         stats.depth = 1;
         return stats;
     }
-    const float rootArea = bvh.nodes[0].bounds.surfaceArea();
+    // Areas in double: a scene wider than about 1e19 has a root area beyond float, and its cost came out NaN.
+    const auto area = [](const Aabb& box) {
+        if (box.empty()) return 0.0;
+        const glm::dvec3 e = glm::dvec3(box.max) - glm::dvec3(box.min);
+        return 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+    };
+    const double rootArea = area(bvh.nodes[0].bounds);
     // Walk the tree with an explicit stack of (node, level).
     std::vector<std::pair<uint32_t, int>> stack{{0u, 1}};
     while (!stack.empty()) {
@@ -329,7 +335,7 @@ BvhStats measureBvh(const Bvh& bvh, const BvhConfig& config) {
         stack.pop_back();
         const BvhBuildNode& node = bvh.nodes[index];
         stats.depth = std::max(stats.depth, level);
-        const double relativeArea = rootArea > 0.0f ? node.bounds.surfaceArea() / rootArea : 0.0;
+        const double relativeArea = rootArea > 0.0 ? area(node.bounds) / rootArea : 0.0;
         if (node.isLeaf()) {
             ++stats.leaves;
             stats.sahCost += relativeArea * config.intersectionCost * node.primCount;
