@@ -721,7 +721,7 @@ TEST(BadInput, DeepHierarchyLoads) {
     writeJson(file, d);
     const Scene scene = loadGltf(file.string());
     ASSERT_EQ(scene.triangles.size(), 1u);
-    EXPECT_EQ(scene.triangles[0].v0.z, 1.0f);
+    EXPECT_EQ(scene.triangles[0].v0.z + scene.origin.z, 1.0);
 }
 
 TEST(BadInput, ValidAnimationLoadsAndMoves) {

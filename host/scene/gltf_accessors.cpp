@@ -130,9 +130,11 @@ constexpr size_t kMaxSparseOnlyElements = size_t{1} << 26;
 }  // namespace
 
 std::vector<double> AccessorReader::readComponents(int accessorIndex, int components, bool wantIndices,
-                                                   const std::string& what, size_t firstElements) const {
+                                                   const std::string& what, size_t firstElements,
+                                                   size_t step) const {
     const size_t accessorCount = count(accessorIndex, what);
-    const size_t elementCount = std::min(accessorCount, firstElements);  // the elements read
+    // The elements read: 0, step, 2 step, ..., at most firstElements of them.
+    const size_t elementCount = std::min(accessorCount / step + (accessorCount % step != 0), firstElements);
     const tinygltf::Accessor& accessor = model_.accessors[accessorIndex];
     const std::string name = "accessor " + std::to_string(accessorIndex) + " (" + what + ")";
 
@@ -199,7 +201,10 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
     // with sparse values alone has no data to bound its count.
     std::optional<ElementRun> run;
     if (accessor.bufferView >= 0) {
-        run = locate(accessor.bufferView, accessor.byteOffset, elementCount, elementSize, name);
+        // Bounds checked up to the last element read.
+        const size_t span = elementCount == 0 ? 0 : (elementCount - 1) * step + 1;
+        run = locate(accessor.bufferView, accessor.byteOffset, span, elementSize, name);
+        run->stride *= step;
     } else if (elementCount > kMaxSparseOnlyElements) {
         fail(name + " has " + std::to_string(elementCount) + " elements and no bufferView; vkrt reads at most " +
              std::to_string(kMaxSparseOnlyElements) + " such");
@@ -239,8 +244,9 @@ std::vector<double> AccessorReader::readComponents(int accessorIndex, int compon
                 fail(name + " has a sparse index " + std::to_string(static_cast<uint64_t>(target)) +
                      " out of range");
             }
-            if (target >= static_cast<double>(elementCount)) continue;  // beyond the elements read
-            const size_t at = static_cast<size_t>(target);
+            const size_t element = static_cast<size_t>(target);
+            if (element % step != 0 || element / step >= elementCount) continue;  // not among those read
+            const size_t at = element / step;
             for (int c = 0; c < components; ++c) {
                 values[at * components + c] = decodeComponent(replacements.data + i * elementSize + c * size,
                                                               accessor.componentType, accessor.normalized);
@@ -256,6 +262,14 @@ std::vector<float> AccessorReader::readFloats(int accessorIndex, int components,
     std::vector<float> result(values.size());
     for (size_t i = 0; i < values.size(); ++i) result[i] = static_cast<float>(values[i]);
     return result;
+}
+
+std::vector<float> AccessorReader::sampleFloats(int accessorIndex, int components, const std::string& what,
+                                                size_t maxElements) const {
+    const size_t n = count(accessorIndex, what);
+    const size_t step = n <= maxElements ? 1 : n / maxElements + (n % maxElements != 0);
+    std::vector<double> values = readComponents(accessorIndex, components, false, what, SIZE_MAX, step);
+    return std::vector<float>(values.begin(), values.end());
 }
 
 std::vector<uint32_t> AccessorReader::readIndices(int accessorIndex, const std::string& what) const {

@@ -31,6 +31,11 @@ class AccessorReader {
     std::vector<float> readFloats(int accessorIndex, int components, const std::string& what,
                                   size_t firstElements = SIZE_MAX) const;
 
+    // At most `maxElements` elements spread evenly over the accessor (elements 0, k, 2k, ...), read as
+    // readFloats reads them.
+    std::vector<float> sampleFloats(int accessorIndex, int components, const std::string& what,
+                                    size_t maxElements) const;
+
     // Reads a scalar unsigned-integer accessor (mesh indices).
     std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what) const;
 
@@ -43,7 +48,8 @@ class AccessorReader {
   private:
     [[noreturn]] void fail(const std::string& message) const;
     std::vector<double> readComponents(int accessorIndex, int components, bool wantIndices,
-                                       const std::string& what, size_t firstElements = SIZE_MAX) const;
+                                       const std::string& what, size_t firstElements = SIZE_MAX,
+                                       size_t step = 1) const;
 
     const tinygltf::Model& model_;
     std::string file_;

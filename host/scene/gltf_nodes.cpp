@@ -5,11 +5,13 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include <tiny_gltf.h>
 
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_transforms.h"
+#include "scene/scene_error.h"
 
 namespace vkrt {
 
@@ -80,12 +82,12 @@ void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots) {
 
 namespace {
 
-// A part of the scene as approximateCenter sees it: the world box of a mesh primitive's POSITION bounds, or
-// of a sphere or shape.
+// A part of the scene as approximateCenter sees it: a mesh primitive, a sphere or a shape, as the world box
+// around it and the point that stands for it (a box's centre, or the median of a primitive's vertices).
 struct Part {
     glm::dvec3 centre;
-    glm::dvec3 halfSize;
-    double size() const { return std::max({halfSize.x, halfSize.y, halfSize.z}); }
+    glm::dvec3 low, high;
+    double size() const { return 0.5 * std::max({high.x - low.x, high.y - low.y, high.z - low.z}); }
 };
 
 // The world half-size of a local box of half-size `half` under `world`'s linear part.
@@ -95,8 +97,9 @@ glm::dvec3 worldHalfSize(const glm::dmat4& world, const glm::dvec3& half) {
     return result;
 }
 
-// Per axis, the median of `points` (the lower of the middle two for an even count).
-glm::dvec3 medianOf(const std::vector<glm::dvec3>& points) {
+// Per axis, the median of `points`: for an even count the lower of the middle two, or, `averaged`, their
+// mean (a rectangle's four corners have their centre as their median).
+glm::dvec3 medianOf(const std::vector<glm::dvec3>& points, bool averaged = false) {
     glm::dvec3 median;
     std::vector<double> values(points.size());
     for (int axis = 0; axis < 3; ++axis) {
@@ -104,8 +107,60 @@ glm::dvec3 medianOf(const std::vector<glm::dvec3>& points) {
         const auto middle = values.begin() + static_cast<std::ptrdiff_t>((values.size() - 1) / 2);
         std::nth_element(values.begin(), middle, values.end());
         median[axis] = *middle;
+        if (averaged && values.size() % 2 == 0)
+            median[axis] += 0.5 * (*std::min_element(middle + 1, values.end()) - *middle);
     }
     return median;
+}
+
+// The vertices approximateCenter reads of a primitive, at most: enough for a median that a few stray
+// vertices do not move, few enough that a million-vertex mesh costs nothing.
+constexpr size_t kCentreSamples = 4096;
+
+// A mesh primitive's part in its mesh's frame: the median of (a sample of) its vertices, which a few far
+// triangles do not move where they stretch its bounds (one triangle 1e17 away, in the same primitive as
+// thousands of small ones, put the middle at 5e16 and the small ones, stored in float about it, vanished),
+// in the box of its POSITION bounds, or of the vertices read where the file gives none. Nothing where the
+// positions do not read: the walk reports why.
+std::optional<Part> primitivePart(const GltfContext& context, int positionAccessor) {
+    std::vector<float> values;
+    try {
+        values = context.accessors.sampleFloats(positionAccessor, 3, "POSITION", kCentreSamples);
+    } catch (const SceneError&) {
+        return std::nullopt;
+    }
+    std::vector<glm::dvec3> points;
+    for (size_t i = 0; i + 2 < values.size(); i += 3) {
+        const glm::dvec3 p(values[i], values[i + 1], values[i + 2]);
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) points.push_back(p);
+    }
+    if (points.empty()) return std::nullopt;
+    Part part{medianOf(points, true), points[0], points[0]};
+    const tinygltf::Accessor& accessor = context.model.accessors[static_cast<size_t>(positionAccessor)];
+    if (accessor.minValues.size() == 3 && accessor.maxValues.size() == 3) {
+        // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
+        for (int axis = 0; axis < 3; ++axis) {
+            part.low[axis] =
+                normalizedValue(accessor.minValues[axis], accessor.componentType, accessor.normalized);
+            part.high[axis] =
+                normalizedValue(accessor.maxValues[axis], accessor.componentType, accessor.normalized);
+        }
+    } else {
+        for (const glm::dvec3& p : points) {
+            part.low = glm::min(part.low, p);
+            part.high = glm::max(part.high, p);
+        }
+    }
+    part.centre = glm::clamp(part.centre, glm::min(part.low, part.high), glm::max(part.low, part.high));
+    return part;
+}
+
+// `part` under `world`: its point mapped, its box the world box around the mapped one.
+Part placed(const Part& part, const glm::dmat4& world) {
+    const glm::dvec3 middle = 0.5 * (part.low + part.high);
+    const glm::dvec3 half = worldHalfSize(world, 0.5 * glm::abs(part.high - part.low));
+    const glm::dvec3 centre = glm::dvec3(world * glm::dvec4(middle, 1.0));
+    return {glm::dvec3(world * glm::dvec4(part.centre, 1.0)), centre - half, centre + half};
 }
 
 }  // namespace
@@ -136,10 +191,9 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         return placements[skinIndex] = world * inverseBind;
     };
     std::vector<Part> parts;
-    auto add = [&](const glm::dvec3& centre, const glm::dvec3& halfSize) {
-        if (std::isfinite(centre.x + centre.y + centre.z) &&
-            std::isfinite(halfSize.x + halfSize.y + halfSize.z))
-            parts.push_back({centre, halfSize});
+    auto add = [&](const Part& part) {
+        const glm::dvec3 sum = part.centre + part.low + part.high;
+        if (std::isfinite(sum.x + sum.y + sum.z) && std::isfinite(part.size())) parts.push_back(part);
     };
     // Depth first with a stack of its own: a hierarchy can be deeper than the call stack.
     std::vector<std::pair<int, glm::dmat4>> pending;
@@ -161,30 +215,18 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                     position->second >= static_cast<int>(model.accessors.size())) {
                     continue;
                 }
-                const tinygltf::Accessor& accessor = model.accessors[position->second];
-                if (accessor.minValues.size() != 3 || accessor.maxValues.size() != 3) continue;
-                // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
-                glm::dvec4 centre(0.0, 0.0, 0.0, 1.0);
-                glm::dvec3 half(0.0);
-                for (int axis = 0; axis < 3; ++axis) {
-                    const double low = normalizedValue(accessor.minValues[axis], accessor.componentType,
-                                                       accessor.normalized);
-                    const double high = normalizedValue(accessor.maxValues[axis], accessor.componentType,
-                                                        accessor.normalized);
-                    centre[axis] = 0.5 * (low + high);
-                    half[axis] = 0.5 * std::abs(high - low);
-                }
-                add(glm::dvec3(meshWorld * centre), worldHalfSize(meshWorld, half));
+                if (const std::optional<Part> part = primitivePart(context, position->second))
+                    add(placed(*part, meshWorld));
             }
         }
         // A sphere of its radius, a shape of its canonical [-1, 1]^3, about the node's origin.
         if (auto sphere = node.extensions.find("VKRT_sphere"); sphere != node.extensions.end()) {
             const tinygltf::Value& radius = sphere->second.Get("radius");
             const double r = radius.IsNumber() ? std::abs(radius.GetNumberAsDouble()) : 0.0;
-            add(glm::dvec3(world[3]), worldHalfSize(world, glm::dvec3(r)));
+            add(placed({glm::dvec3(0.0), glm::dvec3(-r), glm::dvec3(r)}, world));
         }
         if (node.extensions.count("VKRT_shape"))
-            add(glm::dvec3(world[3]), worldHalfSize(world, glm::dvec3(1.0)));
+            add(placed({glm::dvec3(0.0), glm::dvec3(-1.0), glm::dvec3(1.0)}, world));
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             pending.emplace_back(*child, world);
     }
@@ -203,12 +245,23 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
     const glm::dvec3 typicalMedian = medianOf(typical);  // never empty: the median part is typical
     std::vector<glm::dvec3> representatives;
     for (const Part& part : parts) {
-        representatives.push_back(
-            part.size() <= large
-                ? part.centre
-                : glm::clamp(typicalMedian, part.centre - part.halfSize, part.centre + part.halfSize));
+        representatives.push_back(part.size() <= large ? part.centre
+                                                       : glm::clamp(typicalMedian, part.low, part.high));
     }
-    return medianOf(representatives);
+    glm::dvec3 centre = medianOf(representatives);
+    // Every part's box stays within float's range about the centre (a triangle with corners near float's
+    // range, about one of them, would reach past it), where it can.
+    constexpr double kRoom = 0.999 * std::numeric_limits<float>::max();
+    glm::dvec3 lowest(-std::numeric_limits<double>::infinity()),
+        highest(std::numeric_limits<double>::infinity());
+    for (const Part& part : parts) {
+        lowest = glm::max(lowest, part.high - kRoom);
+        highest = glm::min(highest, part.low + kRoom);
+    }
+    for (int axis = 0; axis < 3; ++axis)
+        if (lowest[axis] <= highest[axis])
+            centre[axis] = std::clamp(centre[axis], lowest[axis], highest[axis]);
+    return centre;
 }
 
 }  // namespace vkrt
