@@ -10,10 +10,12 @@ VKRT_SHADING_BEGIN
 
 VKRT_FN real maxComponent(real3 v) { return max(v.x, max(v.y, v.z)); }
 
-// A value given at a triangle's corners, at barycentric weights uv of corners 1 and 2.
-VKRT_FN real2 barycentric(real2 a, real2 b, real2 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
-VKRT_FN real3 barycentric(real3 a, real3 b, real3 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
-VKRT_FN real4 barycentric(real4 a, real4 b, real4 c, real2 uv) { return (1.0 - uv.x - uv.y) * a + uv.x * b + uv.y * c; }
+// A value given at a triangle's corners, at barycentric weights uv of corners 1 and 2. As corner 0 plus the
+// differences, so that equal corners give their value exactly: weights summing to 1 in rounded arithmetic
+// made a white vertex colour 0.99999994, and an alpha equal to its MASK cutoff fell below it.
+VKRT_FN real2 barycentric(real2 a, real2 b, real2 c, real2 uv) { return a + uv.x * (b - a) + uv.y * (c - a); }
+VKRT_FN real3 barycentric(real3 a, real3 b, real3 c, real2 uv) { return a + uv.x * (b - a) + uv.y * (c - a); }
+VKRT_FN real4 barycentric(real4 a, real4 b, real4 c, real2 uv) { return a + uv.x * (b - a) + uv.y * (c - a); }
 
 VKRT_FN real maxAbs(real3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
 
