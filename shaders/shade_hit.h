@@ -62,6 +62,7 @@ struct RayState {
     uvec2 media;       // the volumes the ray is inside (media.h)
     real coneWidth;    // the ray's cone (camera.h's cameraCone): its width at the origin
     real coneSpread;   // and its spread angle
+    bool backdrop;     // a camera ray, or one only passed through surfaces since: it sees the background
 };
 
 // Where a ray met a surface, as the device computed it in its own precision.
@@ -140,6 +141,7 @@ VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint 
     ray.media = media;
     ray.coneWidth = 0.0;
     ray.coneSpread = 0.0;
+    ray.backdrop = depth == 0;
     return ray;
 }
 
@@ -497,11 +499,12 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
 
 // Radiance reaching `ray` from beyond the scene: the environment, weighed against light sampling when a
 // glossy lobe chose the ray (as emission is in shadeHit), else the constant background. An environment that
-// only lights the scene (the neutral default) is not seen by camera rays: they see the background.
+// only lights the scene (the neutral default) is not seen by camera rays, nor through transmissive surfaces
+// from the camera: they see the background.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real3 escapedRadiance(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray) {
 #ifdef VKRT_HAS_ENVIRONMENT
-    if (VKRT_DEVICE(hasEnvironment)() && (ray.depth > 0 || context.environmentBackdrop)) {
+    if (VKRT_DEVICE(hasEnvironment)() && (!ray.backdrop || context.environmentBackdrop)) {
         real weight = 1.0;
         if (ray.arrivalPdf > 0.0) {
             weight = context.multipleImportanceSampling
@@ -773,6 +776,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                                 direction, pathThroughput * transmitWeight, childNode(context, ray, 2u),
                                                 ray.depth + 1, frame.excludeBeyond, 0.0, beyond),
                                        coneWidthAt(ray, hit.position), ray.coneSpread);
+        result.transmission.backdrop = ray.backdrop;
     }
 #endif
 #endif  // VKRT_HAS_TRACED_LOBES

@@ -356,10 +356,13 @@ struct CsgCrossing {
 // computed distances differ by rounding); when that changes the table's value, the crossing lies on the first
 // shape whose own toggle would change it (else the first toggled). A shape's exit never joins its own entry's
 // group, however thin the shape: the tie grows with the distance, and a sheet 1e-4 thick seen from 40 units
-// away vanished when it did.
+// away vanished when it did. The tie is relative to the magnitude of the numbers the distances came from,
+// originScale (the ray origin's largest coordinate) + t: faces meant to coincide 300 units from the scene's
+// middle are placed 1.5e-5 apart by their float maps, and a cut flush with a face there, seen from 3 units
+// away, was sealed by a sliver.
 VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_SHAPES],
                          uint faceIn[VKRT_CSG_MAX_SHAPES], uint faceOut[VKRT_CSG_MAX_SHAPES], uint count,
-                         uvec4 tableLow, uvec4 tableHigh, real tAfter, real tLimit,
+                         uvec4 tableLow, uvec4 tableHigh, real tAfter, real tLimit, real originScale,
                          VKRT_OUT(CsgCrossing) crossing) {
     crossing.t = 0.0;
     crossing.shape = 0u;
@@ -386,7 +389,7 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_S
             }
         }
         if (!(next < tLimit)) return false;
-        const real groupEnd = next + VKRT_CSG_TIE * abs(next);
+        const real groupEnd = next + VKRT_CSG_TIE * (abs(next) + originScale);
         uint toggled = 0u;
         for (uint i = 0u; i < count; ++i) {
             const uint bit = 1u << i;

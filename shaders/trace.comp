@@ -44,7 +44,7 @@ struct RayTask {
     vec3 origin;
     uint node;
     vec3 direction;
-    int depth;
+    int depth;  // with transmission and an environment: the depth times 2, plus 1 where it sees the backdrop
     vec3 throughput;
     uint exclude;
     float arrivalPdf;
@@ -62,7 +62,11 @@ RayTask taskOf(RayState ray) {
     task.origin = ray.origin;
     task.node = ray.node;
     task.direction = ray.direction;
-    task.depth = ray.depth;
+#if defined(VKRT_HAS_TRANSMISSION) && defined(VKRT_HAS_ENVIRONMENT)
+    task.depth = 2 * ray.depth + (ray.backdrop ? 1 : 0);
+#else
+    task.depth = ray.depth;  // the backdrop matters only to an environment, and only transmission keeps it
+#endif
     task.throughput = ray.throughput;
     task.exclude = ray.exclude;
     task.arrivalPdf = ray.arrivalPdf;
@@ -82,8 +86,14 @@ RayState stateOf(RayTask task) {
 #else
     const uvec2 media = emptyMedia();
 #endif
+#if defined(VKRT_HAS_TRANSMISSION) && defined(VKRT_HAS_ENVIRONMENT)
+    RayState ray = rayState(task.origin, task.direction, task.throughput, task.node, task.depth >> 1, task.exclude,
+                            task.arrivalPdf, media);
+    ray.backdrop = (task.depth & 1) != 0;
+#else
     const RayState ray = rayState(task.origin, task.direction, task.throughput, task.node, task.depth, task.exclude,
                                   task.arrivalPdf, media);
+#endif
 #ifdef VKRT_HAS_MIPMAPS
     return withCone(ray, task.coneWidth, task.coneSpread);
 #else

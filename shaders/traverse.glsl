@@ -127,13 +127,14 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
     float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
     uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
     solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
+    const float originScale = maxAbs(r.origin);
     CsgCrossing crossing;
     t = u = v = 0.0;
     if (mode == VKRT_TRACE_SHADOW) {
         float after = tMin;
         for (uint k = 0u; k < 2u * VKRT_CSG_MAX_SHAPES; ++k) {
             if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, after,
-                             limit, crossing)) {
+                             limit, originScale, crossing)) {
                 break;
             }
             const uint shape = solid.firstShape + crossing.shape;
@@ -148,7 +149,7 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
         return false;
     }
     if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, tMin, limit,
-                     crossing)) {
+                     originScale, crossing)) {
         return false;
     }
     t = crossing.t;

@@ -669,6 +669,13 @@ TEST(Cli, OptionsThatDoNothingAreSaid) {
                                     " --environment-strength 2 --out " + quoted(folder / "b.png"));
     ASSERT_EQ(used.exitCode, 0) << used.output;
     EXPECT_EQ(used.output.find("warning"), std::string::npos) << used.output;
+    const auto background = test::runVkrt(
+        "--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " + "--environment " +
+        quoted(test::sourceDir() / "scenes/sky.hdr") + " --background 0.5 --out " + quoted(folder / "c.pfm"));
+    ASSERT_EQ(background.exitCode, 0) << background.output;
+    EXPECT_NE(background.output.find("vkrt: warning: --background does nothing with --environment"),
+              std::string::npos)
+        << background.output;
 }
 
 // The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,

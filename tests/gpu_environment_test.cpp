@@ -191,6 +191,37 @@ TEST_F(Gpu, TheNeutralEnvironmentLightsAndIsSeenOnlyInReflections) {
     }
 }
 
+TEST_F(Gpu, TheNeutralEnvironmentIsNotSeenThroughClearGlass) {
+    // Glass of index 1 reflects nothing and bends nothing: through it, as beside it, camera rays see the
+    // background (0.25), not the neutral environment, whose light they once showed there (1), a solid sphere
+    // and a thin-walled one alike, in both integrators.
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        for (const float thickness : {0.0f, 1.0f}) {
+            SCOPED_TRACE(testing::Message() << integratorName(integrator) << ", thickness " << thickness);
+            Scene scene;
+            Material glass = test::lambertian(1.0f);
+            glass.transmission = 1.0f;
+            glass.ior = 1.0f;
+            glass.roughness = 0.0f;
+            glass.thickness = thickness;
+            scene.materials.push_back(glass);
+            scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+            finalizeScene(scene);
+            ASSERT_TRUE(addNeutralEnvironment(RenderRequest{}, scene));
+            const FlatBvh bvh = bvhFor(scene);
+            const Camera camera = orthographic({0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 1.25);
+            RenderSettings settings = darkSettings(16, 4);
+            settings.integrator = integrator;
+            const test::RenderPair pair =
+                test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+            for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
+                EXPECT_EQ(image->at(0, 0), glm::vec3(0.25f)) << "beside the sphere";
+                EXPECT_NEAR(image->at(8, 8).x, 0.25, 1e-6) << "through the sphere";
+            }
+        }
+    }
+}
+
 TEST_F(Gpu, PlaneUnderAPolarCapShowsRLSinSquaredT) {
     // The top row of 32 is a cap of half-angle t = 180 / 32 = 5.625 degrees about +Y.
     const double radiance = 50.0, albedo = 0.5, t = M_PI / 32.0;

@@ -1,20 +1,25 @@
 // Image writers and metrics: exact round trips for linear formats, the sRGB curve, atomic writes.
 #include <cmath>
 #include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <tinyexr.h>
 
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "support/temporary_folder.h"
+#include "support/test_paths.h"
 
 namespace vkrt {
 namespace {
@@ -201,6 +206,94 @@ TEST(ImageMetrics, BlocksCompareTheirMeans) {
     const BlockAgreement strict = compareBlocks(image, reference, 2, 0.04, 0.0);
     EXPECT_DOUBLE_EQ(strict.fractionWithin, 0.5);
     EXPECT_NEAR(within.meanRatio.y, (9.0 + 100.0) / 10.0, 1e-5);  // the whole image's means count every pixel
+}
+
+// A Radiance HDR file cut anywhere before its last byte is refused: stb_image reads past the end as zeros,
+// and a file cut in its run-length data rendered black, or its missing rows as copies of the last texel,
+// without an error. Also files of unencoded texels: rows missing, or no pixel data at all.
+TEST(ImageIo, CutOffRadianceFilesAreRefused) {
+    const auto folder = test::temporaryFolder();
+    const std::filesystem::path sky = test::sourceDir() / "scenes/sky.hdr";
+    std::ifstream in(sky, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const Image whole = readRadianceImage(sky.string());
+    ASSERT_GT(whole.width, 8);
+    const size_t data = bytes.find('\n', bytes.find("\n\n") + 2) + 1;
+    const std::string cut = (folder / "cut.hdr").string();
+    for (size_t end = data; end < bytes.size(); end += 7) {
+        test::writeText(cut, bytes.substr(0, end));
+        EXPECT_THROW(readRadianceImage(cut), ImageError) << "cut at " << end << " of " << bytes.size();
+    }
+    // Unencoded: 4 texels wide (stb_image encodes no scanline narrower than 8), 3 rows.
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 3 +X 4\n";
+    std::string texels;
+    for (int i = 0; i < 12; ++i) texels += std::string("\x80\x80\x80\x81", 4);  // 1.0 each
+    test::writeText(cut, header + texels);
+    EXPECT_EQ(readRadianceImage(cut).at(3, 2), glm::vec3(1.0f));
+    for (const size_t keep : {0, 4, 16, 44, 47}) {
+        test::writeText(cut, header + texels.substr(0, keep));
+        EXPECT_THROW(readRadianceImage(cut), ImageError) << keep << " bytes of texels";
+    }
+}
+
+// An EXR file of channels that are not radiance is refused: LoadEXR read a lone alpha or depth channel as
+// grey radiance, and unsigned integers' bits as floats (7 as 1e-44). RGB and Y alone are read.
+TEST(ImageIo, ExrChannelsThatAreNotRadianceAreRefused) {
+    const auto folder = test::temporaryFolder();
+    const auto write = [&](const std::string& file, const std::vector<std::string>& names, int pixelType) {
+        const size_t texels = 4;
+        std::vector<std::vector<uint32_t>> planes(names.size(), std::vector<uint32_t>(texels));
+        for (auto& plane : planes) {
+            for (uint32_t& word : plane) {
+                const float seven = 7.0f;
+                if (pixelType == TINYEXR_PIXELTYPE_UINT)
+                    word = 7u;
+                else
+                    std::memcpy(&word, &seven, 4);
+            }
+        }
+        std::vector<unsigned char*> pointers;
+        for (auto& plane : planes) pointers.push_back(reinterpret_cast<unsigned char*>(plane.data()));
+        std::vector<EXRChannelInfo> channels(names.size());
+        std::vector<int> types(names.size(), pixelType);
+        for (size_t i = 0; i < names.size(); ++i) {
+            std::memset(&channels[i], 0, sizeof channels[i]);
+            std::snprintf(channels[i].name, sizeof channels[i].name, "%s", names[i].c_str());
+        }
+        EXRHeader header;
+        InitEXRHeader(&header);
+        header.num_channels = static_cast<int>(names.size());
+        header.channels = channels.data();
+        header.pixel_types = types.data();
+        header.requested_pixel_types = types.data();
+        EXRImage image;
+        InitEXRImage(&image);
+        image.num_channels = header.num_channels;
+        image.images = pointers.data();
+        image.width = image.height = 2;
+        const char* error = nullptr;
+        const std::string path = (folder / file).string();
+        EXPECT_EQ(SaveEXRImageToFile(&image, &header, path.c_str(), &error), TINYEXR_SUCCESS)
+            << (error ? error : "");
+        return path;
+    };
+    // Channels sorted by name, as EXR stores them.
+    const std::string rgb = write("rgb.exr", {"B", "G", "R"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string grey = write("y.exr", {"Y"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string alpha = write("a.exr", {"A"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string depth = write("z.exr", {"Z"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string integers = write("uint.exr", {"B", "G", "R"}, TINYEXR_PIXELTYPE_UINT);
+    EXPECT_EQ(readImage(rgb).at(1, 1), glm::vec3(7.0f));
+    EXPECT_EQ(readImage(grey).at(1, 1), glm::vec3(7.0f));
+    for (const std::string& path : {alpha, depth, integers}) {
+        SCOPED_TRACE(path);
+        try {
+            readImage(path);
+            ADD_FAILURE() << "read";
+        } catch (const ImageError& e) {
+            EXPECT_NE(std::string(e.what()).find("cannot read EXR"), std::string::npos) << e.what();
+        }
+    }
 }
 
 }  // namespace

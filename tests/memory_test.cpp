@@ -96,6 +96,58 @@ TEST(HostMemory, EstimateGrowsWithPixelsTrianglesAndTheWayItIsRendered) {
     EXPECT_EQ(estimate(), pixelsOnly + 100000000u) << "a GPU's staging buffer";
     in.deviceInHostMemory = true;
     EXPECT_EQ(estimate(), pixelsOnly + 100000000u + 1000000u * 32) << "lavapipe's texel buffer and accumulation";
+    // An environment map of 10^6 texels: its sampling tables (8 bytes a texel), on the GPU its packed copy
+    // (16) and, on lavapipe, the device's.
+    in = HostMemoryInputs{};
+    in.width = in.height = 1000;
+    in.outputPath = "x.pfm";
+    in.environmentTexels = 1000000;
+    EXPECT_EQ(estimate(), pixelsOnly + 8000000u) << "the CPU reference's tables";
+    in.gpu = true;
+    EXPECT_EQ(estimate(), pixelsOnly + 24000000u) << "the tables and the map packed for the GPU";
+    in.deviceInHostMemory = true;
+    EXPECT_EQ(estimate(), pixelsOnly + 24000000u + 16000000u + 1000000u * 32) << "and lavapipe's copy";
+}
+
+// An environment map is counted before it is decoded: a file of half a megabyte of run-length data can claim
+// 4000 x 2000 texels (192 MB decoded), and took 443 MB under --max-memory 16MiB; decoded, its tables count in
+// the render's estimate.
+TEST(MemoryCli, EnvironmentMapsAreCountedBeforeTheyAreDecoded) {
+    const auto folder = test::temporaryFolder();
+    const int width = 4000, height = 2000;
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " +
+                      std::to_string(width) + "\n";
+    for (int y = 0; y < height; ++y) {
+        hdr += std::string("\x02\x02") + static_cast<char>(width >> 8) + static_cast<char>(width & 0xff);
+        for (int component = 0; component < 4; ++component) {
+            for (int x = 0; x < width; x += 127) {
+                hdr += static_cast<char>(128 + std::min(127, width - x));
+                hdr += static_cast<char>(component == 3 ? 128 : 100);  // radiance 100/256 in each channel
+            }
+        }
+    }
+    const auto map = folder / "wide.hdr";
+    test::writeText(map, hdr);
+    ASSERT_LT(std::filesystem::file_size(map), 600000u);
+    for (const char* device : {"cpu", "gpu"}) {
+        const auto out = folder / (std::string(device) + ".pfm");
+        const test::CommandResult r = test::runVkrt(
+            cornell() + " --device " + device + " --width 8 --height 8 --spp 1 --environment '" +
+            map.string() + "' --max-memory 64MiB --out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(
+            r.output.find("--environment: " + map.string() + ": decoding its 8000000 texels needs about"),
+            std::string::npos)
+            << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+    const auto stats = folder / "stats.json";
+    const test::CommandResult r = test::runVkrt(
+        cornell() + " --device cpu --width 8 --height 8 --spp 1 --environment '" + map.string() +
+        "' --out '" + (folder / "x.pfm").string() + "' --stats '" + stats.string() + "' --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GE(readJson(stats)["memory"]["host_estimate_bytes"].get<double>(), 8.0 * width * height);
 }
 
 TEST(HostMemory, AvailableMemoryIsReadFromTheSystem) {

@@ -443,6 +443,12 @@ std::vector<BadShapeFile> badShapeFiles() {
              {{{"name", "flat box"}, {"scale", {1.0, 0.0, 1.0}}, {"extensions", shapeExtension("box")}}},
              {0}),
          {"flat box", "singular"}});
+    files.push_back(  // a float map of entries 1e-39 holds a few bits each
+        {"vanishing scale",
+         documentOf(
+             {{{"name", "speck"}, {"scale", {1e-39, 1e-39, 1e-39}}, {"extensions", shapeExtension("box")}}},
+             {0}),
+         {"speck", "below 1e-30"}});
     {
         json document =
             documentOf({{{"name", "pair"}, {"children", {1, 2}}, {"extensions", csgExtension("union")}},
@@ -1120,6 +1126,43 @@ TEST_F(ShapeGpu, SilhouettesOfShapesMatchTheirAnalyticAreas) {
     });
 }
 
+// Shapes 1e-20 across: their bounds, once squared in float, vanished and the shapes with them on both
+// devices. The CPU renders them as their analytic areas say; the GPU, whose float tests square the direction
+// in the shape's space (1e20 times the world's), refuses them in one line naming --device cpu.
+TEST_F(ShapeGpu, ShapesFarSmallerThanFloatsSquaresRenderOnTheCpu) {
+    const double size = 1e-20;
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 4;
+    settings.ambient = glm::dvec3(0.0);
+    settings.maxDepth = 0;
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0 * size};
+    camera.xmag = camera.ymag = size;
+    for (const uint32_t type : {VKRT_SHAPE_SPHERE, VKRT_SHAPE_CONE}) {
+        SCOPED_TRACE(shapeName(type));
+        Scene scene;
+        scene.materials.push_back(lampMaterial());
+        // A sphere of radius `size` fills the film's inscribed disk; a cone seen from its side, a triangle of
+        // half the film.
+        addSolid(scene, {makeShape(type, 0, glm::scale(glm::dmat4(1.0), glm::dvec3(size)))}, insideOne());
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        double sum = 0.0;
+        for (const glm::vec3& p : cpu.pixels) sum += p.x;
+        EXPECT_NEAR(sum / static_cast<double>(cpu.pixels.size()),
+                    type == VKRT_SHAPE_SPHERE ? M_PI / 4.0 : 0.5, 0.03);
+        try {
+            renderGpu(scene, bvh, camera, settings);
+            ADD_FAILURE() << "rendered on the GPU";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("--device cpu"), std::string::npos) << e.what();
+        }
+    }
+}
+
 // A CSG object's shapes each have their own texture scale: the level of detail on a shape is its own. A box
 // of half-size 0.5 seen face-on by n = 16 pixels across its face reads a 64-texel checker of 4-texel squares
 // at level log2(64 / 16) = 2, one texel a pixel (NEAREST_MIPMAP_NEAREST): every pixel black or white, as the
@@ -1306,81 +1349,153 @@ TEST_F(ShapeGpu, SilhouettesOfCsgObjectsMatchTheirAnalyticAreas) {
 // ---------------------------------------------------------------------------------------------------------
 // A CSG lamp
 
-TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
-    // An emitting CSG object (radiance 1: a box of half-side 0.5 minus a sphere of radius 0.65, centred 1.2
-    // above the floor) over a Lambertian floor of albedo 1 (no specular layer). The floor's radiance at a
-    // point is its irradiance over pi: the cosine-weighted fraction of the hemisphere that sees the lamp,
-    // counted here by tracing 10^6 stratified cosine-distributed rays against the scene with the CPU's
-    // closestHit. The path integrator (one bounce: light samples of the lamp's shapes, kept only where they
-    // lie on the solid's surface, and floor rays that find it, weighed by multiple importance) must give that
-    // radiance on the GPU and the CPU, within 5 standard errors of the image's mean.
-    Scene scene;
-    scene.materials.push_back(lampMaterial());
-    Material floor;
-    floor.baseColor = glm::vec4(1.0f);
-    floor.metallic = 0.0f;  // glTF's default is 1
-    floor.specularFactor = 0.0f;
-    scene.materials.push_back(floor);
-    const glm::dvec3 center(0.0, 0.0, 1.2);
-    addSolid(scene,
-             {makeShape(VKRT_SHAPE_BOX, 0, trs(center, 0.0, {0, 0, 1}, glm::dvec3(0.5))),
-              makeShape(VKRT_SHAPE_SPHERE, 0, trs(center, 0.0, {0, 0, 1}, glm::dvec3(0.65)))},
-             truthTable(2, [](uint32_t s) { return bit(s, 0) && !bit(s, 1); }));
-    addFlatQuad(scene, {-3.0f, -3.0f, 0.0f}, {3.0f, -3.0f, 0.0f}, {3.0f, 3.0f, 0.0f}, {-3.0f, 3.0f, 0.0f}, 1);
-    finalizeScene(scene);
-    const FlatBvh bvh = bvhFor(scene);
-
-    // The lamp's cosine-weighted share of the hemisphere above the point.
-    const glm::dvec3 point(0.3, 0.1, 0.0);
-    constexpr int kStrata = 1000;
-    int64_t seen = 0;
-    for (int i = 0; i < kStrata; ++i) {
-        for (int j = 0; j < kStrata; ++j) {
-            const double u = (i + 0.5) / kStrata, phi = 2.0 * M_PI * (j + 0.5) / kStrata, r = std::sqrt(u);
-            const glm::dvec3 direction(r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u));
-            SurfaceHit hit;
-            if (closestHitBeyond(scene, bvh, {point, direction}, 1e-6, 1e30, kNoPrimitive, hit) &&
-                scene.isSolid(hit.primitive)) {
-                ++seen;
-            }
-        }
-    }
-    const double expected = static_cast<double>(seen) / (double(kStrata) * kStrata);
-    ASSERT_GT(expected, 0.05);
-    ASSERT_LT(expected, 0.5);
-
-    // A small orthographic view of the floor around the point, from above and aside (clear of the lamp).
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    const glm::dvec3 back = glm::normalize(glm::dvec3(1.0, 0.2, 0.6));
-    camera.position = point + 3.0 * back;
-    camera.forward = -back;
-    camera.up = glm::normalize(glm::dvec3(0, 0, 1) - back.z * back);
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.xmag = camera.ymag = 0.01;
+TEST_F(ShapeGpu, ACutFlushWithAFaceFarFromTheMiddleStaysOpen) {
+    // A box minus a slot cut flush into its +x face (the slot's +x face on the box's), seen along -x into the
+    // slot, D units from the scene's middle. The faces meant to coincide are placed apart by the rounding of
+    // their float maps, about ulp(D) / 2, and a tie relative to the distance alone (3 units here) sealed the
+    // slot with a sliver of the box's face at some D from 300 on, on both devices. Each shape glows in its
+    // own colour: the slot's floor is the slot's (green), a seal the box's (red).
+    Material red = lampMaterial(), green = lampMaterial();
+    red.emission = glm::vec3(1.0f, 0.0f, 0.0f);
+    green.emission = glm::vec3(0.0f, 1.0f, 0.0f);
     RenderSettings settings;
-    settings.width = settings.height = 16;
-    settings.samplesPerPixel = 1024;
-    settings.integrator = Integrator::Path;
-    settings.maxDepth = 1;
+    settings.width = settings.height = 8;
+    settings.samplesPerPixel = 1;
     settings.ambient = glm::dvec3(0.0);
-    for (const bool mis : {true, false}) {
-        settings.multipleImportanceSampling = mis;
+    settings.maxDepth = 0;
+    for (const double distance : {0.0, 97.3, 300.0, 311.7, 1234.5, 3000.0, 9876.5}) {
+        SCOPED_TRACE(testing::Message() << "D = " << distance);
+        const glm::dvec3 centre(distance, 0.37 * distance, -0.21 * distance);
+        Scene scene;
+        scene.materials = {red, green};
+        const double depth = 0.4;  // the slot's, from the box's face at x = 0.7 inwards
+        addSolid(scene,
+                 {makeShape(VKRT_SHAPE_BOX, 0, trs(centre, 0.0, {0, 0, 1}, {0.7, 0.9, 0.8})),
+                  makeShape(VKRT_SHAPE_BOX, 1,
+                            trs(centre + glm::dvec3(0.7 - 0.5 * depth, 0.0, 0.0), 0.0, {0, 0, 1},
+                                {0.5 * depth, 0.3, 0.3}))},
+                 truthTable(2, [](uint32_t s) { return bit(s, 0) && !bit(s, 1); }));
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera;
+        camera.projection = Projection::Orthographic;
+        camera.position = centre + glm::dvec3(3.0, 0.0, 0.0);
+        camera.forward = {-1.0, 0.0, 0.0};
+        camera.up = {0.0, 1.0, 0.0};
+        camera.right = glm::cross(camera.forward, camera.up);
+        camera.xmag = camera.ymag = 0.25;  // inside the slot's opening of half-size 0.3
         const Image gpu = renderGpu(scene, bvh, camera, settings).image;
         const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
         for (const Image* image : {&gpu, &cpu}) {
-            double sum = 0.0, sum2 = 0.0;
-            for (const glm::vec3& p : image->pixels) {
-                sum += p.x;
-                sum2 += double(p.x) * p.x;
+            int sealed = 0;
+            for (const glm::vec3& p : image->pixels) sealed += !(p.y > 0.99f && p.x < 0.01f);
+            EXPECT_EQ(sealed, 0) << (image == &gpu ? "gpu" : "cpu");
+        }
+    }
+}
+
+TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
+    // An emitting CSG object (radiance 1, centred 1.2 above the floor) over a Lambertian floor of albedo 1
+    // (no specular layer). The floor's radiance at a point is its irradiance over pi: the cosine-weighted
+    // fraction of the hemisphere that sees the lamp, counted here by tracing 10^6 stratified
+    // cosine-distributed rays against the scene with the CPU's closestHit. The path integrator (one bounce:
+    // light samples of the lamp's shapes, kept only where they lie on the solid's surface, and floor rays
+    // that find it, weighed by multiple importance) must give that radiance on the GPU and the CPU, within 5
+    // standard errors of the image's mean. Lamps: a box of half-side 0.5 minus a sphere of radius 0.65; and
+    // solids whose operands' faces coincide, where light samples asked each shape at the point itself: a
+    // union of two identical boxes (which gave a thirtieth of the light), an L of two overlapping boxes with
+    // flush faces (two thirds) and two crossed boxes intersected into one (twice the light).
+    const glm::dvec3 center(0.0, 0.0, 1.2);
+    const auto box = [&](glm::dvec3 offset, glm::dvec3 half) {
+        return makeShape(VKRT_SHAPE_BOX, 0, trs(center + offset, 0.0, {0, 0, 1}, half));
+    };
+    const Table unionOfTwo = truthTable(2, [](uint32_t s) { return bit(s, 0) || bit(s, 1); });
+    struct Lamp {
+        const char* name;
+        std::vector<Shape> shapes;
+        Table inside;
+    };
+    const std::vector<Lamp> lamps = {
+        {"box minus sphere",
+         {box({}, glm::dvec3(0.5)),
+          makeShape(VKRT_SHAPE_SPHERE, 0, trs(center, 0.0, {0, 0, 1}, glm::dvec3(0.65)))},
+         truthTable(2, [](uint32_t s) { return bit(s, 0) && !bit(s, 1); })},
+        {"two identical boxes united", {box({}, glm::dvec3(0.5)), box({}, glm::dvec3(0.5))}, unionOfTwo},
+        {"an L of two overlapping flush boxes",
+         {box({-0.25, 0.0, 0.0}, {0.25, 0.5, 0.5}), box({0.15, -0.25, 0.0}, {0.35, 0.25, 0.5})},
+         unionOfTwo},
+        {"two crossed boxes intersected",
+         {box({}, {0.5, 1.0, 0.5}), box({}, {1.0, 0.5, 0.5})},
+         truthTable(2, [](uint32_t s) { return bit(s, 0) && bit(s, 1); })},
+    };
+    for (const Lamp& lamp : lamps) {
+        SCOPED_TRACE(lamp.name);
+        Scene scene;
+        scene.materials.push_back(lampMaterial());
+        Material floor;
+        floor.baseColor = glm::vec4(1.0f);
+        floor.metallic = 0.0f;  // glTF's default is 1
+        floor.specularFactor = 0.0f;
+        scene.materials.push_back(floor);
+        addSolid(scene, lamp.shapes, lamp.inside);
+        addFlatQuad(scene, {-3.0f, -3.0f, 0.0f}, {3.0f, -3.0f, 0.0f}, {3.0f, 3.0f, 0.0f}, {-3.0f, 3.0f, 0.0f},
+                    1);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+
+        // The lamp's cosine-weighted share of the hemisphere above the point.
+        const glm::dvec3 point(0.3, 0.1, 0.0);
+        constexpr int kStrata = 1000;
+        int64_t seen = 0;
+        for (int i = 0; i < kStrata; ++i) {
+            for (int j = 0; j < kStrata; ++j) {
+                const double u = (i + 0.5) / kStrata, phi = 2.0 * M_PI * (j + 0.5) / kStrata,
+                             r = std::sqrt(u);
+                const glm::dvec3 direction(r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u));
+                SurfaceHit hit;
+                if (closestHitBeyond(scene, bvh, {point, direction}, 1e-6, 1e30, kNoPrimitive, hit) &&
+                    scene.isSolid(hit.primitive)) {
+                    ++seen;
+                }
             }
-            const double n = static_cast<double>(image->pixels.size()), mean = sum / n;
-            const double error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-            const std::string which =
-                std::string(image == &gpu ? "gpu" : "cpu") + (mis ? "" : ", light samples alone");
-            std::printf("%s: floor radiance %.5f +- %.5f, the lamp's cosine-weighted share %.5f\n",
-                        which.c_str(), mean, error, expected);
-            EXPECT_NEAR(mean, expected, 5.0 * error + 1e-3 * expected) << which;
+        }
+        const double expected = static_cast<double>(seen) / (double(kStrata) * kStrata);
+        ASSERT_GT(expected, 0.05);
+        ASSERT_LT(expected, 0.5);
+
+        // A small orthographic view of the floor around the point, from above and aside (clear of the lamp).
+        Camera camera;
+        camera.projection = Projection::Orthographic;
+        const glm::dvec3 back = glm::normalize(glm::dvec3(1.0, 0.2, 0.6));
+        camera.position = point + 3.0 * back;
+        camera.forward = -back;
+        camera.up = glm::normalize(glm::dvec3(0, 0, 1) - back.z * back);
+        camera.right = glm::cross(camera.forward, camera.up);
+        camera.xmag = camera.ymag = 0.01;
+        RenderSettings settings;
+        settings.width = settings.height = 16;
+        settings.samplesPerPixel = 1024;
+        settings.integrator = Integrator::Path;
+        settings.maxDepth = 1;
+        settings.ambient = glm::dvec3(0.0);
+        for (const bool mis : {true, false}) {
+            settings.multipleImportanceSampling = mis;
+            const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+            const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+            for (const Image* image : {&gpu, &cpu}) {
+                double sum = 0.0, sum2 = 0.0;
+                for (const glm::vec3& p : image->pixels) {
+                    sum += p.x;
+                    sum2 += double(p.x) * p.x;
+                }
+                const double n = static_cast<double>(image->pixels.size()), mean = sum / n;
+                const double error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+                const std::string which =
+                    std::string(image == &gpu ? "gpu" : "cpu") + (mis ? "" : ", light samples alone");
+                std::printf("%s, %s: floor radiance %.5f +- %.5f, the lamp's cosine-weighted share %.5f\n",
+                            lamp.name, which.c_str(), mean, error, expected);
+                EXPECT_NEAR(mean, expected, 5.0 * error + 1e-3 * expected) << which;
+            }
         }
     }
 }

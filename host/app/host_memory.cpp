@@ -16,6 +16,9 @@ constexpr uint64_t kBvhBuildBytesPerTriangle = 200;
 // The GPU's copy of a triangle (shaders/shared.h): a 48-byte primitive, up to 64 bytes of shading data and
 // its share of the 64-byte 4-wide nodes.
 constexpr uint64_t kGpuBytesPerTriangle = 48 + 64 + 32;
+// The GPU's copy of an environment texel (shaders/shared.h's GpuEnvironmentTexel): its radiance and its row's
+// cumulative table.
+constexpr uint64_t kGpuBytesPerEnvironmentTexel = 16;
 // Per pixel: double sums and counts, the averaged float image.
 constexpr uint64_t kSumBytesPerPixel = 32;
 constexpr uint64_t kImageBytesPerPixel = 12;
@@ -49,7 +52,12 @@ MemoryNeed estimateHostMemory(const HostMemoryInputs& in) {
     rendering.add("BVH build", bvh);
     // The texels: packed for the CPU reference; written straight into the GPU's buffers, mapped on a CPU
     // device (counted with its buffers below), else through a staging buffer of their size.
+    // The environment map's sampling tables (a double per texel), and on the GPU its texels packed with them
+    // (GpuEnvironmentTexel) next to the tables they are made from.
+    rendering.add("environment sampling tables", in.environmentTexels * sizeof(double));
     if (in.gpu) {
+        rendering.add("environment map packed for the GPU",
+                      in.environmentTexels * kGpuBytesPerEnvironmentTexel);
         rendering.add("scene packed for the GPU", in.triangles * kGpuBytesPerTriangle);
         if (!in.deviceInHostMemory) rendering.add("texel staging buffer", in.textureBytes);
     } else {
@@ -58,6 +66,7 @@ MemoryNeed estimateHostMemory(const HostMemoryInputs& in) {
     if (in.deviceInHostMemory) {
         rendering.add("device buffers in host memory (a CPU device)",
                       std::min(in.deviceBudgetBytes, in.triangles * kGpuBytesPerTriangle + in.textureBytes +
+                                                         in.environmentTexels * kGpuBytesPerEnvironmentTexel +
                                                          pixels * kDeviceAccumulationBytesPerPixel));
     }
     rendering.add("image sums", pixels * kSumBytesPerPixel);

@@ -12,6 +12,7 @@ namespace vkrt {
 struct HostMemoryInputs {
     uint64_t triangles = 0;
     uint64_t textureBytes = 0;  // the scene's packed texels (packedTextureBytes)
+    uint64_t environmentTexels = 0;  // the environment map's (its sampling tables and its GPU copy)
     int width = 0;
     int height = 0;
     bool gpu = false;                 // rendered by the GPU tracer

@@ -427,6 +427,10 @@ Options parseOptions(int argc, const char* const argv[]) {
             if (given(name))
                 said.warnings.push_back(std::string(name) + " does nothing without --environment");
         }
+    } else if (given("--background")) {
+        said.warnings.push_back(
+            "--background does nothing with --environment: rays that leave the scene see "
+            "the map");
     }
     if (imageFormatFromPath(options.outputPath) != ImageFormat::Png) {
         for (const char* name : {"--tonemap", "--exposure"}) {

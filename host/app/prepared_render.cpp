@@ -13,22 +13,11 @@
 #include "common/elapsed_time.h"
 #include "image/image_io.h"
 #include "scene/gltf_loader.h"
+#include "scene/scene_error.h"
 #include "scene/shading_inputs.h"
 
 namespace vkrt {
 namespace {
-
-// The --environment map, decoded and checked; a file that cannot be used is bad input (exit code 2).
-EnvironmentMap loadEnvironment(const Options& options) {
-    Image image;
-    try {
-        image = readRadianceImage(options.environmentPath);
-    } catch (const ImageError& e) {
-        throw UsageError(std::string("--environment: ") + e.what());
-    }
-    return makeEnvironmentMap(options.environmentPath, image.width, image.height, std::move(image.pixels),
-                              options.environmentRotation, options.environmentStrength);
-}
 
 // What the machine has for the render, or --max-memory when that is less.
 HostMemory hostMemoryFor(const Options& options) {
@@ -36,6 +25,24 @@ HostMemory hostMemoryFor(const Options& options) {
     if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
         available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
     return available;
+}
+
+// The --environment map, decoded and checked; a file that cannot be used is bad input (exit code 2).
+EnvironmentMap loadEnvironment(const Options& options) {
+    Image image;
+    try {
+        image = readRadianceImage(options.environmentPath, hostMemoryFor(options).bytes);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--environment: ") + e.what());
+    } catch (const MemoryError& e) {
+        throw MemoryError(std::string("--environment: ") + e.what());
+    }
+    try {
+        return makeEnvironmentMap(options.environmentPath, image.width, image.height, std::move(image.pixels),
+                                  options.environmentRotation, options.environmentStrength);
+    } catch (const SceneError& e) {
+        throw UsageError(std::string("--environment: ") + e.what());
+    }
 }
 
 // Estimates the host memory the render will take and refuses it (MemoryError) when it does not fit;
@@ -47,6 +54,8 @@ void checkHostMemoryFor(const Options& options, bool measuresError, bool shared,
     inputs.shared = shared;
     inputs.triangles = scene.triangles.size();
     inputs.textureBytes = packedTextureBytes(scene);
+    if (scene.environment.present())
+        inputs.environmentTexels = static_cast<uint64_t>(scene.environment.width) * scene.environment.height;
     inputs.width = settings.width;
     inputs.height = settings.height;
     inputs.gpu = context != nullptr;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "optics.h"
 #include "scene/scene.h"
 #include "shape_geometry.h"
 
@@ -18,6 +19,7 @@ struct SolidIntervals {
     uint32_t faceOut[VKRT_CSG_MAX_SHAPES];
     uint32_t count = 0;
     glm::uvec4 tableLow{0u}, tableHigh{0u};
+    double originScale = 0.0;  // the ray origin's largest coordinate (csgCrossing's ties grow with it)
 };
 
 inline SolidIntervals solidIntervals(const Scene& scene, const Solid& solid, const glm::dvec3& origin,
@@ -26,6 +28,7 @@ inline SolidIntervals solidIntervals(const Scene& scene, const Solid& solid, con
     s.count = solid.shapeCount;
     s.tableLow = solid.tableLow();
     s.tableHigh = solid.tableHigh();
+    s.originScale = shading::maxAbs(origin);
     for (uint32_t i = 0; i < solid.shapeCount; ++i) {
         glm::dmat4 toWorld, toObject;
         scene.shapeAt(solid.firstShape + i, time, toWorld, toObject);
@@ -41,7 +44,7 @@ inline SolidIntervals solidIntervals(const Scene& scene, const Solid& solid, con
 
 inline bool solidCrossing(SolidIntervals& s, double tAfter, double tLimit, shading::CsgCrossing& crossing) {
     return shading::csgCrossing(s.tIn, s.tOut, s.faceIn, s.faceOut, s.count, s.tableLow, s.tableHigh, tAfter,
-                                tLimit, crossing);
+                                tLimit, s.originScale, crossing);
 }
 
 // A crossing as a hit's two numbers (SurfaceHit::u and v): the scene's shape, and face * 2 + flip.

@@ -146,6 +146,26 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
                          " units from the scene's middle; the GPU's single-precision tests hold to 1e12 "
                          "(--device cpu renders it)");
     }
+    // A shape's intersection squares the ray's direction in its object space, which its map's inverse
+    // scales: beyond about 1.8e19 the squares overflow in float (a sphere 1e-20 across vanished, a cone
+    // filled its bounding square).
+    for (size_t i = 0; i < scene.shapes.size(); ++i) {
+        double largest = 0.0;
+        for (int pose = 0; pose <= (scene.shapePoses.empty() ? 0 : scene.motionSegments); ++pose) {
+            const glm::dmat3 inverse =
+                glm::inverse(glm::dmat3(glm::dmat4(scene.shapePose(static_cast<uint32_t>(i), pose))));
+            for (int c = 0; c < 3; ++c)
+                largest = std::max(
+                    {largest, std::abs(inverse[c].x), std::abs(inverse[c].y), std::abs(inverse[c].z)});
+        }
+        if (!(largest <= kGpuShapeInverseScale)) {
+            char scale[32];
+            std::snprintf(scale, sizeof scale, "%.3g", 1.0 / largest);
+            throw SceneError(scene.sourcePath + ": shape " + std::to_string(i) + " is about " + scale +
+                             " across; the GPU's single-precision shape tests hold down to 1e-18 (--device "
+                             "cpu renders it)");
+        }
+    }
 }
 
 GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatures* features) {

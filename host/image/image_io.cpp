@@ -17,6 +17,7 @@
 #include <tinyexr.h>
 
 #include "common/atomic_file.h"
+#include "common/memory_need.h"
 
 namespace vkrt {
 namespace {
@@ -149,7 +150,59 @@ Image readPfm(const std::string& path) {
     return image;
 }
 
-Image readExr(const std::string& path) {
+// Refuses a map whose decoding would take more than `maxBytes`: `texels` of `bytesPerTexel` each, and `more`.
+void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesPerTexel, uint64_t more,
+                       uint64_t maxBytes) {
+    const uint64_t need = texels * bytesPerTexel + more;  // texels < 2^62 / 64: both headers' sizes are ints
+    if (need > maxBytes) {
+        throw MemoryError(path + ": decoding its " + std::to_string(texels) + " texels needs about " +
+                          formatBytes(need) + " of host memory, and " + formatBytes(maxBytes) +
+                          " is available");
+    }
+}
+
+// Refuses an EXR whose channels LoadEXR would misread: it takes a file's one channel, whatever its name
+// (alpha, depth), as grey radiance, and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G and
+// B, or Y alone, in HALF or FLOAT. Refuses one whose decoding would take more than `maxBytes`: LoadEXR's
+// planes of each channel as floats, its RGBA copy and the image made from it.
+void checkExrHeader(const std::string& path, uint64_t maxBytes) {
+    EXRVersion version;
+    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) return;  // LoadEXR says why
+    EXRHeader header;
+    InitEXRHeader(&header);
+    const char* error = nullptr;
+    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &error) != TINYEXR_SUCCESS) {
+        if (error) FreeEXRErrorMessage(error);
+        return;
+    }
+    std::string names, problem;
+    bool red = false, green = false, blue = false, luminance = false;
+    for (int i = 0; i < header.num_channels; ++i) {
+        const std::string name = header.channels[i].name;
+        names += (names.empty() ? "" : ", ") + name;
+        const bool colour = name == "R" || name == "G" || name == "B" || name == "Y";
+        if (colour && header.pixel_types[i] == TINYEXR_PIXELTYPE_UINT)
+            problem = "channel " + name + " holds unsigned integers, not radiance";
+        red |= name == "R";
+        green |= name == "G";
+        blue |= name == "B";
+        luminance |= name == "Y";
+    }
+    const int channels = header.num_channels;
+    const uint64_t width =
+        static_cast<uint64_t>(std::max(0, header.data_window.max_x - header.data_window.min_x + 1));
+    const uint64_t height =
+        static_cast<uint64_t>(std::max(0, header.data_window.max_y - header.data_window.min_y + 1));
+    FreeEXRHeader(&header);
+    if (problem.empty() && !(red && green && blue) && !(luminance && channels == 1))
+        problem = "no R, G and B channels, nor Y alone (it has " + names + ")";
+    if (!problem.empty()) throw ImageError(path + ": cannot read EXR: " + problem);
+    checkDecodingFits(path, width * height, 4 * static_cast<uint64_t>(channels) + 16 + sizeof(glm::vec3), 0,
+                      maxBytes);
+}
+
+Image readExr(const std::string& path, uint64_t maxBytes = UINT64_MAX) {
+    checkExrHeader(path, maxBytes);
     float* rgba = nullptr;
     int width = 0, height = 0;
     const char* error = nullptr;
@@ -216,40 +269,54 @@ Image readImage(const std::string& path) {
 
 namespace {
 
-// Walks the run-length encoded scanlines of a Radiance HDR file as stb_image decodes them, and refuses a run
-// of length 0 or one cut off by the end of the file: stb_image reads a count of 0 there (the end of the file
-// reads as zeros) and loops forever. Scanlines it reads unencoded have a fixed length and are not checked.
+// Checks that a Radiance HDR file holds every scanline its resolution line claims, as stb_image decodes
+// them, which reads past the end of the file as zeros without an error (a cut-off file rendered black, or its
+// missing rows as copies of the last texel) and loops forever on a run of length 0. Scanlines are run-length
+// encoded (each walked run by run; a run of 0 or one cut off is refused) or, for widths stb_image does not
+// encode or a first scanline without the encoding's marker, 4 bytes a texel for the whole image. A scanline
+// without the marker after encoded ones is refused: stb_image would start the image over from it.
 void checkRadianceRuns(const std::string& bytes, const std::string& path) {
     const size_t headerEnd = bytes.find("\n\n");
     if (headerEnd == std::string::npos) return;  // stb_image reports the header's problem
     const size_t resolutionEnd = bytes.find('\n', headerEnd + 2);
     int height = 0, width = 0;
     if (resolutionEnd == std::string::npos ||
-        std::sscanf(bytes.c_str() + headerEnd + 2, "-Y %d +X %d", &height, &width) != 2 || width < 8 ||
-        width >= 32768 || height <= 0) {
-        return;  // a layout stb_image refuses, or scanlines it reads unencoded
+        std::sscanf(bytes.c_str() + headerEnd + 2, "-Y %d +X %d", &height, &width) != 2 || width <= 0 ||
+        height <= 0) {
+        return;  // a layout stb_image refuses
     }
-    size_t at = resolutionEnd + 1;
+    const auto fail = [&](const std::string& what) {
+        throw ImageError(path + ": cannot read Radiance HDR: " + what);
+    };
+    const size_t start = resolutionEnd + 1;
+    const auto requireFlat = [&] {
+        const uint64_t need = 4ull * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+        if (bytes.size() - start < need) {
+            fail("truncated: " + std::to_string(width) + " x " + std::to_string(height) + " texels need " +
+                 std::to_string(need) + " bytes of data, the file has " +
+                 std::to_string(bytes.size() - start));
+        }
+    };
+    if (width < 8 || width >= 32768) return requireFlat();
+    size_t at = start;
     const auto byteAt = [&](size_t i) {
         return i < bytes.size() ? static_cast<unsigned char>(bytes[i]) : 0u;
     };
     for (int y = 0; y < height; ++y) {
-        if (byteAt(at) != 2 || byteAt(at + 1) != 2 || (byteAt(at + 2) & 0x80u) != 0)
-            return;  // unencoded from here
+        if (byteAt(at) != 2 || byteAt(at + 1) != 2 || (byteAt(at + 2) & 0x80u) != 0) {
+            if (y == 0) return requireFlat();
+            fail("truncated or corrupt run-length data (scanline " + std::to_string(y) + " of " +
+                 std::to_string(height) + ")");
+        }
         at += 4;
         for (int component = 0; component < 4; ++component) {
             for (int x = 0; x < width;) {
                 const unsigned count = byteAt(at);
-                if (at >= bytes.size() || count == 0)
-                    throw ImageError(path +
-                                     ": cannot read Radiance HDR: truncated or corrupt run-length data");
-                if (count > 128) {
-                    x += static_cast<int>(count - 128);
-                    at += 2;
-                } else {
-                    x += static_cast<int>(count);
-                    at += 1 + count;
-                }
+                const size_t length = count > 128 ? 2 : 1 + count;
+                if (count == 0 || at >= bytes.size() || bytes.size() - at < length)
+                    fail("truncated or corrupt run-length data");
+                x += static_cast<int>(count > 128 ? count - 128 : count);
+                at += length;
             }
         }
     }
@@ -257,9 +324,9 @@ void checkRadianceRuns(const std::string& bytes, const std::string& path) {
 
 }  // namespace
 
-Image readRadianceImage(const std::string& path) {
+Image readRadianceImage(const std::string& path, uint64_t maxBytes) {
     const std::string extension = lowerExtension(path);
-    if (extension == ".exr") return readExr(path);
+    if (extension == ".exr") return readExr(path, maxBytes);
     if (extension != ".hdr") {
         throw ImageError(path + ": unknown radiance map format '" + extension + "' (use .hdr or .exr)");
     }
@@ -270,8 +337,14 @@ Image readRadianceImage(const std::string& path) {
     }
     std::ifstream file(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(file)), {});
-    checkRadianceRuns(bytes, path);
     int width = 0, height = 0, channels = 0;
+    // The size stb_image will decode; then stb_image's floats and the image made from them.
+    if (stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), static_cast<int>(bytes.size()),
+                              &width, &height, &channels)) {
+        checkDecodingFits(path, static_cast<uint64_t>(width) * static_cast<uint64_t>(height),
+                          3 * sizeof(float) + sizeof(glm::vec3), bytes.size(), maxBytes);
+    }
+    checkRadianceRuns(bytes, path);
     float* rgb = stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
                                         static_cast<int>(bytes.size()), &width, &height, &channels, 3);
     if (!rgb) throw ImageError(path + ": cannot read Radiance HDR: " + stbi_failure_reason());

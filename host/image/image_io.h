@@ -3,6 +3,7 @@
 // interrupted run never leaves a partial image behind.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -29,8 +30,10 @@ void writeImage(const Image& image, const std::string& path, double exposure = 0
 Image readImage(const std::string& path);
 
 // Reads a linear radiance map for lighting: Radiance .hdr (stb_image) or OpenEXR (tinyexr). Throws
-// ImageError naming the file for any other extension or an unreadable file.
-Image readRadianceImage(const std::string& path);
+// ImageError naming the file for any other extension or an unreadable file, and MemoryError, before decoding,
+// when decoding the size its header gives would take more than `maxBytes` (a few hundred bytes of
+// run-length or compressed data can claim a map of gigabytes).
+Image readRadianceImage(const std::string& path, uint64_t maxBytes = UINT64_MAX);
 
 // A display value in [0, 1] to an 8-bit sRGB value (the sRGB transfer curve).
 unsigned char toSrgb8(double display);

@@ -42,7 +42,7 @@ EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height
     // Scaled, every texel must still be a float: one beyond made the sampling tables NaN and the image wrong.
     for (size_t i = 0; i < texels.size(); ++i) {
         glm::vec3& t = texels[i];
-        t *= static_cast<float>(strength);
+        t = glm::vec3(glm::dvec3(t) * strength);  // in double: a strength below float's range scales too
         if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) {
             char factor[32];
             std::snprintf(factor, sizeof factor, "%g", strength);

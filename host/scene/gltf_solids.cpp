@@ -92,6 +92,8 @@ Shape SolidBuilder::placeShape(const tinygltf::Value& extension, const glm::dmat
     if (!finite) context_.fail(shapeWhere + ": the placed shape is not finite");
     if (!(std::abs(determinant) > 1e-12 * scale * scale * scale))
         context_.fail(shapeWhere + ": the node transform is singular (it flattens the shape)");
+    // Below 1e-30 a float map's entries lose their digits (1e-39 is a denormal of a few bits).
+    if (!(scale >= 1e-30)) context_.fail(shapeWhere + ": the node transform scales the shape below 1e-30");
     shape.toObject = glm::inverse(stored);
     return shape;
 }

@@ -93,11 +93,13 @@ void addFlatQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 
 Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld) {
     // Per world axis, the half-extent of the canonical shape under the linear part (column j of toWorld is
     // the image of object axis j): the ellipsoid's exactly, the others' through their box [-1, 1]^3 or, for
-    // the round sides, the ellipse of the unit circle in xz plus the height.
-    const glm::vec3 center(toWorld[3]);
-    glm::vec3 extent;
+    // the round sides, the ellipse of the unit circle in xz plus the height. In double: squared in float, the
+    // entries of a shape 1e-20 across vanished (its bounds a point, the shape culled) and those of one 1e20
+    // across overflowed.
+    const glm::dvec3 center(toWorld[3]);
+    glm::dvec3 extent;
     for (int i = 0; i < 3; ++i) {
-        const float x = toWorld[0][i], y = toWorld[1][i], z = toWorld[2][i];
+        const double x = toWorld[0][i], y = toWorld[1][i], z = toWorld[2][i];
         if (type == VKRT_SHAPE_SPHERE)
             extent[i] = std::sqrt(x * x + y * y + z * z);
         else if (type == VKRT_SHAPE_BOX)
@@ -106,8 +108,8 @@ Aabb shapeBounds(uint32_t type, const glm::mat4& toWorld) {
             extent[i] = std::sqrt(x * x + z * z) + std::abs(y);
     }
     // Padded by a few ulps of the magnitudes, so a hit point rounded outwards stays inside.
-    extent += 4e-6f * (glm::abs(center) + extent);
-    return {center - extent, center + extent};
+    extent += 4e-6 * (glm::abs(center) + extent);
+    return {glm::vec3(center - extent), glm::vec3(center + extent)};
 }
 
 Shape makeShape(uint32_t type, uint32_t material, const glm::dmat4& toWorld) {
