@@ -23,6 +23,11 @@
 // Interval ends within this relative distance of each other are crossed together, so faces that two operands
 // share (coincident faces, touching operands) do not speckle with rounding: 2^-18, 32 float ulps.
 #define VKRT_CSG_TIE 3.814697265625e-6
+// And within this much of the magnitude of the coordinates they came from (the ray origin's largest): the
+// shapes' maps are stored in float, so faces meant to coincide lie apart by the rounding of their placement,
+// half an ulp of it; 2^-22, two ulps. A tie of 2^-18 of that magnitude merged walls 0.05 thick 1e5 from the
+// scene's middle.
+#define VKRT_CSG_PLACEMENT_TIE 2.384185791015625e-7
 
 // The unit roundoff of the precision the shapes are traced in (double on the CPU, float on the GPU).
 #ifdef __cplusplus
@@ -315,14 +320,24 @@ VKRT_FN ShapePoint shapePoint(uint type, uint face, bool flip, VKRT_IN(AffineRow
     return p;
 }
 
-// The magnitude of the numbers a point of a shape placed by `toWorld` comes from: its translation plus its
-// largest row of the linear part (a canonical point's coordinates are at most 1).
-VKRT_FN real shapeScale(VKRT_IN(AffineRows) toWorld) {
-    const real3 t = real3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w);
+// The largest row of the linear part of a shape's map `toWorld`: how far a canonical point (coordinates at
+// most 1) reaches from the shape's origin along a world axis.
+VKRT_FN real shapeSize(VKRT_IN(AffineRows) toWorld) {
     const real3 rows = real3(abs(toWorld.row0.x) + abs(toWorld.row0.y) + abs(toWorld.row0.z),
                              abs(toWorld.row1.x) + abs(toWorld.row1.y) + abs(toWorld.row1.z),
                              abs(toWorld.row2.x) + abs(toWorld.row2.y) + abs(toWorld.row2.z));
-    return max(abs(t.x), max(abs(t.y), abs(t.z))) + max(rows.x, max(rows.y, rows.z));
+    return max(rows.x, max(rows.y, rows.z));
+}
+
+// The largest coordinate of a shape's translation.
+VKRT_FN real shapeOffset(VKRT_IN(AffineRows) toWorld) {
+    return max(abs(toWorld.row0.w), max(abs(toWorld.row1.w), abs(toWorld.row2.w)));
+}
+
+// The magnitude of the numbers a point of a shape placed by `toWorld` comes from: its translation plus its
+// size.
+VKRT_FN real shapeScale(VKRT_IN(AffineRows) toWorld) {
+    return shapeOffset(toWorld) + shapeSize(toWorld);
 }
 
 // Texture coordinates per world unit on a shape placed by a map of determinant `determinant`
@@ -356,10 +371,10 @@ struct CsgCrossing {
 // computed distances differ by rounding); when that changes the table's value, the crossing lies on the first
 // shape whose own toggle would change it (else the first toggled). A shape's exit never joins its own entry's
 // group, however thin the shape: the tie grows with the distance, and a sheet 1e-4 thick seen from 40 units
-// away vanished when it did. The tie is relative to the magnitude of the numbers the distances came from,
-// originScale (the ray origin's largest coordinate) + t: faces meant to coincide 300 units from the scene's
-// middle are placed 1.5e-5 apart by their float maps, and a cut flush with a face there, seen from 3 units
-// away, was sealed by a sliver.
+// away vanished when it did. The tie also grows with the magnitude of the coordinates the distances came from
+// (VKRT_CSG_PLACEMENT_TIE of originScale, the ray origin's largest coordinate): faces meant to coincide 300
+// units from the scene's middle are placed 1.5e-5 apart by their float maps, and a cut flush with a face
+// there, seen from 3 units away, was sealed by a sliver.
 VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_SHAPES],
                          uint faceIn[VKRT_CSG_MAX_SHAPES], uint faceOut[VKRT_CSG_MAX_SHAPES], uint count,
                          uvec4 tableLow, uvec4 tableHigh, real tAfter, real tLimit, real originScale,
@@ -389,7 +404,7 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_CSG_MAX_SHAPES], real tOut[VKRT_CSG_MAX_S
             }
         }
         if (!(next < tLimit)) return false;
-        const real groupEnd = next + VKRT_CSG_TIE * (abs(next) + originScale);
+        const real groupEnd = next + VKRT_CSG_TIE * abs(next) + VKRT_CSG_PLACEMENT_TIE * originScale;
         uint toggled = 0u;
         for (uint i = 0u; i < count; ++i) {
             const uint bit = 1u << i;

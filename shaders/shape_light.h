@@ -23,19 +23,19 @@ struct SolidOperands {
     uvec4 tableHigh;
 };
 
-// Whether world point `p`, on shape `shape` of `solid` (outward unit normal `normal`, placed by a map of
-// magnitude `scale`), lies on the solid's surface and emits there: 0 if not, 1 where the solid's outside is
-// the shape's, -1 where it is the shape's inside (a subtracted shape). The other shapes are asked just inside
-// and just outside the face (a tie's width of `scale` along the normal): the solid's inside bit on the two
-// sides differs exactly on its surface. Another shape's face coincident with this one (an L of two flush
-// boxes) is crossed with it, as csgCrossing crosses it, and the surface there emits from one shape alone, the
-// one csgCrossing puts a ray's crossing on: the first whose own toggle changes the solid, else the first
-// crossed. Asked at the point itself, a union of two flush boxes lost those faces' light, and an intersection
-// emitted it twice.
+// Whether world point `p`, on shape `shape` of `solid` (outward unit normal `normal`), lies on the solid's
+// surface and emits there: 0 if not, 1 where the solid's outside is the shape's, -1 where it is the shape's
+// inside (a subtracted shape). The other shapes are asked just inside and just outside the face, `reach`
+// along the normal (a tie's width, csgCrossing's): the solid's inside bit on the two sides differs exactly on
+// its surface. Another shape's face coincident with this one (an L of two flush boxes) is crossed with it, as
+// csgCrossing crosses it, and the surface there emits from one shape alone, the one csgCrossing puts the
+// crossing of a ray arriving from outside on (the light it sends): the first whose own toggle makes the
+// solid's inside, else the first crossed. Asked at the point itself, a union of two flush boxes lost those
+// faces' light, and an intersection emitted it twice.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN int solidSide(VKRT_DEVICE_PARAM VKRT_IN(SolidOperands) solid, uint shape, real3 p, real3 normal,
-                      real scale) {
-    const real3 step = (VKRT_CSG_TIE * scale) * normal;
+                      real reach) {
+    const real3 step = reach * normal;
     uint before = 0u, after = 0u;  // the other shapes holding the points just inside and just outside
     for (uint k = 0u; k < solid.shapeCount; ++k) {
         const uint other = solid.firstShape + k;
@@ -51,12 +51,12 @@ VKRT_FN int solidSide(VKRT_DEVICE_PARAM VKRT_IN(SolidOperands) solid, uint shape
     const bool insideAfter = csgTable(solid.tableLow, solid.tableHigh, after);
     if (insideBefore == insideAfter) return 0;
     const uint crossed = (before ^ after) | own;
+    const uint outside = insideBefore ? after : (before | own);  // the shapes holding the side a ray comes from
     uint chosen = solid.shapeCount, first = solid.shapeCount;
     for (uint k = 0u; k < solid.shapeCount; ++k) {
         if (((crossed >> k) & 1u) == 0u) continue;
         if (first == solid.shapeCount) first = k;
-        const bool alone = csgTable(solid.tableLow, solid.tableHigh, (before | own) ^ (1u << k)) == insideAfter;
-        if (chosen == solid.shapeCount && alone) chosen = k;
+        if (chosen == solid.shapeCount && csgTable(solid.tableLow, solid.tableHigh, outside ^ (1u << k))) chosen = k;
     }
     if (chosen == solid.shapeCount) chosen = first;
     if (solid.firstShape + chosen != shape) return 0;
@@ -79,7 +79,8 @@ VKRT_FN LightPoint sampleShapeLight(VKRT_DEVICE_PARAM uint primitive, VKRT_IN(So
     p.material = VKRT_DEVICE(shapeMaterial)(shape);
     p.position = affinePoint(toWorld, local);
     const real3 outward = normalize(affineTransposedVector(toObject, shapeNormal(type, face, local)));
-    const int side = solidSide(VKRT_DEVICE_ARG solid, shape, p.position, outward, shapeScale(toWorld));
+    const real reach = VKRT_CSG_TIE * shapeSize(toWorld) + VKRT_CSG_PLACEMENT_TIE * shapeOffset(toWorld);
+    const int side = solidSide(VKRT_DEVICE_ARG solid, shape, p.position, outward, reach);
     p.normal = (side < 0 ? -1.0 : 1.0) * outward;
     p.uv = shapeUv(type, face, local);
     p.pdfArea = side == 0 ? 0.0 : pick * shapePointDensity(type, face, local, toObject);

@@ -237,7 +237,8 @@ TEST(ImageIo, CutOffRadianceFilesAreRefused) {
 }
 
 // An EXR file of channels that are not radiance is refused: LoadEXR read a lone alpha or depth channel as
-// grey radiance, and unsigned integers' bits as floats (7 as 1e-44). RGB and Y alone are read.
+// grey radiance, a second layer's blue among the first four channels as the first's, and unsigned integers'
+// bits as floats (7 as 1e-44). RGB and Y alone are read, of one layer too (LoadEXR reads diffuse.R as R).
 TEST(ImageIo, ExrChannelsThatAreNotRadianceAreRefused) {
     const auto folder = test::temporaryFolder();
     const auto write = [&](const std::string& file, const std::vector<std::string>& names, int pixelType) {
@@ -283,9 +284,16 @@ TEST(ImageIo, ExrChannelsThatAreNotRadianceAreRefused) {
     const std::string alpha = write("a.exr", {"A"}, TINYEXR_PIXELTYPE_FLOAT);
     const std::string depth = write("z.exr", {"Z"}, TINYEXR_PIXELTYPE_FLOAT);
     const std::string integers = write("uint.exr", {"B", "G", "R"}, TINYEXR_PIXELTYPE_UINT);
-    EXPECT_EQ(readImage(rgb).at(1, 1), glm::vec3(7.0f));
-    EXPECT_EQ(readImage(grey).at(1, 1), glm::vec3(7.0f));
-    for (const std::string& path : {alpha, depth, integers}) {
+    const std::string layer =
+        write("layer.exr", {"diffuse.A", "diffuse.B", "diffuse.G", "diffuse.R", "depth.Z"},
+              TINYEXR_PIXELTYPE_FLOAT);
+    const std::string layerGrey = write("layer-y.exr", {"rgba.Y"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string red = write("r.exr", {"R"}, TINYEXR_PIXELTYPE_FLOAT);
+    const std::string layers =
+        write("layers.exr", {"B", "G", "R", "other.B", "other.G", "other.R"}, TINYEXR_PIXELTYPE_FLOAT);
+    for (const std::string& path : {rgb, grey, layer, layerGrey})
+        EXPECT_EQ(readImage(path).at(1, 1), glm::vec3(7.0f));
+    for (const std::string& path : {alpha, depth, integers, red, layers}) {
         SCOPED_TRACE(path);
         try {
             readImage(path);

@@ -1161,6 +1161,22 @@ TEST_F(ShapeGpu, ShapesFarSmallerThanFloatsSquaresRenderOnTheCpu) {
             EXPECT_NE(std::string(e.what()).find("--device cpu"), std::string::npos) << e.what();
         }
     }
+    // A shape of 1e-10 in a scene reaching 1e10: rays from as far away square 1e20 in its space.
+    Scene wide;
+    wide.materials.push_back(lampMaterial());
+    addSolid(wide, {makeShape(VKRT_SHAPE_SPHERE, 0, glm::scale(glm::dmat4(1.0), glm::dvec3(1e-10)))},
+             insideOne());
+    addFlatTriangle(wide, {1e10f, 0.0f, 0.0f}, {1e10f, 1.0f, 0.0f}, {1e10f, 0.0f, 1.0f}, 0);
+    finalizeScene(wide);
+    camera.position = {0.0, 0.0, 5e-10};
+    camera.xmag = camera.ymag = 1e-10;
+    try {
+        renderGpu(wide, bvhFor(wide), camera, settings);
+        ADD_FAILURE() << "rendered on the GPU";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("seen from up to 1e18 times their size"), std::string::npos)
+            << e.what();
+    }
 }
 
 // A CSG object's shapes each have their own texture scale: the level of detail on a shape is its own. A box
@@ -1394,6 +1410,43 @@ TEST_F(ShapeGpu, ACutFlushWithAFaceFarFromTheMiddleStaysOpen) {
     }
 }
 
+TEST_F(ShapeGpu, ThinWallsFarFromTheMiddleStayWhole) {
+    // A hollow box (half-size 0.5 minus 0.45: walls 0.05 thick) seen along -x from 3 units away, 1e5 from
+    // the scene's middle: every pixel sees its front wall. A tie of 2^-18 of the coordinates' magnitude (0.38
+    // there) took the walls' two faces as one and the box vanished, on both devices.
+    RenderSettings settings;
+    settings.width = settings.height = 8;
+    settings.samplesPerPixel = 1;
+    settings.ambient = glm::dvec3(0.0);
+    settings.maxDepth = 0;
+    for (const double distance : {0.0, 1e5}) {
+        SCOPED_TRACE(testing::Message() << "D = " << distance);
+        const glm::dvec3 centre(distance, 0.0, 0.0);
+        Scene scene;
+        scene.materials.push_back(lampMaterial());
+        addSolid(scene,
+                 {makeShape(VKRT_SHAPE_BOX, 0, trs(centre, 0.0, {0, 0, 1}, glm::dvec3(0.5))),
+                  makeShape(VKRT_SHAPE_BOX, 0, trs(centre, 0.0, {0, 0, 1}, glm::dvec3(0.45)))},
+                 truthTable(2, [](uint32_t s) { return bit(s, 0) && !bit(s, 1); }));
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        Camera camera;
+        camera.projection = Projection::Orthographic;
+        camera.position = centre + glm::dvec3(3.0, 0.0, 0.0);
+        camera.forward = {-1.0, 0.0, 0.0};
+        camera.up = {0.0, 1.0, 0.0};
+        camera.right = glm::cross(camera.forward, camera.up);
+        camera.xmag = camera.ymag = 0.4;
+        const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+        const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        for (const Image* image : {&gpu, &cpu}) {
+            int missed = 0;
+            for (const glm::vec3& p : image->pixels) missed += !(p.x > 0.99f);
+            EXPECT_EQ(missed, 0) << (image == &gpu ? "gpu" : "cpu");
+        }
+    }
+}
+
 TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
     // An emitting CSG object (radiance 1, centred 1.2 above the floor) over a Lambertian floor of albedo 1
     // (no specular layer). The floor's radiance at a point is its irradiance over pi: the cosine-weighted
@@ -1404,10 +1457,13 @@ TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
     // standard errors of the image's mean. Lamps: a box of half-side 0.5 minus a sphere of radius 0.65; and
     // solids whose operands' faces coincide, where light samples asked each shape at the point itself: a
     // union of two identical boxes (which gave a thirtieth of the light), an L of two overlapping boxes with
-    // flush faces (two thirds) and two crossed boxes intersected into one (twice the light).
+    // flush faces (two thirds) and two crossed boxes intersected into one (twice the light); and (A and B)
+    // or C, three bottoms in one plane, where only C glows: light samples once put the shared bottom's light
+    // on A (the choice of a ray leaving the solid), while rays that arrive from below, as the floor's do,
+    // cross it on C. Only hits on the lamp's material count.
     const glm::dvec3 center(0.0, 0.0, 1.2);
-    const auto box = [&](glm::dvec3 offset, glm::dvec3 half) {
-        return makeShape(VKRT_SHAPE_BOX, 0, trs(center + offset, 0.0, {0, 0, 1}, half));
+    const auto box = [&](glm::dvec3 offset, glm::dvec3 half, uint32_t material = 0) {
+        return makeShape(VKRT_SHAPE_BOX, material, trs(center + offset, 0.0, {0, 0, 1}, half));
     };
     const Table unionOfTwo = truthTable(2, [](uint32_t s) { return bit(s, 0) || bit(s, 1); });
     struct Lamp {
@@ -1427,6 +1483,10 @@ TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
         {"two crossed boxes intersected",
          {box({}, {0.5, 1.0, 0.5}), box({}, {1.0, 0.5, 0.5})},
          truthTable(2, [](uint32_t s) { return bit(s, 0) && bit(s, 1); })},
+        {"a glowing box united with two dark ones intersected, bottoms flush",
+         {box({-0.4, 0.0, 0.0}, glm::dvec3(0.5), 1), box({-0.2, 0.3, 0.0}, glm::dvec3(0.5), 1),
+          box({}, glm::dvec3(0.5))},
+         truthTable(3, [](uint32_t s) { return (bit(s, 0) && bit(s, 1)) || bit(s, 2); })},
     };
     for (const Lamp& lamp : lamps) {
         SCOPED_TRACE(lamp.name);
@@ -1454,7 +1514,7 @@ TEST_F(ShapeGpu, CsgLampLightsAFloorAsItsSolidAngleSays) {
                 const glm::dvec3 direction(r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u));
                 SurfaceHit hit;
                 if (closestHitBeyond(scene, bvh, {point, direction}, 1e-6, 1e30, kNoPrimitive, hit) &&
-                    scene.isSolid(hit.primitive)) {
+                    scene.isSolid(hit.primitive) && scene.shapes[static_cast<size_t>(hit.u)].material == 0) {
                     ++seen;
                 }
             }

@@ -146,9 +146,10 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
                          " units from the scene's middle; the GPU's single-precision tests hold to 1e12 "
                          "(--device cpu renders it)");
     }
-    // A shape's intersection squares the ray's direction in its object space, which its map's inverse
-    // scales: beyond about 1.8e19 the squares overflow in float (a sphere 1e-20 across vanished, a cone
-    // filled its bounding square).
+    // A shape's intersection squares the ray's direction and origin in its object space, which its map's
+    // inverse scales: beyond about 1.8e19 the squares overflow in float (a sphere 1e-20 across vanished, a
+    // cone filled its bounding square). Origins lie within the scene's reach or at the camera, twice that
+    // from the shape at most.
     for (size_t i = 0; i < scene.shapes.size(); ++i) {
         double largest = 0.0;
         for (int pose = 0; pose <= (scene.shapePoses.empty() ? 0 : scene.motionSegments); ++pose) {
@@ -158,12 +159,15 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
                 largest = std::max(
                     {largest, std::abs(inverse[c].x), std::abs(inverse[c].y), std::abs(inverse[c].z)});
         }
-        if (!(largest <= kGpuShapeInverseScale)) {
-            char scale[32];
-            std::snprintf(scale, sizeof scale, "%.3g", 1.0 / largest);
-            throw SceneError(scene.sourcePath + ": shape " + std::to_string(i) + " is about " + scale +
-                             " across; the GPU's single-precision shape tests hold down to 1e-18 (--device "
-                             "cpu renders it)");
+        if (!(largest <= kGpuShapeInverseScale && largest * 2.0 * reach <= kGpuShapeInverseScale)) {
+            char size[32], ratio[32];
+            std::snprintf(size, sizeof size, "%.3g", 2.0 / largest);
+            std::snprintf(ratio, sizeof ratio, "%.3g", 2.0 * reach * largest);
+            throw SceneError(
+                scene.sourcePath + ": shape " + std::to_string(i) + " is about " + size +
+                " across, and rays reach it from " + ratio +
+                " times its size; the GPU's single-precision shape tests hold for shapes down to "
+                "1e-18 across, seen from up to 1e18 times their size (--device cpu renders it)");
         }
     }
 }

@@ -161,10 +161,13 @@ void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesP
     }
 }
 
-// Refuses an EXR whose channels LoadEXR would misread: it takes a file's one channel, whatever its name
-// (alpha, depth), as grey radiance, and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G and
-// B, or Y alone, in HALF or FLOAT. Refuses one whose decoding would take more than `maxBytes`: LoadEXR's
-// planes of each channel as floats, its RGBA copy and the image made from it.
+// Refuses an EXR whose channels LoadEXR would misread. LoadEXR names a channel by what follows its last '.'
+// (diffuse.R is R) and looks at the first four channels alone: it takes a file's one channel, whatever its
+// name (alpha, depth), as grey radiance, a second layer's B among the first four in place of the first's (B,
+// G, R, other.B read other.B as blue), and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G
+// and B once each among the first four channels, or Y alone, in HALF or FLOAT, all of one layer. Refuses one
+// whose decoding would take more than `maxBytes`: LoadEXR's planes of each channel as floats, its RGBA copy
+// and the image made from it.
 void checkExrHeader(const std::string& path, uint64_t maxBytes) {
     EXRVersion version;
     if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) return;  // LoadEXR says why
@@ -175,27 +178,37 @@ void checkExrHeader(const std::string& path, uint64_t maxBytes) {
         if (error) FreeEXRErrorMessage(error);
         return;
     }
-    std::string names, problem;
-    bool red = false, green = false, blue = false, luminance = false;
-    for (int i = 0; i < header.num_channels; ++i) {
+    const int channels = header.num_channels;
+    std::string names, problem, layer;
+    int red = 0, green = 0, blue = 0;
+    bool luminance = false, oneLayer = true;
+    for (int i = 0; i < channels; ++i) {
         const std::string name = header.channels[i].name;
         names += (names.empty() ? "" : ", ") + name;
-        const bool colour = name == "R" || name == "G" || name == "B" || name == "Y";
-        if (colour && header.pixel_types[i] == TINYEXR_PIXELTYPE_UINT)
+        const size_t dot = name.find_last_of('.');
+        const std::string base = dot == std::string::npos ? name : name.substr(dot + 1);
+        const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
+        const bool colour = base == "R" || base == "G" || base == "B" || base == "Y";
+        if (!colour) continue;
+        if (header.pixel_types[i] == TINYEXR_PIXELTYPE_UINT)
             problem = "channel " + name + " holds unsigned integers, not radiance";
-        red |= name == "R";
-        green |= name == "G";
-        blue |= name == "B";
-        luminance |= name == "Y";
+        if (red + green + blue == 0 && !luminance) layer = prefix;
+        oneLayer = oneLayer && prefix == layer;
+        if (i < 4) {
+            red += base == "R";
+            green += base == "G";
+            blue += base == "B";
+        }
+        luminance |= base == "Y";
     }
-    const int channels = header.num_channels;
     const uint64_t width =
         static_cast<uint64_t>(std::max(0, header.data_window.max_x - header.data_window.min_x + 1));
     const uint64_t height =
         static_cast<uint64_t>(std::max(0, header.data_window.max_y - header.data_window.min_y + 1));
     FreeEXRHeader(&header);
-    if (problem.empty() && !(red && green && blue) && !(luminance && channels == 1))
-        problem = "no R, G and B channels, nor Y alone (it has " + names + ")";
+    if (problem.empty() && !oneLayer) problem = "colour channels of several layers (" + names + ")";
+    if (problem.empty() && !(red == 1 && green == 1 && blue == 1) && !(luminance && channels == 1))
+        problem = "no R, G and B among its first four channels, nor Y alone (it has " + names + ")";
     if (!problem.empty()) throw ImageError(path + ": cannot read EXR: " + problem);
     checkDecodingFits(path, width * height, 4 * static_cast<uint64_t>(channels) + 16 + sizeof(glm::vec3), 0,
                       maxBytes);
