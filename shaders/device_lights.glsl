@@ -20,6 +20,9 @@ void device_shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorl
 uint vkrtShadowRays = 0u;
 bool vkrtWalksComplete = true;
 
+// A pass of a loop of the shading code, counted as the walk's are (traverse.glsl's VKRT_COUNT_ITERATION).
+void device_loopPass() { VKRT_COUNT_ITERATION(); }
+
 vec3 device_offsetOrigin(vec3 position, float errorScale, vec3 normal) {
     return offsetRayOrigin(position, errorScale, normal);
 }

@@ -446,6 +446,9 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
     const uint areaEnd = punctualQueries + areaQueries;
     real3 punctualSum = real3(0.0), areaSum = real3(0.0), environmentSum = real3(0.0);
     for (uint q = 0u; q < areaEnd + environmentQueries; ++q) {
+        // Counted against llvmpipe's loop budget (traverse.glsl), which cut this loop short after 16384 of
+        // 20000 point lights, the sample kept without the others' light.
+        VKRT_DEVICE(loopPass)();
         LightQuery query;
         bool lit = false;
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS

@@ -226,6 +226,12 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 // BVH walk was cut short (traverse.glsl), that is not finite, or that would take the single-precision sum
 // beyond its range (radiance near 1e38, where the CPU's double sums hold) is discarded and counted.
 void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise vec4 sumLost, inout uint nonFinite) {
+#ifdef VKRT_COUNT_LOOP_PASSES
+    // An invocation that has itself run 65535 loop passes has spent llvmpipe's budget (its SIMD group's passes
+    // are at least its own), and a loop it cut short without a walk's noticing (the light loop) left the
+    // sample short.
+    complete = complete && vkrtLoopPasses < 65535u;
+#endif
     if (complete && allFinite(value)) {
         precise const vec4 corrected = vec4(value, 1.0) - sumLost;
         precise const vec4 next = sum + corrected;

@@ -602,6 +602,7 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
           Case{"--ambient 0,-0.5,0 --integrator whitted",
                "--ambient: '0,-0.5,0' is a radiance and must not be negative"},
           Case{"--background 1e39", "--background: '1e39' is not one finite value"},
+          Case{"--animation walk", "--animation walk: no such animation (the file has none)"},
           Case{"--aperture 1e39", "--aperture: '1e39' is beyond single precision's range"},
           Case{"--stats " + out, "--out and --stats name the same file"},
           Case{"--report-every-ms 5", "--report-every-ms needs --report or --reference"},

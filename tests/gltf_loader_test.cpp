@@ -585,6 +585,88 @@ TEST(GltfLoader, AFarTriangleDoesNotPullTheOriginAway) {
     EXPECT_LT(glm::length(loadGltf(file.string()).origin - glm::dvec3(5.0)), 1e-9);
 }
 
+// A triangle under node 0, moved along x by the translation animations `clips` (name, STEP keys and their x).
+struct Clip {
+    std::string name;
+    std::vector<float> times, x;
+};
+std::filesystem::path animatedTriangleFile(const std::vector<Clip>& clips) {
+    test::GltfDocument d;
+    const int positions = d.floats({0, 0, 0, 0.1f, 0, 0, 0, 0.1f, 0}, "VEC3");
+    d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
+    d.node({{"mesh", 0}});
+    for (const Clip& clip : clips) {
+        std::vector<float> values;
+        for (float x : clip.x) values.insert(values.end(), {x, 0.0f, 0.0f});
+        const int input = d.floats(clip.times, "SCALAR"), output = d.floats(values, "VEC3");
+        d.json["animations"].push_back(
+            {{"name", clip.name},
+             {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
+             {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "STEP"}}}}});
+    }
+    const auto file = test::temporaryFolder() / "animated.gltf";
+    d.write(file);
+    return file;
+}
+
+double triangleX(const Scene& scene) {
+    return scene.triangles[0].v0.x + scene.origin.x;
+}
+
+// At a key's time a STEP animation takes that key's value: key times are floats, and the time 0.1 lies just
+// below the key 0.1f; compared in double, it took the key before (every frame of a 30 fps animation rendered
+// at its key showed the frame before).
+TEST(GltfLoader, AnAnimationAtAKeysTimeTakesThatKey) {
+    const auto file = animatedTriangleFile({{"steps", {0.0f, 0.1f, 0.2f}, {-1.0f, 1.0f, 2.0f}}});
+    for (const auto& [time, x] : {std::pair{0.0, -1.0}, {0.05, -1.0}, {0.1, 1.0}, {0.15, 1.0}, {0.2, 2.0}}) {
+        LoadOptions options;
+        options.shutter = std::array<double, 2>{time, time};
+        EXPECT_NEAR(triangleX(loadGltf(file.string(), options)), x, 1e-6) << "at " << time;
+    }
+    const auto frames =
+        animatedTriangleFile({{"frames", {0.0f, 1.0f / 30, 2.0f / 30, 3.0f / 30}, {0, 1, 2, 3}}});
+    for (int frame = 0; frame < 4; ++frame) {
+        LoadOptions options;
+        options.shutter = std::array<double, 2>{frame / 30.0, frame / 30.0};
+        EXPECT_NEAR(triangleX(loadGltf(frames.string(), options)), frame, 1e-6) << "frame " << frame;
+    }
+}
+
+// A file's animations are clips (an idle, a walk, a run on the same joints): the first plays, vkrt says so
+// where there are several, and --animation picks another by index or name. All of them once played together,
+// the last channel of a node winning.
+TEST(GltfLoader, OneAnimationPlaysAndItCanBeChosen) {
+    const auto file =
+        animatedTriangleFile({{"idle", {0.0f, 1.0f}, {-2.0f, -2.0f}}, {"run", {0.0f, 1.0f}, {2.0f, 2.0f}}});
+    const Scene first = loadGltf(file.string());
+    EXPECT_NEAR(triangleX(first), -2.0, 1e-6);
+    bool said = false;
+    for (const std::string& warning : first.warnings)
+        said |= warning.find("the file has 2 animations; animation 0 (\"idle\") plays") != std::string::npos;
+    EXPECT_TRUE(said);
+    for (const char* run : {"1", "run"}) {
+        LoadOptions options;
+        options.animation = run;
+        const Scene chosen = loadGltf(file.string(), options);
+        EXPECT_NEAR(triangleX(chosen), 2.0, 1e-6) << run;
+        for (const std::string& warning : chosen.warnings)
+            EXPECT_EQ(warning.find("animations;"), std::string::npos);
+    }
+    for (const char* missing : {"2", "walk", "-1"}) {
+        LoadOptions options;
+        options.animation = missing;
+        try {
+            loadGltf(file.string(), options);
+            ADD_FAILURE() << missing;
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("no such animation (the file has animation 0 (\"idle\"), "
+                                                 "animation 1 (\"run\"))"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 TEST(GltfLoader, HugeGroundDoesNotPullTheOriginAway) {
     const std::filesystem::path file = test::temporaryFolder() / "ground.gltf";
     test::writeText(file, R"({

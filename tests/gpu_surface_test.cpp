@@ -182,6 +182,29 @@ TEST_F(GpuSurfaces, AlphaEqualToTheCutoffIsOpaqueWithVertexColours) {
     }
 }
 
+TEST_F(GpuSurfaces, LightsPastTheLoopBudgetAreNeverSilentlyDropped) {
+    // 20,000 point lights over the unit square: llvmpipe ends an invocation's loops after 65535 passes, and
+    // its light loop once stopped after 16,384 lights, keeping the sample (the floor 0.82 of the CPU's) with
+    // nothing said. Each sample is either whole, as the CPU's, or left out and counted.
+    Scene scene;
+    constexpr int kLights = 20000;
+    for (int i = 0; i < kLights; ++i) {
+        PunctualLight light;
+        light.position = {0.5 + 0.3 * std::cos(i), 0.5 + 0.3 * std::sin(i), 1.0};
+        light.intensity = 10.0f / kLights;
+        scene.lights.push_back(light);
+    }
+    RenderSettings settings = litOnly(4);
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lambertian(0.5f), settings);
+    ASSERT_GT(meanRed(cpu.image), 0.1);
+    if (gpu.rays.nonFiniteSamples == 0) {
+        EXPECT_NEAR(meanRed(gpu.image) / meanRed(cpu.image), 1.0, 1e-3);
+    } else {
+        EXPECT_EQ(gpu.rays.nonFiniteSamples, 16u * settings.samplesPerPixel)
+            << "every sample ran out, or none";
+    }
+}
+
 TEST_F(GpuSurfaces, AlphaBlendCoversTheFractionAlpha) {
     // A surface of alpha 0.3 in front of the background: each camera ray goes through with probability 0.7, so
     // the image converges to 0.3 * 1 + 0.7 * 0.25. Both devices draw the same numbers: the images agree.

@@ -258,6 +258,11 @@ struct CommandLine {
             ->expected(2)
             ->check(kFinite)
             ->default_str("the scene's extras.shutter, else 0 0");
+        app.add_option("--animation", options.animation,
+                       "the file's animation that poses and moves the scene, by index or name (a file's "
+                       "animations are separate clips)")
+            ->type_name("INDEX|NAME")
+            ->default_str("the first");
         app.add_option("--aperture", options.request.aperture,
                        "thin-lens radius in scene units (depth of field)")
             ->type_name("R")

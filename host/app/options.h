@@ -35,6 +35,7 @@ struct Options {
     uint64_t maxHostMemoryBytes = 0;               // --max-memory; 0: what the system has available
     uint64_t maxDeviceMemoryBytes = 0;             // --max-device-memory; 0: what the device offers
     std::optional<std::array<double, 2>> shutter;  // motion blur: open and close times; overrides the scene's
+    std::string animation;  // the animation that plays: index or name; empty: the first
     std::string referencePath;                     // --reference: image to measure the error against
     std::string reportPath;                        // --report: convergence report (.json or .csv)
     double reportEveryMs = 0.0;                    // --report-every-ms: checkpoints by time too

@@ -97,6 +97,7 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
             const auto loadStart = std::chrono::steady_clock::now();
             LoadOptions loadOptions;
             loadOptions.shutter = options.shutter;
+            loadOptions.animation = options.animation;
             const HostMemory memory = hostMemoryFor(options);
             loadOptions.maxSceneBytes = memory.bytes;
             loadOptions.memorySource = memory.source;

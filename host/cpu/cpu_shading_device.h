@@ -97,6 +97,9 @@ class CpuShadingDevice {
 
     double time() const { return time_; }
 
+    // Loop passes are counted on the GPU alone (llvmpipe's budget: device_lights.glsl).
+    void loopPass() const {}
+
   private:
     const CpuShadingScene& data_;
     double time_;

@@ -10,26 +10,24 @@
 namespace vkrt {
 namespace {
 
-// The key interval holding `time`: k with times[k] <= time < times[k + 1], and the fraction within it.
+// The key interval holding `time`: k with times[k] <= time < times[k + 1], and the fraction within it. The
+// keys are floats, and a time is compared at their precision: the time 0.1 lies just below the key 0.1f, and
+// compared in double it took the key before it (a STEP animation rendered at a key showed the previous key's
+// value). The fraction is the double time's, within [0, 1].
 void locate(const std::vector<float>& times, double time, size_t& k, double& fraction) {
-    if (times.size() < 2 || time <= times.front()) {
+    const float at = static_cast<float>(time);
+    if (times.size() < 2 || at <= times.front()) {
         k = 0;
         fraction = 0.0;
         return;
     }
-    if (time >= times.back()) {
+    if (at >= times.back()) {
         k = times.size() - 2;
         fraction = 1.0;
         return;
     }
-    // Compared in double: a time just below the last key that rounds up to it in float found no key after it
-    // (k = n - 1, and the reads beyond both arrays).
-    k = static_cast<size_t>(
-            std::upper_bound(times.begin(), times.end(), time,
-                             [](double t, float key) { return t < static_cast<double>(key); }) -
-            times.begin()) -
-        1;
-    fraction = (time - times[k]) / (static_cast<double>(times[k + 1]) - times[k]);
+    k = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), at) - times.begin()) - 1;
+    fraction = std::clamp((time - times[k]) / (static_cast<double>(times[k + 1]) - times[k]), 0.0, 1.0);
 }
 
 // Component `c` of a key's value (`part` 0, 1, 2: a CUBICSPLINE key's in-tangent, value, out-tangent).
@@ -92,10 +90,11 @@ glm::dmat4 NodeTrs::matrix() const {
 }
 
 NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors,
-                               const std::string& path)
+                               const std::string& path, int selected)
     : path_(path) {
     auto fail = [&](const std::string& message) { throw SceneError(path + ": " + message); };
-    for (size_t a = 0; a < model.animations.size(); ++a) {
+    if (selected >= 0 && selected < static_cast<int>(model.animations.size())) {
+        const size_t a = static_cast<size_t>(selected);
         const tinygltf::Animation& animation = model.animations[a];
         const std::string where = "animation " + std::to_string(a);
         for (size_t c = 0; c < animation.channels.size(); ++c) {

@@ -36,8 +36,10 @@ struct NodeTrs {
 
 class NodeAnimations {
   public:
-    // Reads every animation of the model; throws SceneError on malformed channels and samplers.
-    NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors, const std::string& path);
+    // Reads animation `selected` of the model (none where -1); throws SceneError on malformed channels and
+    // samplers.
+    NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors, const std::string& path,
+                   int selected);
 
     // Whether a channel moves the node (translation, rotation or scale).
     bool animates(int node) const;

@@ -32,6 +32,32 @@
 namespace vkrt {
 namespace {
 
+// The index of the animation that plays (LoadOptions::animation): -1 where the file has none.
+int chooseAnimation(GltfContext& context, const std::string& request) {
+    const std::vector<tinygltf::Animation>& animations = context.model.animations;
+    const auto named = [&](size_t a) {
+        return animations[a].name.empty()
+                   ? "animation " + std::to_string(a)
+                   : "animation " + std::to_string(a) + " (\"" + animations[a].name + "\")";
+    };
+    if (request.empty()) {
+        if (animations.empty()) return -1;
+        if (animations.size() > 1) {
+            context.warn("the file has " + std::to_string(animations.size()) + " animations; " + named(0) +
+                         " plays (--animation picks another)");
+        }
+        return 0;
+    }
+    for (size_t a = 0; a < animations.size(); ++a)
+        if (animations[a].name == request) return static_cast<int>(a);
+    const bool digits = request.find_first_not_of("0123456789") == std::string::npos && request.size() < 10;
+    if (digits && std::stoul(request) < animations.size()) return static_cast<int>(std::stoul(request));
+    std::string names;
+    for (size_t a = 0; a < animations.size(); ++a) names += (a == 0 ? "" : ", ") + named(a);
+    context.fail("--animation " + request + ": no such animation (the file has " +
+                 (animations.empty() ? std::string("none") : names) + ")");
+}
+
 // The conversion of one model: materials first, then a walk of the node graph that places meshes,
 // cameras, lights and spheres in the world.
 class GltfConverter {
@@ -40,7 +66,7 @@ class GltfConverter {
                   ImageFailures imageFailures)
         : context_(model, std::move(path)),
           options_(options),
-          animations_(model, context_.accessors, context_.path),
+          animations_(model, context_.accessors, context_.path, chooseAnimation(context_, options.animation)),
           meshes_(context_) {
         context_.imageFailures = std::move(imageFailures);
     }
