@@ -223,8 +223,9 @@ bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoin
 }
 
 // One finished sample into the pixel's Kahan-compensated sum (rgb and the finite-sample count). A sample whose
-// BVH walk was cut short (traverse.glsl), that is not finite, or that would take the single-precision sum
-// beyond its range (radiance near 1e38, where the CPU's double sums hold) is discarded and counted.
+// BVH walk was cut short (traverse.glsl), of an invocation that has run llvmpipe's loop budget, that is not
+// finite, or that would take the single-precision sum beyond its range (radiance near 1e38, where the CPU's
+// double sums hold) is discarded and counted.
 void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise vec4 sumLost, inout uint nonFinite) {
 #ifdef VKRT_COUNT_LOOP_PASSES
     // An invocation that has itself run 65535 loop passes has spent llvmpipe's budget (its SIMD group's passes

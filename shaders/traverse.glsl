@@ -70,7 +70,8 @@ void orderChildren(inout float keyA, inout uint linkA, inout float keyB, inout u
 
 // With VKRT_COUNT_ITERATIONS (ray_benchmark --count-iterations), every pass of every loop of the walk is
 // counted, as llvmpipe counts them against its budget of 65535 per invocation. With VKRT_COUNT_LOOP_PASSES
-// (the render kernel on lavapipe), the passes of the walk's and the kernel's loops, each lane its own. (The
+// (the render kernel on lavapipe), the passes of the walk's, the kernel's and the light loop's
+// (device_lights.glsl's device_loopPass), each lane its own. (The
 // SIMD group's own count, one lane of those taking part counting each pass, made the Whitted scene's kernel
 // 8% slower.)
 #ifdef VKRT_COUNT_ITERATIONS

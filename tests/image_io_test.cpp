@@ -291,7 +291,9 @@ TEST(ImageIo, ExrChannelsThatAreNotRadianceAreRefused) {
     const std::string red = write("r.exr", {"R"}, TINYEXR_PIXELTYPE_FLOAT);
     const std::string layers =
         write("layers.exr", {"B", "G", "R", "other.B", "other.G", "other.R"}, TINYEXR_PIXELTYPE_FLOAT);
-    for (const std::string& path : {rgb, grey, layer, layerGrey})
+    const std::string aovs = write("aovs.exr", {"A", "B", "G", "R", "diffuse.B", "diffuse.G", "diffuse.R"},
+                                   TINYEXR_PIXELTYPE_FLOAT);
+    for (const std::string& path : {rgb, grey, layer, layerGrey, aovs})
         EXPECT_EQ(readImage(path).at(1, 1), glm::vec3(7.0f));
     for (const std::string& path : {alpha, depth, integers, red, layers}) {
         SCOPED_TRACE(path);

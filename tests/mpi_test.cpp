@@ -166,6 +166,16 @@ TEST(Mpi, RanksMustRenderTheSameImage) {
             << other.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << option;
     }
+    // And the animation asked for (ranks playing different clips of one file made one ghosted image).
+    const std::string deform = "--scene '" + (test::sourceDir() / "scenes/deform.gltf").string() +
+                               "' --device cpu --width 16 --height 16 --spp 2 --out '" + out.string() + "'";
+    const test::CommandResult clips =
+        test::runCommand(mpirun() + " -np 1 " + vkrt() + " " + deform + " : -np 1 " + vkrt() + " " + deform +
+                         " --animation motion");
+    EXPECT_EQ(clips.exitCode, 2) << clips.output;
+    EXPECT_NE(clips.output.find("every rank needs the same scene and render options"), std::string::npos)
+        << clips.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 // Rank 0's --report decides for every rank: a report asked of rank 1 alone is not rank 1's to make (it once

@@ -259,8 +259,8 @@ struct CommandLine {
             ->check(kFinite)
             ->default_str("the scene's extras.shutter, else 0 0");
         app.add_option("--animation", options.animation,
-                       "the file's animation that poses and moves the scene, by index or name (a file's "
-                       "animations are separate clips)")
+                       "the file's animation that poses and moves the scene, by name, else by index (a "
+                       "file's animations are separate clips)")
             ->type_name("INDEX|NAME")
             ->default_str("the first");
         app.add_option("--aperture", options.request.aperture,

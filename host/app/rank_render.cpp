@@ -66,6 +66,7 @@ std::string renderIdentity(const Options& options, const RenderSetup& setup) {
         line("shutter", (*options.shutter)[0], (*options.shutter)[1]);
     else
         line("shutter", "the scene's");
+    line("animation", options.animation.empty() ? std::string("the first") : options.animation);
     line("environment", options.environmentPath.empty() ? std::string("none") : file(options.environmentPath),
          options.environmentRotation, options.environmentStrength);
     return out.str();

@@ -69,8 +69,8 @@ void printRenderSummary(const Options& options, const RunReport& report, int ran
     if (report.rays.nonFiniteSamples > 0) {
         std::fprintf(stderr,
                      "vkrt: warning: %llu samples were not finite (or would overflow their pixel's sum, or "
-                     "ran past the "
-                     "device's loop budget: llvmpipe's is 65535 passes an invocation) and were left out\n",
+                     "ran past the device's loop budget: llvmpipe's is 65535 passes an invocation, and "
+                     "--device cpu has none) and were left out\n",
                      static_cast<unsigned long long>(report.rays.nonFiniteSamples));
     }
     // Each rank's share.

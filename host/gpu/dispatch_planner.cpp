@@ -14,8 +14,8 @@ void DispatchPlanner::loopPassesPerSample(uint32_t passes) {
     // A quarter of the budget. The kernel counts each lane's passes and reports the SIMD group's largest, but
     // the group runs a loop as long as any lane needs it: counted per group instead, the passes were up to
     // 1.7 times as many (the csg scene with Whitted; 1.0 to 1.5 on the engine, the helmet, the glossy and
-    // Whitted scenes). The count also leaves out a few short loops (light samples, table searches, CSG
-    // intervals), and samples of one pixel differ.
+    // Whitted scenes). The count also leaves out a few short loops (table searches, CSG intervals), and
+    // samples of one pixel differ.
     if (loopBudget_ > 0 && passes > 0) budgetSamples_ = std::max(1u, loopBudget_ / 4 / passes);
 }
 

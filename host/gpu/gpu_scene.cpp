@@ -159,15 +159,16 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
                 largest = std::max(
                     {largest, std::abs(inverse[c].x), std::abs(inverse[c].y), std::abs(inverse[c].z)});
         }
-        if (!(largest <= kGpuShapeInverseScale && largest * 2.0 * reach <= kGpuShapeInverseScale)) {
+        // A ray's origin is at most twice the reach from the shape: reach / (1 / largest) times its size.
+        if (!(largest <= kGpuShapeInverseScale && 2.0 * reach * largest <= kGpuShapeInverseScale)) {
             char size[32], ratio[32];
             std::snprintf(size, sizeof size, "%.3g", 2.0 / largest);
-            std::snprintf(ratio, sizeof ratio, "%.3g", 2.0 * reach * largest);
+            std::snprintf(ratio, sizeof ratio, "%.3g", reach * largest);
             throw SceneError(
                 scene.sourcePath + ": shape " + std::to_string(i) + " is about " + size +
                 " across, and rays reach it from " + ratio +
                 " times its size; the GPU's single-precision shape tests hold for shapes down to "
-                "1e-18 across, seen from up to 1e18 times their size (--device cpu renders it)");
+                "1e-18 across, seen from up to 5e17 times their size (--device cpu renders it)");
         }
     }
 }

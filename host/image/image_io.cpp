@@ -165,7 +165,8 @@ void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesP
 // (diffuse.R is R) and looks at the first four channels alone: it takes a file's one channel, whatever its
 // name (alpha, depth), as grey radiance, a second layer's B among the first four in place of the first's (B,
 // G, R, other.B read other.B as blue), and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G
-// and B once each among the first four channels, or Y alone, in HALF or FLOAT, all of one layer. Refuses one
+// and B once each among the first four channels, or Y alone, in HALF or FLOAT, all of one layer (an AOV's or
+// Cryptomatte's channels after them are not read). Refuses one
 // whose decoding would take more than `maxBytes`: LoadEXR's planes of each channel as floats, its RGBA copy
 // and the image made from it.
 void checkExrHeader(const std::string& path, uint64_t maxBytes) {
@@ -189,16 +190,14 @@ void checkExrHeader(const std::string& path, uint64_t maxBytes) {
         const std::string base = dot == std::string::npos ? name : name.substr(dot + 1);
         const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
         const bool colour = base == "R" || base == "G" || base == "B" || base == "Y";
-        if (!colour) continue;
+        if (!colour || i >= 4) continue;  // LoadEXR reads the first four alone (AOVs after RGBA are left)
         if (header.pixel_types[i] == TINYEXR_PIXELTYPE_UINT)
             problem = "channel " + name + " holds unsigned integers, not radiance";
         if (red + green + blue == 0 && !luminance) layer = prefix;
         oneLayer = oneLayer && prefix == layer;
-        if (i < 4) {
-            red += base == "R";
-            green += base == "G";
-            blue += base == "B";
-        }
+        red += base == "R";
+        green += base == "G";
+        blue += base == "B";
         luminance |= base == "Y";
     }
     const uint64_t width =
