@@ -1010,6 +1010,37 @@ TEST(ShapeLight, DensitiesIntegrateToTheTrueWorldArea) {
 // ---------------------------------------------------------------------------------------------------------
 // Silhouettes
 
+// `size` x `size` pixels, `spp` samples each, of what the surfaces seen emit (no ambient light, no bounce).
+RenderSettings emissionAlone(int size, int spp = 1) {
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.samplesPerPixel = spp;
+    settings.ambient = glm::dvec3(0.0);
+    settings.maxDepth = 0;
+    return settings;
+}
+
+// An orthographic view of half-size `half` looking down -z at the origin from 5 half-sizes away.
+Camera alongMinusZ(double half) {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0 * half};
+    camera.xmag = camera.ymag = half;
+    return camera;
+}
+
+// An orthographic view of half-size `half` along -x at `centre`, from 3 units away.
+Camera alongMinusX(const glm::dvec3& centre, double half) {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = centre + glm::dvec3(3.0, 0.0, 0.0);
+    camera.forward = {-1.0, 0.0, 0.0};
+    camera.up = {0.0, 1.0, 0.0};
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.xmag = camera.ymag = half;
+    return camera;
+}
+
 Material lampMaterial() {
     Material lamp;
     lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
@@ -1030,15 +1061,8 @@ struct Silhouette {
 void expectSilhouettes(const std::vector<Silhouette>& cases,
                        const std::function<RenderResult(const Scene&, const FlatBvh&, const Camera&,
                                                         const RenderSettings&)>& gpu) {
-    RenderSettings settings;
-    settings.width = settings.height = 96;
-    settings.samplesPerPixel = 64;
-    settings.ambient = glm::dvec3(0.0);
-    settings.maxDepth = 0;
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0};
-    camera.xmag = camera.ymag = 1.0;
+    const RenderSettings settings = emissionAlone(96, 64);
+    const Camera camera = alongMinusZ(1.0);
     for (const Silhouette& c : cases) {
         Scene scene;
         scene.materials.push_back(lampMaterial());
@@ -1131,15 +1155,8 @@ TEST_F(ShapeGpu, SilhouettesOfShapesMatchTheirAnalyticAreas) {
 // in the shape's space (1e20 times the world's), refuses them in one line naming --device cpu.
 TEST_F(ShapeGpu, ShapesFarSmallerThanFloatsSquaresRenderOnTheCpu) {
     const double size = 1e-20;
-    RenderSettings settings;
-    settings.width = settings.height = 32;
-    settings.samplesPerPixel = 4;
-    settings.ambient = glm::dvec3(0.0);
-    settings.maxDepth = 0;
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0 * size};
-    camera.xmag = camera.ymag = size;
+    const RenderSettings settings = emissionAlone(32, 4);
+    const Camera camera = alongMinusZ(size);
     for (const uint32_t type : {VKRT_SHAPE_SPHERE, VKRT_SHAPE_CONE}) {
         SCOPED_TRACE(shapeName(type));
         Scene scene;
@@ -1168,10 +1185,8 @@ TEST_F(ShapeGpu, ShapesFarSmallerThanFloatsSquaresRenderOnTheCpu) {
              insideOne());
     addFlatTriangle(wide, {1e10f, 0.0f, 0.0f}, {1e10f, 1.0f, 0.0f}, {1e10f, 0.0f, 1.0f}, 0);
     finalizeScene(wide);
-    camera.position = {0.0, 0.0, 5e-10};
-    camera.xmag = camera.ymag = 1e-10;
     try {
-        renderGpu(wide, bvhFor(wide), camera, settings);
+        renderGpu(wide, bvhFor(wide), alongMinusZ(1e-10), settings);
         ADD_FAILURE() << "rendered on the GPU";
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("seen from up to 5e17 times their size"), std::string::npos)
@@ -1364,28 +1379,6 @@ TEST_F(ShapeGpu, SilhouettesOfCsgObjectsMatchTheirAnalyticAreas) {
 
 // ---------------------------------------------------------------------------------------------------------
 // A CSG lamp
-
-// An orthographic view of half-size `half` along -x at `centre`, from 3 units away.
-Camera alongMinusX(const glm::dvec3& centre, double half) {
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = centre + glm::dvec3(3.0, 0.0, 0.0);
-    camera.forward = {-1.0, 0.0, 0.0};
-    camera.up = {0.0, 1.0, 0.0};
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.xmag = camera.ymag = half;
-    return camera;
-}
-
-// `size` x `size` pixels, one sample each, of what the surfaces seen emit (no ambient light, no bounce).
-RenderSettings emissionAlone(int size) {
-    RenderSettings settings;
-    settings.width = settings.height = size;
-    settings.samplesPerPixel = 1;
-    settings.ambient = glm::dvec3(0.0);
-    settings.maxDepth = 0;
-    return settings;
-}
 
 TEST_F(ShapeGpu, ACutFlushWithAFaceFarFromTheMiddleStaysOpen) {
     // A box minus a slot cut flush into its +x face (the slot's +x face on the box's), seen along -x into the

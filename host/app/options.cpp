@@ -434,8 +434,7 @@ Options parseOptions(int argc, const char* const argv[]) {
         }
     } else if (given("--background")) {
         said.warnings.push_back(
-            "--background does nothing with --environment: rays that leave the scene see "
-            "the map");
+            "--background does nothing with --environment: rays that leave the scene see the map");
     }
     if (imageFormatFromPath(options.outputPath) != ImageFormat::Png) {
         for (const char* name : {"--tonemap", "--exposure"}) {

@@ -153,7 +153,9 @@ Image readPfm(const std::string& path) {
 // Refuses a map whose decoding would take more than `maxBytes`: `texels` of `bytesPerTexel` each, and `more`.
 void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesPerTexel, uint64_t more,
                        uint64_t maxBytes) {
-    const uint64_t need = texels * bytesPerTexel + more;  // texels < 2^62 / 64: both headers' sizes are ints
+    // Compared before multiplying: a header's size is two ints (2^62 texels), and an EXR's channels many.
+    const uint64_t need =
+        texels > (UINT64_MAX - more) / bytesPerTexel ? UINT64_MAX : texels * bytesPerTexel + more;
     if (need > maxBytes) {
         throw MemoryError(path + ": decoding its " + std::to_string(texels) + " texels needs about " +
                           formatBytes(need) + " of host memory, and " + formatBytes(maxBytes) +
@@ -166,9 +168,8 @@ void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesP
 // name (alpha, depth), as grey radiance, a second layer's B among the first four in place of the first's (B,
 // G, R, other.B read other.B as blue), and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G
 // and B once each among the first four channels, or Y alone, in HALF or FLOAT, all of one layer (an AOV's or
-// Cryptomatte's channels after them are not read). Refuses one
-// whose decoding would take more than `maxBytes`: LoadEXR's planes of each channel as floats, its RGBA copy
-// and the image made from it.
+// Cryptomatte's channels after them are not read). Refuses one whose decoding would take more than
+// `maxBytes`: LoadEXR's planes of each channel as floats, its RGBA copy and the image made from it.
 void checkExrHeader(const std::string& path, uint64_t maxBytes) {
     EXRVersion version;
     if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) return;  // LoadEXR says why
