@@ -87,6 +87,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
                      report.deviceLost.c_str());
         return kExitRuntimeFailure;
     }
+    if (everySampleLeftOut(result)) return kExitRuntimeFailure;
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, camera, report);
     writeStats(options, report);

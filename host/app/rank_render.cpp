@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/convergence_run.h"
+#include "app/exit_codes.h"
 #include "app/gpu_run.h"
 #include "app/progress_bar.h"
 #include "app/render_summary.h"
@@ -207,6 +208,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     report.renderMs = millisecondsSince(renderStart);
 
     // Rank 0: the image and the stats, as one process writes them.
+    if (everySampleLeftOut(result)) return kExitRuntimeFailure;
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, setup.camera, report);
     for (const RunReport::Rank& rank : report.ranks) {

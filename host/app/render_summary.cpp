@@ -49,6 +49,17 @@ void writeStats(const Options& options, RunReport& report) {
     if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
 }
 
+bool everySampleLeftOut(const RenderResult& result) {
+    if (result.mostSamples == 0 || result.samplesKept > 0) return false;
+    std::fprintf(
+        stderr,
+        "vkrt: error: all %llu samples were left out (not finite, beyond their pixel's sum, or past the "
+        "device's loop budget: llvmpipe's is 65535 passes an invocation, and --device cpu has none); "
+        "nothing written\n",
+        static_cast<unsigned long long>(result.rays.nonFiniteSamples));
+    return true;
+}
+
 void printRenderSummary(const Options& options, const RunReport& report, int ranks) {
     if (options.quiet) return;
     // What was written, how many samples and how fast; on how many ranks, or on which GPU.

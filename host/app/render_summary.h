@@ -19,6 +19,11 @@ void recordResult(const RenderResult& result, RunReport& report);
 // Records the process's peak resident memory and writes the --stats file, when asked.
 void writeStats(const Options& options, RunReport& report);
 
+// True, after one error line, where samples were traced and every one was left out (not finite, beyond its
+// pixel's single-precision sum, or past llvmpipe's loop budget): the image would be black throughout, so the
+// caller writes nothing and exits with kExitRuntimeFailure.
+bool everySampleLeftOut(const RenderResult& result);
+
 // Unless --quiet: the line that says what was written, with the samples per pixel ("A to B" when the render
 // stopped part way through a pass), the time and the rays per second; under MPI one more line per rank.
 void printRenderSummary(const Options& options, const RunReport& report, int ranks);

@@ -174,7 +174,7 @@ RenderResult combineShares(const MpiJob& job, RankShare& share, const RunReport:
     result.stopped = totals[6] > 0   ? StopReason::Requested
                      : totals[7] > 0 ? StopReason::TimeLimit
                                      : StopReason::None;
-    result.image = averageOf(share.sums, width, height);
+    resolveSums(result, share.sums, width, height);
     return result;
 }
 

@@ -277,7 +277,7 @@ RenderResult GpuRenderer::render(const ProgressCallback& progress, const Checkpo
     std::vector<glm::dvec4> sums(static_cast<size_t>(settings_.width) * settings_.height, glm::dvec4(0.0));
     RenderResult result = renderRange(0, static_cast<uint32_t>(settings_.samplesPerPixel), sums, progress,
                                       checkpoint, checkpointEveryMs, stop);
-    result.image = averageOf(sums, settings_.width, settings_.height);
+    resolveSums(result, sums, settings_.width, settings_.height);
     return result;
 }
 

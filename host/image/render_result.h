@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 #include "common/render_settings.h"
 #include "common/stop_condition.h"
@@ -19,8 +22,17 @@ struct RenderResult {
     // stopped part way through a pass.
     uint32_t fewestSamples = 0;
     uint32_t mostSamples = 0;
+    // Samples the pixels' averages hold: those traced less the ones left out (rays.nonFiniteSamples).
+    uint64_t samplesKept = 0;
     StopReason stopped = StopReason::None;
 };
+
+// The result's image from per-pixel (rgb sum, sample count) sums, and the samples they hold.
+inline void resolveSums(RenderResult& result, const std::vector<glm::dvec4>& sums, int width, int height) {
+    result.image = averageOf(sums, width, height);
+    result.samplesKept = 0;
+    for (const glm::dvec4& sum : sums) result.samplesKept += static_cast<uint64_t>(sum.w);
+}
 
 // Called as rows (CPU) or passes (GPU) finish: done out of total.
 using ProgressCallback = std::function<void(uint64_t done, uint64_t total)>;
