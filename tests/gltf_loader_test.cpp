@@ -119,6 +119,26 @@ TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
     EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 }
 
+TEST(GltfLoader, SixteenBitImagesRoundToTheNearestEightBitValue) {
+    // A 2 x 1 grey PNG of 16 bits a channel: 0xff00 (254.0 of 255) and 0x01ff (1.99 of 255). Textures keep 8
+    // bits a channel: 254 and 2, where the values' high bytes were 255 and 1.
+    const std::filesystem::path file = test::temporaryFolder() / "sixteen.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0]}],
+        "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABEAAAAACB2fwVAAAADUlEQVR4nGP4z8D4HwAFAgIAv90bWgAAAABJRU5ErkJggg=="}],
+        "textures": [{"source": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
+    })");
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.textures.size(), 1u);
+    const Texture& texture = scene.textures[0];
+    ASSERT_EQ(texture.width, 2);
+    ASSERT_GE(texture.rgba.size(), 8u);
+    const std::vector<uint8_t> expected = {254, 254, 254, 255, 2, 2, 2, 255};
+    EXPECT_EQ(std::vector<uint8_t>(texture.rgba.begin(), texture.rgba.begin() + 8), expected);
+}
+
 TEST(GltfLoader, VertexColorsFollowTheirTriangles) {
     // scenes/textures.gltf: a floor without COLOR_0, then a tile with red, green, blue and white corners.
     const Scene scene = loadGltf((test::sourceDir() / "scenes/textures.gltf").string());

@@ -46,7 +46,7 @@ void readMinFilter(int minFilter, Texture& texture) {
     }
 }
 
-// Expand the image's 1 to 4 channels of 8 or 16 bits to 8-bit RGBA.
+// Expand the image's 1 to 4 channels of 8 or 16 bits to 8-bit RGBA (16-bit values rounded to the nearest).
 void decodeImage(const GltfContext& context, const tinygltf::Image& image, int imageIndex, Texture& texture) {
     if (image.image.empty() || image.width <= 0 || image.height <= 0 || image.component < 1 ||
         image.component > 4 || (image.bits != 8 && image.bits != 16)) {
@@ -63,9 +63,16 @@ void decodeImage(const GltfContext& context, const tinygltf::Image& image, int i
     for (size_t p = 0; p < pixels; ++p) {
         uint8_t channel[4] = {0, 0, 0, 255};
         for (int c = 0; c < image.component; ++c) {
-            // 16-bit images keep their high byte (little-endian storage, as tinygltf decodes).
-            size_t at = (p * image.component + c) * bytesPerChannel + (bytesPerChannel - 1);
-            channel[c] = image.image[at];
+            const size_t at = (p * image.component + c) * bytesPerChannel;
+            if (bytesPerChannel == 1) {
+                channel[c] = image.image[at];
+            } else {
+                // A 16-bit value v (little-endian, as tinygltf decodes) stands for v / 65535: the nearest
+                // 8-bit value is round(v * 255 / 65535) = round(v / 257). (Its high byte, v / 256 rounded
+                // down, was up to one step off: 0xff00 read as 255 for 254.)
+                const uint32_t value = image.image[at] | (uint32_t{image.image[at + 1]} << 8);
+                channel[c] = static_cast<uint8_t>((value + 128u) / 257u);
+            }
         }
         if (image.component <= 2) {  // grey or grey + alpha
             channel[3] = image.component == 2 ? channel[1] : 255;
