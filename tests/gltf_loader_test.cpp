@@ -139,6 +139,37 @@ TEST(GltfLoader, SixteenBitImagesRoundToTheNearestEightBitValue) {
     EXPECT_EQ(std::vector<uint8_t>(texture.rgba.begin(), texture.rgba.begin() + 8), expected);
 }
 
+TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {
+    // One tangent frame a vertex, from the texture coordinates the base's normal texture reads: a clearcoat
+    // normal texture on the other set is mapped with it, and the loader says so; on the same set, nothing.
+    for (const int coatSet : {0, 1}) {
+        SCOPED_TRACE(coatSet);
+        const std::filesystem::path file = test::temporaryFolder() / "coat.gltf";
+        test::writeText(file, R"({
+            "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_clearcoat", "VKRT_sphere"],
+            "scene": 0, "scenes": [{"nodes": [0]}],
+            "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg=="}],
+            "textures": [{"source": 0}],
+            "materials": [{"normalTexture": {"index": 0},
+                "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
+                    "clearcoatNormalTexture": {"index": 0, "texCoord": )" +
+                                  std::to_string(coatSet) + R"(}}}}],
+            "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
+        })");
+        const Scene scene = loadGltf(file.string());
+        if (coatSet == 0) {
+            EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+        } else {
+            ASSERT_EQ(scene.warnings.size(), 1u);
+            EXPECT_NE(scene.warnings[0].find(
+                          "material 0: the normal texture reads TEXCOORD_0 and the clearcoat normal "
+                          "texture TEXCOORD_1; vkrt maps both with the tangent frame of the first"),
+                      std::string::npos)
+                << scene.warnings[0];
+        }
+    }
+}
+
 TEST(GltfLoader, VertexColorsFollowTheirTriangles) {
     // scenes/textures.gltf: a floor without COLOR_0, then a tile with red, green, blue and white corners.
     const Scene scene = loadGltf((test::sourceDir() / "scenes/textures.gltf").string());

@@ -185,6 +185,16 @@ void convertMaterials(GltfContext& context) {
                                              m.normalTexture.extensions, where + " normal texture");
         if (!std::isfinite(m.normalTexture.scale)) context.fail(where + ": normal texture scale is not finite");
         material.normalScale = static_cast<float>(m.normalTexture.scale);
+        // One tangent frame a vertex (Material::tangentFrameSlot): the coat's normal texture is mapped with
+        // the base's texture coordinates' frame.
+        if (material.normalTexture.used() && material.clearcoatNormalTexture.used() &&
+            material.normalTexture.texCoord != material.clearcoatNormalTexture.texCoord) {
+            context.warn(where + ": the normal texture reads TEXCOORD_" +
+                         std::to_string(material.normalTexture.texCoord) +
+                         " and the clearcoat normal texture TEXCOORD_" +
+                         std::to_string(material.clearcoatNormalTexture.texCoord) +
+                         "; vkrt maps both with the tangent frame of the first");
+        }
         readAlpha(context, m, where, material);
         context.scene.materials.push_back(material);
     }
