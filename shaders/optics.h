@@ -41,13 +41,20 @@ VKRT_FN bool refractThrough(real3 toViewer, real3 normal, real eta, VKRT_OUT(rea
     return true;
 }
 
+// Whether light seen at cosine cosI from the normal, eta relative across the interface, is reflected totally
+// (no transmitted direction: refractThrough fails, fresnelDielectric is 1).
+VKRT_FN bool totallyReflects(real cosI, real eta) {
+    cosI = clamp(cosI, 0.0, 1.0);
+    return (eta * eta - 1.0 + cosI * cosI) / (eta * eta) <= 0.0;
+}
+
 // Unpolarised Fresnel reflectance of a dielectric interface (Born and Wolf): the mean of the s and p
 // reflectances. cosI is the cosine on the incident side, eta = n_transmitted / n_incident; 1 for total
 // internal reflection.
 VKRT_FN real fresnelDielectric(real cosI, real eta) {
     cosI = clamp(cosI, 0.0, 1.0);
     const real cos2T = (eta * eta - 1.0 + cosI * cosI) / (eta * eta);  // as in refractThrough
-    if (cos2T <= 0.0) return 1.0;
+    if (cos2T <= 0.0) return 1.0;  // total internal reflection (totallyReflects)
     const real cosT = sqrt(cos2T);
     const real rs = (cosI - eta * cosT) / (cosI + eta * cosT);
     const real rp = (eta * cosI - cosT) / (eta * cosI + cosT);

@@ -347,8 +347,12 @@ VKRT_FN real coatPick(VKRT_IN(SurfaceResponse) s) {
 
 // The dielectric part's reflectance at a microfacet seen at cosine cosH, eta relative across the interface:
 // the exact Fresnel term, scaled by KHR_materials_specular's factor and tinted by its colour at normal
-// incidence, the tint fading to none at grazing (the extension tints f0 and leaves f90 white).
+// incidence, the tint fading to none at grazing (the extension tints f0 and leaves f90 white). Beyond the
+// critical angle inside a volume it is 1, neither scaled nor tinted: no light can pass there, and what the
+// layer did not reflect was lost (a clear cube of specularFactor 0 in a white furnace showed 0.71, some
+// pixels black).
 VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
+    if (totallyReflects(cosH, eta)) return real3(1.0);
     real3 reflectance = real3(fresnelDielectric(cosH, eta));
     if (s.specularTint != real3(1.0)) {  // most materials: white, and no fifth power to take
         const real grazing = pow(1.0 - clamp(cosH, 0.0, 1.0), 5.0);

@@ -102,10 +102,9 @@ struct FurnaceEnergy {
 // The sphere of radius 1 at the origin in the furnace, a uniform environment of radiance 1 that light
 // samples, escaping rays and the camera see alike, framed by an orthographic camera (so the disk's mean is
 // the hemispherical albedo, each cosine weighted by itself), rendered by both devices with the same seed.
-FurnaceEnergy furnaceEnergy(const VulkanContext& context, Surface surface, float roughness,
-                            bool compensation) {
+FurnaceEnergy furnaceEnergy(const VulkanContext& context, const Material& material, bool compensation) {
     Scene scene;
-    scene.materials.push_back(furnaceMaterial(surface, roughness));
+    scene.materials.push_back(material);
     scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
     RenderSettings settings;
     settings.integrator = Integrator::Path;
@@ -121,6 +120,11 @@ FurnaceEnergy furnaceEnergy(const VulkanContext& context, Surface surface, float
         test::renderGpuAndCpu(context, scene, bvh, test::sphereCamera(), settings, test::shaderCacheDir());
     EXPECT_EQ(gpu.rays.nonFiniteSamples + cpu.rays.nonFiniteSamples, 0u);
     return {diskMean(gpu.image), diskMean(cpu.image)};
+}
+
+FurnaceEnergy furnaceEnergy(const VulkanContext& context, Surface surface, float roughness,
+                            bool compensation) {
+    return furnaceEnergy(context, furnaceMaterial(surface, roughness), compensation);
 }
 
 // The furnace's energy per roughness without and with the compensation, printed as a table; `check` asserts
@@ -241,6 +245,33 @@ TEST_F(Gpu, WhiteFurnacePartlyTransmissiveVolumeNeverGainsEnergy) {
                      expectAtMostOne(after, kTableAllowance, which);
                      EXPECT_GT(after.mean, 0.75) << which;
                  });
+}
+
+TEST_F(Gpu, WhiteFurnaceGlassOfLessSpecularReflectionKeepsItsEnergy) {
+    // KHR_materials_specular's factor and colour scale and tint the glass's reflection where light could pass
+    // instead, not the total reflection beyond the critical angle inside it: no light passes there, and a
+    // rough sphere of factor 0 lost what was not reflected (0.81 of the light; a tilted cube 0.71, pixels
+    // black). Each is compensated as the glass of factor 1 is, so the sphere keeps its light within the
+    // tables' interpolation.
+    for (const float factor : {0.0f, 0.5f}) {
+        Material glass = furnaceMaterial(Surface::Glass, 0.5f);
+        glass.specularFactor = factor;
+        const FurnaceEnergy energy = furnaceEnergy(context(), glass, true);
+        for (const DiskMean* device : {&energy.gpu, &energy.cpu}) {
+            SCOPED_TRACE("factor " + std::to_string(factor) + (device == &energy.gpu ? ", gpu" : ", cpu"));
+            EXPECT_NEAR(device->mean, 1.0, 0.01);
+        }
+    }
+}
+
+TEST_F(Gpu, WhiteFurnaceIndexMatchedRoughGlassIsInvisible) {
+    // A rough volume of index 1 in air: no interface, so every ray goes straight through and every pixel
+    // is 1. (Weighed as a rough refraction, by G2 / G1 and the interpolated 1 / E, the sphere showed 1.0013.)
+    Material matched = furnaceMaterial(Surface::Glass, 0.5f);
+    matched.ior = 1.0f;
+    const FurnaceEnergy energy = furnaceEnergy(context(), matched, true);
+    EXPECT_NEAR(energy.gpu.mean, 1.0, 1e-5);
+    EXPECT_NEAR(energy.cpu.mean, 1.0, 1e-5);
 }
 
 // The tables as the shared code reads them, on the host.
