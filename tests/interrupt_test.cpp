@@ -112,5 +112,58 @@ TEST(Interrupt, TimeLimitEndsInsideAPass) {
     }
 }
 
+// timeout(1) sends its signal to vkrt and then to its process group: one request, twice, from one sender. A
+// repeat from the same sender within 0.1 s is that request (it ended vkrt at once, writing nothing, in a
+// third of `timeout -s INT` runs); a second Ctrl-C, or a repeat later, still ends it at once.
+TEST(Interrupt, RepeatFromOneSenderIsOneRequest) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    // 1024 x 1024: its image takes a few tenths of a second to average and write, so the repeat comes first.
+    const Interrupted run = interrupt(
+        scene() + " --device cpu --width 1024 --height 1024 --spp 1000000 --out '" + image.string() + "'",
+        "INT INT", 0.02);
+    EXPECT_EQ(run.exitCode, 130) << run.command.output;
+    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;
+}
+
+// Once its image is written, a stopped vkrt ends by the signal itself rather than exiting 130: a shell that
+// runs it in a loop or a script sees a command killed by SIGINT and stops too (one that sees an exit takes
+// the signal as handled and goes on to the next command).
+TEST(Interrupt, StoppedRenderEndsByItsSignal) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const std::string script =
+        "import signal, subprocess, sys, time\n"
+        "p = subprocess.Popen(sys.argv[1:])\n"
+        "time.sleep(3)\n"
+        "p.send_signal(signal.SIGINT)\n"
+        "print('returncode=%d' % p.wait())\n";
+    const test::CommandResult run =
+        test::runCommand("python3 -c \"" + script + "\" '" + std::string(VKRT_BINARY) + "' " + scene() +
+                         " --device cpu --width 64 --height 64 --spp 1000000 --out '" + image.string() + "'");
+    EXPECT_NE(run.output.find("returncode=-2"), std::string::npos) << run.output;  // killed by SIGINT
+    EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.output;
+}
+
+// A signal that stops the render before every pixel has a sample (here while the shader compiles, its cache
+// empty) leaves the image that stood at the output path as it was: the new one would have black holes (it
+// was written, 0 to 1 samples a pixel, over the old one).
+TEST(Interrupt, StopBeforeEveryPixelHasASampleWritesNothing) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "old.pfm";
+    test::writeText(image, "an earlier render");
+    const test::CommandResult run = test::runCommand(
+        "VKRT_SHADER_CACHE='" + (folder / "cache").string() + "' '" + std::string(VKRT_BINARY) + "' " +
+        scene() + " --device gpu --width 1024 --height 1024 --spp 1000000 --out '" + image.string() +
+        "' 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+    EXPECT_NE(run.output.find("exit=130"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("vkrt: interrupted before every pixel had a sample; nothing written"),
+              std::string::npos)
+        << run.output;
+    EXPECT_EQ(test::readText(image), "an earlier render");
+}
+
 }  // namespace
 }  // namespace vkrt

@@ -92,10 +92,12 @@ int main(int argc, char** argv) {
             return 0;
         }
         handleStopSignals();
-        return run(std::move(options), job);
+        const int exitCode = run(std::move(options), job);
+        return job.shared() ? exitCode : endStopped(exitCode);
     } catch (const InterruptedBeforeRender&) {
-        return fail(job, stoppedExitCode(),
-                    "interrupted while rendering the reference for --report; nothing written");
+        const int exitCode = fail(job, stoppedExitCode(),
+                                  "interrupted while rendering the reference for --report; nothing written");
+        return job.shared() ? exitCode : endStopped(exitCode);
     } catch (const UsageError& e) {
         return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const SceneError& e) {

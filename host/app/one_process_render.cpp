@@ -87,7 +87,9 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
                      report.deviceLost.c_str());
         return kExitRuntimeFailure;
     }
-    if (everySampleLeftOut(result)) return kExitRuntimeFailure;
+    if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
+        return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
+    }
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, camera, report);
     writeStats(options, report);

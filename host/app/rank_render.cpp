@@ -208,7 +208,9 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     report.renderMs = millisecondsSince(renderStart);
 
     // Rank 0: the image and the stats, as one process writes them.
-    if (everySampleLeftOut(result)) return kExitRuntimeFailure;
+    if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
+        return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
+    }
     writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, setup.camera, report);
     for (const RunReport::Rank& rank : report.ranks) {

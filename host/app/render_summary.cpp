@@ -60,6 +60,12 @@ bool everySampleLeftOut(const RenderResult& result) {
     return true;
 }
 
+bool interruptedBeforeEveryPixel(const RenderResult& result) {
+    if (result.stopped != StopReason::Requested || result.fewestSamples > 0) return false;
+    std::fprintf(stderr, "vkrt: interrupted before every pixel had a sample; nothing written\n");
+    return true;
+}
+
 void printRenderSummary(const Options& options, const RunReport& report, int ranks) {
     if (options.quiet) return;
     // What was written, how many samples and how fast; on how many ranks, or on which GPU.

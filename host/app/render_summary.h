@@ -24,6 +24,11 @@ void writeStats(const Options& options, RunReport& report);
 // caller writes nothing and exits with kExitRuntimeFailure.
 bool everySampleLeftOut(const RenderResult& result);
 
+// True, after one line, where an interrupt (SIGINT, SIGTERM) stopped the render before every pixel had a
+// sample: the image would have black holes (and replace whatever stood at its path), so the caller writes
+// nothing and exits as the signal asks.
+bool interruptedBeforeEveryPixel(const RenderResult& result);
+
 // Unless --quiet: the line that says what was written, with the samples per pixel ("A to B" when the render
 // stopped part way through a pass), the time and the rays per second; under MPI one more line per rank.
 void printRenderSummary(const Options& options, const RunReport& report, int ranks);

@@ -20,6 +20,12 @@ const std::atomic<bool>& stopRequested();
 // reached this process (under mpirun an interrupt on another rank stops this one too).
 int stoppedExitCode();
 
+// Ends the process as the signal that stopped it would have (a shell running vkrt in a loop or a script then
+// stops too: one that sees exit 130 takes the signal as handled and goes on), where `exitCode` is
+// stoppedExitCode() and a signal came; otherwise returns `exitCode`. For a process of its own, after its
+// outputs are written (ranks of an MPI job return their code to the launcher).
+int endStopped(int exitCode);
+
 // Interrupted before the render itself began (while making the reference of --report): nothing to keep.
 struct InterruptedBeforeRender {};
 
