@@ -59,6 +59,7 @@ struct RayState {
     int depth;
     uint exclude;      // the primitive the ray leaves (VKRT_NO_PRIMITIVE: none)
     real arrivalPdf;   // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
+    real3 shadingPoint;  // where that lobe was sampled (the hit the ray left, before the origin's offset), else origin
     uvec2 media;       // the volumes the ray is inside (media.h)
     real coneWidth;    // the ray's cone (camera.h's cameraCone): its width at the origin
     real coneSpread;   // and its spread angle
@@ -138,6 +139,7 @@ VKRT_FN RayState rayState(real3 origin, real3 direction, real3 throughput, uint 
     ray.depth = depth;
     ray.exclude = exclude;
     ray.arrivalPdf = arrivalPdf;
+    ray.shadingPoint = origin;
     ray.media = media;
     ray.coneWidth = 0.0;
     ray.coneSpread = 0.0;
@@ -578,9 +580,16 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         if (ray.arrivalPdf > 0.0 && VKRT_DEVICE(hasAreaLights)()) {
             emissionWeight = 0.0;
             if (context.multipleImportanceSampling) {
+                // Seen from the point the light samples were drawn from (areaLightQuery), not from the ray's
+                // offset origin: far from the scene's middle the offset (VKRT_RAY_OFFSET_EPSILON times the
+                // coordinates) is no longer small beside a nearby lamp, and the two densities then weighed the
+                // same directions by more than 1 in all.
+                const real3 arrival = hit.position - ray.shadingPoint;
+                const real arrivalDistance = length(arrival);
+                const real3 seen = arrivalDistance > 0.0 ? arrival / arrivalDistance : ray.direction;
                 const real lightPdf =
-                    VKRT_DEVICE(lightSolidAnglePdf)(hit.primitive, hit.shape, ray.origin, hit.position,
-                                                    abs(dot(geometricNormal, ray.direction)));
+                    VKRT_DEVICE(lightSolidAnglePdf)(hit.primitive, hit.shape, ray.shadingPoint, hit.position,
+                                                    abs(dot(geometricNormal, seen)));
                 emissionWeight = powerHeuristic(1.0, ray.arrivalPdf, real(context.lightSamples) * lightPdf);
             }
         }
@@ -672,6 +681,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                                      childNode(context, ray, 3u), ray.depth + 1,
                                                      frame.excludeOnViewerSide, pdf, ray.media),
                                             coneWidthAt(ray, hit.position), ray.coneSpread);
+                result.scattered.shadingPoint = hit.position;
             }
         }
     }
@@ -741,6 +751,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                               childNode(context, ray, 1u), ray.depth + 1, frame.excludeOnViewerSide, reflectPdf,
                                               ray.media),
                                      coneWidthAt(ray, hit.position), ray.coneSpread);
+        result.reflection.shadingPoint = hit.position;
     }
 
 #ifdef VKRT_HAS_TRANSMISSION
