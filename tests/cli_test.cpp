@@ -650,10 +650,10 @@ TEST(Progress, WithoutATerminalLinesSayHowFarTheRenderIs) {
 // said.
 TEST(Cli, OptionsThatDoNothingAreSaid) {
     const auto folder = test::temporaryFolder();
-    const auto unused =
-        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
-                      "--validate --scene-access texels --max-device-memory 1G --environment-strength 2 " +
-                      "--exposure 1 --tonemap aces --out " + quoted(folder / "a.pfm"));
+    const auto unused = test::runVkrt(
+        "--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
+        "--validate --scene-access texels --max-device-memory 1G --environment-strength 2 " +
+        "--exposure 1 --tonemap aces --focus-distance 3 --shutter 0 1 --out " + quoted(folder / "a.pfm"));
     ASSERT_EQ(unused.exitCode, 0) << unused.output;
     for (const char* said :
          {"--validate is for the GPU; --device cpu ignores it", "--scene-access is for the GPU",
@@ -663,10 +663,15 @@ TEST(Cli, OptionsThatDoNothingAreSaid) {
             << said << "\n"
             << unused.output;
     }
-    const auto used = test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
-                                    "--exposure 1 --tonemap aces --environment " +
-                                    quoted(test::sourceDir() / "scenes/sky.hdr") +
-                                    " --environment-strength 2 --out " + quoted(folder / "b.png"));
+    for (const char* said : {"cornell.gltf: --focus-distance focuses a lens, and the camera is a pinhole",
+                             "cornell.gltf: --shutter: the file has no animations, so nothing moves"}) {
+        EXPECT_NE(unused.output.find(said), std::string::npos) << said << "\n" << unused.output;
+    }
+    const auto used =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 " +
+                      "--exposure 1 --tonemap aces --aperture 0.01 --focus-distance 3 --environment " +
+                      quoted(test::sourceDir() / "scenes/sky.hdr") + " --environment-strength 2 --out " +
+                      quoted(folder / "b.png"));
     ASSERT_EQ(used.exitCode, 0) << used.output;
     EXPECT_EQ(used.output.find("warning"), std::string::npos) << used.output;
     const auto background = test::runVkrt(
@@ -676,6 +681,18 @@ TEST(Cli, OptionsThatDoNothingAreSaid) {
     EXPECT_NE(background.output.find("vkrt: warning: --background does nothing with --environment"),
               std::string::npos)
         << background.output;
+}
+
+// A write that fails says why: a full disk (here /dev/full, which takes nothing) was "cannot write" alone.
+TEST(Cli, FailedWritesSayWhy) {
+    const auto folder = test::temporaryFolder();
+    const auto run =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 --out " +
+                      quoted(folder / "a.pfm") + " --stats /dev/full");
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("vkrt: error: /dev/full: cannot write (No space left on device)"),
+              std::string::npos)
+        << run.output;
 }
 
 // The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,

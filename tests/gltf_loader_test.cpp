@@ -907,6 +907,34 @@ std::filesystem::path writeInstancedMeshes(const std::filesystem::path& folder, 
 // bytes whose instances make a billion triangles is refused in one line (MemoryError, exit 2), not after
 // taking all the memory there is. The interleaved meshes place 9 triangles: allowed the memory of 9 they
 // load, of 8 not.
+// An image's decoded size is read from its header and counted against the memory before it is decoded: a PNG
+// of 118 bytes that claims 20000 x 20000 pixels is refused in one line naming the figures (three valid 16384
+// x 16384 PNGs in a 3 MB file took 6.3 GB before --max-memory 1GiB refused them).
+TEST(GltfLoader, ImagesAreCountedAgainstTheMemoryBeforeTheyAreDecoded) {
+    const std::filesystem::path file = test::temporaryFolder() / "claims.gltf";
+    test::writeText(file, R"({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0]}],
+        "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAATiAAAE4gCAAAAADGGxnlAAAADElEQVR4nGNgoAwAAABAAAG3NHzvAAAAAElFTkSuQmCC"}],
+        "textures": [{"source": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
+    })");
+    LoadOptions options;
+    options.maxSceneBytes = 64u << 20;
+    options.memorySource = "--max-memory";
+    try {
+        loadGltf(file.string(), options);
+        ADD_FAILURE() << "an image of 20000 x 20000 pixels loaded in 64 MiB";
+    } catch (const SceneError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(
+            message.find("its 20000 x 20000 pixels would take 2.98 GiB of host memory beside 0 B of other "
+                         "images, and 64.0 MiB is available (--max-memory)"),
+            std::string::npos)
+            << message;
+    }
+}
+
 TEST(GltfLoader, PlacedTrianglesAreCountedAgainstTheMemoryBeforeTheyArePlaced) {
     const std::filesystem::path file = writeInstancedMeshes(test::temporaryFolder(), true);
     LoadOptions options;

@@ -30,6 +30,7 @@
 #include "support/gpu_fixture.h"
 #include "support/huge_pages.h"
 #include "support/render_both.h"
+#include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
@@ -201,6 +202,30 @@ TEST(ShaderOptimization, PathKernelKeepsItsLocalsAndShrinks) {
 // feature alone, and each left out of all the others), and with 100 more subsets drawn from a fixed seed; for
 // both integrators, the three ways of reading the scene and the device's other defines in turn. A combination
 // that leaves a name undeclared would otherwise first fail on a user's scene.
+// A cache entry cut short or changed on disk is compiled again, not handed to the driver: one with a flipped
+// byte failed every later render of its scene (VK_ERROR_UNKNOWN from pipeline creation, the cache unnamed).
+TEST(ShaderCache, DamagedEntriesAreCompiledAgain) {
+    const std::filesystem::path folder = test::temporaryFolder() / "cache";
+    const std::vector<std::string> defines = {"VKRT_HAS_SPHERES"};
+    const CompiledShader first =
+        compileShader("trace.comp", defines, folder.string(), SpirvOptimization::None);
+    EXPECT_FALSE(first.fromCache);
+    const std::filesystem::path entry = folder / (first.cacheKey + ".spvc");
+    ASSERT_TRUE(std::filesystem::exists(entry));
+    EXPECT_TRUE(compileShader("trace.comp", defines, folder.string(), SpirvOptimization::None).fromCache);
+    const std::string intact = test::readText(entry);
+    for (const std::string& damaged :
+         {intact.substr(0, intact.size() / 2), intact.substr(0, intact.size() - 4),
+          intact.substr(0, 400) + static_cast<char>(intact[400] ^ 0x10) + intact.substr(401)}) {
+        test::writeText(entry, damaged);
+        const CompiledShader again =
+            compileShader("trace.comp", defines, folder.string(), SpirvOptimization::None);
+        EXPECT_FALSE(again.fromCache);
+        EXPECT_EQ(again.spirv, first.spirv);
+        EXPECT_EQ(test::readText(entry), intact) << "the entry is written again";
+    }
+}
+
 TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
     const std::vector<std::string> all = SceneFeatures::all().defines();
     ASSERT_EQ(all.size(), 26u);

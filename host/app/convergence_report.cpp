@@ -51,7 +51,7 @@ void ConvergenceReport::write(const std::string& path, const nlohmann::json& con
             out << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
                 << "\n";  // paths need not be UTF-8
         }
-        if (!out.flush()) throw std::runtime_error(path + ": cannot write");
+        if (!out.flush()) throw std::runtime_error(cannotWrite(path));
     });
 }
 

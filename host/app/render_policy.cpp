@@ -78,6 +78,11 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
         setup.warnings.push_back("an orthographic camera has no lens: its aperture is ignored");
         camera.aperture = 0.0;
     }
+    if (request.focusDistance && !(camera.aperture > 0.0)) {
+        setup.warnings.push_back(
+            "--focus-distance focuses a lens, and the camera is a pinhole (--aperture R makes "
+            "it a lens): it is ignored");
+    }
     if (camera.aperture > 0.0 && !(camera.focusDistance > 0.0)) {
         camera.focusDistance =
             std::max(1e-6, glm::dot(glm::dvec3(scene.bounds.center()) - camera.position, camera.forward));

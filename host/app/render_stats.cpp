@@ -118,7 +118,7 @@ void writeJson(const nlohmann::json& json, const std::string& path) {
         // Names in it (paths) need not be UTF-8 on Linux: bytes that are not become U+FFFD rather than an
         // error.
         file << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
-        if (!file.flush()) throw std::runtime_error(path + ": cannot write");
+        if (!file.flush()) throw std::runtime_error(cannotWrite(path));
     });
 }
 

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <random>
@@ -12,6 +14,14 @@
 #include <system_error>
 
 namespace vkrt {
+
+// "`path`: cannot write", with the system's reason where the failed call left one (a full disk: "No space
+// left on device"). Called right after the write or flush that failed.
+inline std::string cannotWrite(const std::string& path) {
+    const int error = errno;
+    return path + ": cannot write" +
+           (error != 0 ? std::string(" (") + std::strerror(error) + ")" : std::string());
+}
 
 // Where writing `path` goes: through a symbolic link to the file it names (so the link stays a link), and
 // `direct` when that is not a regular file or a new one (a device such as /dev/stdout, or a pipe), which is

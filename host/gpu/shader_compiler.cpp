@@ -66,15 +66,29 @@ std::string cacheKeyFor(const std::string& mainFile, const std::string& mainText
     return key.str();
 }
 
+// A cache entry (KEY.spvc) is the SPIR-V module followed by one word, the FNV-1a hash of the module's bytes:
+// an entry cut short or changed on disk is compiled again rather than handed to the driver (lavapipe failed
+// every later render of the scene with VK_ERROR_UNKNOWN, naming no cache).
+uint32_t moduleChecksum(const std::vector<uint32_t>& spirv, size_t words) {
+    uint32_t hash = 2166136261u;
+    const auto* bytes = reinterpret_cast<const unsigned char*>(spirv.data());
+    for (size_t i = 0; i < words * 4; ++i) hash = (hash ^ bytes[i]) * 16777619u;
+    return hash;
+}
+
 bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) {
     std::ifstream in(file, std::ios::binary | std::ios::ate);
     if (!in) return false;
     const std::streamsize bytes = in.tellg();
-    if (bytes <= 0 || bytes % 4 != 0) return false;
-    spirv.resize(static_cast<size_t>(bytes) / 4);
+    if (bytes < 24 || bytes % 4 != 0) return false;  // a header of five words and the checksum at least
+    std::vector<uint32_t> words(static_cast<size_t>(bytes) / 4);
     in.seekg(0);
-    in.read(reinterpret_cast<char*>(spirv.data()), bytes);
-    return in && spirv[0] == 0x07230203u;  // the SPIR-V magic number
+    in.read(reinterpret_cast<char*>(words.data()), bytes);
+    const size_t moduleWords = words.size() - 1;
+    if (!in || words[0] != 0x07230203u || words.back() != moduleChecksum(words, moduleWords)) return false;
+    words.pop_back();
+    spirv = std::move(words);
+    return true;
 }
 
 // spirv-opt's performance passes (spirv-opt -O): functions inlined, loads and stores of locals forwarded,
@@ -175,7 +189,7 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
     result.cacheKey = cacheKeyFor(mainFile, source, preamble, optimization);
     const std::filesystem::path cacheFile =
         cacheDir.empty() ? std::filesystem::path()
-                         : std::filesystem::path(cacheDir) / (result.cacheKey + ".spv");
+                         : std::filesystem::path(cacheDir) / (result.cacheKey + ".spvc");
     if (!cacheDir.empty() && readCache(cacheFile, result.spirv)) {
         result.fromCache = true;
         result.compileMs =
@@ -216,8 +230,10 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
             std::filesystem::create_directories(cacheDir);
             writeFileAtomically(cacheFile.string(), [&](const std::string& temporary) {
                 std::ofstream out(temporary, std::ios::binary);
+                const uint32_t checksum = moduleChecksum(result.spirv, result.spirv.size());
                 out.write(reinterpret_cast<const char*>(result.spirv.data()),
                           static_cast<std::streamsize>(result.spirv.size() * 4));
+                out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
                 if (!out.flush()) throw std::runtime_error("cannot write the shader cache");
             });
         } catch (const std::exception&) {

@@ -36,7 +36,7 @@ void writeBytes(const std::string& path, const char* data, size_t size) {
     if (!file) throw ImageError(path + ": cannot open for writing");
     file.write(data, static_cast<std::streamsize>(size));
     file.close();
-    if (file.fail()) throw ImageError(path + ": write failed");
+    if (file.fail()) throw ImageError(cannotWrite(path));
 }
 
 void writePng(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
@@ -111,7 +111,7 @@ void writePfm(const Image& image, const std::string& path) {
         file.write(reinterpret_cast<const char*>(&image.at(0, y)),
                    static_cast<std::streamsize>(image.width) * 12);
     }
-    if (!file.flush()) throw ImageError(path + ": write failed");
+    if (!file.flush()) throw ImageError(cannotWrite(path));
 }
 
 Image readPfm(const std::string& path) {

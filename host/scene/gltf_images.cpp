@@ -1,21 +1,66 @@
 #include "scene/gltf_images.h"
 
+#include <algorithm>
 #include <cstring>
 
+#include <stb_image.h>
 #include <tiny_gltf.h>
 #include <webp/decode.h>
 
+#include "common/memory_need.h"
 #include "scene/gltf_context.h"
 
 namespace vkrt {
 
+std::set<int> shownImages(const nlohmann::json& document) {
+    std::set<int> shown;
+    if (!document.is_object() || !document.contains("textures") || !document["textures"].is_array())
+        return shown;
+    for (const nlohmann::json& texture : document["textures"]) {
+        if (!texture.is_object()) continue;
+        const nlohmann::json* source = texture.contains("source") ? &texture["source"] : nullptr;
+        if (texture.contains("extensions") && texture["extensions"].is_object() &&
+            texture["extensions"].contains("EXT_texture_webp")) {
+            const nlohmann::json& webp = texture["extensions"]["EXT_texture_webp"];
+            if (webp.is_object() && webp.contains("source") && webp["source"].is_number_integer())
+                source = &webp["source"];
+        }
+        if (source != nullptr && source->is_number_integer()) shown.insert(source->get<int>());
+    }
+    return shown;
+}
+
 bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*/, std::string* warning,
                    int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
                    void* userData) {
-    ImageFailures& failures = *static_cast<ImageFailures*>(userData);
+    ImageDecoding& decoding = *static_cast<ImageDecoding*>(userData);
+    ImageFailures& failures = decoding.failures;
+    if (decoding.shown && decoding.shown->count(imageIndex) == 0) {
+        image->image.clear();  // no texture shows it
+        return true;
+    }
     // A WebP file is a RIFF container of type WEBP.
     const bool webp =
         size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0;
+    // The size it would take: the decoder's pixels (4 channels, 8 or 16 bits) and the texture made of them.
+    int width = 0, height = 0, channels = 0;
+    const bool known = webp ? WebPGetInfo(bytes, static_cast<size_t>(size), &width, &height) != 0
+                            : stbi_info_from_memory(bytes, size, &width, &height, &channels) != 0;
+    if (known && width > 0 && height > 0) {
+        const uint64_t bytesPerChannel = !webp && stbi_is_16_bit_from_memory(bytes, size) ? 2 : 1;
+        const uint64_t need =
+            static_cast<uint64_t>(width) * static_cast<uint64_t>(height) * 4 * (bytesPerChannel + 1);
+        if (need > decoding.maxBytes - std::min(decoding.maxBytes, decoding.decodedBytes)) {
+            image->image.clear();
+            failures[imageIndex] = "its " + std::to_string(width) + " x " + std::to_string(height) +
+                                   " pixels would take " + formatBytes(need) + " of host memory beside " +
+                                   formatBytes(decoding.decodedBytes) + " of other images, and " +
+                                   formatBytes(decoding.maxBytes) + " is available (" +
+                                   decoding.memorySource + ")";
+            return true;
+        }
+        decoding.decodedBytes += need;
+    }
     if (!webp) {
         std::string decodeError;
         if (tinygltf::LoadImageData(image, imageIndex, &decodeError, warning, requiredWidth, requiredHeight,
@@ -27,7 +72,7 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
             "it is not an image vkrt can decode (PNG, JPEG, BMP, TGA, GIF, HDR, PNM or WebP)";
         return true;
     }
-    int width = 0, height = 0;
+    width = height = 0;
     uint8_t* rgba = WebPDecodeRGBA(bytes, static_cast<size_t>(size), &width, &height);
     if (rgba == nullptr || width <= 0 || height <= 0) {
         WebPFree(rgba);

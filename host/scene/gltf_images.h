@@ -2,7 +2,10 @@
 // libwebp; and which image a texture shows.
 #pragma once
 
+#include <cstdint>
 #include <map>
+#include <optional>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,10 +21,27 @@ namespace vkrt {
 // Why images could not be decoded, by image index.
 using ImageFailures = std::map<int, std::string>;
 
+// What loadGltfImage is given and keeps, its `userData`: the images textures show (the others are not
+// decoded: they would only take memory; every image when unknown), the host memory the decoded images may
+// take, and why images could not be decoded.
+struct ImageDecoding {
+    std::optional<std::set<int>> shown;
+    uint64_t maxBytes = UINT64_MAX;
+    std::string memorySource = "unlimited";
+    uint64_t decodedBytes = 0;
+    ImageFailures failures;
+};
+
+// The images the textures of a glTF document show (imageSource of each), read from its JSON.
+std::set<int> shownImages(const nlohmann::json& document);
+
 // tinygltf's image loader (TinyGLTF::SetImageLoader): WebP data by libwebp, as 8-bit RGBA, anything else by
-// tinygltf's own loader. An image that does not decode is left empty and its reason recorded in `userData`
-// (an ImageFailures): only a texture vkrt reads fails for it, not an image behind an extension's fallback (a
-// KHR_texture_basisu texture's KTX2 image) or one that no texture uses.
+// tinygltf's own loader. The size an image would take decoded is read from its header first and counted
+// against the memory `userData` (an ImageDecoding) allows: a file of a few megabytes can claim billions of
+// pixels (three 16384 x 16384 PNGs took 6.3 GB before --max-memory 1GiB refused them). An image that does not
+// decode, or would not fit, is left empty and its reason recorded: only a texture vkrt reads fails for it,
+// not an image behind an extension's fallback (a KHR_texture_basisu texture's KTX2 image) or one that no
+// texture uses.
 bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* error, std::string* warning,
                    int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
                    void* userData);

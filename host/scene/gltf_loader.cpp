@@ -167,6 +167,9 @@ void GltfConverter::chooseShutter() {
     if (options_.shutter) {
         scene.shutterOpen = (*options_.shutter)[0];
         scene.shutterClose = (*options_.shutter)[1];
+        if (model.animations.empty() && scene.shutterClose > scene.shutterOpen)
+            context_.warn(
+                "--shutter: the file has no animations, so nothing moves while the shutter is open");
     } else if (!model.scenes.empty()) {
         const tinygltf::Value& extras = model.scenes[std::max(0, model.defaultScene)].extras;
         if (extras.IsObject() && extras.Has("shutter")) {
@@ -497,8 +500,11 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     }
 
     tinygltf::TinyGLTF reader;
-    ImageFailures imageFailures;
-    reader.SetImageLoader(loadGltfImage, &imageFailures);
+    ImageDecoding imageDecoding;
+    if (!document.is_discarded()) imageDecoding.shown = shownImages(document);
+    imageDecoding.maxBytes = options.maxSceneBytes;
+    imageDecoding.memorySource = options.memorySource;
+    reader.SetImageLoader(loadGltfImage, &imageDecoding);
     reader.SetFsCallbacks(
         {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
@@ -529,7 +535,7 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         throw SceneError(path + ": " + message);
     }
     decompressMeshes(model, path);
-    GltfConverter converter(model, path, options, std::move(imageFailures));
+    GltfConverter converter(model, path, options, std::move(imageDecoding.failures));
     return converter.convert();
 }
 
