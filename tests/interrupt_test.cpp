@@ -42,6 +42,17 @@ Interrupted interrupt(const std::string& arguments, const std::string& signals, 
 
 std::string scene() { return "--scene '" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'"; }
 
+// A scene of nothing but the background, written into `folder`: a pass of millions of pixels takes a second
+// or two, so a signal 3 s in finds every pixel with a sample, and averaging and writing the image takes
+// longer.
+std::string backgroundOnly(const std::filesystem::path& folder) {
+    const auto file = folder / "background.gltf";
+    test::writeText(file, R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"camera": 0, "translation": [0, 0, 4]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}]})");
+    return "--scene '" + file.string() + "'";
+}
+
 void expectKeptWork(const std::string& device, const std::string& signal, int exitCode) {
     const auto folder = test::temporaryFolder();
     const auto image = folder / "kept.exr";
@@ -67,13 +78,17 @@ TEST(Interrupt, SigtermOnTheGpuWritesTheSamplesDone) { expectKeptWork("gpu", "TE
 // second, 0.3 s later, ends vkrt there and then, leaving no file, not even the temporary one.
 TEST(Interrupt, SecondSigintEndsAtOnceWithoutWriting) {
     const auto folder = test::temporaryFolder();
+    const std::string background = backgroundOnly(folder);
     const auto image = folder / "never.exr";
-    const Interrupted run = interrupt(scene() + " --device cpu --width 4096 --height 4096 --spp 1000000 --out '" +
-                                          image.string() + "'",
-                                      "INT INT", 0.3);
+    const Interrupted run = interrupt(
+        background + " --device cpu --width 4096 --height 4096 --spp 1000000 --out '" + image.string() + "'",
+        "INT INT", 0.3);
     EXPECT_EQ(run.exitCode, 130) << run.command.output;  // killed by SIGINT, as the shell reports it
     EXPECT_EQ(run.command.output.find("wrote"), std::string::npos) << run.command.output;
-    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 0) << "nothing written";
+    EXPECT_EQ(run.command.output.find("before every pixel"), std::string::npos)
+        << "the first signal came after the first pass: the image was being written\n"
+        << run.command.output;
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1) << "nothing but the scene";
 }
 
 // Loading does not look for a stop, and may never end: a first signal while loading ends vkrt if the render
@@ -118,10 +133,11 @@ TEST(Interrupt, TimeLimitEndsInsideAPass) {
 TEST(Interrupt, RepeatFromOneSenderIsOneRequest) {
     const auto folder = test::temporaryFolder();
     const auto image = folder / "kept.exr";
-    // 1024 x 1024: its image takes a few tenths of a second to average and write, so the repeat comes first.
-    const Interrupted run = interrupt(
-        scene() + " --device cpu --width 1024 --height 1024 --spp 1000000 --out '" + image.string() + "'",
-        "INT INT", 0.02);
+    // 2048 x 2048: its image takes a few tenths of a second to average and write, so the repeat comes first.
+    const Interrupted run =
+        interrupt(backgroundOnly(folder) + " --device cpu --width 2048 --height 2048 --spp 1000000 --out '" +
+                      image.string() + "'",
+                  "INT INT", 0.02);
     EXPECT_EQ(run.exitCode, 130) << run.command.output;
     EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
     EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;

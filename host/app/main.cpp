@@ -68,11 +68,15 @@ int run(Options options, const MpiJob& job) {
 }  // namespace
 }  // namespace vkrt
 
-int main(int argc, char** argv) {
-    using namespace vkrt;
-    useHugePageHeap();  // first, while the heap is small (huge_page_heap.h)
+namespace vkrt {
+namespace {
+
+// The whole run, its MPI job (if any) finalised on return; `shared` says whether it was a job of several
+// ranks.
+int runJob(int argc, char** argv, bool& shared) {
     // Under an MPI launcher the ranks share the render (shared_render.h); otherwise this is a job of one.
     const MpiJob job(argc, argv);
+    shared = job.shared();
     try {
         Options options = parseOptions(argc, argv);
         // --help and --list-devices print and render nothing. In a job, any rank given one ends every rank
@@ -92,12 +96,10 @@ int main(int argc, char** argv) {
             return 0;
         }
         handleStopSignals();
-        const int exitCode = run(std::move(options), job);
-        return job.shared() ? exitCode : endStopped(exitCode);
-    } catch (const InterruptedBeforeRender&) {
-        const int exitCode = fail(job, stoppedExitCode(),
-                                  "interrupted while rendering the reference for --report; nothing written");
-        return job.shared() ? exitCode : endStopped(exitCode);
+        return run(std::move(options), job);
+    } catch (const InterruptedBeforeRender& e) {
+        return fail(job, stoppedExitCode(),
+                    (std::string("interrupted ") + e.what + "; nothing written").c_str());
     } catch (const UsageError& e) {
         return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const SceneError& e) {
@@ -109,4 +111,16 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
         return fail(job, kExitRuntimeFailure, (std::string("error: ") + e.what()).c_str());
     }
+}
+
+}  // namespace
+}  // namespace vkrt
+
+int main(int argc, char** argv) {
+    vkrt::useHugePageHeap();  // first, while the heap is small (huge_page_heap.h)
+    bool shared = false;
+    const int exitCode = vkrt::runJob(argc, argv, shared);
+    // A process of its own that a signal stopped ends by it, its outputs written and MPI finalised (mpirun
+    // -np 1 is a job too); a rank returns its code to the launcher.
+    return shared ? exitCode : vkrt::endStopped(exitCode);
 }

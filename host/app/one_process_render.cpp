@@ -33,6 +33,9 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
         const auto renderStart = std::chrono::steady_clock::now();
         // The time limit is the render's own; the reference of --report renders all its samples.
         const StopCondition stop(&stopRequested(), runReport ? options.timeLimitSeconds : 0.0);
+        // A stop asked for while the scene loaded ends here: the render's first pass would not reach every
+        // pixel (and a lavapipe pipeline's compilation would be waited for in vain).
+        if (stopRequested().load()) throw InterruptedBeforeRender{"before every pixel had a sample"};
         renderBegins();
         RenderResult rendered;
         if (context) {

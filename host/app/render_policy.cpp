@@ -74,11 +74,15 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     camera = selectCamera(scene, request.camera, static_cast<double>(settings.width) / settings.height);
     if (request.aperture) camera.aperture = *request.aperture;
     if (request.focusDistance) camera.focusDistance = *request.focusDistance;
-    if (camera.projection == Projection::Orthographic && camera.aperture > 0.0) {
-        setup.warnings.push_back("an orthographic camera has no lens: its aperture is ignored");
+    const bool orthographic = camera.projection == Projection::Orthographic;
+    if (orthographic && (camera.aperture > 0.0 || request.focusDistance)) {
+        setup.warnings.push_back(
+            request.focusDistance && camera.aperture > 0.0
+                ? "an orthographic camera has no lens: its aperture and focus distance are ignored"
+            : request.focusDistance ? "an orthographic camera has no lens: --focus-distance is ignored"
+                                    : "an orthographic camera has no lens: its aperture is ignored");
         camera.aperture = 0.0;
-    }
-    if (request.focusDistance && !(camera.aperture > 0.0)) {
+    } else if (request.focusDistance && !(camera.aperture > 0.0)) {
         setup.warnings.push_back(
             "--focus-distance focuses a lens, and the camera is a pinhole (--aperture R makes "
             "it a lens): it is ignored");

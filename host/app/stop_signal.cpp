@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdint>
 
 #include "app/exit_codes.h"
 #include "common/atomic_file.h"
@@ -14,20 +15,23 @@ namespace {
 
 std::atomic<bool> gStopRequested{false};
 std::atomic<bool> gRendering{false};
-volatile std::sig_atomic_t gSignal = 0;
-static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+std::atomic<int> gSignal{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free &&
+                  std::atomic<int64_t>::is_always_lock_free,
+              "set from a signal handler");
 
-// The first signal's sender (a process that called kill(2); 0 for the terminal's Ctrl-C) and when it came.
-// timeout(1) sends its signal to the process and then to its process group, so one request can arrive twice
-// within microseconds from one sender; such a repeat within kSameRequestSeconds is that request, not a
-// second one (it ended a third of `timeout -s INT` runs at once, with nothing written).
-volatile std::sig_atomic_t gSender = 0;
-timespec gFirstAt{};
-constexpr double kSameRequestSeconds = 0.1;
+// The first signal's sender (a process that called kill(2); 0 for the terminal's Ctrl-C) and when it came, in
+// nanoseconds, published before gSignal. timeout(1) sends its signal to the process and then to its process
+// group, so one request can arrive twice within microseconds from one sender (the second perhaps handled on
+// another thread while the first still is); such a repeat within kSameRequestNs is that request, not a second
+// one (it ended a third of `timeout -s INT` runs at once, with nothing written).
+std::atomic<int> gSender{0};
+std::atomic<int64_t> gFirstAtNs{0};
+constexpr int64_t kSameRequestNs = 100000000;
 
-// How long a stop asked for before the render began waits for it to begin (then stops it after its first
-// dispatch or pixel, keeping those samples): loading a scene does not look for the request, and may never end
-// (a named pipe, a file that hangs a decoder).
+// How long a stop asked for before the render began waits for it to begin (where the render then begins,
+// it ends with nothing written: no pixel has a sample): loading a scene does not look for the request, and
+// may never end (a named pipe, a file that hangs a decoder).
 constexpr unsigned kSecondsToBeginRender = 3;
 
 // Ends the process as `signal` would have, removing the file being written.
@@ -38,24 +42,34 @@ void endBy(int signal) {
 }
 
 extern "C" void onLoadingTooLong(int) {
-    endBy(gSignal != 0 ? gSignal : SIGTERM);
+    const int signal = gSignal.load();
+    endBy(signal != 0 ? signal : SIGTERM);
 }
 
 extern "C" void onStopSignal(int signal, siginfo_t* info, void*) {
     timespec now{};
     clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe
+    const int64_t nowNs = static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
     const int sender = info != nullptr && info->si_code == SI_USER ? static_cast<int>(info->si_pid) : 0;
-    if (gSignal != 0) {
-        const double since = static_cast<double>(now.tv_sec - gFirstAt.tv_sec) +
-                             1e-9 * static_cast<double>(now.tv_nsec - gFirstAt.tv_nsec);
-        if (sender != 0 && sender == gSender && signal == gSignal && since < kSameRequestSeconds) return;
+    auto sameRequest = [&](int first) {
+        return signal == first && sender != 0 && sender == gSender.load() &&
+               nowNs - gFirstAtNs.load() < kSameRequestNs;
+    };
+    int first = gSignal.load();
+    if (first != 0) {
+        if (sameRequest(first)) return;
         endBy(signal);  // a second signal: at once
         return;
     }
-    // The first: ask the render to stop, and give it a while to begin if it has not.
-    gSender = sender;
-    gFirstAt = now;
-    gSignal = signal;
+    // The first (or a repeat handled beside it on another thread, which then finds it below).
+    gSender.store(sender);
+    gFirstAtNs.store(nowNs);
+    if (!gSignal.compare_exchange_strong(first, signal)) {
+        if (sameRequest(first)) return;
+        endBy(signal);
+        return;
+    }
+    // Ask the render to stop, and give it a while to begin if it has not.
     gStopRequested.store(true);
     if (!gRendering.load()) {
         std::signal(SIGALRM, onLoadingTooLong);
@@ -69,7 +83,9 @@ void handleStopSignals() {
     struct sigaction action {};
     action.sa_sigaction = onStopSignal;
     action.sa_flags = SA_SIGINFO | SA_RESTART;  // as std::signal's, with the sender
-    sigemptyset(&action.sa_mask);
+    sigemptyset(&action.sa_mask);               // neither interrupts the other's handler on its thread
+    sigaddset(&action.sa_mask, SIGINT);
+    sigaddset(&action.sa_mask, SIGTERM);
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
 }
@@ -84,13 +100,15 @@ const std::atomic<bool>& stopRequested() {
 }
 
 int stoppedExitCode() {
-    return kExitSignalBase + (gSignal != 0 ? gSignal : SIGTERM);
+    const int signal = gSignal.load();
+    return kExitSignalBase + (signal != 0 ? signal : SIGTERM);
 }
 
 int endStopped(int exitCode) {
-    if (gSignal != 0 && exitCode == stoppedExitCode()) {
-        std::signal(gSignal, SIG_DFL);
-        std::raise(gSignal);
+    const int signal = gSignal.load();
+    if (signal != 0 && exitCode == stoppedExitCode()) {
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
     }
     return exitCode;
 }

@@ -26,7 +26,10 @@ int stoppedExitCode();
 // outputs are written (ranks of an MPI job return their code to the launcher).
 int endStopped(int exitCode);
 
-// Interrupted before the render itself began (while making the reference of --report): nothing to keep.
-struct InterruptedBeforeRender {};
+// Interrupted before the render itself began (while loading, or making the reference of --report): nothing
+// to keep. `what` says when, after "interrupted ".
+struct InterruptedBeforeRender {
+    const char* what = "while rendering the reference for --report";
+};
 
 }  // namespace vkrt

@@ -46,7 +46,11 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
     int width = 0, height = 0, channels = 0;
     const bool known = webp ? WebPGetInfo(bytes, static_cast<size_t>(size), &width, &height) != 0
                             : stbi_info_from_memory(bytes, size, &width, &height, &channels) != 0;
-    if (known && width > 0 && height > 0) {
+    // Sides beyond stb_image's limit (2^24) it refuses to decode, as it does sizes its header reader does not
+    // check (a BMP's 31-bit sides); counted, their product could wrap.
+    constexpr int kLongestSide = 1 << 24;
+    uint64_t counted = 0;
+    if (known && width > 0 && height > 0 && width <= kLongestSide && height <= kLongestSide) {
         const uint64_t bytesPerChannel = !webp && stbi_is_16_bit_from_memory(bytes, size) ? 2 : 1;
         const uint64_t need =
             static_cast<uint64_t>(width) * static_cast<uint64_t>(height) * 4 * (bytesPerChannel + 1);
@@ -59,6 +63,7 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
                                    decoding.memorySource + ")";
             return true;
         }
+        counted = need;
         decoding.decodedBytes += need;
     }
     if (!webp) {
@@ -67,6 +72,7 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
                                     bytes, size, nullptr)) {
             return true;
         }
+        decoding.decodedBytes -= counted;  // an image that does not decode takes nothing
         image->image.clear();
         failures[imageIndex] =
             "it is not an image vkrt can decode (PNG, JPEG, BMP, TGA, GIF, HDR, PNM or WebP)";
@@ -76,6 +82,7 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
     uint8_t* rgba = WebPDecodeRGBA(bytes, static_cast<size_t>(size), &width, &height);
     if (rgba == nullptr || width <= 0 || height <= 0) {
         WebPFree(rgba);
+        decoding.decodedBytes -= counted;
         image->image.clear();
         failures[imageIndex] = "it is not a WebP image libwebp can decode";
         return true;

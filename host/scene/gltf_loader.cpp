@@ -63,12 +63,13 @@ int chooseAnimation(GltfContext& context, const std::string& request) {
 class GltfConverter {
   public:
     GltfConverter(const tinygltf::Model& model, std::string path, const LoadOptions& options,
-                  ImageFailures imageFailures)
+                  ImageFailures imageFailures, uint64_t imageBytes)
         : context_(model, std::move(path)),
           options_(options),
           animations_(model, context_.accessors, context_.path, chooseAnimation(context_, options.animation)),
           meshes_(context_) {
         context_.imageFailures = std::move(imageFailures);
+        otherBytes_ = imageBytes;  // the decoded images share the memory with the triangles
     }
 
     Scene convert();
@@ -107,7 +108,8 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
-    uint64_t otherBytes_ = 0;  // host memory counted beside the triangles (skins' joints, morph targets)
+    uint64_t otherBytes_ =
+        0;  // host memory counted beside the triangles (images, skins' joints, morph targets)
     glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
     std::vector<int> parents_;       // each node's parent, -1 for none (filled when first needed)
     std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
@@ -535,7 +537,8 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         throw SceneError(path + ": " + message);
     }
     decompressMeshes(model, path);
-    GltfConverter converter(model, path, options, std::move(imageDecoding.failures));
+    GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
+                            imageDecoding.decodedBytes);
     return converter.convert();
 }
 
