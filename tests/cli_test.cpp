@@ -43,6 +43,8 @@ TEST(Cli, HelpListsTheOptionsAndExitsZero) {
           "--seed", "--camera", "--stats", "--shader-features"}) {
         EXPECT_NE(result.output.find(option), std::string::npos) << option;
     }
+    // Help that cannot be written is a failure (it exited 0 with its output lost).
+    EXPECT_EQ(test::runCommand("'" + std::string(VKRT_BINARY) + "' --help > /dev/full").exitCode, 1);
 }
 
 TEST(Cli, BadUsageExitsTwoWithOneLine) {

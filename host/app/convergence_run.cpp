@@ -91,10 +91,9 @@ void writeConvergence(const Options& options, const ConvergenceReport& convergen
     // The error at the last checkpoint.
     if (summarise && !options.quiet && !convergence.points().empty()) {
         const ConvergencePoint& last = convergence.points().back();
-        std::fprintf(
-            stderr,
-            "vkrt: error against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
-            last.rmse, last.relMse, 100.0 * last.fractionOff);
+        std::fprintf(stderr,
+                     "vkrt: against the reference: RMSE %.4g, relMSE %.4g, %.2f%% of pixels off by >1%%\n",
+                     last.rmse, last.relMse, 100.0 * last.fractionOff);
     }
 }
 

@@ -92,7 +92,12 @@ int runJob(int argc, char** argv, bool& shared) {
                              job.rank());
                 return kExitBadInput;
             }
-            if (job.rank() == 0 || !rootPrints) printInformation(options);
+            if (job.rank() == 0 || !rootPrints) {
+                printInformation(options);
+                // Standard output that takes nothing (a full disk, /dev/full, a closed pipe) is a failure.
+                if (std::fflush(stdout) != 0 || std::ferror(stdout))
+                    return fail(job, kExitRuntimeFailure, "error: cannot write to standard output");
+            }
             return 0;
         }
         handleStopSignals();
