@@ -119,18 +119,27 @@ TEST(GltfLoader, MaterialExtensionsAndTextureSlotsAreRead) {
     EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 }
 
-TEST(GltfLoader, SixteenBitImagesRoundToTheNearestEightBitValue) {
-    // A 2 x 1 grey PNG of 16 bits a channel: 0xff00 (254.0 of 255) and 0x01ff (1.99 of 255). Textures keep 8
-    // bits a channel: 254 and 2, where the values' high bytes were 255 and 1.
-    const std::filesystem::path file = test::temporaryFolder() / "sixteen.gltf";
+// A file of one sphere whose base colour is the PNG `png` (base64) in a data URI.
+std::filesystem::path texturedSphere(const std::string& name, const std::string& png) {
+    const std::filesystem::path file = test::temporaryFolder() / (name + ".gltf");
     test::writeText(file, R"({
         "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0]}],
-        "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABEAAAAACB2fwVAAAADUlEQVR4nGP4z8D4HwAFAgIAv90bWgAAAABJRU5ErkJggg=="}],
+        "images": [{"uri": "data:image/png;base64,)" +
+                              png + R"("}],
         "textures": [{"source": 0}],
         "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
         "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
     })");
-    const Scene scene = loadGltf(file.string());
+    return file;
+}
+
+TEST(GltfLoader, SixteenBitImagesRoundToTheNearestEightBitValue) {
+    // A 2 x 1 grey PNG of 16 bits a channel: 0xff00 (254.0 of 255) and 0x01ff (1.99 of 255). Textures keep 8
+    // bits a channel: 254 and 2, where the values' high bytes were 255 and 1.
+    const Scene scene = loadGltf(texturedSphere("sixteen",
+                                                "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABEAAAAACB2fwVAAAADUlEQVR4nGP4"
+                                                "z8D4HwAFAgIAv90bWgAAAABJRU5ErkJggg==")
+                                     .string());
     ASSERT_EQ(scene.textures.size(), 1u);
     const Texture& texture = scene.textures[0];
     ASSERT_EQ(texture.width, 2);
@@ -903,22 +912,13 @@ std::filesystem::path writeInstancedMeshes(const std::filesystem::path& folder, 
     return file;
 }
 
-// The triangles a file places are counted against the host memory before they are placed: a file of a few
-// bytes whose instances make a billion triangles is refused in one line (MemoryError, exit 2), not after
-// taking all the memory there is. The interleaved meshes place 9 triangles: allowed the memory of 9 they
-// load, of 8 not.
 // An image's decoded size is read from its header and counted against the memory before it is decoded: a PNG
 // of 118 bytes that claims 20000 x 20000 pixels is refused in one line naming the figures (three valid 16384
 // x 16384 PNGs in a 3 MB file took 6.3 GB before --max-memory 1GiB refused them).
 TEST(GltfLoader, ImagesAreCountedAgainstTheMemoryBeforeTheyAreDecoded) {
-    const std::filesystem::path file = test::temporaryFolder() / "claims.gltf";
-    test::writeText(file, R"({
-        "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0]}],
-        "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAATiAAAE4gCAAAAADGGxnlAAAADElEQVR4nGNgoAwAAABAAAG3NHzvAAAAAElFTkSuQmCC"}],
-        "textures": [{"source": 0}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
-        "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
-    })");
+    const std::filesystem::path file = texturedSphere(
+        "claims",
+        "iVBORw0KGgoAAAANSUhEUgAATiAAAE4gCAAAAADGGxnlAAAADElEQVR4nGNgoAwAAABAAAG3NHzvAAAAAElFTkSuQmCC");
     LoadOptions options;
     options.maxSceneBytes = 64u << 20;
     options.memorySource = "--max-memory";
@@ -935,6 +935,10 @@ TEST(GltfLoader, ImagesAreCountedAgainstTheMemoryBeforeTheyAreDecoded) {
     }
 }
 
+// The triangles a file places are counted against the host memory before they are placed: a file of a few
+// bytes whose instances make a billion triangles is refused in one line (MemoryError, exit 2), not after
+// taking all the memory there is. The interleaved meshes place 9 triangles: allowed the memory of 9 they
+// load, of 8 not.
 TEST(GltfLoader, PlacedTrianglesAreCountedAgainstTheMemoryBeforeTheyArePlaced) {
     const std::filesystem::path file = writeInstancedMeshes(test::temporaryFolder(), true);
     LoadOptions options;

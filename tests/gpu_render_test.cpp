@@ -197,11 +197,6 @@ TEST(ShaderOptimization, PathKernelKeepsItsLocalsAndShrinks) {
     EXPECT_LT(keep.phis * 4, performance.phis) << "locals rewritten into phis; " << counts;
 }
 
-// A scene can turn on any combination of the 26 features, and the committed scenes hold only a few of them.
-// So the kernel compiles (glslang, about 30 ms a variant) with every pair of features, each on or off (each
-// feature alone, and each left out of all the others), and with 100 more subsets drawn from a fixed seed; for
-// both integrators, the three ways of reading the scene and the device's other defines in turn. A combination
-// that leaves a name undeclared would otherwise first fail on a user's scene.
 // A cache entry cut short or changed on disk is compiled again, not handed to the driver: one with a flipped
 // byte failed every later render of its scene (VK_ERROR_UNKNOWN from pipeline creation, the cache unnamed).
 TEST(ShaderCache, DamagedEntriesAreCompiledAgain) {
@@ -226,6 +221,11 @@ TEST(ShaderCache, DamagedEntriesAreCompiledAgain) {
     }
 }
 
+// A scene can turn on any combination of the 26 features, and the committed scenes hold only a few of them.
+// So the kernel compiles (glslang, about 30 ms a variant) with every pair of features, each on or off (each
+// feature alone, and each left out of all the others), and with 100 more subsets drawn from a fixed seed; for
+// both integrators, the three ways of reading the scene and the device's other defines in turn. A combination
+// that leaves a name undeclared would otherwise first fail on a user's scene.
 TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
     const std::vector<std::string> all = SceneFeatures::all().defines();
     ASSERT_EQ(all.size(), 26u);
