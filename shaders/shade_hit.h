@@ -616,6 +616,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (volume) {
         beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
         eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
+        // The lobes that lights are evaluated on see the interface the traced ones do: its relative index (a
+        // light reflected off glass of index 1.5 inside glass of index 1.5, where no interface is, or off its
+        // inside at the outer index).
+        surface.ior = eta;
     }
 #endif
 #if defined(VKRT_HAS_ROUGH_SPECULAR) || defined(VKRT_HAS_TRACED_LOBES)  // else no specular layer anywhere

@@ -358,6 +358,52 @@ TEST_F(Gpu, PathsLightThroughThinWalledPanesFromPunctualLights) {
     }
 }
 
+// A rough glass ball inside a smooth glass ball of the same index, lit by a point light, with Whitted's
+// distributed ray tracing: between media of one index there is no interface, so the inner ball is invisible
+// and the image is the outer ball's alone. The light samples on the inner ball's surface took its lobe's
+// Fresnel term at the ball's own index (1.5 against air) rather than the relative one (1): it showed the
+// lamp's highlight.
+TEST_F(Gpu, GlassInsideGlassOfTheSameIndexIsInvisible) {
+    auto render = [&](bool inner) {
+        Scene scene;
+        Material glass;  // clear and smooth
+        glass.baseColor = glm::vec4(1.0f);
+        glass.metallic = 0.0f;
+        glass.roughness = 0.0f;
+        glass.transmission = 1.0f;
+        glass.ior = 1.5f;
+        glass.thickness = 1.0f;  // a volume
+        scene.materials.push_back(glass);
+        glass.roughness = 0.5f;
+        scene.materials.push_back(glass);
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        if (inner) scene.spheres.push_back({glm::vec3(0.0f), 0.6f, 1});
+        PunctualLight light;
+        light.position = {1.0, 2.0, 4.0};
+        light.intensity = 20.0f;
+        scene.lights.push_back(light);
+        finalizeScene(scene);
+        const FlatBvh bvh = bvhFor(scene);
+        RenderSettings settings;
+        settings.integrator = Integrator::Whitted;
+        settings.maxDepth = 24;
+        settings.width = settings.height = 24;
+        settings.samplesPerPixel = 4;
+        return test::renderGpuAndCpu(context(), scene, bvh, test::sphereCamera(), settings,
+                                     test::shaderCacheDir());
+    };
+    const auto alone = render(false), nested = render(true);
+    for (const bool gpu : {true, false}) {
+        const Image& a = (gpu ? alone.gpu : alone.cpu).image;
+        const Image& b = (gpu ? nested.gpu : nested.cpu).image;
+        double largest = 0.0;
+        for (size_t i = 0; i < a.pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                largest = std::max(largest, double(std::abs(a.pixels[i][c] - b.pixels[i][c])));
+        EXPECT_LT(largest, 2e-3) << (gpu ? "gpu" : "cpu");
+    }
+}
+
 // A glossy floor (white metal of roughness 0.3) under a lamp, seen through a clear thin pane of index 1, with
 // Whitted's distributed ray tracing: the floor must look as it does without the pane. Its traced reflections
 // bring an area lamp's light through the pane; the light samples, which pass transmissive surfaces for the
