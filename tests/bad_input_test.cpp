@@ -605,7 +605,9 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
           Case{"--animation walk", "--animation walk: no such animation (the file has none)"},
           Case{"--aperture 1e39", "--aperture: '1e39' is beyond single precision's range"},
           Case{"--stats " + out, "--out and --stats name the same file"},
-          Case{"--report-every-ms 5", "--report-every-ms needs --report or --reference"},
+          Case{"--report-every-ms 5", "--report-every-ms needs --report, where its checkpoints are written"},
+          Case{"--reference '" + (folder / "huge.pfm").string() + "' --report-every-ms 5",
+               "--report-every-ms needs --report, where its checkpoints are written"},
           Case{"--report '" + (folder / "r.json").string() + "' --stats '" + (folder / "./r.json").string() +
                    "'",
                "--stats and --report name the same file"},

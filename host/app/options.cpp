@@ -444,10 +444,10 @@ Options parseOptions(int argc, const char* const argv[]) {
             }
         }
     }
-    // Checkpoints measure the error against a reference: without one, --report-every-ms did nothing,
-    // silently.
-    if (options.reportEveryMs > 0.0 && options.reportPath.empty() && options.referencePath.empty())
-        throw UsageError("--report-every-ms needs --report or --reference");
+    // Its checkpoints go to the report: without one, --report-every-ms did nothing, silently (with
+    // --reference alone, only the last checkpoint is printed).
+    if (options.reportEveryMs > 0.0 && options.reportPath.empty())
+        throw UsageError("--report-every-ms needs --report, where its checkpoints are written");
     // The files a run writes are distinct: one would overwrite another.
     const std::pair<const char*, const std::string*> written[] = {
         {"--out", &options.outputPath}, {"--stats", &options.statsPath}, {"--report", &options.reportPath}};
