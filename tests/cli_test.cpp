@@ -525,6 +525,21 @@ TEST(Cli, ReportRecordsErrorAtEveryDoublingOfSamples) {
     }
 }
 
+// Formats are chosen by the extension in any case, for reports as for images: "r.CSV" was refused where
+// "x.PFM" was written.
+TEST(Cli, ReportExtensionsAreReadInAnyCase) {
+    const auto folder = test::temporaryFolder();
+    const auto reference = folder / "reference.PFM", report = folder / "report.CSV";
+    const std::string size = " --device cpu --width 8 --height 8 --quiet";
+    ASSERT_EQ(test::runVkrt("--scene " + kCornell + size + " --spp 16 --out " + quoted(reference)).exitCode,
+              0);
+    const auto run =
+        test::runVkrt("--scene " + kCornell + size + " --spp 4 --reference " + quoted(reference) +
+                      " --report " + quoted(report) + " --out " + quoted(folder / "x.pfm"));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_EQ(test::readText(report).rfind("samples,render_ms,", 0), 0u) << "written as CSV";
+}
+
 // A render the time limit stops between two checkpoints ends its report with the image it writes: the last
 // checkpoint once was the one before, so the report, and the error vkrt printed, did not describe the image.
 TEST(Cli, ReportOfARenderStoppedByTheTimeLimitEndsWithTheImageWritten) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.h"
+#include "common/file_names.h"
 #include "image/image_metrics.h"
 
 namespace vkrt {
@@ -25,7 +26,7 @@ void ConvergenceReport::add(uint32_t samples, double renderMs, double gpuMs, con
 }
 
 void ConvergenceReport::write(const std::string& path, const nlohmann::json& context) const {
-    const bool csv = std::filesystem::path(path).extension() == ".csv";
+    const bool csv = lowerExtension(path) == ".csv";
     writeFileAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
         if (csv) {

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "common/file_names.h"
 #include "image/image_io.h"
 #include "random.h"
 #include "shared.h"
@@ -108,7 +109,7 @@ const CLI::Validator kImagePath(
     "");
 const CLI::Validator kReportPath(
     [](std::string& text) {
-        const std::string extension = std::filesystem::path(text).extension().string();
+        const std::string extension = lowerExtension(text);
         return extension == ".json" || extension == ".csv" ? std::string() : "must name a .json or .csv file";
     },
     "");

@@ -17,17 +17,11 @@
 #include <tinyexr.h>
 
 #include "common/atomic_file.h"
+#include "common/file_names.h"
 #include "common/memory_need.h"
 
 namespace vkrt {
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    return extension;
-}
 
 // Writes `size` bytes to `path`, checking the closing too: some file systems (NFS, quotas, a full disk)
 // report a failed write only when the last buffered bytes go out.
