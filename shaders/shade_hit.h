@@ -59,7 +59,7 @@ struct RayState {
     int depth;
     uint exclude;      // the primitive the ray leaves (VKRT_NO_PRIMITIVE: none)
     real arrivalPdf;   // the density with which a glossy lobe chose the ray (0: camera, mirror, refraction)
-    real3 shadingPoint;  // where that lobe was sampled (the hit the ray left, before the origin's offset), else origin
+    real3 shadingPoint;  // where that lobe was sampled: the hit the ray left, before the origin's offset (else origin)
     uvec2 media;       // the volumes the ray is inside (media.h)
     real coneWidth;    // the ray's cone (camera.h's cameraCone): its width at the origin
     real coneSpread;   // and its spread angle
