@@ -265,11 +265,11 @@ TEST(ReferenceRenderer, MultipleImportanceSamplingKeepsTheMeanAndCutsTheNoise) {
     }
 }
 
-// A Lambertian floor 1e6 from the scene's middle under a sphere lamp 10 above it: there new rays leave 3.8
-// above the floor (VKRT_RAY_OFFSET_EPSILON times the coordinates). Light samples are drawn from the hit
-// point; the lamp's hit by the floor's cosine-sampled ray must be weighed by the density seen from that point
-// too (seen from the offset origin, the lamp looked 2.5 times as large and MIS made the floor 2.2 times too
-// bright).
+// A Lambertian floor 1e5 and 1e6 from the scene's middle under a sphere lamp 10 above it: there new rays
+// leave 0.38 and 3.8 above the floor (VKRT_RAY_OFFSET_EPSILON times the coordinates). Light samples are drawn
+// from the hit point; the lamp's hit by the floor's cosine-sampled ray must be weighed by the density seen
+// from that point too (seen from the offset origin, the lamp looked larger and MIS made the floor 2.8%
+// and 2.2 times too bright).
 TEST(ReferenceRenderer, MultipleImportanceSamplingFarFromTheMiddleMatchesClosedForm) {
     for (const float x : {1e5f, 1e6f}) {
         constexpr float height = 10.0f, radius = 6.0f;
@@ -307,9 +307,10 @@ TEST(ReferenceRenderer, MultipleImportanceSamplingFarFromTheMiddleMatchesClosedF
                 std::sqrt(std::max(0.0, sumSquares / samples - mean * mean) / samples);
             std::printf("x %g MIS %d: %.5f, closed form %.5f (standard error %.5f)\n", x, int(mis), mean,
                         expected, standardError);
-            // What the offset origin still changes (the BSDF ray meets the lamp from 3.8 nearer) stays below
-            // 10%.
-            EXPECT_NEAR(mean, expected, 0.1 * expected + 4.0 * standardError) << "MIS " << mis;
+            // What the offset origin still changes (the BSDF ray meets the lamp from nearer): 0.7% and 8%.
+            const double allowance = x < 5e5f ? 0.015 : 0.1;
+            EXPECT_NEAR(mean, expected, allowance * expected + 4.0 * standardError)
+                << "x " << x << ", MIS " << mis;
         }
     }
 }

@@ -77,10 +77,7 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
     const bool orthographic = camera.projection == Projection::Orthographic;
     if (orthographic && (camera.aperture > 0.0 || request.focusDistance)) {
         setup.warnings.push_back(
-            request.focusDistance && camera.aperture > 0.0
-                ? "an orthographic camera has no lens: its aperture and focus distance are ignored"
-            : request.focusDistance ? "an orthographic camera has no lens: --focus-distance is ignored"
-                                    : "an orthographic camera has no lens: its aperture is ignored");
+            "an orthographic camera has no lens: its aperture and focus distance are ignored");
         camera.aperture = 0.0;
     } else if (request.focusDistance && !(camera.aperture > 0.0)) {
         setup.warnings.push_back(

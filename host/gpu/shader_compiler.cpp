@@ -2,10 +2,12 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <string_view>
 
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
@@ -39,7 +41,7 @@ class EmbeddedIncluder : public glslang::TShader::Includer {
 };
 
 // FNV-1a, 64 bits: a stable key for the cache (not a security boundary).
-uint64_t fnv1a(const std::string& text, uint64_t hash = 1469598103934665603ull) {
+uint64_t fnv1a(std::string_view text, uint64_t hash = 1469598103934665603ull) {
     for (unsigned char c : text) {
         hash ^= c;
         hash *= 1099511628211ull;
@@ -66,27 +68,26 @@ std::string cacheKeyFor(const std::string& mainFile, const std::string& mainText
     return key.str();
 }
 
-// A cache entry (KEY.spvc) is the SPIR-V module followed by one word, the FNV-1a hash of the module's bytes:
-// an entry cut short or changed on disk is compiled again rather than handed to the driver (lavapipe failed
-// every later render of the scene with VK_ERROR_UNKNOWN, naming no cache).
-uint32_t moduleChecksum(const std::vector<uint32_t>& spirv, size_t words) {
-    uint32_t hash = 2166136261u;
-    const auto* bytes = reinterpret_cast<const unsigned char*>(spirv.data());
-    for (size_t i = 0; i < words * 4; ++i) hash = (hash ^ bytes[i]) * 16777619u;
-    return hash;
+// A cache entry (KEY.spvc) is the SPIR-V module followed by two words, the FNV-1a hash of the module's bytes
+// (fnv1a): an entry cut short or changed on disk is compiled again rather than handed to the driver (lavapipe
+// failed every later render of the scene with VK_ERROR_UNKNOWN, naming no cache).
+uint64_t moduleChecksum(const std::vector<uint32_t>& spirv, size_t words) {
+    return fnv1a(std::string_view(reinterpret_cast<const char*>(spirv.data()), words * 4));
 }
 
 bool readCache(const std::filesystem::path& file, std::vector<uint32_t>& spirv) {
     std::ifstream in(file, std::ios::binary | std::ios::ate);
     if (!in) return false;
     const std::streamsize bytes = in.tellg();
-    if (bytes < 24 || bytes % 4 != 0) return false;  // a header of five words and the checksum at least
+    if (bytes < 28 || bytes % 4 != 0) return false;  // a header of five words and the checksum at least
     std::vector<uint32_t> words(static_cast<size_t>(bytes) / 4);
     in.seekg(0);
     in.read(reinterpret_cast<char*>(words.data()), bytes);
-    const size_t moduleWords = words.size() - 1;
-    if (!in || words[0] != 0x07230203u || words.back() != moduleChecksum(words, moduleWords)) return false;
-    words.pop_back();
+    const size_t moduleWords = words.size() - 2;
+    uint64_t stored = 0;
+    std::memcpy(&stored, words.data() + moduleWords, sizeof(stored));
+    if (!in || words[0] != 0x07230203u || stored != moduleChecksum(words, moduleWords)) return false;
+    words.resize(moduleWords);
     spirv = std::move(words);
     return true;
 }
@@ -230,7 +231,7 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
             std::filesystem::create_directories(cacheDir);
             writeFileAtomically(cacheFile.string(), [&](const std::string& temporary) {
                 std::ofstream out(temporary, std::ios::binary);
-                const uint32_t checksum = moduleChecksum(result.spirv, result.spirv.size());
+                const uint64_t checksum = moduleChecksum(result.spirv, result.spirv.size());
                 out.write(reinterpret_cast<const char*>(result.spirv.data()),
                           static_cast<std::streamsize>(result.spirv.size() * 4));
                 out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));

@@ -108,8 +108,7 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
-    uint64_t otherBytes_ =
-        0;  // host memory counted beside the triangles (images, skins' joints, morph targets)
+    uint64_t otherBytes_ = 0;        // host memory beside the triangles: images, skins' joints, targets
     glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
     std::vector<int> parents_;       // each node's parent, -1 for none (filled when first needed)
     std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
