@@ -64,12 +64,19 @@ VKRT_FUNC uint vkrtHash(uint x) {
     return x;
 }
 
+// A number's bits hash its seed, pixel, sample index and dimension in turn; chained hashing with distinct
+// additive constants keeps (a, b) and (b, a) apart. The first two hashes are the pixel's stream, which the
+// renderers work out once per pixel (ShadingContext), so that a number drawn from it takes the last two.
+VKRT_FUNC uint vkrtPixelStream(uint seed, uint pixel) {
+    return vkrtHash(vkrtHash(seed + 0x9e3779b9u) ^ (pixel + 0x85ebca6bu));
+}
+
+VKRT_FUNC uint vkrtStreamBits(uint stream, uint sampleIndex, uint dimension) {
+    return vkrtHash(vkrtHash(stream ^ (sampleIndex + 0xc2b2ae35u)) ^ (dimension + 0x27d4eb2fu));
+}
+
 VKRT_FUNC uint vkrtRandomBits(uint seed, uint pixel, uint sampleIndex, uint dimension) {
-    // Chained hashing with distinct additive constants keeps (a, b) and (b, a) apart.
-    uint h = vkrtHash(seed + 0x9e3779b9u);
-    h = vkrtHash(h ^ (pixel + 0x85ebca6bu));
-    h = vkrtHash(h ^ (sampleIndex + 0xc2b2ae35u));
-    return vkrtHash(h ^ (dimension + 0x27d4eb2fu));
+    return vkrtStreamBits(vkrtPixelStream(seed, pixel), sampleIndex, dimension);
 }
 
 // A number in [0, 1) with 24 random bits, exactly representable as a float.
@@ -106,16 +113,29 @@ VKRT_FUNC uint vkrtSobol2(uint index) {
     return vkrtReverseBits(x);
 }
 
+// vkrtSobol2 of the bit reversal of `reversed`, without reversing: each step of the transform mirrored (a shift
+// right of the reversed word is a shift left of the word, and each mask is reversed).
+VKRT_FUNC uint vkrtSobol2OfReversed(uint reversed) {
+    uint x = reversed;
+    x ^= (x << 1u) & 0xaaaaaaaau;
+    x ^= (x << 2u) & 0xccccccccu;
+    x ^= (x << 4u) & 0xf0f0f0f0u;
+    x ^= (x << 8u) & 0xff00ff00u;
+    x ^= x << 16u;
+    return x;
+}
+
 // Where sample `sampleIndex` falls inside its pixel, in [0, 1)^2. The (0,2)-sequence is scrambled per
 // pixel by XOR with random bits (which keeps the net property), so each pixel is stratified at every
 // power-of-two sample count (progressive images converge as well as finished ones) and unbiased.
-VKRT_FUNC float vkrtPixelJitterX(uint seed, uint pixel, uint sampleIndex) {
-    const uint scramble = vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_X);
+// `stream` is the pixel's (vkrtPixelStream).
+VKRT_FUNC float vkrtPixelJitterX(uint stream, uint sampleIndex) {
+    const uint scramble = vkrtStreamBits(stream, 0u, VKRT_DIM_PIXEL_X);
     return float((vkrtReverseBits(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
 }
 
-VKRT_FUNC float vkrtPixelJitterY(uint seed, uint pixel, uint sampleIndex) {
-    const uint scramble = vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_Y);
+VKRT_FUNC float vkrtPixelJitterY(uint stream, uint sampleIndex) {
+    const uint scramble = vkrtStreamBits(stream, 0u, VKRT_DIM_PIXEL_Y);
     return float((vkrtSobol2(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
 }
 
@@ -136,20 +156,31 @@ VKRT_FUNC uint vkrtLaineKarras(uint x, uint seed) {
 // nested uniform (Owen) scramble, which maps the first 2^k indices onto one aligned block of 2^k (whose
 // points are again a (0,k,2)-net) and, being nonlinear, decorrelates the pairs; the point is then
 // XOR-scrambled per pixel. So every dimension is stratified at every power-of-two sample count.
-VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dimension, uint axis) {
-    const uint key = vkrtRandomBits(seed, pixel, 0xffffffffu, dimension);  // the pair's, in this pixel
-    const uint index = vkrtReverseBits(vkrtLaineKarras(vkrtReverseBits(sampleIndex), key));
-    const uint bits = axis == 0u ? vkrtReverseBits(index) : vkrtSobol2(index);
+//
+// The pair's key is the pixel stream's bits at sample index 0xffffffff (which no sample has) and the pair's
+// dimension; its first hash, the pixel's `pairRoot` (vkrtPairRoot), is the same for every pair. The shuffled
+// index is index = reverse(LK(reverse(sampleIndex), key)), so axis 0's bits, reverse(index), are LK(...)
+// itself, and axis 1's, vkrtSobol2(index), are vkrtSobol2OfReversed(LK(...)).
+VKRT_FUNC uint vkrtPairRoot(uint stream) { return vkrtHash(stream ^ (0xffffffffu + 0xc2b2ae35u)); }
+
+VKRT_FUNC float vkrtStratifiedFrom(uint pairRoot, uint sampleIndex, uint dimension, uint axis) {
+    const uint key = vkrtHash(pairRoot ^ (dimension + 0x27d4eb2fu));  // vkrtStreamBits(stream, 0xffffffffu, dimension)
+    const uint shuffled = vkrtLaineKarras(vkrtReverseBits(sampleIndex), key);
+    const uint bits = axis == 0u ? shuffled : vkrtSobol2OfReversed(shuffled);
     const uint scramble = vkrtHash(key ^ (0x68e31da4u + axis));
     return float((bits ^ scramble) >> 8u) * 5.9604644775390625e-8;
 }
 
+VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dimension, uint axis) {
+    return vkrtStratifiedFrom(vkrtPairRoot(vkrtPixelStream(seed, pixel)), sampleIndex, dimension, axis);
+}
+
 // A number for the `layer`-th decision of one kind along a ray (the surfaces of alpha-blended geometry it
 // meets, one after the other): the first two are the stratified pair at `dimension`, later ones are hashed
-// from the pair's dimension and the layer.
-VKRT_FUNC float vkrtLayered(uint seed, uint pixel, uint sampleIndex, uint dimension, uint layer) {
-    if (layer < 2u) return vkrtStratified(seed, pixel, sampleIndex, dimension, layer);
-    const uint bits = vkrtHash(vkrtRandomBits(seed, pixel, sampleIndex, dimension) ^ (layer * 0x9e3779b9u));
+// from the pair's dimension and the layer. `stream` and `pairRoot` are the pixel's.
+VKRT_FUNC float vkrtLayered(uint stream, uint pairRoot, uint sampleIndex, uint dimension, uint layer) {
+    if (layer < 2u) return vkrtStratifiedFrom(pairRoot, sampleIndex, dimension, layer);
+    const uint bits = vkrtHash(vkrtStreamBits(stream, sampleIndex, dimension) ^ (layer * 0x9e3779b9u));
     return float(bits >> 8u) * 5.9604644775390625e-8;
 }
 

@@ -31,7 +31,7 @@ VKRT_SHADING_BEGIN
 #ifdef __cplusplus
 using ::vkrt::vkrtLayered;
 using ::vkrt::vkrtNodeDimension;
-using ::vkrt::vkrtStratified;
+using ::vkrt::vkrtStratifiedFrom;
 #endif
 
 // What stays fixed for every ray of one camera sample.
@@ -45,8 +45,8 @@ struct ShadingContext {
     uint lightSamples;   // area-light samples per shading point
     bool multipleImportanceSampling;
     bool energyCompensation;   // GGX lobes make up for what single scattering loses (energy_compensation.h)
-    uint seed;
-    uint pixel;
+    uint stream;         // the pixel's random numbers (random.h's vkrtPixelStream of the seed and the pixel)
+    uint pairRoot;       // and its stratified pairs' (vkrtPairRoot)
     uint sampleIndex;
 };
 
@@ -187,7 +187,7 @@ VKRT_FN real textureFootprint(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(H
 }
 
 VKRT_FN real stratified(VKRT_IN(ShadingContext) context, uint dimension, uint axis) {
-    return real(vkrtStratified(context.seed, context.pixel, context.sampleIndex, dimension, axis));
+    return real(vkrtStratifiedFrom(context.pairRoot, context.sampleIndex, dimension, axis));
 }
 
 // The most surfaces with holes (alpha) a ray passes through; the next one it meets stops it as if covered.
@@ -205,7 +205,7 @@ VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                                      textureFootprint(VKRT_DEVICE_ARG ray, hit));
     if (coverage >= 1.0) return false;
     if (coverage <= 0.0) return true;
-    return real(vkrtLayered(context.seed, context.pixel, context.sampleIndex,
+    return real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex,
                             vkrtNodeDimension(ray.node, VKRT_DIM_COVERAGE), layer)) >= coverage;
 }
 

@@ -247,17 +247,16 @@ void addSample(vec3 value, bool complete, inout precise vec4 sum, inout precise 
 
 // The camera ray of sample `s` of the pixel at `xy`; sets the context's sample index (and the shutter time).
 RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout ShadingContext context) {
-    const uint seed = context.seed, pixel = context.pixel;
 #ifdef VKRT_HAS_MOTION
-    vkrtShutterTime = vkrtStratified(seed, pixel, s, VKRT_DIM_TIME, 0u);
+    vkrtShutterTime = vkrtStratifiedFrom(context.pairRoot, s, VKRT_DIM_TIME, 0u);
 #endif
     context.sampleIndex = s;
     // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
-    const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(seed, pixel, s),
-                                     vkrtPixelJitterY(seed, pixel, s));
+    const vec2 offset = filterOffset(uint(VKRT_PIXEL_FILTER), vkrtPixelJitterX(context.stream, s),
+                                     vkrtPixelJitterY(context.stream, s));
     const CameraRay primary = cameraRay(camera, float(xy.x) + 0.5 + offset.x, float(xy.y) + 0.5 + offset.y,
-                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 0u),
-                                        vkrtStratified(seed, pixel, s, VKRT_DIM_LENS_U, 1u));
+                                        vkrtStratifiedFrom(context.pairRoot, s, VKRT_DIM_LENS_U, 0u),
+                                        vkrtStratifiedFrom(context.pairRoot, s, VKRT_DIM_LENS_U, 1u));
     return withCone(rayState(primary.origin, primary.direction, vec3(1.0), 0u, 0, VKRT_NO_PRIMITIVE, 0.0, emptyMedia()),
                     cone.x, cone.y);
 }
@@ -387,7 +386,6 @@ void main() {
     const uvec2 xy = uvec2(tile * VKRT_WORKGROUP_WIDTH + gl_LocalInvocationID.x, pass.rowStart + row);
     if (xy.x >= width || row >= pass.rowCount) return;
     const uint pixel = xy.y * width + xy.x;
-    const uint seed = params.seed;
     const CameraFrame camera = cameraFrame();
     const vec2 cone = cameraCone(camera);
     ShadingContext context;
@@ -404,8 +402,8 @@ void main() {
     context.lightSamples = params.lightSamples;
     context.multipleImportanceSampling = params.multipleImportanceSampling != 0u;
     context.energyCompensation = params.energyCompensation != 0u;
-    context.seed = seed;
-    context.pixel = pixel;
+    context.stream = vkrtPixelStream(params.seed, pixel);
+    context.pairRoot = vkrtPairRoot(context.stream);
     uint primaryRays = 0u, secondaryRays = 0u, nonFinite = 0u;
     precise vec4 sum = vec4(0.0);
     precise vec4 sumLost = vec4(0.0);  // Kahan compensation of `sum`

@@ -97,6 +97,49 @@ TEST(Random, SobolSecondDimensionIsItsGeneratorMatrix) {
     EXPECT_EQ(vkrtSobol2(0xffffffffu), byMatrix(0xffffffffu));
 }
 
+// The stratified numbers' bits as first defined, every hash of the chain from the seed and the pixel and the
+// shuffled index reversed and reversed back, for the renderers' forms (the pixel's stream and pair root
+// worked out once, no reversal undone) to reproduce bit for bit.
+float stratifiedByDefinition(uint32_t seed, uint32_t pixel, uint32_t sample, uint32_t dimension,
+                             uint32_t axis) {
+    const uint32_t key = vkrtRandomBits(seed, pixel, 0xffffffffu, dimension);
+    const uint32_t index = vkrtReverseBits(vkrtLaineKarras(vkrtReverseBits(sample), key));
+    const uint32_t bits = axis == 0u ? vkrtReverseBits(index) : vkrtSobol2(index);
+    return static_cast<float>((bits ^ vkrtHash(key ^ (0x68e31da4u + axis))) >> 8u) * 5.9604644775390625e-8f;
+}
+
+TEST(Random, PerPixelFormsDrawTheDefinitionsNumbers) {
+    uint32_t x = 1u;
+    for (int i = 0; i < 20000; ++i) {
+        x = vkrtHash(x + static_cast<uint32_t>(i));
+        const uint32_t seed = i % 7 == 0 ? 0xffffffffu : x & 0xffu, pixel = vkrtHash(x) % 5000000u;
+        const uint32_t sample = i % 5 == 0 ? 16777215u : vkrtHash(x ^ 1u) % 4096u;
+        const uint32_t dimension = vkrtHash(x ^ 2u) % (VKRT_DIM_NODE_BASE + 64u * VKRT_DIMS_PER_NODE);
+        const uint32_t stream = vkrtPixelStream(seed, pixel), pairRoot = vkrtPairRoot(stream);
+        ASSERT_EQ(vkrtStreamBits(stream, sample, dimension), vkrtRandomBits(seed, pixel, sample, dimension));
+        ASSERT_EQ(vkrtSobol2OfReversed(x), vkrtSobol2(vkrtReverseBits(x))) << x;
+        for (uint32_t axis : {0u, 1u}) {
+            const float expected = stratifiedByDefinition(seed, pixel, sample, dimension, axis);
+            ASSERT_EQ(vkrtStratifiedFrom(pairRoot, sample, dimension, axis), expected) << i;
+            ASSERT_EQ(vkrtStratified(seed, pixel, sample, dimension, axis), expected) << i;
+            ASSERT_EQ(vkrtLayered(stream, pairRoot, sample, dimension, axis), expected) << i;
+        }
+        const uint32_t layer = 2u + i % 62;
+        const uint32_t layerBits =
+            vkrtHash(vkrtRandomBits(seed, pixel, sample, dimension) ^ (layer * 0x9e3779b9u));
+        ASSERT_EQ(vkrtLayered(stream, pairRoot, sample, dimension, layer),
+                  static_cast<float>(layerBits >> 8u) * 5.9604644775390625e-8f);
+        ASSERT_EQ(vkrtPixelJitterX(stream, sample),
+                  static_cast<float>(
+                      (vkrtReverseBits(sample) ^ vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_X)) >> 8u) *
+                      5.9604644775390625e-8f);
+        ASSERT_EQ(vkrtPixelJitterY(stream, sample),
+                  static_cast<float>(
+                      (vkrtSobol2(sample) ^ vkrtRandomBits(seed, pixel, 0u, VKRT_DIM_PIXEL_Y)) >> 8u) *
+                      5.9604644775390625e-8f);
+    }
+}
+
 TEST(Random, StratifiedDimensionsAreNetsAtEveryPowerOfTwoAndDecorrelated) {
     // Every power-of-two prefix of a pixel's samples puts exactly one point in each of the 2^k elementary
     // intervals of every shape (a (0,k,2)-net), for several dimension pairs and pixels.

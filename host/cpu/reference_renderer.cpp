@@ -51,8 +51,8 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     context.lightSamples = static_cast<uint32_t>(settings_.lightSamples);
     context.multipleImportanceSampling = settings_.multipleImportanceSampling;
     context.energyCompensation = settings_.energyCompensation;
-    context.seed = settings_.seed;
-    context.pixel = pixel;
+    context.stream = vkrtPixelStream(settings_.seed, pixel);
+    context.pairRoot = vkrtPairRoot(context.stream);
     context.sampleIndex = sample;
     return context;
 }
@@ -206,13 +206,14 @@ glm::dvec3 ReferenceRenderer::radiance(const Ray& ray, uint32_t pixel, uint32_t 
 glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, uint32_t endSample,
                                           RayCounters& counters) const {
     const uint32_t pixel = static_cast<uint32_t>(y) * settings_.width + x;
+    const uint32_t stream = vkrtPixelStream(settings_.seed, pixel);
     glm::dvec3 sum(0.0);
     uint64_t finite = 0;
     for (uint32_t sample = firstSample; sample < endSample; ++sample) {
         // Scrambled (0,2)-sequence positions: stratified at every power-of-two sample count.
-        const glm::dvec2 offset = shading::filterOffset(static_cast<uint32_t>(settings_.pixelFilter),
-                                                        vkrtPixelJitterX(settings_.seed, pixel, sample),
-                                                        vkrtPixelJitterY(settings_.seed, pixel, sample));
+        const glm::dvec2 offset =
+            shading::filterOffset(static_cast<uint32_t>(settings_.pixelFilter),
+                                  vkrtPixelJitterX(stream, sample), vkrtPixelJitterY(stream, sample));
         ++counters.primary;
         const Ray ray = cameraRay(x + 0.5 + offset.x, y + 0.5 + offset.y,
                                   vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_LENS_U, 0),
