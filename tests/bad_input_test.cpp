@@ -698,6 +698,30 @@ TEST(BadInput, PathsAreCheckedBeforeAnythingIsRendered) {
     }
 }
 
+// A scene given through a named pipe (as a shell's `<(...)` gives it) loads: the scene file is read once. The
+// path check opened it and closed it again, dropping what the writer had sent, and the loader read the file
+// four times; vkrt waited for data that never came. An empty file says so.
+TEST(BadInput, SceneThroughANamedPipeLoads) {
+    const auto folder = test::temporaryFolder();
+    const std::string pipe = (folder / "scene.glb").string(), image = (folder / "x.png").string();
+    for (const char* scene : {"scenes/cornell.gltf", "scenes/cornell-meshopt.glb"}) {
+        SCOPED_TRACE(scene);
+        std::filesystem::remove(pipe);
+        const test::CommandResult run = test::runCommand(
+            "mkfifo '" + pipe + "' && { cat '" + (test::sourceDir() / scene).string() + "' > '" + pipe +
+            "' & timeout 60 '" + std::string(VKRT_BINARY) + "' --scene '" + pipe +
+            "' --device cpu --width 8 --height 8 --spp 1 --quiet --out '" + image + "'; echo \"exit=$?\"; }");
+        EXPECT_NE(run.output.find("exit=0"), std::string::npos) << run.output;
+        EXPECT_TRUE(std::filesystem::exists(image));
+        std::filesystem::remove(image);
+    }
+    test::writeText(folder / "empty.gltf", "");
+    const test::CommandResult empty =
+        test::runVkrt("--scene '" + (folder / "empty.gltf").string() + "' --out '" + image + "'");
+    EXPECT_EQ(empty.exitCode, 2) << empty.output;
+    EXPECT_NE(empty.output.find("empty.gltf: the file is empty"), std::string::npos) << empty.output;
+}
+
 // Inputs found by fuzzing (tools/fuzz_loader.sh) or made to break the loader: each must load or fail with one
 // SceneError, never crash, run out of memory or throw anything else.
 TEST(BadInput, FuzzRegressionsLoadOrFailCleanly) {

@@ -19,13 +19,16 @@ void checkReadable(const char* option, const std::string& path) {
         throw UsageError(std::string(option) + ": " + path + ": cannot open: no such file");
     if (status.type() == std::filesystem::file_type::directory)
         throw UsageError(std::string(option) + ": " + path + ": is a directory");
-    // A device may have no end to read to (/dev/zero filled the memory). A pipe is left to the loader, which
-    // refuses what is not a regular file once it has something to read (opening one waits for a writer).
+    // A device may have no end to read to (/dev/zero filled the memory). A named pipe (a shell's `<(...)`) is
+    // read once by its loader: opening it here would wait for a writer and then drop what it wrote.
     if (status.type() == std::filesystem::file_type::character ||
         status.type() == std::filesystem::file_type::block ||
         status.type() == std::filesystem::file_type::socket)
         throw UsageError(std::string(option) + ": " + path + ": is a device, not a file");
-    if (!std::ifstream(path, std::ios::binary)) throw UsageError(std::string(option) + ": " + path + ": cannot read");
+    const bool readable = status.type() == std::filesystem::file_type::fifo
+                              ? access(path.c_str(), R_OK) == 0
+                              : static_cast<bool>(std::ifstream(path, std::ios::binary));
+    if (!readable) throw UsageError(std::string(option) + ": " + path + ": cannot read");
 }
 
 // The folder that will hold `path` exists and can take a new file (outputs are written to a temporary file

@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -443,11 +445,25 @@ bool markAbsentInverseBindMatrices(nlohmann::json& document) {
     return changed;
 }
 
-bool hasGlbMagic(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    char magic[4] = {};
-    file.read(magic, 4);
-    return file.gcount() == 4 && std::string(magic, 4) == "glTF";
+// The scene file's bytes, read once, so that a named pipe (a shell's `<(...)`) loads as a file does: every
+// later look (the GLB header, the JSON, tinygltf's parse) reads them from memory.
+std::string readSceneFile(const std::string& path) {
+    std::error_code statusError;
+    if (std::filesystem::is_directory(path, statusError)) throw SceneError(path + ": is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw SceneError(path + ": cannot open file");
+    std::string bytes;
+    std::vector<char> chunk(1 << 20);
+    while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+        bytes.append(chunk.data(), static_cast<size_t>(in.gcount()));
+        if (in.eof()) break;
+    }
+    if (in.bad()) throw SceneError(path + ": cannot read file");
+    if (bytes.empty()) throw SceneError(path + ": the file is empty");
+    // tinygltf takes a document's length as 32 bits.
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        throw SceneError(path + ": larger than 4 GiB, more than tinygltf reads");
+    return bytes;
 }
 
 // tinygltf's file reading, refusing what is not a regular file: a buffer or image whose URI names a
@@ -463,13 +479,10 @@ bool readRegularFile(std::vector<unsigned char>* out, std::string* error, const 
 }
 
 // The GLB header's version (glTF 2.0, 4.4.2: version 2; version 1 was glTF 1.0's binary extension).
-void checkGlbVersion(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    unsigned char header[8] = {};
-    file.read(reinterpret_cast<char*>(header), 8);
-    if (file.gcount() < 8) throw SceneError(path + ": not a valid GLB file (its header is cut short)");
-    const uint32_t version =
-        header[4] | header[5] << 8 | header[6] << 16 | static_cast<uint32_t>(header[7]) << 24;
+void checkGlbVersion(std::string_view file, const std::string& path) {
+    if (file.size() < 8) throw SceneError(path + ": not a valid GLB file (its header is cut short)");
+    const auto byte = [&](size_t i) { return static_cast<uint32_t>(static_cast<unsigned char>(file[i])); };
+    const uint32_t version = byte(4) | byte(5) << 8 | byte(6) << 16 | byte(7) << 24;
     if (version != 2)
         throw SceneError(path + ": GLB version " + std::to_string(version) +
                          "; vkrt reads GLB version 2 (glTF 2.0)");
@@ -478,18 +491,14 @@ void checkGlbVersion(const std::string& path) {
 }  // namespace
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
-    std::error_code statusError;
-    if (std::filesystem::is_directory(path, statusError)) throw SceneError(path + ": is a directory");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw SceneError(path + ": cannot open file");
-    probe.close();
+    const std::string file = readSceneFile(path);
 
     // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
     // and range (tinygltf skips what has the wrong type). JSON that does not parse is left to tinygltf to
     // describe.
-    const bool binary = hasGlbMagic(path);
-    if (binary) checkGlbVersion(path);
-    nlohmann::json document = readGltfJson(path, binary);
+    const bool binary = file.compare(0, 4, "glTF") == 0;
+    if (binary) checkGlbVersion(file, path);
+    nlohmann::json document = readGltfJson(file, binary);
     bool rewritten = false;
     if (!document.is_discarded()) {
         if (const auto extension = unsupportedRequiredExtension(document))
@@ -510,24 +519,18 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string error, warning;
-    bool ok = false;
-    if (rewritten) {
-        // tinygltf reads the changed JSON (and a GLB's other chunks as they are) from memory.
-        const std::string directory = std::filesystem::path(path).parent_path().string();
-        const std::string text = document.dump();
-        if (binary) {
-            const std::string glb = replaceGlbJson(path, text);
-            ok = reader.LoadBinaryFromMemory(&model, &error, &warning,
-                                             reinterpret_cast<const unsigned char*>(glb.data()),
-                                             static_cast<unsigned int>(glb.size()), directory);
-        } else {
-            ok = reader.LoadASCIIFromString(&model, &error, &warning, text.data(),
-                                            static_cast<unsigned int>(text.size()), directory);
-        }
-    } else {
-        ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path)
-                    : reader.LoadASCIIFromFile(&model, &error, &warning, path);
-    }
+    // tinygltf reads the file's bytes, or the changed JSON (and a GLB's other chunks as they are), from
+    // memory; external buffers and images relative to the file's folder.
+    const std::string directory = std::filesystem::path(path).parent_path().string();
+    const std::string changed = !rewritten ? std::string()
+                                : binary   ? replaceGlbJson(file, document.dump(), path)
+                                           : document.dump();
+    const std::string& bytes = rewritten ? changed : file;
+    const bool ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning,
+                                                         reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                         static_cast<unsigned int>(bytes.size()), directory)
+                           : reader.LoadASCIIFromString(&model, &error, &warning, bytes.data(),
+                                                        static_cast<unsigned int>(bytes.size()), directory);
     if (!ok || !error.empty()) {
         std::string message = error.empty() ? "not a valid glTF file" : error;
         // tinygltf's messages can span lines; the command line reports one.

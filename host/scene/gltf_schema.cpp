@@ -612,9 +612,8 @@ private:
 
 }  // namespace
 
-nlohmann::json readGltfJson(const std::string& path, bool binary) {
-    std::ifstream file(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(file)), {});
+nlohmann::json readGltfJson(std::string_view file, bool binary) {
+    std::string_view text = file;
     if (binary) {
         // GLB: a 12-byte header, then the JSON chunk: its length (little-endian) and type, then the text.
         if (text.size() < 20) return Json(Json::value_t::discarded);
@@ -641,9 +640,7 @@ std::string glbFile(const std::string& json, const std::string& bin) {
     return "glTF" + word(2) + word(12 + chunks.size()) + chunks;
 }
 
-std::string replaceGlbJson(const std::string& path, const std::string& json) {
-    std::ifstream file(path, std::ios::binary);
-    const std::string glb((std::istreambuf_iterator<char>(file)), {});
+std::string replaceGlbJson(std::string_view glb, const std::string& json, const std::string& path) {
     auto wordAt = [&](size_t at) {
         uint32_t value = 0;
         for (int i = 0; i < 4; ++i) value |= static_cast<uint32_t>(static_cast<unsigned char>(glb[at + i])) << (8 * i);
@@ -655,7 +652,7 @@ std::string replaceGlbJson(const std::string& path, const std::string& json) {
     const size_t binAt = 20 + length;
     std::string bin;
     if (glb.size() >= binAt + 8 && glb.compare(binAt + 4, 4, std::string("BIN\0", 4)) == 0) {
-        bin = glb.substr(binAt + 8, std::min<size_t>(wordAt(binAt), glb.size() - binAt - 8));
+        bin = std::string(glb.substr(binAt + 8, std::min<size_t>(wordAt(binAt), glb.size() - binAt - 8)));
     }
     return glbFile(json, bin);
 }
