@@ -78,6 +78,7 @@ struct HitPoint {
     uint material;
     bool sphere;
     uint shape;  // solids: the scene's shape whose surface this is; else VKRT_NO_PRIMITIVE
+    uint face;   // solids: which face of that shape (shape_geometry.h's VKRT_FACE_...)
 };
 
 // A hit seen from the ray that found it: normals turned towards the viewer, where new rays start, and which
@@ -177,7 +178,8 @@ VKRT_FN real textureFootprint(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(H
     if (hit.shape != VKRT_NO_PRIMITIVE) {
         AffineRows toObject, toWorld;
         VKRT_DEVICE(shapeMaps)(hit.shape, toObject, toWorld);
-        width *= shapeTextureDensity(dot(real3(toWorld.row0), cross(real3(toWorld.row1), real3(toWorld.row2))));
+        width *= shapeTextureDensity(VKRT_DEVICE(shapeType)(hit.shape), hit.face, hit.uv,
+                                     dot(real3(toWorld.row0), cross(real3(toWorld.row1), real3(toWorld.row2))));
     }
 #endif
     return width;

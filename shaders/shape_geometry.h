@@ -12,6 +12,7 @@
 
 #include "shading_language.h"
 #include "sphere_geometry.h"
+#include "texture_density.h"
 
 #define VKRT_SHAPE_SPHERE 0u    // radius 1 around the origin
 #define VKRT_SHAPE_BOX 1u       // [-1, 1]^3
@@ -340,10 +341,22 @@ VKRT_FN real shapeScale(VKRT_IN(AffineRows) toWorld) {
     return shapeOffset(toWorld) + shapeSize(toWorld);
 }
 
-// Texture coordinates per world unit on a shape placed by a map of determinant `determinant`
-// (docs/vkrt_shape.md): a box face's 2 x 2 units span the unit square, scaled by the map's mean linear scale.
-VKRT_FN real shapeTextureDensity(real determinant) {
-    return 0.5 / pow(abs(determinant), 1.0 / 3.0);
+// Texture coordinates per world unit at texture coordinates `uv` (shapeUv) of face `face` of a shape of `type`
+// placed by a map of determinant `determinant` (docs/vkrt_shape.md): the square root of the ratio of areas in
+// texture and object space, as triangleTextureDensity gives it on a triangle, over the map's mean linear scale.
+// A box's faces and the flat caps span the unit square over 2 x 2 units (0.5); a cylinder's side spans u
+// around 2 pi and v down 2 units (1 / (2 sqrt(pi))); the sphere's is a VKRT_sphere's of radius 1
+// (sphereTextureDensity); a cone's side, of radius v at v and sqrt(5) from apex to rim, has 1 / (2 pi v) and
+// 1 / sqrt(5), and so 1 / sqrt(2 pi v sqrt(5)) (as large at the apex as the sphere's at its poles).
+VKRT_FN real shapeTextureDensity(uint type, uint face, real2 uv, real determinant) {
+    real density = 0.5;
+    if (type == VKRT_SHAPE_SPHERE) {
+        density = sphereTextureDensity(1.0, uv.y);
+    } else if (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE) {
+        density = type == VKRT_SHAPE_CYLINDER ? 0.5 / sqrt(VKRT_PI)
+                                              : 1.0 / sqrt(2.0 * VKRT_PI * max(uv.y, 1e-4) * sqrt(5.0));
+    }
+    return density / pow(abs(determinant), 1.0 / 3.0);
 }
 
 // Bit `state` of a CSG object's truth table: whether points inside exactly the shapes of `state`'s set bits

@@ -132,6 +132,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
     p.sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
 #endif
     p.shape = VKRT_NO_PRIMITIVE;
+    p.face = 0u;
     p.uv = vec2(hit.u, hit.v);
     p.tangent = vec4(0.0);
     SurfacePoint surface;
@@ -141,6 +142,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         // rounds less than the point along the ray (whose error grows with the shape's distance from the origin).
         p.shape = uint(hit.u);
         const uint code = uint(hit.v);
+        p.face = code >> 1u;
         AffineRows toObject, toWorld;
         shapeMaps(p.shape, toObject, toWorld);
         const GpuShape shape = gpuShapeAt(p.shape);

@@ -14,6 +14,7 @@
 #include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
+#include "scene/scene_error.h"
 #include "scene/shading_inputs.h"
 #include "shape_geometry.h"
 #include "support/render_both.h"
@@ -52,6 +53,27 @@ Scene floorScene(float albedo) {
 glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
     RayCounters counters;
     return renderer.radiance({{x, y, 5.0}, {0.0, 0.0, -1.0}}, 0, 0, counters);
+}
+
+// Both renderers address the packed texels (every texture's levels, one after another) with 32 bits: textures
+// holding more are refused by name before anything is packed, where the offsets wrapped and a texture read
+// another's texels. The textures here are described, never packed: their level 0 is one texel, and their mip
+// chains count from their size (1.43e9 texels each).
+TEST(ShadingInputs, TexelsBeyond32BitAddressesAreRefused) {
+    Scene scene;
+    Texture huge;
+    huge.width = huge.height = 65535;
+    huge.rgba.assign(4, 0xff);
+    scene.textures.assign(2, huge);
+    EXPECT_EQ(describeTextures(scene).size(), 2u);
+    scene.textures.assign(4, huge);
+    try {
+        describeTextures(scene);
+        ADD_FAILURE() << "described textures past 2^32 texels";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("vkrt addresses at most 2^32 - 1"), std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(ReferenceRenderer, LambertianPlaneUnderPointLightMatchesClosedForm) {

@@ -915,6 +915,57 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
     }
 }
 
+// The texture density a shape's mip level comes from (shapeTextureDensity) is, at every point of every face,
+// the square root of the ratio of the areas a small patch covers in texture and object space (as on a
+// triangle), over the map's scale: shapeUv differenced between nearby points, under a uniform scale of 3. It
+// was 0.5 everywhere, right on a box and the flat caps only: a sphere shape read textures 1.15 levels
+// blurrier than a VKRT_sphere of its size (a checker of 2-texel squares seen at 1.9 texels a pixel came out
+// grey).
+TEST(ShapeGeometry, TextureDensityIsTheRatioOfAreasOnEveryFace) {
+    const glm::dmat4 toWorld = glm::scale(glm::dmat4(1.0), glm::dvec3(3.0));
+    const shading::AffineRows toObjectRows = shading::affineRows(glm::inverse(toWorld));
+    for (const uint32_t type : kShapeTypes) {
+        SCOPED_TRACE(shapeName(type));
+        std::mt19937_64 rng(4000 + type);
+        int checked = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const glm::dvec3 origin = 12.0 * randomUnit(rng);
+            const glm::dvec3 direction = glm::normalize(2.4 * randomUnit(rng) - origin);
+            const glm::dvec3 o = origin / 3.0, d = direction / 3.0;
+            double tIn, tOut;
+            uint32_t face, faceOut;
+            if (!shading::shapeInterval(type, o, d, tIn, tOut, face, faceOut)) continue;
+            const glm::dvec3 p =
+                shading::shapePoint(type, face, false, toObjectRows, origin, direction, tIn).local;
+            // Away from the rims, the poles, the apex and the seam of u.
+            const double rho = std::sqrt(p.x * p.x + p.z * p.z);
+            const glm::dvec3 a = glm::abs(p);
+            const int axis = static_cast<int>(face / 2u);
+            const double rim = type == VKRT_SHAPE_BOX ? std::max(a[(axis + 1) % 3], a[(axis + 2) % 3])
+                               : type == VKRT_SHAPE_SPHERE || face == VKRT_FACE_SIDE ? a.y
+                                                                                     : rho;
+            if (rim > 0.999 || (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE && rho < 1e-2)) continue;
+            const glm::dvec3 normal = shading::shapeNormal(type, face, p);
+            const glm::dvec3 t1 = glm::normalize(glm::cross(normal, glm::dvec3(0.3, 0.5, 0.8)));
+            const glm::dvec3 t2 = glm::cross(normal, t1);
+            constexpr double kStep = 1e-6;
+            const glm::dvec3 p1 = shading::shapeSnap(type, face, p + kStep * t1);
+            const glm::dvec3 p2 = shading::shapeSnap(type, face, p + kStep * t2);
+            const glm::dvec2 uv = shading::shapeUv(type, face, p);
+            const glm::dvec2 d1 = shading::shapeUv(type, face, p1) - uv,
+                             d2 = shading::shapeUv(type, face, p2) - uv;
+            if (std::abs(d1.x) > 0.25 || std::abs(d2.x) > 0.25) continue;  // across u's seam
+            const double textureArea = std::abs(d1.x * d2.y - d2.x * d1.y);
+            const double objectArea = glm::length(glm::cross(p1 - p, p2 - p));
+            const double expected = std::sqrt(textureArea / objectArea) / 3.0;
+            EXPECT_NEAR(shading::shapeTextureDensity(type, face, uv, 27.0), expected, 1e-4 * expected)
+                << "face " << face << " at " << p.x << " " << p.y << " " << p.z;
+            ++checked;
+        }
+        EXPECT_GT(checked, 400);
+    }
+}
+
 TEST(ShapeLight, DensitiesIntegrateToTheTrueWorldArea) {
     // Points from sampleShapePoint with density shapePointDensity (per world area): E[1/density] is the
     // surface's world area, and E[f/density] the integral of f over it, for any f. Exact for the box (the
@@ -1239,6 +1290,61 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
             EXPECT_EQ(checkerPixels, 256)
                 << (withSpeck ? "with a speck first" : "alone") << ", " << (image == &gpu ? "gpu" : "cpu");
         }
+    }
+}
+
+// A sphere shape reads a mipmapped texture at a VKRT_sphere's level: a checker of 2-texel squares (256 x
+// 128), seen orthographically at 1.9 texels a pixel across the equator, is read at level 1
+// (NEAREST_MIPMAP_NEAREST), still black and white. The shape read level 2, every pixel of the equator's row
+// grey.
+TEST_F(ShapeGpu, SphereShapeReadsTexturesAtTheSpheresLevel) {
+    std::vector<uint32_t> texels;
+    for (int y = 0; y < 128; ++y) {
+        for (int x = 0; x < 256; ++x)
+            texels.push_back(((x / 2 + y / 2) % 2 == 0) ? 0xffffffffu : 0xff000000u);
+    }
+    Material checker = test::lambertian(1.0f);
+    checker.ior = 1.0f;  // no specular layer: the albedo alone under ambient 1
+    checker.baseColorTexture.texture = 0;
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0};
+    camera.xmag = camera.ymag = 1.1;
+    RenderSettings settings = test::ambientOnly(48);
+    settings.samplesPerPixel = 1;  // each pixel one texel of the level read
+    settings.maxDepth = 0;
+    std::array<test::RenderPair, 2> pairs;
+    for (const bool shape : {false, true}) {
+        Scene scene;
+        scene.textures.push_back(test::textureOf(256, 128, texels));
+        scene.textures[0].minNearest = true;
+        scene.textures[0].mipmaps = MipmapMode::Nearest;
+        scene.materials = {checker};
+        if (shape) {
+            addSolid(scene, {makeShape(VKRT_SHAPE_SPHERE, 0, glm::dmat4(1.0))}, insideOne());
+        } else {
+            scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        }
+        finalizeScene(scene);
+        pairs[shape] =
+            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+    }
+    for (const bool gpu : {false, true}) {
+        SCOPED_TRACE(gpu ? "gpu" : "cpu");
+        const Image& sphere = gpu ? pairs[0].gpu.image : pairs[0].cpu.image;
+        const Image& shape = gpu ? pairs[1].gpu.image : pairs[1].cpu.image;
+        // The rows about the equator, inside the disk.
+        int blackOrWhite = 0, same = 0, pixels = 0;
+        for (int y = 22; y < 26; ++y) {
+            for (int x = 12; x < 36; ++x) {
+                const float value = shape.pixels[y * 48 + x].x;
+                blackOrWhite += value < 0.02f || value > 0.98f;
+                same += std::abs(value - sphere.pixels[y * 48 + x].x) < 0.02f;
+                ++pixels;
+            }
+        }
+        EXPECT_GT(blackOrWhite, pixels * 9 / 10);
+        EXPECT_GT(same, pixels * 9 / 10);
     }
 }
 

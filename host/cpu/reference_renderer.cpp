@@ -63,6 +63,7 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
     p.material = scene_.materialOf(hit.primitive);
     p.sphere = scene_.isSphere(hit.primitive);
     p.shape = VKRT_NO_PRIMITIVE;
+    p.face = 0;
     p.uv = {hit.u, hit.v};
     p.tangent = glm::dvec4(0.0);
     // The point along the ray. Its error scale, which sizes the new rays' offset (cpu_shading_device.h), is
@@ -75,6 +76,7 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
         // The crossed shape and face (encodeCrossing); the point projected onto the face.
         p.shape = static_cast<uint32_t>(hit.u);
         const uint32_t code = static_cast<uint32_t>(hit.v);
+        p.face = code / 2u;
         const Shape& shape = scene_.shapes[p.shape];
         glm::dmat4 toWorld, toObject;
         scene_.shapeAt(p.shape, time, toWorld, toObject);

@@ -4,9 +4,12 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "common/parallel_for.h"
 #include "scene/mipmaps.h"
+#include "scene/scene_error.h"
 #include "texture_sampling.h"
 
 namespace vkrt {
@@ -149,6 +152,12 @@ std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
                                                                        : VKRT_MIPMAP_NONE;
         const uint32_t levels =
             1u + (mipmapped(t) ? static_cast<uint32_t>(mipmapLevelSizes(t.width, t.height).size()) : 0u);
+        // The kernels and the reference address texels with 32 bits: past them a texture would read
+        // another's.
+        if (offset + packedTexels(t) > std::numeric_limits<uint32_t>::max()) {
+            throw SceneError("the textures hold " + std::to_string(packedTextureBytes(scene) / 4) +
+                             " texels with their mipmaps; vkrt addresses at most 2^32 - 1");
+        }
         textures.push_back(
             {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
              wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
