@@ -712,6 +712,21 @@ TEST(Cli, FailedWritesSayWhy) {
         << run.output;
 }
 
+// The outputs are written all or none: a stats file that cannot be written (/dev/full) leaves the image an
+// earlier run wrote as it was, and no temporary file, where the new image replaced it beside the old stats.
+TEST(Cli, OutputsAreWrittenAllOrNone) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "a.pfm";
+    test::writeText(image, "an earlier run's image");
+    const auto run =
+        test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --height 8 --spp 1 --out " +
+                      quoted(image) + " --stats /dev/full");
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    std::ifstream file(image);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(file), {}), "an earlier run's image");
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1) << "no temporary file left";
+}
+
 // The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,
 // each with its mipmaps down to 1x1 (1; 8, 4, 2 and 1; 2 and 1 texels).
 TEST(Cli, StatsReportTextureMemory) {

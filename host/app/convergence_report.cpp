@@ -25,9 +25,10 @@ void ConvergenceReport::add(uint32_t samples, double renderMs, double gpuMs, con
     points_.push_back({samples, renderMs, gpuMs, d.rmse, d.relMse, d.fractionOff});
 }
 
-void ConvergenceReport::write(const std::string& path, const nlohmann::json& context) const {
+void ConvergenceReport::write(FileBatch& batch, const std::string& path,
+                              const nlohmann::json& context) const {
     const bool csv = lowerExtension(path) == ".csv";
-    writeFileAtomically(path, [&](const std::string& temporary) {
+    batch.stage(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
         if (csv) {
             out << "samples,render_ms,gpu_ms,rmse,relmse,fraction_off_1pct\n";

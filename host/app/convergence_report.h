@@ -11,6 +11,8 @@
 
 namespace vkrt {
 
+class FileBatch;
+
 struct ConvergencePoint {
     uint32_t samples = 0;
     double renderMs = 0.0;
@@ -29,8 +31,9 @@ class ConvergenceReport {
     const std::vector<ConvergencePoint>& points() const { return points_; }
 
     // Writes CSV (a header row, then one row per checkpoint) for a .csv path, JSON otherwise; `context`
-    // (scene, device, settings) goes into the JSON. Written atomically.
-    void write(const std::string& path, const nlohmann::json& context) const;
+    // (scene, device, settings) goes into the JSON. Written under a temporary name that `batch` renames into
+    // place with the files written beside it.
+    void write(FileBatch& batch, const std::string& path, const nlohmann::json& context) const;
 
   private:
     Image reference_;

@@ -67,8 +67,8 @@ std::string announceRenderedReference(const Options& options, const RenderSettin
     return source;
 }
 
-void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
-                      const RenderSettings& settings, int ranks, bool summarise) {
+void writeConvergence(FileBatch& batch, const Options& options, const ConvergenceReport& convergence,
+                      const RunReport& report, const RenderSettings& settings, int ranks, bool summarise) {
     // The report, with what was rendered.
     if (!options.reportPath.empty()) {
         nlohmann::json context = {
@@ -86,7 +86,7 @@ void writeConvergence(const Options& options, const ConvergenceReport& convergen
         // What else makes the image, as the stats name it.
         if (!options.environmentPath.empty()) context["environment"] = options.environmentPath;
         if (ranks > 1) context["ranks"] = ranks;
-        convergence.write(options.reportPath, context);
+        convergence.write(batch, options.reportPath, context);
     }
     // The error at the last checkpoint.
     if (summarise && !options.quiet && !convergence.points().empty()) {

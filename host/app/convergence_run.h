@@ -11,6 +11,8 @@
 
 namespace vkrt {
 
+class FileBatch;
+
 // The --reference image, checked against the render's size; UsageError when it cannot be used.
 ConvergenceReport referenceFromFile(const Options& options, const RenderSettings& settings);
 
@@ -24,10 +26,11 @@ RenderSettings referenceRenderSettings(const RenderSettings& settings);
 std::string announceRenderedReference(const Options& options, const RenderSettings& referenceSettings,
                                       const std::string& device, int ranks);
 
-// Writes the --report file, when asked (its context names the ranks when there are several), and sums up the
-// last checkpoint's error in one line unless --quiet or not `summarise` (a render that failed: the last
-// checkpoint is not the image written).
-void writeConvergence(const Options& options, const ConvergenceReport& convergence, const RunReport& report,
-                      const RenderSettings& settings, int ranks, bool summarise = true);
+// Writes the --report file into `batch`, when asked (its context names the ranks when there are several), and
+// sums up the last checkpoint's error in one line unless --quiet or not `summarise` (a render that failed:
+// the last checkpoint is not the image written).
+void writeConvergence(FileBatch& batch, const Options& options, const ConvergenceReport& convergence,
+                      const RunReport& report, const RenderSettings& settings, int ranks,
+                      bool summarise = true);
 
 }  // namespace vkrt

@@ -11,6 +11,7 @@
 #include "app/progress_bar.h"
 #include "app/render_summary.h"
 #include "app/stop_signal.h"
+#include "common/atomic_file.h"
 #include "common/elapsed_time.h"
 #include "cpu/reference_renderer.h"
 #include "gpu/vulkan_check.h"
@@ -93,13 +94,17 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
         return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
     }
-    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    // All of them or none: each is written under a temporary name, and they are renamed into place together
+    // (a stats file that could not be written left a new image beside an earlier run's stats).
+    FileBatch outputs;
+    stageImage(outputs, result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, camera, report);
-    writeStats(options, report);
+    writeStats(outputs, options, report);
     if (deviceLost) {
         // The report too, with the checkpoints taken before the loss (it was dropped, and an earlier run's
         // stayed beside the new image).
-        if (convergence) writeConvergence(options, *convergence, report, settings, 1, false);
+        if (convergence) writeConvergence(outputs, options, *convergence, report, settings, 1, false);
+        outputs.commit();
         std::fprintf(
             stderr, "vkrt: error: %s; wrote the samples done (%u to %u per pixel) to %s%s\n",
             report.deviceLost.c_str(), result.fewestSamples, result.mostSamples, options.outputPath.c_str(),
@@ -109,7 +114,8 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
     }
 
     // The report and the summary.
-    if (convergence) writeConvergence(options, *convergence, report, settings, 1);
+    if (convergence) writeConvergence(outputs, options, *convergence, report, settings, 1);
+    outputs.commit();
     printRenderSummary(options, report, 1);
     if (!options.quiet && result.fewestSamples == 0) {
         std::fprintf(stderr,

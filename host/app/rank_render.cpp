@@ -17,6 +17,7 @@
 #include "app/render_summary.h"
 #include "app/shared_render.h"
 #include "app/stop_signal.h"
+#include "common/atomic_file.h"
 #include "common/elapsed_time.h"
 #include "cpu/reference_renderer.h"
 #include "image/image_io.h"
@@ -211,15 +212,18 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
         return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
     }
-    writeImage(result.image, options.outputPath, options.exposure, options.toneMap);
+    // All of them or none (one_process_render.cpp).
+    FileBatch outputs;
+    stageImage(outputs, result.image, options.outputPath, options.exposure, options.toneMap);
     describeRun(options, scene, settings, setup.camera, report);
     for (const RunReport::Rank& rank : report.ranks) {
         if (rank.device != report.ranks.front().device) report.device = "mixed";
     }
     report.gpu = gpu;
     recordResult(result, report);
-    writeStats(options, report);
-    if (convergence) writeConvergence(options, *convergence, report, settings, job.size());
+    writeStats(outputs, options, report);
+    if (convergence) writeConvergence(outputs, options, *convergence, report, settings, job.size());
+    outputs.commit();
     printRenderSummary(options, report, job.size());
     if (!options.quiet && result.fewestSamples == 0) {
         std::fprintf(stderr,

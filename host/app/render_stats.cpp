@@ -113,7 +113,13 @@ nlohmann::json toJson(const RunReport& r) {
 }
 
 void writeJson(const nlohmann::json& json, const std::string& path) {
-    writeFileAtomically(path, [&](const std::string& temporary) {
+    FileBatch batch;
+    stageJson(batch, json, path);
+    batch.commit();
+}
+
+void stageJson(FileBatch& batch, const nlohmann::json& json, const std::string& path) {
+    batch.stage(path, [&](const std::string& temporary) {
         std::ofstream file(temporary);
         // Names in it (paths) need not be UTF-8 on Linux: bytes that are not become U+FFFD rather than an
         // error.

@@ -13,6 +13,8 @@
 
 namespace vkrt {
 
+class FileBatch;
+
 struct RunReport {
     std::string scene;
     std::string device;
@@ -103,5 +105,8 @@ nlohmann::json toJson(const RunReport& report);
 
 // Writes the JSON atomically (a temporary file renamed into place).
 void writeJson(const nlohmann::json& json, const std::string& path);
+
+// The same, renamed into place by `batch` with the files written beside it.
+void stageJson(FileBatch& batch, const nlohmann::json& json, const std::string& path);
 
 }  // namespace vkrt

@@ -43,10 +43,10 @@ void recordResult(const RenderResult& result, RunReport& report) {
     report.rays = result.rays;
 }
 
-void writeStats(const Options& options, RunReport& report) {
+void writeStats(FileBatch& batch, const Options& options, RunReport& report) {
     report.memory.hostPeakBytes = peakResidentBytes();
     report.memory.hostHugePageBytes = hugePageBytes();
-    if (!options.statsPath.empty()) writeJson(toJson(report), options.statsPath);
+    if (!options.statsPath.empty()) stageJson(batch, toJson(report), options.statsPath);
 }
 
 bool everySampleLeftOut(const RenderResult& result) {

@@ -9,6 +9,8 @@
 
 namespace vkrt {
 
+class FileBatch;
+
 // What the stats say of the scene and the settings, whoever rendered it.
 void describeRun(const Options& options, const Scene& scene, const RenderSettings& settings,
                  const Camera& camera, RunReport& report);
@@ -16,8 +18,8 @@ void describeRun(const Options& options, const Scene& scene, const RenderSetting
 // The render's samples per pixel, why it stopped and its rays.
 void recordResult(const RenderResult& result, RunReport& report);
 
-// Records the process's peak resident memory and writes the --stats file, when asked.
-void writeStats(const Options& options, RunReport& report);
+// Records the process's peak resident memory and writes the --stats file into `batch`, when asked.
+void writeStats(FileBatch& batch, const Options& options, RunReport& report);
 
 // True, after one error line, where samples were traced and every one was left out (not finite, beyond its
 // pixel's single-precision sum, or past llvmpipe's loop budget): the image would be black throughout, so the

@@ -34,9 +34,11 @@ constexpr int64_t kSameRequestNs = 100000000;
 // may never end (a named pipe, a file that hangs a decoder).
 constexpr unsigned kSecondsToBeginRender = 3;
 
-// Ends the process as `signal` would have, removing the file being written.
+// Ends the process as `signal` would have, removing the files being written.
 void endBy(int signal) {
-    if (gTemporaryFileBeingWritten[0] != '\0') unlink(gTemporaryFileBeingWritten);
+    for (const char* file : gTemporaryFilesBeingWritten) {
+        if (file[0] != '\0') unlink(file);
+    }
     std::signal(signal, SIG_DFL);
     std::raise(signal);
 }

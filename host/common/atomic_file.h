@@ -1,5 +1,5 @@
-// Writing a file so that readers see either nothing or the whole file: write to a temporary name in the
-// same folder, then rename it into place (rename is atomic within a file system).
+// Writing files so that readers see either nothing or the whole file: write to a temporary name in the same
+// folder, then rename it into place (rename is atomic within a file system); several files, all or none.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 namespace vkrt {
 
@@ -49,55 +51,124 @@ inline OutputTarget outputTarget(const std::string& path) {
     return {file, false};
 }
 
-// The temporary file being written, for a signal handler that ends the process to remove (unlink() is
-// async-signal-safe): empty when none, or a path longer than the buffer.
-inline char gTemporaryFileBeingWritten[4096] = {};
+// The temporary files being written, for a signal handler that ends the process to remove (unlink() is
+// async-signal-safe): an empty name where a slot is free; a path longer than a slot is not listed.
+inline constexpr int kTemporaryFileSlots = 8;
+inline char gTemporaryFilesBeingWritten[kTemporaryFileSlots][4096] = {};
 
-// Calls write(temporaryPath), then renames the temporary file to `path`. If write throws or the rename
-// fails, the temporary file is removed and nothing appears at `path`.
+// Files written together: each is written under a temporary name in its folder when it is staged, and all are
+// renamed into place by commit() (rename is atomic within a file system), so that a write that fails (a full
+// disk) leaves every file as it was, not a new image beside an earlier run's stats. A batch destroyed before
+// its commit removes its temporary files. A device or a pipe (OutputTarget::direct), which cannot be replaced
+// by a rename, is written as it is staged.
+class FileBatch {
+  public:
+    FileBatch() = default;
+    FileBatch(const FileBatch&) = delete;
+    FileBatch& operator=(const FileBatch&) = delete;
+    ~FileBatch() { discard(); }
+
+    // Calls write(name) with the name to write `asked` under; if write throws, its temporary file is removed.
+    template <typename Write>
+    void stage(const std::string& asked, Write&& write) {
+        const OutputTarget output = outputTarget(asked);
+        if (output.direct) {
+            write(asked);
+            return;
+        }
+        Staged staged{temporaryNameFor(output.path), output.path.string(), -1};
+        staged.slot = publish(staged.temporary);
+        try {
+            write(staged.temporary);
+        } catch (...) {
+            remove(staged);
+            throw;
+        }
+        staged_.push_back(std::move(staged));
+    }
+
+    // Renames every staged file into place.
+    void commit() {
+        for (Staged& staged : staged_) {
+            std::error_code error;
+            std::filesystem::rename(staged.temporary, staged.path, error);
+            if (error) {
+                throw std::runtime_error(staged.path +
+                                         ": cannot move the finished file into place: " + error.message());
+            }
+            unpublish(staged.slot);
+            staged.temporary.clear();
+        }
+        staged_.clear();
+    }
+
+  private:
+    struct Staged {
+        std::string temporary;  // empty once renamed
+        std::string path;
+        int slot;  // in gTemporaryFilesBeingWritten, -1: not listed
+    };
+
+    // `path`'s name and a random suffix, the name cut short where both would pass the 255 bytes a file name
+    // may have (a valid name of 235 bytes or more had the write fail after the render).
+    static std::string temporaryNameFor(const std::filesystem::path& target) {
+        std::random_device device;
+        std::ostringstream suffix;
+        suffix << ".tmp-" << std::hex << std::setfill('0') << std::setw(8) << device() << std::setw(8)
+               << device();
+        std::string name = target.filename().string();
+        constexpr size_t kLongestName = 255;
+        if (name.size() > kLongestName - suffix.str().size()) {
+            name.resize(kLongestName - suffix.str().size());
+            while (!name.empty() && (static_cast<unsigned char>(name.back()) & 0xc0u) == 0x80u)
+                name.pop_back();  // not inside a UTF-8 character
+            if (!name.empty() && (static_cast<unsigned char>(name.back()) & 0x80u) != 0)
+                name.pop_back();  // its lead
+        }
+        return (target.parent_path() / (name + suffix.str())).string();
+    }
+
+    static int publish(const std::string& file) {
+        if (file.size() >= sizeof(gTemporaryFilesBeingWritten[0])) return -1;
+        for (int slot = 0; slot < kTemporaryFileSlots; ++slot) {
+            if (gTemporaryFilesBeingWritten[slot][0] != '\0') continue;
+            // The name first, its first byte last: a handler sees either nothing or the whole name.
+            std::copy(file.c_str() + 1, file.c_str() + file.size() + 1,
+                      gTemporaryFilesBeingWritten[slot] + 1);
+            gTemporaryFilesBeingWritten[slot][0] = file[0];
+            return slot;
+        }
+        return -1;
+    }
+
+    static void unpublish(int slot) {
+        if (slot >= 0) gTemporaryFilesBeingWritten[slot][0] = '\0';
+    }
+
+    static void remove(Staged& staged) {
+        std::error_code ignored;
+        std::filesystem::remove(staged.temporary, ignored);
+        unpublish(staged.slot);
+        staged.temporary.clear();
+    }
+
+    void discard() {
+        for (Staged& staged : staged_) {
+            if (!staged.temporary.empty()) remove(staged);
+        }
+        staged_.clear();
+    }
+
+    std::vector<Staged> staged_;
+};
+
+// One file written on its own: staged and committed at once. If write throws or the rename fails, the
+// temporary file is removed and nothing appears at `path`.
 template <typename Write>
 void writeFileAtomically(const std::string& asked, Write&& write) {
-    const OutputTarget output = outputTarget(asked);
-    if (output.direct) {
-        write(asked);
-        return;
-    }
-    const std::string path = output.path.string();
-    std::random_device device;
-    std::ostringstream suffix;
-    suffix << ".tmp-" << std::hex << std::setfill('0') << std::setw(8) << device() << std::setw(8)
-           << device();
-    // The file's name and the suffix, the name cut short where both would pass the 255 bytes a file name may
-    // have (a valid name of 235 bytes or more had the write fail after the render).
-    const std::filesystem::path target(path);
-    std::string name = target.filename().string();
-    constexpr size_t kLongestName = 255;
-    if (name.size() > kLongestName - suffix.str().size()) {
-        name.resize(kLongestName - suffix.str().size());
-        while (!name.empty() && (static_cast<unsigned char>(name.back()) & 0xc0u) == 0x80u)
-            name.pop_back();  // not inside a UTF-8 character
-        if (!name.empty() && (static_cast<unsigned char>(name.back()) & 0x80u) != 0)
-            name.pop_back();  // its lead
-    }
-    const std::string temporary = (target.parent_path() / (name + suffix.str())).string();
-    struct Published {  // the temporary file's name, visible to a signal handler while it exists
-        explicit Published(const std::string& file) {
-            if (file.size() < sizeof(gTemporaryFileBeingWritten))
-                std::copy(file.c_str(), file.c_str() + file.size() + 1, gTemporaryFileBeingWritten);
-        }
-        ~Published() { gTemporaryFileBeingWritten[0] = '\0'; }
-    } published(temporary);
-    try {
-        write(temporary);
-        std::error_code error;
-        std::filesystem::rename(temporary, path, error);
-        if (error)
-            throw std::runtime_error(path + ": cannot move the finished file into place: " + error.message());
-    } catch (...) {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
-        throw;
-    }
+    FileBatch batch;
+    batch.stage(asked, std::forward<Write>(write));
+    batch.commit();
 }
 
 }  // namespace vkrt

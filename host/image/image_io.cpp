@@ -244,8 +244,15 @@ unsigned char toSrgb8(double display) {
 }
 
 void writeImage(const Image& image, const std::string& path, double exposure, ToneMap toneMapping) {
+    FileBatch batch;
+    stageImage(batch, image, path, exposure, toneMapping);
+    batch.commit();
+}
+
+void stageImage(FileBatch& batch, const Image& image, const std::string& path, double exposure,
+                ToneMap toneMapping) {
     const ImageFormat format = imageFormatFromPath(path);
-    writeFileAtomically(path, [&](const std::string& temporary) {
+    batch.stage(path, [&](const std::string& temporary) {
         try {
             switch (format) {
                 case ImageFormat::Png:

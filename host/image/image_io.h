@@ -12,6 +12,8 @@
 
 namespace vkrt {
 
+class FileBatch;
+
 class ImageError : public std::runtime_error {
   public:
     using std::runtime_error::runtime_error;
@@ -25,6 +27,10 @@ ImageFormat imageFormatFromPath(const std::string& path);
 // `exposure` (in stops) and `toneMap` apply to PNG only; linear formats store the radiance as rendered.
 void writeImage(const Image& image, const std::string& path, double exposure = 0.0,
                 ToneMap toneMap = ToneMap::Clamp);
+
+// The same, written under a temporary name that `batch` renames into place with the files written beside it.
+void stageImage(FileBatch& batch, const Image& image, const std::string& path, double exposure,
+                ToneMap toneMap);
 
 // Reads PFM and EXR (for references and tests).
 Image readImage(const std::string& path);
