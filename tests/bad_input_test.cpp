@@ -708,8 +708,8 @@ TEST(BadInput, SceneThroughANamedPipeLoads) {
         SCOPED_TRACE(scene);
         std::filesystem::remove(pipe);
         const test::CommandResult run = test::runCommand(
-            "mkfifo '" + pipe + "' && { cat '" + (test::sourceDir() / scene).string() + "' > '" + pipe +
-            "' & timeout 60 '" + std::string(VKRT_BINARY) + "' --scene '" + pipe +
+            "mkfifo '" + pipe + "' && { { timeout 60 cat '" + (test::sourceDir() / scene).string() + "' > '" +
+            pipe + "'; } >/dev/null 2>&1 & timeout 60 '" + std::string(VKRT_BINARY) + "' --scene '" + pipe +
             "' --device cpu --width 8 --height 8 --spp 1 --quiet --out '" + image + "'; echo \"exit=$?\"; }");
         EXPECT_NE(run.output.find("exit=0"), std::string::npos) << run.output;
         EXPECT_TRUE(std::filesystem::exists(image));

@@ -450,19 +450,23 @@ bool markAbsentInverseBindMatrices(nlohmann::json& document) {
 std::string readSceneFile(const std::string& path) {
     std::error_code statusError;
     if (std::filesystem::is_directory(path, statusError)) throw SceneError(path + ": is a directory");
+    // tinygltf takes a document's length as 32 bits: a regular file is measured before it is read.
+    const auto tooLarge = [&] { return SceneError(path + ": larger than 4 GiB, more than tinygltf reads"); };
+    const std::uintmax_t size = std::filesystem::file_size(path, statusError);
+    if (!statusError && size > std::numeric_limits<unsigned int>::max()) throw tooLarge();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(path + ": cannot open file");
     std::string bytes;
+    if (!statusError) bytes.reserve(size);
     std::vector<char> chunk(1 << 20);
     while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
         bytes.append(chunk.data(), static_cast<size_t>(in.gcount()));
+        if (bytes.size() > std::numeric_limits<unsigned int>::max())
+            throw tooLarge();  // a pipe's, as it comes
         if (in.eof()) break;
     }
     if (in.bad()) throw SceneError(path + ": cannot read file");
     if (bytes.empty()) throw SceneError(path + ": the file is empty");
-    // tinygltf takes a document's length as 32 bits.
-    if (bytes.size() > std::numeric_limits<unsigned int>::max())
-        throw SceneError(path + ": larger than 4 GiB, more than tinygltf reads");
     return bytes;
 }
 
@@ -488,9 +492,9 @@ void checkGlbVersion(std::string_view file, const std::string& path) {
                          "; vkrt reads GLB version 2 (glTF 2.0)");
 }
 
-}  // namespace
-
-Scene loadGltf(const std::string& path, const LoadOptions& options) {
+// tinygltf's model of the file at `path` (its images decoded through `imageDecoding`). The file's bytes and
+// its JSON are let go on return, before the model is converted.
+tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, ImageDecoding& imageDecoding) {
     const std::string file = readSceneFile(path);
 
     // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
@@ -510,7 +514,6 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     }
 
     tinygltf::TinyGLTF reader;
-    ImageDecoding imageDecoding;
     if (!document.is_discarded()) imageDecoding.shown = shownImages(document);
     imageDecoding.maxBytes = options.maxSceneBytes;
     imageDecoding.memorySource = options.memorySource;
@@ -538,6 +541,14 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
         while (!message.empty() && message.back() == ' ') message.pop_back();
         throw SceneError(path + ": " + message);
     }
+    return model;
+}
+
+}  // namespace
+
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
+    ImageDecoding imageDecoding;
+    tinygltf::Model model = parseGltf(path, options, imageDecoding);
     decompressMeshes(model, path);
     GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
                             imageDecoding.decodedBytes);
