@@ -840,6 +840,45 @@ double ellipsoidAreaByNanson(const glm::dmat3& linear, int n) {
     return sum * (M_PI / n) * (2.0 * M_PI / n);
 }
 
+// Where a ray from `origin` along `direction` first meets a shape of `type` placed by `toObject` (its
+// inverse), away from the face's rim, a sphere's poles, a side's axis and the seam of u (where differences
+// cross to another face or wrap): the hit, and two points 1e-6 away on the same face along two tangent
+// directions, with the differences of their texture coordinates from the hit's. False where there is none.
+struct FacePatch {
+    shading::ShapePoint hit;
+    uint32_t face = 0;
+    glm::dvec3 p1, p2;
+    glm::dvec2 uv, d1, d2;
+};
+
+bool facePatch(uint32_t type, const glm::dmat4& toObject, const glm::dvec3& origin,
+               const glm::dvec3& direction, FacePatch& patch) {
+    const glm::dvec3 o = transformPoint(toObject, origin), d(toObject * glm::dvec4(direction, 0.0));
+    double tIn, tOut;
+    uint32_t faceOut;
+    if (!shading::shapeInterval(type, o, d, tIn, tOut, patch.face, faceOut)) return false;
+    const uint32_t face = patch.face;
+    patch.hit = shading::shapePoint(type, face, false, shading::affineRows(toObject), origin, direction, tIn);
+    const glm::dvec3 p = patch.hit.local;
+    const double rho = std::sqrt(p.x * p.x + p.z * p.z);
+    const glm::dvec3 a = glm::abs(p);
+    const int axis = static_cast<int>(face / 2u);
+    const double rim = type == VKRT_SHAPE_BOX ? std::max(a[(axis + 1) % 3], a[(axis + 2) % 3])
+                       : type == VKRT_SHAPE_SPHERE || face == VKRT_FACE_SIDE ? a.y
+                                                                             : rho;
+    if (rim > 0.999 || (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE && rho < 1e-2)) return false;
+    const glm::dvec3 objectNormal = shading::shapeNormal(type, face, p);
+    const glm::dvec3 t1 = glm::normalize(glm::cross(objectNormal, glm::dvec3(0.3, 0.5, 0.8)));
+    const glm::dvec3 t2 = glm::cross(objectNormal, t1);
+    constexpr double kStep = 1e-6;
+    patch.p1 = shading::shapeSnap(type, face, p + kStep * t1);
+    patch.p2 = shading::shapeSnap(type, face, p + kStep * t2);
+    patch.uv = shading::shapeUv(type, face, p);
+    patch.d1 = shading::shapeUv(type, face, patch.p1) - patch.uv;
+    patch.d2 = shading::shapeUv(type, face, patch.p2) - patch.uv;
+    return std::abs(patch.d1.x) <= 0.25 && std::abs(patch.d2.x) <= 0.25;  // not across u's seam
+}
+
 TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
     // Where a ray meets each face of each shape under an affine map with shear and a mirror, shapeTangent
     // gives the frame a normal texture expects (glTF 2.0, 3.9.3; tangent_frames.cpp for meshes): a unit
@@ -850,8 +889,7 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
     // identity.
     const glm::dmat4 toWorld = shearedMirror();
     const glm::dmat4 toObject = glm::inverse(toWorld);
-    const shading::AffineRows toObjectRows = shading::affineRows(toObject),
-                              toWorldRows = shading::affineRows(toWorld);
+    const shading::AffineRows toWorldRows = shading::affineRows(toWorld);
     const shading::AffineRows identity = shading::affineRows(glm::dmat4(1.0));
     const glm::dvec3 center(toWorld[3]);
     for (const uint32_t type : kShapeTypes) {
@@ -861,34 +899,12 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
         for (int i = 0; i < 1000; ++i) {
             const glm::dvec3 origin = center + 4.0 * randomUnit(rng);
             const glm::dvec3 direction = glm::normalize(center + 0.8 * randomUnit(rng) - origin);
-            const glm::dvec3 o = transformPoint(toObject, origin), d(toObject * glm::dvec4(direction, 0.0));
-            double tIn, tOut;
-            uint32_t face, faceOut;
-            if (!shading::shapeInterval(type, o, d, tIn, tOut, face, faceOut)) continue;
-            const shading::ShapePoint hit =
-                shading::shapePoint(type, face, false, toObjectRows, origin, direction, tIn);
-            const glm::dvec3 p = hit.local;
-            // Away from the face's rim, a sphere's poles and the seam of u, where differences cross to
-            // another face or wrap.
-            const double rho = std::sqrt(p.x * p.x + p.z * p.z);
-            const glm::dvec3 a = glm::abs(p);
-            const int axis = static_cast<int>(face / 2u);
-            const double rim = type == VKRT_SHAPE_BOX ? std::max(a[(axis + 1) % 3], a[(axis + 2) % 3])
-                               : type == VKRT_SHAPE_SPHERE || face == VKRT_FACE_SIDE ? a.y
-                                                                                     : rho;
-            const bool nearRim =
-                rim > 0.999 || (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE && rho < 1e-2);
-            if (nearRim) continue;
-            const glm::dvec3 objectNormal = shading::shapeNormal(type, face, p);
-            const glm::dvec3 t1 = glm::normalize(glm::cross(objectNormal, glm::dvec3(0.3, 0.5, 0.8)));
-            const glm::dvec3 t2 = glm::cross(objectNormal, t1);
-            constexpr double kStep = 1e-6;
-            const glm::dvec3 p1 = shading::shapeSnap(type, face, p + kStep * t1);
-            const glm::dvec3 p2 = shading::shapeSnap(type, face, p + kStep * t2);
-            const glm::dvec2 uv = shading::shapeUv(type, face, p);
-            const glm::dvec2 d1 = shading::shapeUv(type, face, p1) - uv,
-                             d2 = shading::shapeUv(type, face, p2) - uv;
-            if (std::abs(d1.x) > 0.25 || std::abs(d2.x) > 0.25) continue;  // across u's seam
+            FacePatch patch;
+            if (!facePatch(type, toObject, origin, direction, patch)) continue;
+            const shading::ShapePoint& hit = patch.hit;
+            const uint32_t face = patch.face;
+            const glm::dvec3 p = hit.local, p1 = patch.p1, p2 = patch.p2;
+            const glm::dvec2 d1 = patch.d1, d2 = patch.d2;
             const double determinant = d1.x * d2.y - d2.x * d1.y;
             const glm::dvec3 e1 = p1 - p, e2 = p2 - p;
             const glm::dvec3 dpdu(toWorld * glm::dvec4((e1 * d2.y - e2 * d1.y) / determinant, 0.0));
@@ -922,8 +938,7 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
 // blurrier than a VKRT_sphere of its size (a checker of 2-texel squares seen at 1.9 texels a pixel came out
 // grey).
 TEST(ShapeGeometry, TextureDensityIsTheRatioOfAreasOnEveryFace) {
-    const glm::dmat4 toWorld = glm::scale(glm::dmat4(1.0), glm::dvec3(3.0));
-    const shading::AffineRows toObjectRows = shading::affineRows(glm::inverse(toWorld));
+    const glm::dmat4 toObject = glm::inverse(glm::scale(glm::dmat4(1.0), glm::dvec3(3.0)));
     for (const uint32_t type : kShapeTypes) {
         SCOPED_TRACE(shapeName(type));
         std::mt19937_64 rng(4000 + type);
@@ -931,30 +946,11 @@ TEST(ShapeGeometry, TextureDensityIsTheRatioOfAreasOnEveryFace) {
         for (int i = 0; i < 2000; ++i) {
             const glm::dvec3 origin = 12.0 * randomUnit(rng);
             const glm::dvec3 direction = glm::normalize(2.4 * randomUnit(rng) - origin);
-            const glm::dvec3 o = origin / 3.0, d = direction / 3.0;
-            double tIn, tOut;
-            uint32_t face, faceOut;
-            if (!shading::shapeInterval(type, o, d, tIn, tOut, face, faceOut)) continue;
-            const glm::dvec3 p =
-                shading::shapePoint(type, face, false, toObjectRows, origin, direction, tIn).local;
-            // Away from the rims, the poles, the apex and the seam of u.
-            const double rho = std::sqrt(p.x * p.x + p.z * p.z);
-            const glm::dvec3 a = glm::abs(p);
-            const int axis = static_cast<int>(face / 2u);
-            const double rim = type == VKRT_SHAPE_BOX ? std::max(a[(axis + 1) % 3], a[(axis + 2) % 3])
-                               : type == VKRT_SHAPE_SPHERE || face == VKRT_FACE_SIDE ? a.y
-                                                                                     : rho;
-            if (rim > 0.999 || (type != VKRT_SHAPE_BOX && face == VKRT_FACE_SIDE && rho < 1e-2)) continue;
-            const glm::dvec3 normal = shading::shapeNormal(type, face, p);
-            const glm::dvec3 t1 = glm::normalize(glm::cross(normal, glm::dvec3(0.3, 0.5, 0.8)));
-            const glm::dvec3 t2 = glm::cross(normal, t1);
-            constexpr double kStep = 1e-6;
-            const glm::dvec3 p1 = shading::shapeSnap(type, face, p + kStep * t1);
-            const glm::dvec3 p2 = shading::shapeSnap(type, face, p + kStep * t2);
-            const glm::dvec2 uv = shading::shapeUv(type, face, p);
-            const glm::dvec2 d1 = shading::shapeUv(type, face, p1) - uv,
-                             d2 = shading::shapeUv(type, face, p2) - uv;
-            if (std::abs(d1.x) > 0.25 || std::abs(d2.x) > 0.25) continue;  // across u's seam
+            FacePatch patch;
+            if (!facePatch(type, toObject, origin, direction, patch)) continue;
+            const glm::dvec3 p = patch.hit.local, p1 = patch.p1, p2 = patch.p2;
+            const glm::dvec2 uv = patch.uv, d1 = patch.d1, d2 = patch.d2;
+            const uint32_t face = patch.face;
             const double textureArea = std::abs(d1.x * d2.y - d2.x * d1.y);
             const double objectArea = glm::length(glm::cross(p1 - p, p2 - p));
             const double expected = std::sqrt(textureArea / objectArea) / 3.0;
