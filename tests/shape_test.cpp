@@ -1241,23 +1241,43 @@ TEST_F(ShapeGpu, ShapesFarSmallerThanFloatsSquaresRenderOnTheCpu) {
     }
 }
 
+// A black and white checker of `square`-texel squares, RGBA8.
+std::vector<uint32_t> checkerTexels(int width, int height, int square) {
+    std::vector<uint32_t> texels;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            texels.push_back(((x / square + y / square) % 2 == 0) ? 0xffffffffu : 0xff000000u);
+        }
+    }
+    return texels;
+}
+
+// A white Lambertian surface whose albedo is texture 0 (no specular layer: the albedo alone under ambient 1).
+Material checkerMaterial() {
+    Material checker = test::lambertian(1.0f);
+    checker.ior = 1.0f;
+    checker.baseColorTexture.texture = 0;
+    return checker;
+}
+
+// An orthographic camera on +z looking at the origin, seeing `halfSize` either side of it.
+Camera frontView(double halfSize) {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.0, 0.0, 5.0};
+    camera.xmag = camera.ymag = halfSize;
+    return camera;
+}
+
 // A CSG object's shapes each have their own texture scale: the level of detail on a shape is its own. A box
 // of half-size 0.5 seen face-on by n = 16 pixels across its face reads a 64-texel checker of 4-texel squares
 // at level log2(64 / 16) = 2, one texel a pixel (NEAREST_MIPMAP_NEAREST): every pixel black or white, as the
 // box alone. With a tiny sphere as the union's first operand, whose scale once set the object's level, the
 // box came out the mip chain's grey.
 TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
-    std::vector<uint32_t> texels;
-    for (int y = 0; y < 64; ++y) {
-        for (int x = 0; x < 64; ++x) texels.push_back(((x / 4 + y / 4) % 2 == 0) ? 0xffffffffu : 0xff000000u);
-    }
-    Material checker = test::lambertian(1.0f);
-    checker.ior = 1.0f;  // no specular layer: the albedo alone under ambient 1
-    checker.baseColorTexture.texture = 0;
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0};
-    camera.xmag = camera.ymag = 0.5;
+    const std::vector<uint32_t> texels = checkerTexels(64, 64, 4);
+    const Material checker = checkerMaterial();
+    const Camera camera = frontView(0.5);
     RenderSettings settings = test::ambientOnly(16);
     settings.maxDepth = 0;
     const glm::dmat4 box = glm::scale(glm::dmat4(1.0), glm::dvec3(0.5));
@@ -1294,18 +1314,9 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
 // (NEAREST_MIPMAP_NEAREST), still black and white. The shape read level 2, every pixel of the equator's row
 // grey.
 TEST_F(ShapeGpu, SphereShapeReadsTexturesAtTheSpheresLevel) {
-    std::vector<uint32_t> texels;
-    for (int y = 0; y < 128; ++y) {
-        for (int x = 0; x < 256; ++x)
-            texels.push_back(((x / 2 + y / 2) % 2 == 0) ? 0xffffffffu : 0xff000000u);
-    }
-    Material checker = test::lambertian(1.0f);
-    checker.ior = 1.0f;  // no specular layer: the albedo alone under ambient 1
-    checker.baseColorTexture.texture = 0;
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 0.0, 5.0};
-    camera.xmag = camera.ymag = 1.1;
+    const std::vector<uint32_t> texels = checkerTexels(256, 128, 2);
+    const Material checker = checkerMaterial();
+    const Camera camera = frontView(1.1);
     RenderSettings settings = test::ambientOnly(48);
     settings.samplesPerPixel = 1;  // each pixel one texel of the level read
     settings.maxDepth = 0;
