@@ -180,6 +180,16 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "uniformly"},
+        {"sphere placed beyond single precision",  // its centre, finite in double, became infinite
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["nodes"].push_back({{"scale", {1e20, 1e20, 1e20}}, {"children", {2}}});
+             d["nodes"].push_back(
+                 {{"translation", {1e20, 0.0, 0.0}}, {"extensions", {{"VKRT_sphere", {{"radius", 1e-21}}}}}});
+             d["scenes"][0]["nodes"].push_back(1);
+             writeJson(file, d);
+         },
+         "not finite in single precision"},
         {"sphere scaled to nothing within the shutter",
          [](auto&, auto& file) {
              json d = animatedTriangle(0.0f, 1.0f, 2, 1.0f);                 // keys (0, 0, 0) and (1, 1, 1)

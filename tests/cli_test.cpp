@@ -332,6 +332,46 @@ TEST(Cli, SceneBeyondTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
     }
 }
 
+// At the other end, the test's products are about the cube of the scene's size: a triangle 1e-18 across seen
+// from as near came out black on the GPU (they underflowed) while the CPU saw it. The GPU refuses a scene
+// with triangles that lies within 1e-12 of its middle, camera and all; one 1e-11 across renders.
+TEST(Cli, SceneBelowTheGpusReachIsRefusedOnTheGpuAndRenderedOnTheCpu) {
+    const auto folder = test::temporaryFolder();
+    for (const double size : {1e-18, 1e-11}) {
+        SCOPED_TRACE(size);
+        test::GltfDocument d;
+        const int positions = d.floats({-1, -1, 0, 1, -1, 0, 0, 1, 0}, "VEC3");
+        d.json["accessors"][positions]["min"] = {-1, -1, 0};
+        d.json["accessors"][positions]["max"] = {1, 1, 0};
+        d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}, {"material", 0}}}}}};
+        d.json["materials"] = {
+            {{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}}};  // matte, lit by the ambient
+        d.json["cameras"] = {
+            {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01 * size}}}}};
+        d.node({{"mesh", 0}, {"scale", {size, size, size}}});
+        d.node({{"camera", 0}, {"translation", {0.0, 0.0, 3.0 * size}}});
+        const auto scene = folder / "tiny.gltf";
+        d.write(scene);
+        const std::string options =
+            "--scene " + quoted(scene) + " --width 8 --spp 1 --ambient 1 --integrator whitted";
+        const auto cpu = test::runVkrt(options + " --device cpu --out " + quoted(folder / "cpu.pfm"));
+        ASSERT_EQ(cpu.exitCode, 0) << cpu.output;
+        EXPECT_GT(readImage((folder / "cpu.pfm").string()).at(4, 4).x, 0.0f) << "the triangle is seen";
+        const auto gpu = test::runVkrt(options + " --device gpu --out " + quoted(folder / "gpu.pfm"));
+        if (size < kGpuSmallestReach) {
+            EXPECT_EQ(gpu.exitCode, 2) << gpu.output;
+            EXPECT_NE(
+                gpu.output.find("the GPU's single-precision triangle test holds from 1e-12 (--device cpu "
+                                "renders it)"),
+                std::string::npos)
+                << gpu.output;
+        } else {
+            ASSERT_EQ(gpu.exitCode, 0) << gpu.output;
+            EXPECT_GT(readImage((folder / "gpu.pfm").string()).at(4, 4).x, 0.0f) << "the triangle is seen";
+        }
+    }
+}
+
 TEST(Cli, RendersEveryFormatAndWritesStats) {
     const auto folder = test::temporaryFolder();
     for (const char* name : {"c.png", "c.exr", "c.pfm"}) {

@@ -139,11 +139,18 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye) {
         reach = glm::length(*eye);
         what = "the camera is";
     }
+    char extent[32];
+    std::snprintf(extent, sizeof extent, "%.3g", reach);
     if (!(reach <= kGpuReach)) {
-        char extent[32];
-        std::snprintf(extent, sizeof extent, "%.3g", reach);
         throw SceneError(scene.sourcePath + ": " + what + " " + extent +
                          " units from the scene's middle; the GPU's single-precision tests hold to 1e12 "
+                         "(--device cpu renders it)");
+    }
+    // Those products are about the cube of the scene's size, and below about 1e-13 they underflow: a quad
+    // 1e-18 across, seen from as near, came out black where the CPU saw it (spheres hold down to 1e-20).
+    if (!scene.triangles.empty() && reach < kGpuSmallestReach) {
+        throw SceneError(scene.sourcePath + ": the scene and its camera lie within " + extent +
+                         " units of its middle; the GPU's single-precision triangle test holds from 1e-12 "
                          "(--device cpu renders it)");
     }
     // A shape's intersection squares the ray's direction and origin in its object space, which its map's

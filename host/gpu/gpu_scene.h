@@ -62,13 +62,15 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
 
 // How far from the scene's middle (the re-centred origin) the GPU's single-precision triangle test holds.
 inline constexpr double kGpuReach = 1e12;
+// The least extent (the scene's and the camera's distance from its middle) the triangle test holds at.
+inline constexpr double kGpuSmallestReach = 1e-12;
 // The largest entry of a shape's world-to-object map the GPU's float shape tests hold (shapes down to about
 // 1e-18 across).
 inline constexpr double kGpuShapeInverseScale = 1e18;
 
 // Throws SceneError, naming --device cpu, when the scene, or the camera at `eye` (when given), is farther
-// from its middle than kGpuReach, or a shape is smaller than kGpuShapeInverseScale allows. packScene checks
-// the scene.
+// from its middle than kGpuReach, or a scene with triangles lies within kGpuSmallestReach of it, or a shape
+// is smaller than kGpuShapeInverseScale allows. packScene checks the scene.
 void checkGpuReach(const Scene& scene, const glm::dvec3* eye);
 
 // The device memory each of the scene's buffers will take, by name (empty arrays take none).

@@ -215,10 +215,12 @@ Sphere placeSphere(GltfContext& context, const tinygltf::Value& extension, const
         std::abs(sz - scale) > 1e-4 * scale) {
         context.fail(sphereWhere + ": the node transform must scale uniformly (a sphere stays a sphere)");
     }
+    // Finite in single precision, as the scene holds it (a centre of 1e40 became infinite there).
     const glm::dvec3 center(world[3]);
+    const glm::vec3 stored(center);
     const double worldRadius = radius * scale;
-    if (!std::isfinite(center.x + center.y + center.z) || !(worldRadius < 1e30)) {
-        context.fail(sphereWhere + ": the placed sphere is not finite");
+    if (!std::isfinite(stored.x + stored.y + stored.z) || !(worldRadius < 1e30)) {
+        context.fail(sphereWhere + ": the placed sphere is not finite in single precision");
     }
     return {glm::vec3(center), static_cast<float>(worldRadius), material};
 }
