@@ -304,7 +304,8 @@ class Builder {
 
 Bvh BinnedSahBuilder::build(std::span<const Aabb> bounds, const BvhConfig& config,
                             const BinnedSahSchedule& schedule) {
-    if (config.maxDepth < 2 || config.maxDepth > 64 || config.maxLeafSize < 1 || config.binCount < 2) {
+    if (config.maxDepth < 2 || config.maxDepth > VKRT_BVH_MAX_DEPTH || config.maxLeafSize < 1 ||
+        config.binCount < 2) {
         throw std::invalid_argument("BvhConfig out of range");
     }
     if (levelsNeeded(bounds.size(), config.maxLeafSize) > config.maxDepth) {

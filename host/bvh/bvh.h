@@ -7,13 +7,14 @@
 
 #include "common/large_buffer.h"
 #include "scene/scene.h"
+#include "shared.h"
 
 namespace vkrt {
 
 struct BvhConfig {
     int binCount = 16;    // SAH bins per axis (Wald 2007: 16 is close to a full sweep)
     int maxLeafSize = 4;  // leaves never hold more primitives than this
-    int maxDepth = 64;    // levels, root included; must not exceed VKRT_BVH_MAX_DEPTH
+    int maxDepth = VKRT_BVH_MAX_DEPTH;  // levels, root included: the walks' stacks hold this many
     float traversalCost = 1.0f;
     float intersectionCost = 1.0f;
     int threads = 0;  // 0: all hardware threads

@@ -1,9 +1,11 @@
 #include "bvh/flat_bvh.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace vkrt {
 
@@ -123,9 +125,12 @@ class WideCollapse {
                 upper[axis] |= quantizeUpper(grid[axis], child.boundsMax[axis]) << (8 * k);
             }
             if (child.primCount > 0) {
-                if (child.primCount >= (VKRT_WIDE_EMPTY >> VKRT_WIDE_COUNT_SHIFT) ||
-                    child.leftOrFirst > VKRT_WIDE_INDEX_MASK) {
+                if (child.primCount >= (VKRT_WIDE_EMPTY >> VKRT_WIDE_COUNT_SHIFT)) {
                     throw std::runtime_error("BVH leaf too large for the wide node's links");
+                }
+                if (child.leftOrFirst > VKRT_WIDE_INDEX_MASK) {
+                    throw std::runtime_error("more primitives than the wide node's links index (2^" +
+                                             std::to_string(std::countr_one(VKRT_WIDE_INDEX_MASK)) + ")");
                 }
                 links[k] = (child.primCount << VKRT_WIDE_COUNT_SHIFT) | child.leftOrFirst;
             } else {
