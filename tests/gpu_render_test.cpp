@@ -3,9 +3,11 @@
 // 5M-triangle scene too large for one storage-buffer descriptor.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <thread>
@@ -219,6 +221,64 @@ TEST(ShaderCache, DamagedEntriesAreCompiledAgain) {
         EXPECT_EQ(again.spirv, first.spirv);
         EXPECT_EQ(test::readText(entry), intact) << "the entry is written again";
     }
+}
+
+// The cache keeps what was used last within its limit: entries by the time they were written or last read,
+// temporary files that a killed writer left behind after an hour, and nothing that is not the cache's.
+TEST(ShaderCache, EntriesUsedLongestAgoArePrunedToTheLimit) {
+    namespace fs = std::filesystem;
+    const fs::path folder = test::temporaryFolder() / "cache";
+    fs::create_directories(folder);
+    const fs::file_time_type now = fs::file_time_type::clock::now();
+    auto file = [&](const std::string& name, size_t bytes, int hoursAgo) {
+        test::writeText(folder / name, std::string(bytes, 'x'));
+        fs::last_write_time(folder / name, now - std::chrono::hours(hoursAgo));
+    };
+    file("a.spvc", 100, 3);
+    file("b.spvc", 100, 2);
+    file("c.spvc", 100, 1);
+    file("notes.txt", 1000, 5);
+    file("d.spvc.tmp-0000000100000002", 100, 2);
+    file("e.spvc.tmp-0000000100000003", 100, 0);
+    pruneShaderCache(folder.string(), 250);
+    EXPECT_FALSE(fs::exists(folder / "a.spvc"));
+    EXPECT_TRUE(fs::exists(folder / "b.spvc"));
+    EXPECT_TRUE(fs::exists(folder / "c.spvc"));
+    EXPECT_TRUE(fs::exists(folder / "notes.txt"));
+    EXPECT_FALSE(fs::exists(folder / "d.spvc.tmp-0000000100000002"))
+        << "left by a writer killed two hours ago";
+    EXPECT_TRUE(fs::exists(folder / "e.spvc.tmp-0000000100000003")) << "perhaps being written now";
+    pruneShaderCache(folder.string(), 100);
+    EXPECT_FALSE(fs::exists(folder / "b.spvc"));
+    EXPECT_TRUE(fs::exists(folder / "c.spvc"));
+    pruneShaderCache((folder / "missing").string(), 0);  // no folder: nothing to do, and no error
+}
+
+// Compiling keeps the cache within kShaderCacheBytes, and an entry read is the last to go: one written three
+// hours ago and read now outlives a filler entry written two hours ago when a new entry takes the cache over
+// its limit.
+TEST(ShaderCache, CompilingKeepsTheCacheWithinItsLimitAndReadEntriesLast) {
+    namespace fs = std::filesystem;
+    const fs::path folder = test::temporaryFolder() / "cache";
+    const std::vector<std::string> used = {"VKRT_HAS_SPHERES"},
+                                   added = {"VKRT_HAS_SPHERES", "VKRT_HAS_TEXTURES"};
+    const CompiledShader first = compileShader("trace.comp", used, folder.string(), SpirvOptimization::None);
+    const fs::path usedEntry = folder / (first.cacheKey + ".spvc");
+    ASSERT_TRUE(fs::exists(usedEntry));
+    const fs::file_time_type now = fs::file_time_type::clock::now();
+    fs::last_write_time(usedEntry, now - std::chrono::hours(3));
+    const fs::path filler = folder / "filler.spvc";
+    test::writeText(filler, "");
+    fs::resize_file(filler, kShaderCacheBytes);  // sparse: no disk spent
+    fs::last_write_time(filler, now - std::chrono::hours(2));
+
+    EXPECT_TRUE(compileShader("trace.comp", used, folder.string(), SpirvOptimization::None).fromCache);
+    const CompiledShader second =
+        compileShader("trace.comp", added, folder.string(), SpirvOptimization::None);
+    EXPECT_FALSE(second.fromCache);
+    EXPECT_TRUE(fs::exists(folder / (second.cacheKey + ".spvc")));
+    EXPECT_TRUE(fs::exists(usedEntry)) << "read a moment ago";
+    EXPECT_FALSE(fs::exists(filler)) << "the cache would be over its limit";
 }
 
 // A scene can turn on any combination of the 26 features, and the committed scenes hold only a few of them.

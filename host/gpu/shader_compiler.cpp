@@ -1,5 +1,6 @@
 #include "gpu/shader_compiler.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -192,6 +193,9 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
         cacheDir.empty() ? std::filesystem::path()
                          : std::filesystem::path(cacheDir) / (result.cacheKey + ".spvc");
     if (!cacheDir.empty() && readCache(cacheFile, result.spirv)) {
+        // The entry's time is its last use, for pruneShaderCache (a cache may be read-only).
+        std::error_code ignored;
+        std::filesystem::last_write_time(cacheFile, std::filesystem::file_time_type::clock::now(), ignored);
         result.fromCache = true;
         result.compileMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -237,10 +241,45 @@ CompiledShader compileShaderSource(const std::string& mainFile, const std::strin
                 out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
                 if (!out.flush()) throw std::runtime_error("cannot write the shader cache");
             });
+            pruneShaderCache(cacheDir, kShaderCacheBytes);
         } catch (const std::exception&) {
         }
     }
     return result;
+}
+
+void pruneShaderCache(const std::string& cacheDir, uintmax_t maxBytes) {
+    namespace fs = std::filesystem;
+    struct Entry {
+        fs::file_time_type time;
+        uintmax_t bytes;
+        fs::path path;
+    };
+    std::vector<Entry> entries;
+    uintmax_t total = 0;
+    const fs::file_time_type now = fs::file_time_type::clock::now();
+    std::error_code error;
+    for (fs::directory_iterator it(cacheDir, error), end; !error && it != end; it.increment(error)) {
+        std::error_code ignored;
+        const fs::file_time_type time = it->last_write_time(ignored);
+        if (ignored || !it->is_regular_file(ignored)) continue;
+        const fs::path& path = it->path();
+        if (path.filename().string().find(".spvc.tmp-") != std::string::npos) {
+            if (now - time >= std::chrono::hours(1)) fs::remove(path, ignored);
+        } else if (path.extension() == ".spvc") {
+            const uintmax_t bytes = it->file_size(ignored);
+            if (ignored) continue;
+            entries.push_back({time, bytes, path});
+            total += bytes;
+        }
+    }
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.time < b.time; });
+    for (const Entry& entry : entries) {
+        if (total <= maxBytes) break;
+        std::error_code ignored;
+        fs::remove(entry.path, ignored);
+        total -= entry.bytes;
+    }
 }
 
 }  // namespace vkrt

@@ -36,8 +36,19 @@ enum class SpirvOptimization { Performance, KeepLocals, None };
 // An empty string turns the cache off.
 std::string defaultShaderCacheDir();
 
+// The most the SPIR-V cache keeps: each variant is 60 to 400 KiB, and every scene's features and every build
+// of vkrt make variants of their own, so a cache that only grew would fill a disk over the years.
+constexpr uintmax_t kShaderCacheBytes = uintmax_t(64) << 20;
+
+// Removes the entries of the cache in `cacheDir` used longest ago (an entry's time is when it was written or
+// last read) until the rest take at most `maxBytes`, and temporary files that a killed writer left an hour or
+// more ago. Files that are not the cache's are left alone, and so are errors: another process may be pruning
+// too.
+void pruneShaderCache(const std::string& cacheDir, uintmax_t maxBytes);
+
 // Compiles `mainFile` (a key of embeddedShaders()) with `#define NAME` for each entry of `defines`
-// (entries may be "NAME VALUE"). Throws ShaderError with glslang's log on failure.
+// (entries may be "NAME VALUE"), or reads it from the cache in `cacheDir` (empty: none), which is then kept
+// within kShaderCacheBytes. Throws ShaderError with glslang's log on failure.
 CompiledShader compileShader(const std::string& mainFile, const std::vector<std::string>& defines,
                              const std::string& cacheDir,
                              SpirvOptimization optimization = SpirvOptimization::Performance);
