@@ -18,14 +18,19 @@ VKRT_FN real ggxAlpha(real roughness) {
     return max(roughness * roughness, VKRT_MIRROR_ROUGHNESS * VKRT_MIRROR_ROUGHNESS);
 }
 
-// D(h): microfacet normals per unit solid angle and unit projected area.
-VKRT_FN real ggxD(real cosH, real alpha) {
+// D(h) for the unit microfacet normal `h` about the unit normal `normal`: microfacet normals per unit solid angle
+// and unit projected area.
+VKRT_FN real ggxD(real3 normal, real3 h, real alpha) {
+    const real cosH = dot(normal, h);
     if (cosH <= 0.0) return 0.0;
-    // d = cos^2 (a2 - 1) + 1, as sin^2 + cos^2 a2 with sin^2 = (1 - cos)(1 + cos): in single precision a2 - 1
-    // rounds to -1 for a near-mirror (a2 = 1e-12), and the textbook form cancels to 0 at cos = 1 (D infinite
-    // where it is 1 / (pi a2); seen on an NVIDIA GPU), or to a few ulps of 1 near it.
+    // d = cos^2 (a2 - 1) + 1, as sin^2 + cos^2 a2: in single precision a2 - 1 rounds to -1 for a near-mirror
+    // (a2 = 1e-12), and the textbook form cancels to 0 at cos = 1 (D infinite where it is 1 / (pi a2); seen on an
+    // NVIDIA GPU). sin^2 is the cross product's, not (1 - cos)(1 + cos): a cosine within an ulp of 1 spans 3e-4
+    // rad, where a lobe of alpha 1e-6 lives within a few 1e-6, so D came out 0 or its peak and near-mirror
+    // metals rendered up to 9% dark on the GPU.
+    const real3 c = cross(normal, h);
     const real a2 = alpha * alpha;
-    const real d = (1.0 - cosH) * (1.0 + cosH) + cosH * cosH * a2;
+    const real d = dot(c, c) + cosH * cosH * a2;
     return a2 / (VKRT_PI * d * d);
 }
 
@@ -62,10 +67,10 @@ VKRT_FN real3 sampleGgxVisibleNormal(real3 toViewer, real alpha, real u1, real u
 }
 
 // Density of a reflected direction when its half vector h was drawn by sampleGgxVisibleNormal:
-// D_v(h) / (4 v.h) = G1(v) D(h) / (4 v.z).
-VKRT_FN real ggxReflectionPdf(real cosOut, real cosH, real alpha) {
+// D_v(h) / (4 v.h) = G1(v) D(h) / (4 v.z), with the viewer at cosine cosOut from `normal`.
+VKRT_FN real ggxReflectionPdf(real cosOut, real3 normal, real3 h, real alpha) {
     if (cosOut <= 0.0) return 0.0;
-    return ggxG1(cosOut, alpha) * ggxD(cosH, alpha) / (4.0 * cosOut);
+    return ggxG1(cosOut, alpha) * ggxD(normal, h, alpha) / (4.0 * cosOut);
 }
 
 // A direction about the z axis with density cos(theta) / pi (a Lambertian lobe), from the stratified pair

@@ -711,7 +711,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         const real cosIn = dot(normal, reflected);
         const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
         reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
-        reflectPdf = ggxReflectionPdf(cosOut, dot(normal, microNormal), surface.alpha);
+        reflectPdf = ggxReflectionPdf(cosOut, normal, microNormal, surface.alpha);
     }
 #ifdef VKRT_HAS_SHEEN
     reflectWeight *= surface.sheenScaling;  // the layers below the sheen

@@ -328,7 +328,7 @@ VKRT_FN real coatBrdf(VKRT_IN(SurfaceResponse) s, real3 coatNormal, real3 toView
     const real cosOut = dot(coatNormal, toViewer), cosIn = dot(coatNormal, toLight);
     if (!(s.clearcoat > 0.0) || s.coatMirror || cosOut <= 0.0 || cosIn <= 0.0) return 0.0;
     const real3 halfway = normalize(toViewer + toLight);
-    return s.clearcoat * coatFresnel(cosOut) * s.coatCompensation * ggxD(dot(coatNormal, halfway), s.coatAlpha) *
+    return s.clearcoat * coatFresnel(cosOut) * s.coatCompensation * ggxD(coatNormal, halfway, s.coatAlpha) *
            ggxG2(cosOut, cosIn, s.coatAlpha) / (4.0 * cosOut * cosIn);
 }
 
@@ -408,7 +408,7 @@ VKRT_FN real3 specularBrdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 toVie
     const real cosOut = dot(normal, toViewer), cosIn = dot(normal, toLight);
     if (s.mirror || cosOut <= 0.0 || cosIn <= 0.0) return real3(0.0);
     const real3 halfway = normalize(toViewer + toLight);
-    return compensatedFresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(dot(normal, halfway), s.alpha) *
+    return compensatedFresnelAt(s, dot(toViewer, halfway), s.ior) * ggxD(normal, halfway, s.alpha) *
            ggxG2(cosOut, cosIn, s.alpha) / (4.0 * cosOut * cosIn);
 }
 
@@ -452,9 +452,9 @@ VKRT_FN real lobePdf(VKRT_IN(SurfaceResponse) s, real3 normal, real3 coatNormal,
     const real3 halfway = normalize(toViewer + toLight);
     const real pick = coatPick(s);
     real pdf = 0.0;
-    if (s.traced && !s.mirror) pdf = (1.0 - pick) * ggxReflectionPdf(dot(normal, toViewer), dot(normal, halfway), s.alpha);
+    if (s.traced && !s.mirror) pdf = (1.0 - pick) * ggxReflectionPdf(dot(normal, toViewer), normal, halfway, s.alpha);
     if (s.coatTraced && !s.coatMirror) {
-        pdf += pick * ggxReflectionPdf(dot(coatNormal, toViewer), dot(coatNormal, halfway), s.coatAlpha);
+        pdf += pick * ggxReflectionPdf(dot(coatNormal, toViewer), coatNormal, halfway, s.coatAlpha);
     }
     return pdf;
 }

@@ -97,8 +97,12 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         const real3 r = reflectAbout(xyz(a), xyz(b));
         r1 = real4(r.x, r.y, r.z, 0.0);
     } else if (fc.function == VKRT_CASE_GGX) {
-        r0 = real4(ggxD(a.x, a.y), ggxLambda(a.x, a.y), ggxG1(a.x, a.y), ggxG2(a.x, a.z, a.y));
-        r1 = real4(ggxReflectionPdf(a.x, a.z, a.y), ggxAlpha(a.w), 0.0, 0.0);
+        // Microfacet normals at cosines a.x and a.z from the z axis.
+        const real3 z = real3(0.0, 0.0, 1.0);
+        const real3 hx = real3(sqrt(max(0.0, 1.0 - a.x * a.x)), 0.0, a.x);
+        const real3 hz = real3(0.0, sqrt(max(0.0, 1.0 - a.z * a.z)), a.z);
+        r0 = real4(ggxD(z, hx, a.y), ggxLambda(a.x, a.y), ggxG1(a.x, a.y), ggxG2(a.x, a.z, a.y));
+        r1 = real4(ggxReflectionPdf(a.x, z, hz, a.y), ggxAlpha(a.w), 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_VISIBLE_NORMAL) {
         const real3 m = sampleGgxVisibleNormal(normalize(xyz(a)), a.w, b.x, b.y);
         r0 = real4(m.x, m.y, m.z, 0.0);
