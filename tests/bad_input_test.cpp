@@ -357,6 +357,27 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "materials[0].extensions.KHR_materials_ior.ior: expected 0 or a number >= 1, got 0.5"},
+        {"light whose colour times intensity overflows single precision",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensionsUsed"] = {"KHR_lights_punctual"};
+             d["extensions"] = {
+                 {"KHR_lights_punctual",
+                  {{"lights", {{{"type", "point"}, {"color", {1e30, 1.0, 1.0}}, {"intensity", 1e30}}}}}}};
+             d["nodes"][0]["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
+             writeJson(file, d);
+         },
+         "light 0: color times intensity is beyond single precision (3.4e38)"},
+        {"emission whose factor times strength overflows single precision",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+             d["materials"] = {
+                 {{"emissiveFactor", {0.0, 1e20, 0.0}},
+                  {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1e20}}}}}}};
+             writeJson(file, d);
+         },
+         "material 0: emissiveFactor times emissiveStrength is beyond single precision (3.4e38)"},
         {"light index that names nothing",
          [](auto&, auto& file) {
              json d = validTriangle();
@@ -641,6 +662,29 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 3) << "wrote nothing";
 }
 
+// Outputs that name one file in different words are refused before the file exists too: a relative path and
+// the same one through `./` or in full (weakly_canonical left the first relative and made the second
+// absolute, so the stats were written over the image, exit 0), and a link to a file not there yet.
+TEST(BadInput, OutputsNamingOneFileInOtherWordsAreRefused) {
+    const auto folder = test::temporaryFolder();
+    std::filesystem::create_symlink("s.png", folder / "link.json");
+    const std::string scene = "'" + (test::sourceDir() / "scenes/cornell.gltf").string() + "'";
+    for (const std::string& outputs :
+         {std::string("--out img.png --stats ./img.png"),
+          "--out img.png --stats '" + (folder / "img.png").string() + "'",
+          std::string("--out img.png --stats sub/../img.png"), std::string("--out s.png --stats link.json"),
+          std::string("--out r.png --stats s.json --report ./s.json")}) {
+        SCOPED_TRACE(outputs);
+        std::filesystem::create_directory(folder / "sub");
+        const test::CommandResult result =
+            test::runCommand("cd '" + folder.string() + "' && '" + std::string(VKRT_BINARY) + "' --scene " +
+                             scene + " --device cpu --width 8 --spp 1 " + outputs);
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_NE(result.output.find("name the same file"), std::string::npos) << result.output;
+        EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 2) << "wrote nothing";
+    }
+}
+
 // A file name of 250 bytes is allowed (file systems take 255): the temporary name it is written under first
 // keeps within that too, where a suffix added to the whole name made the write fail after the render.
 TEST(BadInput, LongOutputNamesAreWritten) {
@@ -798,6 +842,35 @@ TEST(BadInput, SphereScaledToNothingIsSkipped) {
     EXPECT_NE(scene.warnings[0].find("VKRT_sphere: the node scales it to nothing; it is skipped"),
               std::string::npos)
         << scene.warnings[0];
+}
+
+TEST(BadInput, IndicesAndNormalScalesBeyondSinglePrecisionsReachAreClamped) {
+    // An index of refraction above 1e6 is 1e6 (its square overflowed the GPU's single precision
+    // beyond 1.8e19: NaN samples, the image 40% dark), and a normal texture's scale at most 1e6 either way
+    // (its mapped normal's length overflowed beyond 1.8e19, and the GPU ignored the map); both devices read
+    // the clamped values.
+    const auto folder = test::temporaryFolder();
+    json d = validTriangle();
+    d["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_clearcoat"};
+    d["images"] = {
+        {{"uri",
+          "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAE"
+          "hQGAhKmMIQAAAABJRU5ErkJggg=="}}};
+    d["textures"] = {{{"source", 0}}};
+    d["materials"] = {
+        {{"normalTexture", {{"index", 0}, {"scale", 1e30}}},
+         {"extensions",
+          {{"KHR_materials_ior", {{"ior", 1e20}}},
+           {"KHR_materials_clearcoat",
+            {{"clearcoatFactor", 1.0}, {"clearcoatNormalTexture", {{"index", 0}, {"scale", -1e25}}}}}}}}};
+    writeJson(folder / "extreme.gltf", d);
+    const Scene scene = loadGltf((folder / "extreme.gltf").string());
+    ASSERT_GE(scene.materials.size(), 1u);  // and the default material, for primitives without one
+    const Material& material = scene.materials[0];
+    EXPECT_EQ(material.clearcoat, 1.0f);
+    EXPECT_EQ(material.ior, 1e6f);
+    EXPECT_EQ(material.normalScale, 1e6f);
+    EXPECT_EQ(material.clearcoatNormalScale, -1e6f);
 }
 
 TEST(BadInput, ValidTriangleLoads) {

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "common/atomic_file.h"
 #include "common/file_names.h"
 #include "image/image_io.h"
 #include "random.h"
@@ -382,12 +383,16 @@ struct CommandLine {
     }
 };
 
-// Whether two paths name the same file, existing or not (through links and relative folders).
+// Whether two paths name the same file, existing or not (through links, those to files not there yet among
+// them, and relative folders). A relative path made absolute first: weakly_canonical left `img.png` as it was
+// while `./img.png` became absolute, so --out img.png --stats ./img.png wrote the stats over the image.
 bool sameFile(const std::string& a, const std::string& b) {
     const auto resolved = [](const std::string& path) {
         std::error_code error;
-        std::filesystem::path full = std::filesystem::weakly_canonical(path, error);
-        return error ? std::filesystem::path(path).lexically_normal() : full;
+        std::filesystem::path file = std::filesystem::absolute(outputTarget(path).path, error);
+        if (error) file = outputTarget(path).path;
+        std::filesystem::path full = std::filesystem::weakly_canonical(file, error);
+        return error ? file.lexically_normal() : full;
     };
     return resolved(a) == resolved(b);
 }

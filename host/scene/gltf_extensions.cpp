@@ -171,6 +171,11 @@ void addLight(GltfContext& context, const tinygltf::Value& extension, const glm:
     if (!std::isfinite(source.intensity) || source.intensity < 0.0)
         context.fail(lightWhere + ": intensity must be >= 0");
     light.intensity = static_cast<float>(source.intensity);
+    // Each is within single precision, but what the shaders multiply need not be (a point light of colour
+    // 1e30 and intensity 1e30 made the GPU drop its samples and the CPU write infinite pixels).
+    if (std::max({light.color.x, light.color.y, light.color.z}) * source.intensity >
+        std::numeric_limits<float>::max())
+        context.fail(lightWhere + ": color times intensity is beyond single precision (3.4e38)");
     light.range = static_cast<float>(std::max(0.0, source.range));
     light.innerConeAngle = static_cast<float>(source.spot.innerConeAngle);
     light.outerConeAngle = static_cast<float>(source.spot.outerConeAngle);

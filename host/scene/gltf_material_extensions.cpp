@@ -63,7 +63,7 @@ void readClearcoat(GltfContext& context, const tinygltf::ExtensionMap& extension
         const tinygltf::Value& info = value.Get("clearcoatNormalTexture");
         material.clearcoatNormalTexture = textureSlot(context, info, extWhere + " clearcoatNormalTexture");
         material.clearcoatNormalScale =
-            static_cast<float>(jsonNumber(context, info, "scale", 1.0, extWhere + " clearcoatNormalTexture"));
+            normalScaleOf(jsonNumber(context, info, "scale", 1.0, extWhere + " clearcoatNormalTexture"));
     }
 }
 

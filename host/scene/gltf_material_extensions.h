@@ -2,6 +2,7 @@
 // Material (gltf_extensions.cpp reads those with factors alone).
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -13,6 +14,13 @@ class Value;
 }  // namespace tinygltf
 
 namespace vkrt {
+
+// A normal texture's scale, at most 1e6 either way: beyond it the mapped normal lies in the tangent plane to
+// within 1e-6 rad, and beyond about 1.8e19 the GPU's single-precision length of it overflowed (the map was
+// ignored there, and kept by the CPU).
+inline float normalScaleOf(double scale) {
+    return static_cast<float>(std::clamp(scale, -1e6, 1e6));
+}
 
 // KHR_materials_specular: the dielectric's specular reflection, scaled and tinted.
 void readSpecular(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions, const std::string& where,

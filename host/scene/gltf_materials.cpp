@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <tiny_gltf.h>
 
@@ -159,15 +160,25 @@ void convertMaterials(GltfContext& context) {
         if (m.emissiveFactor.size() != 3 || !allFinite(m.emissiveFactor)) {
             context.fail(where + ": emissiveFactor must be 3 finite numbers");
         }
-        glm::vec3 emissive(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
         material.doubleSided = m.doubleSided;
 
         // Transmission, ior, volume and emissive strength from the extensions.
         const float strength = readMaterialExtensions(context, m.extensions, where, material);
-        // KHR_materials_ior: ior 0 stands for infinity, i.e. a perfect mirror; 1e6 is close enough.
-        if (material.ior == 0.0f) material.ior = 1e6f;
+        // KHR_materials_ior: ior 0 stands for infinity, i.e. a perfect mirror; 1e6 is close enough (a Fresnel
+        // reflectance within 4e-6 of 1), and so it is for any larger index, whose square overflows single
+        // precision beyond about 1.8e19 (the GPU's samples came out NaN there).
+        if (material.ior == 0.0f || material.ior > 1e6f) material.ior = 1e6f;
         if (strength < 0.0f) context.fail(where + ": emissiveStrength must not be negative");
-        material.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
+        // Each factor is within single precision (gltf_schema.cpp), but their product need not be: an
+        // infinite emission made the GPU drop every sample it reached and the CPU write infinite pixels.
+        const glm::dvec3 emission =
+            glm::max(glm::dvec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]),
+                     glm::dvec3(0.0)) *
+            static_cast<double>(strength);
+        if (std::max({emission.x, emission.y, emission.z}) > std::numeric_limits<float>::max())
+            context.fail(where +
+                         ": emissiveFactor times emissiveStrength is beyond single precision (3.4e38)");
+        material.emission = glm::vec3(emission);
         readSpecular(context, m.extensions, where, material);
         readExtensionTextures(context, m.extensions, where, material);
         readUnlit(m.extensions, material);
@@ -184,7 +195,7 @@ void convertMaterials(GltfContext& context) {
         material.normalTexture = textureSlot(context, m.normalTexture.index, m.normalTexture.texCoord,
                                              m.normalTexture.extensions, where + " normal texture");
         if (!std::isfinite(m.normalTexture.scale)) context.fail(where + ": normal texture scale is not finite");
-        material.normalScale = static_cast<float>(m.normalTexture.scale);
+        material.normalScale = normalScaleOf(m.normalTexture.scale);
         // One tangent frame a vertex (Material::tangentFrameSlot): the coat's normal texture is mapped with
         // the base's texture coordinates' frame.
         if (material.normalTexture.used() && material.clearcoatNormalTexture.used() &&
