@@ -752,6 +752,22 @@ TEST(Cli, FailedWritesSayWhy) {
         << run.output;
 }
 
+// A reader of vkrt's messages that has gone (`vkrt ... 2>&1 | head -1`, here a reader that exits at once)
+// does not end vkrt: its writes to stderr fail, and the image is written and the exit code 0, on both
+// devices. It ended by SIGPIPE (exit 141) at its first message, the last line after the image or a progress
+// line mid-render.
+TEST(Cli, AReaderOfTheMessagesThatHasGoneEndsNothing) {
+    const auto folder = test::temporaryFolder();
+    for (const std::string device : {"cpu", "gpu"}) {
+        const auto image = folder / (device + ".pfm");
+        const test::CommandResult run = test::runCommand(
+            "bash -c \"'" + std::string(VKRT_BINARY) + "' --scene " + kCornell + " --device " + device +
+            " --width 8 --height 8 --spp 1 --out " + quoted(image) + " 2> >(exit 0); echo exit=\\$?\"");
+        EXPECT_NE(run.output.find("exit=0"), std::string::npos) << device << ": " << run.output;
+        EXPECT_TRUE(std::filesystem::exists(image)) << device;
+    }
+}
+
 // The outputs are written all or none: a stats file that cannot be written (/dev/full) leaves the image an
 // earlier run wrote as it was, and no temporary file, where the new image replaced it beside the old stats.
 TEST(Cli, OutputsAreWrittenAllOrNone) {

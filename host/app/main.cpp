@@ -1,4 +1,5 @@
 // vkrt: renders a glTF 2.0 scene to an image file.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -123,6 +124,10 @@ int runJob(int argc, char** argv, bool& shared) {
 
 int main(int argc, char** argv) {
     vkrt::useHugePageHeap();  // first, while the heap is small (huge_page_heap.h)
+    // A reader of stderr or of an output through a pipe that has gone (`vkrt ... 2>&1 | head -1`) makes
+    // writes fail instead of ending vkrt by SIGPIPE in the middle of a render, or after it, before its exit
+    // code.
+    std::signal(SIGPIPE, SIG_IGN);
     bool shared = false;
     const int exitCode = vkrt::runJob(argc, argv, shared);
     // A process of its own that a signal stopped ends by it, its outputs written and MPI finalised (mpirun
