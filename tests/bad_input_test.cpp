@@ -574,6 +574,14 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
     notFinite.at(0, 0) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
     writeImage(negative, (folder / "negative.exr").string());
     writeImage(notFinite, (folder / "nan.exr").string());
+    // A size of -5 rows (stb_image takes it as such: the texel count wrapped around to 1.8e19), and an EXR
+    // cut short (tinyexr's message ended in a newline: a second, empty line).
+    test::writeText(folder / "negative-size.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y -5 +X 3\n" +
+                                                      std::string("\x80\x80\x80\x81", 4));
+    Image whole(64, 64);
+    writeImage(whole, (folder / "whole.exr").string());
+    const std::string exr = test::readText(folder / "whole.exr");
+    test::writeText(folder / "cut.exr", exr.substr(0, exr.size() - 100));
     Image bright(2, 1);
     bright.at(0, 0) = glm::vec3(1.0f);
     bright.at(1, 0) = glm::vec3(5.0f);  // times a strength of 1e38, beyond float's range
@@ -595,6 +603,9 @@ TEST(BadInput, UnusableEnvironmentExitsTwoAndWritesNothing) {
                "truncated.hdr: cannot read Radiance HDR: truncated or corrupt run-length data"},
           Case{"--environment '" + (folder / "zero-run.hdr").string() + "'",
                "zero-run.hdr: cannot read Radiance HDR: truncated or corrupt run-length data"},
+          Case{"--environment '" + (folder / "negative-size.hdr").string() + "'",
+               "negative-size.hdr: its resolution line gives a size of 3 x -5"},
+          Case{"--environment '" + (folder / "cut.exr").string() + "'", "cut.exr: cannot read EXR: "},
           Case{"--environment-strength -1", "must not be negative"},
           Case{"--environment-strength 1e39", "beyond single precision's range"},
           Case{"--environment '" + (folder / "bright.exr").string() + "' --environment-strength 1e38",
@@ -650,7 +661,13 @@ TEST(BadInput, UnusableOptionsAndReferencesExitTwoAndWriteNothing) {
                "--reference: " + (folder / "vast.pfm").string() + ": file is truncated"},
           Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
                    (folder / "inf.pfm").string() + "'",
-               "inf.pfm: pixel (3, 2) is not finite"}}) {
+               "inf.pfm: pixel (3, 2) is not finite"},
+          Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
+                   (folder / "missing.exr").string() + "'",
+               "--reference: " + (folder / "missing.exr").string() + ": cannot open: no such file"},
+          Case{"--report '" + (folder / "r.json").string() + "' --reference '" +
+                   (test::sourceDir() / "scenes/sky.hdr").string() + "'",
+               "sky.hdr: not .exr or .pfm, the formats of linear radiance vkrt reads"}}) {
         SCOPED_TRACE(c.options);
         const test::CommandResult result = test::runVkrt(
             "--scene " + scene + " --device cpu --width 8 --height 8 --spp 1 --out " + out + " " + c.options);
@@ -842,6 +859,22 @@ TEST(BadInput, SphereScaledToNothingIsSkipped) {
     EXPECT_NE(scene.warnings[0].find("VKRT_sphere: the node scales it to nothing; it is skipped"),
               std::string::npos)
         << scene.warnings[0];
+}
+
+// An error quotes no more than a line's worth of what the file holds: a buffer whose data URI tinygltf could
+// not decode (its byteLength one more than its bytes) was quoted whole, an error line of 4 MB.
+TEST(BadInput, ErrorsQuoteALinesWorthOfTheFile) {
+    const auto folder = test::temporaryFolder();
+    const std::vector<uint8_t> bytes(3000000, 0);
+    json d = validTriangle();
+    d["buffers"] = {
+        {{"byteLength", bytes.size() + 1}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}};
+    writeJson(folder / "long.gltf", d);
+    const test::CommandResult result = test::runVkrt("--scene '" + (folder / "long.gltf").string() +
+                                                     "' --out '" + (folder / "x.png").string() + "'");
+    EXPECT_EQ(result.exitCode, 2);
+    EXPECT_LT(result.output.size(), 1000u) << result.output.substr(0, 1000);
+    EXPECT_NE(result.output.find("long.gltf: "), std::string::npos) << result.output.substr(0, 1000);
 }
 
 TEST(BadInput, IndicesAndNormalScalesBeyondSinglePrecisionsReachAreClamped) {

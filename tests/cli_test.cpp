@@ -173,11 +173,13 @@ TEST(Cli, ListsDevices) {
     EXPECT_NE(result.output.find("; types: 0 "), std::string::npos) << result.output;
 }
 
-TEST(Cli, MissingDeviceIndexIsARuntimeFailure) {
+// A device index beyond the devices there are is bad usage, as an index out of range anywhere else (exit 2;
+// it was 1, a runtime failure).
+TEST(Cli, MissingDeviceIndexIsBadUsage) {
     const auto folder = test::temporaryFolder();
     const auto result =
         test::runVkrt("--scene " + kCornell + " --device-index 200 --out " + quoted(folder / "x.png"));
-    EXPECT_EQ(result.exitCode, 1) << result.output;
+    EXPECT_EQ(result.exitCode, 2) << result.output;
     EXPECT_NE(result.output.find("--list-devices"), std::string::npos) << result.output;
     EXPECT_FALSE(std::filesystem::exists(folder / "x.png"));
 }

@@ -1,6 +1,8 @@
 // The render policy: the integrator and its depth, which scenes count as lit, Whitted's ambient default, the
 // image height, the camera and its focus.
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -245,14 +247,22 @@ TEST(RenderPolicy, HeightFollowsTheCameraAspectRatioWhenNotAsked) {
 }
 
 // A height from a narrow aspect ratio beyond the largest image side is refused (it overflowed an int, and
-// came out as any height from 1 up); a wide one's height is at least 1.
+// came out as any height from 1 up), saying the ratio (shown as 0.000000 where it was below 1e-6); a wide
+// one's height is at least 1.
 TEST(RenderPolicy, HeightFromTheAspectRatioStaysWithinTheLargestSide) {
-    for (const double aspect : {0.001, 1.49e-8, 1e-30}) {
+    for (const auto& [aspect, shown] : {std::pair{0.001, "0.001"}, {1.49e-8, "1.49e-08"}, {1e-30, "1e-30"}}) {
         Scene scene = darkSquare();
         scene.cameras.push_back(cameraInFront(aspect));
         RenderRequest request;
         request.settings.width = 64;
-        EXPECT_THROW(resolveRender(request, scene), SceneError) << aspect;
+        try {
+            resolveRender(request, scene);
+            ADD_FAILURE() << aspect << " was not refused";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(std::string("aspect ratio ") + shown + " makes"),
+                      std::string::npos)
+                << e.what();
+        }
     }
     Scene scene = darkSquare();
     scene.cameras.push_back(cameraInFront(1e30));

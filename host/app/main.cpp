@@ -15,6 +15,7 @@
 #include "app/rank_render.h"
 #include "app/stop_signal.h"
 #include "common/memory_need.h"
+#include "gpu/vulkan_check.h"
 #include "gpu/vulkan_context.h"
 #include "scene/scene_error.h"
 
@@ -111,6 +112,8 @@ int runJob(int argc, char** argv, bool& shared) {
     } catch (const SceneError& e) {
         return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const MemoryError& e) {
+        return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
+    } catch (const NoSuchDeviceError& e) {
         return fail(job, kExitBadInput, (std::string("error: ") + e.what()).c_str());
     } catch (const std::bad_alloc&) {
         return fail(job, kExitRuntimeFailure, "error: out of memory");

@@ -70,6 +70,7 @@ void checkWritable(const char* option, const std::string& asked) {
 
 void checkPaths(const Options& options) {
     checkReadable("--scene", options.scenePath);
+    if (!options.referencePath.empty()) checkReadable("--reference", options.referencePath);
     checkWritable("--out", options.outputPath);
     checkWritable("--stats", options.statsPath);
     checkWritable("--report", options.reportPath);

@@ -59,10 +59,12 @@ RenderSetup resolveRender(const RenderRequest& request, const Scene& scene) {
         if (aspect > 0.0 && std::isfinite(aspect)) {
             const double height = std::max(1.0, std::round(settings.width / aspect));
             if (!(height <= kMaxImageSide)) {
-                throw SceneError("camera " + std::to_string(request.camera) + "'s aspect ratio " +
-                                 std::to_string(aspect) + " makes the image " +
-                                 std::to_string(settings.width) + " wide and more than " +
-                                 std::to_string(kMaxImageSide) + " pixels high; give --height");
+                char shown[32];  // %g: std::to_string showed 1e-9 as 0.000000
+                std::snprintf(shown, sizeof shown, "%.3g", aspect);
+                throw SceneError("camera " + std::to_string(request.camera) + "'s aspect ratio " + shown +
+                                 " makes the image " + std::to_string(settings.width) +
+                                 " wide and more than " + std::to_string(kMaxImageSide) +
+                                 " pixels high; give --height");
             }
             settings.height = static_cast<int>(height);
         }

@@ -21,6 +21,12 @@ class DeviceLostError : public GpuError {
     using GpuError::GpuError;
 };
 
+// A device asked for that is not there (--device-index beyond the devices Vulkan reports): bad input, exit 2.
+class NoSuchDeviceError : public GpuError {
+  public:
+    using GpuError::GpuError;
+};
+
 const char* vkResultName(VkResult result);
 
 [[noreturn]] void throwVkError(VkResult result, const char* call, const char* file, int line);

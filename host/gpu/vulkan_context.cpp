@@ -213,9 +213,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         int chosen = -1;
         if (options.deviceIndex >= 0) {
             if (options.deviceIndex >= static_cast<int>(devices.size())) {
-                throw GpuError("--device-index " + std::to_string(options.deviceIndex) +
-                               ": Vulkan reports only " + std::to_string(devices.size()) +
-                               " device(s) (see --list-devices)");
+                throw NoSuchDeviceError("--device-index " + std::to_string(options.deviceIndex) +
+                                        ": Vulkan reports only " + std::to_string(devices.size()) +
+                                        " device(s) (see --list-devices)");
             }
             const DeviceDescription d = describe(devices[options.deviceIndex], options.deviceIndex);
             if (!d.usable)

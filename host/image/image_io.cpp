@@ -216,6 +216,9 @@ Image readExr(const std::string& path, uint64_t maxBytes = UINT64_MAX) {
     if (LoadEXR(&rgba, &width, &height, path.c_str(), &error) != TINYEXR_SUCCESS) {
         std::string message = error ? error : "unknown error";
         if (error) FreeEXRErrorMessage(error);
+        // tinyexr's messages can end in a newline, or span lines; the command line reports one.
+        std::replace(message.begin(), message.end(), '\n', ' ');
+        while (!message.empty() && message.back() == ' ') message.pop_back();
         throw ImageError(path + ": cannot read EXR: " + message);
     }
     Image image(width, height);
@@ -275,10 +278,11 @@ void stageImage(FileBatch& batch, const Image& image, const std::string& path, d
 }
 
 Image readImage(const std::string& path) {
-    const ImageFormat format = imageFormatFromPath(path);
-    if (format == ImageFormat::Pfm) return readPfm(path);
-    if (format == ImageFormat::Exr) return readExr(path);
-    throw ImageError(path + ": reading PNG is not supported (references must be linear: .exr or .pfm)");
+    const std::string extension = lowerExtension(path);
+    if (extension == ".pfm") return readPfm(path);
+    if (extension == ".exr") return readExr(path);
+    // PNG among the rest: its pixels are tone mapped, not radiance.
+    throw ImageError(path + ": not .exr or .pfm, the formats of linear radiance vkrt reads");
 }
 
 namespace {
@@ -355,6 +359,11 @@ Image readRadianceImage(const std::string& path, uint64_t maxBytes) {
     // The size stb_image will decode; then stb_image's floats and the image made from them.
     if (stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), static_cast<int>(bytes.size()),
                               &width, &height, &channels)) {
+        // stb_image takes "-Y -5 +X 3" for a size of -5 rows, which as a count of texels wrapped around.
+        if (width < 1 || height < 1) {
+            throw ImageError(path + ": its resolution line gives a size of " + std::to_string(width) + " x " +
+                             std::to_string(height));
+        }
         checkDecodingFits(path, static_cast<uint64_t>(width) * static_cast<uint64_t>(height),
                           3 * sizeof(float) + sizeof(glm::vec3), bytes.size(), maxBytes);
     }

@@ -536,9 +536,12 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
                                                         static_cast<unsigned int>(bytes.size()), directory);
     if (!ok || !error.empty()) {
         std::string message = error.empty() ? "not a valid glTF file" : error;
-        // tinygltf's messages can span lines; the command line reports one.
+        // tinygltf's messages can span lines; the command line reports one, of a readable length (a data URI
+        // it could not decode was quoted whole: an error line of 4 MB).
         std::replace(message.begin(), message.end(), '\n', ' ');
         while (!message.empty() && message.back() == ' ') message.pop_back();
+        constexpr size_t kLongestMessage = 400;
+        if (message.size() > kLongestMessage) message = message.substr(0, kLongestMessage) + "...";
         throw SceneError(path + ": " + message);
     }
     return model;
