@@ -702,6 +702,34 @@ TEST(BadInput, OutputsNamingOneFileInOtherWordsAreRefused) {
     }
 }
 
+// Nor are the files a scene refers to written over: its image and stats written over the scene's texture and
+// buffer (exit 0) broke every later render of it.
+TEST(BadInput, OutputsOverTheScenesOwnFilesAreRefused) {
+    const auto folder = test::temporaryFolder();
+    const std::vector<uint8_t> bytes = triangleBytes();
+    test::writeText(folder / "triangle.bin", std::string(bytes.begin(), bytes.end()));
+    writeImage(Image(2, 2), (folder / "texture.png").string());
+    json d = validTriangle();
+    d["buffers"][0]["uri"] = "triangle.bin";
+    d["images"] = {{{"uri", "texture.png"}}};
+    d["textures"] = {{{"source", 0}}};
+    writeJson(folder / "scene.gltf", d);
+    for (const auto& [outputs, expected] :
+         {std::pair{std::string("--out texture.png"),
+                    "--out would write over a file the scene reads: texture.png"},
+          {std::string("--out x.png --stats ./triangle.bin"),
+           "--stats would write over a file the scene reads: ./triangle.bin"}}) {
+        SCOPED_TRACE(outputs);
+        const test::CommandResult result =
+            test::runCommand("cd '" + folder.string() + "' && '" + std::string(VKRT_BINARY) +
+                             "' --scene scene.gltf --device cpu --width 8 --spp 1 " + outputs);
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_NE(result.output.find(expected), std::string::npos) << result.output;
+        EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 3) << "wrote nothing";
+    }
+    EXPECT_EQ(test::readText(folder / "triangle.bin"), std::string(bytes.begin(), bytes.end()));
+}
+
 // A file name of 250 bytes is allowed (file systems take 255): the temporary name it is written under first
 // keeps within that too, where a suffix added to the whole name made the write fail after the render.
 TEST(BadInput, LongOutputNamesAreWritten) {

@@ -383,20 +383,6 @@ struct CommandLine {
     }
 };
 
-// Whether two paths name the same file, existing or not (through links, those to files not there yet among
-// them, and relative folders). A relative path made absolute first: weakly_canonical left `img.png` as it was
-// while `./img.png` became absolute, so --out img.png --stats ./img.png wrote the stats over the image.
-bool sameFile(const std::string& a, const std::string& b) {
-    const auto resolved = [](const std::string& path) {
-        std::error_code error;
-        std::filesystem::path file = std::filesystem::absolute(outputTarget(path).path, error);
-        if (error) file = outputTarget(path).path;
-        std::filesystem::path full = std::filesystem::weakly_canonical(file, error);
-        return error ? file.lexically_normal() : full;
-    };
-    return resolved(a) == resolved(b);
-}
-
 }  // namespace
 
 std::string helpText() {

@@ -7,9 +7,11 @@
 #include <future>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "app/gpu_run.h"
 #include "app/host_memory.h"
+#include "common/atomic_file.h"
 #include "common/elapsed_time.h"
 #include "image/image_io.h"
 #include "scene/gltf_loader.h"
@@ -116,6 +118,17 @@ PreparedRender prepareRender(const Options& options, const MpiJob& job, RunRepor
         }
     }
     prepared.scene = loaded.get();
+    // Nor does a run write over the files the scene refers to (options.cpp checks the scene file itself): an
+    // image written over a texture, or stats over a buffer, broke every later render of the scene.
+    for (const auto& [option, output] : {std::pair{"--out", &options.outputPath},
+                                         {"--stats", &options.statsPath},
+                                         {"--report", &options.reportPath}}) {
+        for (const std::string& file : prepared.scene.files) {
+            if (!output->empty() && sameFile(*output, file))
+                throw UsageError(std::string(option) +
+                                 " would write over a file the scene reads: " + *output);
+        }
+    }
     if (!options.quiet) {
         for (const std::string& warning : options.warnings)
             std::fprintf(stderr, "vkrt: warning: %s\n", warning.c_str());

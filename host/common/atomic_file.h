@@ -51,6 +51,20 @@ inline OutputTarget outputTarget(const std::string& path) {
     return {file, false};
 }
 
+// Whether two paths name the same file, existing or not (through links, those to files not there yet among
+// them, and relative folders). A relative path is made absolute first: weakly_canonical left `img.png` as it
+// was while `./img.png` became absolute, so --out img.png --stats ./img.png wrote the stats over the image.
+inline bool sameFile(const std::string& a, const std::string& b) {
+    const auto resolved = [](const std::string& path) {
+        std::error_code error;
+        std::filesystem::path file = std::filesystem::absolute(outputTarget(path).path, error);
+        if (error) file = outputTarget(path).path;
+        std::filesystem::path full = std::filesystem::weakly_canonical(file, error);
+        return error ? file.lexically_normal() : full;
+    };
+    return resolved(a) == resolved(b);
+}
+
 // The temporary files being written, for a signal handler that ends the process to remove (unlink() is
 // async-signal-safe): an empty name where a slot is free; a path longer than a slot is not listed.
 inline constexpr int kTemporaryFileSlots = 8;

@@ -471,15 +471,17 @@ std::string readSceneFile(const std::string& path) {
 }
 
 // tinygltf's file reading, refusing what is not a regular file: a buffer or image whose URI names a
-// directory had it read the directory's size as a file's and ask for that much memory.
+// directory had it read the directory's size as a file's and ask for that much memory. Each file read is
+// listed in `files` (a std::vector<std::string>, the callbacks' user data).
 bool readRegularFile(std::vector<unsigned char>* out, std::string* error, const std::string& path,
-                     void* user) {
+                     void* files) {
     std::error_code status;
     if (!std::filesystem::is_regular_file(path, status)) {
         if (error) *error += "File is not a regular file: " + path + "\n";
         return false;
     }
-    return tinygltf::ReadWholeFile(out, error, path, user);
+    static_cast<std::vector<std::string>*>(files)->push_back(path);
+    return tinygltf::ReadWholeFile(out, error, path, nullptr);
 }
 
 // The GLB header's version (glTF 2.0, 4.4.2: version 2; version 1 was glTF 1.0's binary extension).
@@ -492,9 +494,11 @@ void checkGlbVersion(std::string_view file, const std::string& path) {
                          "; vkrt reads GLB version 2 (glTF 2.0)");
 }
 
-// tinygltf's model of the file at `path` (its images decoded through `imageDecoding`). The file's bytes and
-// its JSON are let go on return, before the model is converted.
-tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, ImageDecoding& imageDecoding) {
+// tinygltf's model of the file at `path` (its images decoded through `imageDecoding`; the files it refers to
+// and read listed in `files`). The file's bytes and its JSON are let go on return, before the model is
+// converted.
+tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, ImageDecoding& imageDecoding,
+                          std::vector<std::string>& files) {
     const std::string file = readSceneFile(path);
 
     // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
@@ -519,7 +523,7 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
     imageDecoding.memorySource = options.memorySource;
     reader.SetImageLoader(loadGltfImage, &imageDecoding);
     reader.SetFsCallbacks(
-        {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, nullptr});
+        {tinygltf::FileExists, tinygltf::ExpandFilePath, readRegularFile, tinygltf::WriteWholeFile, &files});
     tinygltf::Model model;
     std::string error, warning;
     // tinygltf reads the file's bytes, or the changed JSON (and a GLB's other chunks as they are), from
@@ -551,11 +555,14 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
     ImageDecoding imageDecoding;
-    tinygltf::Model model = parseGltf(path, options, imageDecoding);
+    std::vector<std::string> files;
+    tinygltf::Model model = parseGltf(path, options, imageDecoding, files);
     decompressMeshes(model, path);
     GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
                             imageDecoding.decodedBytes);
-    return converter.convert();
+    Scene scene = converter.convert();
+    scene.files = std::move(files);
+    return scene;
 }
 
 }  // namespace vkrt

@@ -301,6 +301,7 @@ struct Scene {
     std::vector<uint32_t> emissiveSpheres;    // indices into `spheres` whose material emits
     std::vector<uint32_t> emissiveShapes;     // indices into `shapes` whose material emits
     std::vector<std::string> warnings;
+    std::vector<std::string> files;  // what the file refers to and was read: external buffers and images
     Aabb bounds;
     // The environment light (--environment), not part of the glTF file; absent unless one is given.
     EnvironmentMap environment;
