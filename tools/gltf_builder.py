@@ -275,9 +275,15 @@ class GltfBuilder:
         return len(lights["lights"]) - 1
 
     def write(self, path):
-        self.gltf["buffers"] = [{
-            "byteLength": len(self.data),
-            "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode("ascii")}]
+        # glTF's arrays hold at least one element where present: a scene of analytic shapes alone has no
+        # buffer (one of 0 bytes is invalid), views, accessors or meshes.
+        if self.data:
+            self.gltf["buffers"] = [{
+                "byteLength": len(self.data),
+                "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode("ascii")}]
+        for key in ("buffers", "bufferViews", "accessors", "meshes", "materials"):
+            if not self.gltf.get(key, True):
+                del self.gltf[key]
         if self.extensions or self.required:
             self.gltf["extensionsUsed"] = sorted(self.extensions | self.required)
         if self.required:
