@@ -15,7 +15,11 @@ import subprocess
 import sys
 import time
 
-MODELS = ["/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "scenes/cornell.gltf"]
+from vkrt_args import check_writable, executable_file
+
+# The Cornell box is the repository's, wherever the suite is run from.
+MODELS = ["/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+          os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")]
 
 
 def main():
@@ -28,13 +32,16 @@ def main():
                         help="a glTF model to trace, in place of the default ones (2CylinderEngine where Debian's "
                              "assimp-testmodels put it, the Cornell box); repeatable")
     args = parser.parse_args()
-    if not os.access(args.ray_benchmark, os.X_OK):
-        parser.error("%s is not an executable" % args.ray_benchmark)
+    args.ray_benchmark = executable_file(parser, args.ray_benchmark)
+    check_writable(parser, args.out)
 
     inputs = [["--triangles", str(n)] for n in (100_000, 1_000_000, 2_000_000)]
     for m in args.model or []:
         if not os.path.exists(m):
             parser.error("no such model: %s" % m)
+    for m in MODELS if not args.model else []:
+        if not os.path.exists(m):
+            print("benchmark_suite: note: %s is missing (Debian: assimp-testmodels); left out" % m, file=sys.stderr)
     inputs += [["--scene", m] for m in (args.model or MODELS) if os.path.exists(m)]
     results = []
     for extra in inputs:

@@ -16,7 +16,7 @@ import os
 import sys
 import tempfile
 
-from vkrt_args import parse_with_vkrt_options
+from vkrt_args import check_scenes, check_writable, executable_file, parse_with_vkrt_options
 from vkrt_runs import render_stats, summary
 
 
@@ -32,9 +32,10 @@ def main():
     args.devices = args.devices.split(",")
     if not args.devices or any(device not in ("gpu", "cpu") for device in args.devices):
         parser.error("--devices takes gpu, cpu or gpu,cpu")
-    for binary in (args.baseline, args.candidate):
-        if not os.access(binary, os.X_OK):
-            parser.error(f"{binary} is not an executable")
+    args.baseline = executable_file(parser, args.baseline)
+    args.candidate = executable_file(parser, args.candidate)
+    check_scenes(parser, args.scenes)
+    check_writable(parser, args.out)
 
     results = []
     with tempfile.TemporaryDirectory() as folder:

@@ -157,7 +157,7 @@ def main():
                         help="comma-separated: path, whitted (each has its own reference and plot)")
     args = parser.parse_args()
     integrators = integrators_from(parser, args.integrators)
-    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
+    args.vkrt = check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
     os.makedirs(args.out_dir, exist_ok=True)
 
     times = [100, 1000]

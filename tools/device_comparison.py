@@ -17,7 +17,7 @@ import os
 import sys
 import tempfile
 
-from vkrt_args import check_vkrt_and_scenes, integrators_from, parse_with_vkrt_options
+from vkrt_args import check_vkrt_and_scenes, check_writable, integrators_from, parse_with_vkrt_options
 from vkrt_runs import render_stats, summary
 
 DEVICES = ("gpu", "cpu")
@@ -49,7 +49,8 @@ def main():
     if args.width < 1 or (args.height is not None and args.height < 1) or args.spp < 1:
         parser.error("--width, --height and --spp must be at least 1")
     integrators = integrators_from(parser, args.integrators)
-    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
+    args.vkrt = check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
+    check_writable(parser, args.out)
     size = ["--width", str(args.width), "--height", str(args.height or args.width), "--spp", str(args.spp)]
 
     rows = []

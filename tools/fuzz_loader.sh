@@ -6,8 +6,14 @@
 #
 # Usage: tools/fuzz_loader.sh [SECONDS]     (needs: clang, libfuzzer-14-dev)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+case "${1:-}" in
+    -h | --help) sed -n '2,7s/^# \{0,1\}//p' "$0"; exit 0 ;;
+esac
 seconds="${1:-60}"
+# libFuzzer reads a -max_total_time that is not a number as 0, no limit: checked before anything is built.
+[[ "$seconds" =~ ^[1-9][0-9]*$ ]] ||
+    { echo "fuzz_loader: SECONDS must be a whole number of seconds, got '$seconds' (see --help)" >&2; exit 2; }
+cd "$(dirname "$0")/.."
 build=build-fuzz
 mkdir -p "$build"
 cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRT_FUZZ=ON \

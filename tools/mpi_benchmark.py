@@ -23,7 +23,7 @@ import sys
 import tempfile
 import time
 
-from vkrt_args import given_options, parse_with_vkrt_options
+from vkrt_args import check_scenes, check_writable, executable_file, given_options, parse_with_vkrt_options
 from vkrt_runs import summary
 
 DEFAULT_SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "cornell.gltf")
@@ -66,8 +66,9 @@ def main():
     args, extra = parse_with_vkrt_options(parser)
     if args.ranks < 2:
         parser.error("--ranks must be at least 2")
-    if not os.access(args.vkrt, os.X_OK):
-        parser.error(f"{args.vkrt} is not an executable")
+    args.vkrt = executable_file(parser, args.vkrt)
+    check_scenes(parser, [args.scene])
+    check_writable(parser, args.out)
     if shutil.which("mpirun") is None:
         parser.error("mpirun is not installed (Debian: openmpi-bin)")
     # The default size and samples, except where the options after -- give their own.

@@ -3,10 +3,17 @@
 # renders the same images, as the tests check). Usage: [VKRT=build/vkrt] tools/readme_pictures.sh [OUT_DIR]
 # (default docs/images); the gallery of third-party assets needs ../shared/scenes-real and is skipped without it.
 set -euo pipefail
+case "${1:-}" in
+    -h | --help) sed -n '2,4s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -*) echo "readme_pictures: unknown option $1 (see --help)" >&2; exit 2 ;;
+esac
+# OUT_DIR and VKRT as given are relative to the folder it was run from; the defaults to the repository.
+out=${1:+$(realpath -m -- "$1")}
+binary=${VKRT:+$(realpath -m -- "$VKRT")}
 cd "$(dirname "$0")/.."
-out=${1:-docs/images}
+out=${out:-docs/images}
+binary=${binary:-build/vkrt}
 mkdir -p "$out/gallery"
-binary=${VKRT:-build/vkrt}
 vkrt() { nice "$binary" --device cpu --quiet "$@"; }
 sky=(--background 0.35,0.55,0.9)
 

@@ -5,6 +5,11 @@
 #
 # Usage: tools/sanitize_check.sh
 set -euo pipefail
+case "${1:-}" in
+    "") ;;
+    -h | --help) sed -n '2,6s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    *) echo "sanitize_check: takes no arguments, got '$1' (see --help)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 build=build-sanitize
 mkdir -p "$build"

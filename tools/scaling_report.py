@@ -15,6 +15,8 @@ import os
 import subprocess
 import sys
 
+from vkrt_args import check_writable, executable_file
+
 
 def run_json(command):
     output = subprocess.run(command, stdout=subprocess.PIPE, text=True)
@@ -51,9 +53,9 @@ def main():
                         help="Embree build quality to compare with (default medium)")
     parser.add_argument("--out", default="scaling.json")
     args = parser.parse_args()
-    for tool in (args.bvh_benchmark, args.ray_benchmark):
-        if not os.access(tool, os.X_OK):
-            sys.exit("scaling_report: %s is not an executable (build it, or pass its path)" % tool)
+    args.bvh_benchmark = executable_file(parser, args.bvh_benchmark)
+    args.ray_benchmark = executable_file(parser, args.ray_benchmark)
+    check_writable(parser, args.out)
 
     results = []
     for n in args.triangles:

@@ -38,7 +38,7 @@ import subprocess
 import sys
 import tempfile
 
-from vkrt_args import check_vkrt_and_scenes, integrators_from, parse_with_vkrt_options
+from vkrt_args import check_vkrt_and_scenes, check_writable, integrators_from, parse_with_vkrt_options
 from vkrt_runs import summary
 
 VARIANTS = ("scene", "all")
@@ -62,8 +62,14 @@ def render(args, scene, integrator, variant, extra, folder, caches=None, size=No
     result = subprocess.run(command, capture_output=True, text=True, env=env)
     if result.returncode != 0:
         sys.exit(f"specialisation_report: {' '.join(command)} failed: {result.stderr.strip()}")
+    if not os.path.isfile(stats):
+        sys.exit(f"specialisation_report: {' '.join(command)} rendered nothing (options after -- such as --help "
+                 "end vkrt before it renders)")
     with open(stats) as file:
         data = json.load(file)
+    if data.get("device") != "gpu":
+        sys.exit("specialisation_report: the report measures GPU shaders; the options after -- asked for the "
+                 f"{data.get('device')} device")
     if data.get("shader", {}).get("features") != variant:
         sys.exit(f"specialisation_report: {args.vkrt} does not record --shader-features in its stats")
     return data
@@ -133,7 +139,8 @@ def main():
     if args.cold_runs < 0:
         parser.error("--cold-runs must be at least 0")
     integrators = integrators_from(parser, args.integrators)
-    check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
+    args.vkrt = check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
+    check_writable(parser, args.out)
 
     configurations = [(s, i, v) for s in args.scenes for i in integrators for v in VARIANTS]
     runs = {c: [] for c in configurations}

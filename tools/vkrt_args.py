@@ -35,10 +35,39 @@ def integrators_from(parser, text):
     return integrators
 
 
-def check_vkrt_and_scenes(parser, vkrt, scenes):
-    """A usage error unless `vkrt` is an executable and every scene is a file."""
-    if not os.access(vkrt, os.X_OK):
-        parser.error(f"{vkrt} is not an executable")
+def executable_file(parser, path):
+    """`path` made absolute, or a usage error unless it names an executable file. A folder passed os.access's
+    test and failed later with a traceback; a bare name (`vkrt`) is the file in the current folder, as the
+    check read it, not one found on PATH."""
+    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+        parser.error(f"{path} is not an executable file")
+    return os.path.abspath(path)
+
+
+def check_scenes(parser, scenes):
+    """A usage error unless every scene is a file: checked before any run, so none is wasted."""
     for scene in scenes:
-        if not os.path.exists(scene):
+        if not os.path.isfile(scene):
             parser.error(f"{scene}: no such file")
+
+
+def check_writable(parser, path, option="--out"):
+    """A usage error unless a file can be written at `path` (None: not asked for): its folder exists and takes
+    files, and it is not a folder itself. Checked before any run, whose results were lost to a traceback when the
+    output could not be written at the end."""
+    if path is None:
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(path):
+        parser.error(f"{option} {path}: is a folder")
+    if not os.path.isdir(folder):
+        parser.error(f"{option} {path}: no folder {folder}")
+    if not os.access(folder, os.W_OK):
+        parser.error(f"{option} {path}: the folder {folder} cannot be written")
+
+
+def check_vkrt_and_scenes(parser, vkrt, scenes):
+    """`vkrt` made absolute, or a usage error unless it is an executable file and every scene is a file."""
+    vkrt = executable_file(parser, vkrt)
+    check_scenes(parser, scenes)
+    return vkrt

@@ -14,6 +14,9 @@ def render_stats(tool, command, folder):
     result = subprocess.run(full, capture_output=True, text=True)
     if result.returncode != 0:
         sys.exit(f"{tool}: {' '.join(full)} failed: {result.stderr.strip()}")
+    if not os.path.isfile(stats):
+        sys.exit(f"{tool}: {' '.join(full)} rendered nothing (options after -- such as --help or --list-devices "
+                 "end vkrt before it renders)")
     with open(stats) as file:
         return json.load(file)
 

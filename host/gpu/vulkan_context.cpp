@@ -215,7 +215,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
             if (options.deviceIndex >= static_cast<int>(devices.size())) {
                 throw NoSuchDeviceError("--device-index " + std::to_string(options.deviceIndex) +
                                         ": Vulkan reports only " + std::to_string(devices.size()) +
-                                        " device(s) (see --list-devices)");
+                                        " device(s) (see vkrt --list-devices)");
             }
             const DeviceDescription d = describe(devices[options.deviceIndex], options.deviceIndex);
             if (!d.usable)
