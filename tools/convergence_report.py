@@ -158,7 +158,10 @@ def main():
     args = parser.parse_args()
     integrators = integrators_from(parser, args.integrators)
     args.vkrt = check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
-    os.makedirs(args.out_dir, exist_ok=True)
+    try:
+        os.makedirs(args.out_dir, exist_ok=True)
+    except OSError as error:  # a file of that name, or a folder that cannot take one
+        parser.error(f"--out-dir {args.out_dir}: {error.strerror}")
 
     times = [100, 1000]
     target = 0.01
