@@ -1252,12 +1252,19 @@ std::vector<uint32_t> checkerTexels(int width, int height, int square) {
     return texels;
 }
 
-// A white Lambertian surface whose albedo is texture 0 (no specular layer: the albedo alone under ambient 1).
-Material checkerMaterial() {
+// A scene of one material, white Lambertian (no specular layer: the albedo alone under ambient 1), whose
+// albedo is a checker of `square`-texel squares read NEAREST_MIPMAP_NEAREST: every level black and white, its
+// mipmaps grey, so a pixel tells which level was read.
+Scene checkerScene(int width, int height, int square) {
+    Scene scene;
+    scene.textures.push_back(test::textureOf(width, height, checkerTexels(width, height, square)));
+    scene.textures[0].minNearest = true;
+    scene.textures[0].mipmaps = MipmapMode::Nearest;
     Material checker = test::lambertian(1.0f);
     checker.ior = 1.0f;
     checker.baseColorTexture.texture = 0;
-    return checker;
+    scene.materials = {checker};
+    return scene;
 }
 
 // An orthographic camera on +z looking at the origin, seeing `halfSize` either side of it.
@@ -1275,8 +1282,6 @@ Camera frontView(double halfSize) {
 // box alone. With a tiny sphere as the union's first operand, whose scale once set the object's level, the
 // box came out the mip chain's grey.
 TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
-    const std::vector<uint32_t> texels = checkerTexels(64, 64, 4);
-    const Material checker = checkerMaterial();
     const Camera camera = frontView(0.5);
     RenderSettings settings = test::ambientOnly(16);
     settings.maxDepth = 0;
@@ -1284,11 +1289,7 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
     const glm::dmat4 speck =
         glm::translate(glm::dmat4(1.0), {0.0, 0.0, -1.0}) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.01));
     for (const bool withSpeck : {false, true}) {
-        Scene scene;
-        scene.textures.push_back(test::textureOf(64, 64, texels));
-        scene.textures[0].minNearest = true;
-        scene.textures[0].mipmaps = MipmapMode::Nearest;
-        scene.materials = {checker};
+        Scene scene = checkerScene(64, 64, 4);
         if (withSpeck) {
             addSolid(scene, {makeShape(VKRT_SHAPE_SPHERE, 0, speck), makeShape(VKRT_SHAPE_BOX, 0, box)},
                      truthTable(2, [](uint32_t s) { return s != 0u; }));
@@ -1314,19 +1315,13 @@ TEST_F(ShapeGpu, EachShapeOfACsgObjectReadsTexturesAtItsOwnScale) {
 // (NEAREST_MIPMAP_NEAREST), still black and white. The shape read level 2, every pixel of the equator's row
 // grey.
 TEST_F(ShapeGpu, SphereShapeReadsTexturesAtTheSpheresLevel) {
-    const std::vector<uint32_t> texels = checkerTexels(256, 128, 2);
-    const Material checker = checkerMaterial();
     const Camera camera = frontView(1.1);
     RenderSettings settings = test::ambientOnly(48);
     settings.samplesPerPixel = 1;  // each pixel one texel of the level read
     settings.maxDepth = 0;
     std::array<test::RenderPair, 2> pairs;
     for (const bool shape : {false, true}) {
-        Scene scene;
-        scene.textures.push_back(test::textureOf(256, 128, texels));
-        scene.textures[0].minNearest = true;
-        scene.textures[0].mipmaps = MipmapMode::Nearest;
-        scene.materials = {checker};
+        Scene scene = checkerScene(256, 128, 2);
         if (shape) {
             addSolid(scene, {makeShape(VKRT_SHAPE_SPHERE, 0, glm::dmat4(1.0))}, insideOne());
         } else {
