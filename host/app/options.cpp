@@ -244,8 +244,8 @@ struct CommandLine {
             ->check(CLI::IsMember({"auto", "texels", "storage", "addresses"}))
             ->capture_default_str();
         app.add_option("--time-limit", options.timeLimitSeconds,
-                       "stop after this long, once the dispatch (GPU) or pixel (CPU) in flight is done; each "
-                       "pixel averages the samples it got")
+                       "stop after this long of tracing (counted from the first sample), once the dispatch "
+                       "(GPU) or pixel (CPU) in flight is done; each pixel averages the samples it got")
             ->type_name("SECONDS")
             ->check(kFinite)
             ->check(kPositive);

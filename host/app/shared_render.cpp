@@ -47,6 +47,8 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
                       StopCondition stop, const ProgressCallback& progress, const ShareOptions& options) {
     RankShare share;
     SharedCounter counter(job);
+    // The sums before the clock starts (ReferenceRenderer::render says why).
+    share.sums.resize(options.pixels, glm::dvec4(0.0));
     job.barrier();
     stop.start();
     share.started = std::chrono::steady_clock::now();
@@ -55,7 +57,6 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
     // its batches of them, and the ranks meet at its end for the checkpoint. Rank 0's schedule decides by time.
     const bool phased = job.fromRoot(static_cast<bool>(options.checkpoint));
     CheckpointSchedule schedule(samplesPerPixel, phased, options.checkpointEveryMs);
-    if (phased) share.sums.resize(options.pixels, glm::dvec4(0.0));
     uint64_t done = 0;
     uint64_t checkpointed = 0;  // the samples of the last checkpoint's image
     uint64_t phaseEnd = phased ? schedule.passEnd(0) : spp;
@@ -150,7 +151,7 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
 
 RenderResult combineShares(const MpiJob& job, RankShare& share, const RunReport::Rank& mine, int width,
                            int height, std::vector<RunReport::Rank>& ranks) {
-    // A rank that took no batch has no sums yet.
+    // renderShare sized the sums before its first batch; this only keeps the reduction safe if it did not.
     share.sums.resize(static_cast<size_t>(width) * height, glm::dvec4(0.0));
     static_assert(sizeof(glm::dvec4) == 4 * sizeof(double), "sums are reduced as doubles");
     job.sumToRoot(&share.sums[0].x, share.sums.size() * 4);

@@ -54,7 +54,7 @@ struct ShareOptions {
     // in phases that end at those sample counts, every rank together, and wait for each other at each.
     std::function<void(uint32_t samples, double renderMs, const std::vector<glm::dvec4>& sums)> checkpoint;
     double checkpointEveryMs = 0.0;  // the same on every rank
-    size_t pixels = 0;  // the image's, for the checkpoints' sums
+    size_t pixels = 0;               // the image's, for the sums
 };
 
 // Every rank renders its share of samplesPerPixel samples of every pixel. Collective: every rank calls it,
