@@ -58,6 +58,7 @@ with tempfile.TemporaryDirectory() as folder:
     check(["bash", os.path.join(tools, "sanitize_check.sh"), "now"], 2, "takes no arguments")
     check(["bash", os.path.join(tools, "readme_pictures.sh"), "--help"], 0, "tools/readme_pictures.sh [OUT_DIR]")
     check(["bash", os.path.join(tools, "readme_pictures.sh"), "-x"], 2, "unknown option -x")
+    check(python_tool("make_scenes.py", os.path.join(folder, "a-file")), 2, "cannot make the folder")
 
 if failures:
     sys.exit("python_tools_check:\n" + "\n".join(failures))

@@ -738,7 +738,12 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Generates vkrt's scenes.")
     parser.add_argument("output", nargs="?", default=SCENES, help="folder to write to (default: scenes/)")
     OUTPUT = parser.parse_args().output
-    os.makedirs(OUTPUT, exist_ok=True)
+    try:
+        os.makedirs(OUTPUT, exist_ok=True)
+    except OSError as error:
+        parser.error(f"cannot make the folder {OUTPUT}: {error.strerror}")
+    if not os.access(OUTPUT, os.W_OK):
+        parser.error(f"the folder {OUTPUT} cannot be written")
     cornell()
     whitted()
     lights()
