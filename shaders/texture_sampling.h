@@ -91,11 +91,24 @@ VKRT_FN GpuTexture textureLevel(GpuTexture texture, int level) {
     return result;
 }
 
+// A texture coordinate far outside [0, 1] brought near it, so that its texel index stays within an int (an int
+// conversion out of range is undefined: an offset of 1e9 on a row of 4 texels read the wrong texels on the
+// CPU). By whole periods of 2, which repeat and mirrored repeat both repeat within; clamped ones to [-1, 2],
+// beyond which every texel read is an edge's. One that is not finite (a transform's product overflowing
+// single precision) reads at 0. Within [-2, 2] it is left as it is, the same bits as before.
+VKRT_FN real nearTexture(real u, uint mode) {
+    if (abs(u) <= 2.0) return u;
+    if (!(abs(u) < 1.0e30)) return 0.0;
+    if (mode == VKRT_WRAP_CLAMP) return clamp(u, -1.0, 2.0);
+    return u - 2.0 * floor(0.5 * u);
+}
+
 // Linear RGBA of one level at texture coordinate `uv` (glTF: origin at the top-left of the image). Texel
 // centres sit at half-integer positions; bilinear, or the nearest texel.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real4 filterLevel(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool srgb, bool nearest) {
-    const real x = uv.x * real(texture.width) - 0.5, y = uv.y * real(texture.height) - 0.5;
+    const real x = nearTexture(uv.x, texture.flags & 3u) * real(texture.width) - 0.5,
+               y = nearTexture(uv.y, (texture.flags >> 2u) & 3u) * real(texture.height) - 0.5;
     if (nearest) return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)), srgb);
     const real x0 = floor(x), y0 = floor(y);
     const real fx = x - x0, fy = y - y0;

@@ -104,6 +104,31 @@ TEST_F(GpuMaterials, TextureTransformRotatesAsTheSampleViewerDoes) {
     }
 }
 
+TEST_F(GpuMaterials, TextureCoordinatesFarFromTheImageReadItSafely) {
+    // The checker of TextureTransformScalesTheChecker moved by 2^30 whole periods: its texel positions were
+    // beyond an int (undefined; the CPU read the wrong texels). The CPU reference, in double precision, keeps
+    // the coordinates' fractions and must show the checker as if unmoved. In single precision 4u + 2^30 is
+    // 2^30 (its unit in the last place is 128), so every GPU pixel reads the one texture coordinate 0.
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
+    Material checker;
+    checker.metallic = 0.0f;
+    checker.ior = 1.0f;
+    checker.baseColorTexture.texture = 0;
+    checker.baseColorTexture.scale = glm::vec2(4.0f);
+    const auto unmoved = renderSquare(scene, checker, ambientOnly(64));
+    checker.baseColorTexture.offset = glm::vec2(1073741824.0f);
+    const auto [gpu, cpu] = renderSquare(scene, checker, ambientOnly(64));
+    EXPECT_EQ(compareImages(cpu.image, unmoved.cpu.image, 0.0, 1e-4).fractionOff, 0.0);
+    const glm::vec3 first = gpu.image.at(0, 0);
+    for (int y = 0; y < gpu.image.height; y += 7) {
+        for (int x = 0; x < gpu.image.width; x += 7) {
+            EXPECT_EQ(gpu.image.at(x, y), first) << x << ", " << y;
+        }
+    }
+    EXPECT_TRUE(first.x >= 0.0f && first.x <= 1.0f) << first.x;
+}
+
 TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
     // Metallic and roughness factors 1 under a texture whose blue channel is 0 make a dielectric, equal to
     // factors (0, 1) without a texture; green 0 and blue 1 make a mirror metal, equal to factors (1, 0).
