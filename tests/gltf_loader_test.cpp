@@ -229,6 +229,57 @@ TEST(GltfLoader, TangentFramesFollowTextureCoordinatesAndNodes) {
     EXPECT_EQ(mirrored, 2);
 }
 
+TEST(GltfLoader, DerivedTangentFramesFollowTheNormalTexturesTransform) {
+    // Three squares facing +z whose u grows along +x and v down them (glTF's v grows down the image), each
+    // with a normal texture and derived tangents: as they are, turned by 90 degrees by KHR_texture_transform
+    // (u' = v, v' = -u: the image's +u runs down the square) and mirrored by it (u' = -u). The frame is the
+    // image's: the tangent points where u' grows and the bitangent w cross(n, t) up the image (where v'
+    // falls). Taken from the mesh's coordinates alone, the mirrored normal map showed its ridges as valleys.
+    test::GltfDocument d;
+    const int positions = d.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
+    const int uvs = d.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2");
+    const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
+    d.json["images"] = {{{"uri",
+                          "data:image/"
+                          "png;base64,"
+                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
+                          "BJRU5ErkJggg=="}}};
+    d.json["textures"] = {{{"source", 0}}};
+    d.json["extensionsUsed"] = {"KHR_texture_transform"};
+    const nlohmann::json transforms[] = {
+        nlohmann::json::object(), {{"rotation", M_PI / 2}}, {{"scale", {-1, 1}}}};
+    for (int m = 0; m < 3; ++m) {
+        nlohmann::json normalTexture = {{"index", 0}};
+        if (!transforms[m].empty()) normalTexture["extensions"] = {{"KHR_texture_transform", transforms[m]}};
+        d.json["materials"].push_back({{"normalTexture", normalTexture}});
+        d.json["meshes"].push_back(
+            {{"primitives",
+              {{{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
+                {"indices", indices},
+                {"material", m}}}}});
+        d.node({{"mesh", m}, {"translation", {2.0 * m, 0.0, 0.0}}});
+    }
+    const std::filesystem::path file = test::temporaryFolder() / "turned.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.tangents.size(), 6u);
+    const glm::vec3 tangents[] = {{1, 0, 0}, {0, -1, 0}, {-1, 0, 0}};
+    const glm::vec3 bitangents[] = {{0, 1, 0}, {1, 0, 0}, {0, 1, 0}};
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const uint32_t m = scene.triangles[i].material;
+        SCOPED_TRACE(m);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4 frame = scene.tangents[i][k];
+            const glm::vec3 bitangent = frame.w * glm::cross(scene.shading[i].normal[k], glm::vec3(frame));
+            EXPECT_LT(glm::length(glm::vec3(frame) - tangents[m]), 1e-6f);
+            EXPECT_LT(glm::length(bitangent - bitangents[m]), 1e-6f);
+        }
+    }
+}
+
 TEST(TangentFrames, MirroredTextureCoordinatesFlipTheHandedness) {
     // A square in the xy plane facing +z: with u along +x and v down (-y) the frame is right-handed (w = 1,
     // bitangent +y); with u along -x it is mirrored (tangent -x, w = -1, the bitangent still +y). Texture

@@ -275,17 +275,33 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     }
     // The texture coordinates the normal texture reads; without them the normal texture is one texel.
     const std::vector<float>& uvs = normalTexture.texCoord == 1 ? decoded.uvs1 : decoded.uvs;
-    if (!uvs.empty()) decoded.tangents = vertexTangents(decoded.positions, decoded.normals, uvs, decoded.faces);
+    if (uvs.empty()) return;
+    // As its KHR_texture_transform turns, mirrors and scales them (the offset moves no direction): the frame
+    // is the image's, whatever writes the mapping. Taken from the mesh's coordinates alone, a normal map
+    // mirrored by the transform showed its ridges as valleys, and one turned by it was lit from the side.
+    const std::array<glm::vec2, 2> rows = normalTexture.linearRows();
+    std::vector<float> mapped(uvs.size());
+    for (size_t i = 0; i + 1 < uvs.size(); i += 2) {
+        const glm::vec2 uv(uvs[i], uvs[i + 1]);
+        mapped[i] = glm::dot(rows[0], uv);
+        mapped[i + 1] = glm::dot(rows[1], uv);
+    }
+    decoded.tangents = vertexTangents(decoded.positions, decoded.normals, mapped, decoded.faces);
 }
 
 std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
                                                      const std::array<uint32_t, 3>& face,
                                                      const glm::vec3& geometric) {
-    const std::vector<float>& uvs =
-        context_.scene.materials[primitive.material].tangentFrameSlot().texCoord == 1 ? primitive.uvs1 : primitive.uvs;
+    const TextureSlot& slot = context_.scene.materials[primitive.material].tangentFrameSlot();
+    const std::vector<float>& uvs = slot.texCoord == 1 ? primitive.uvs1 : primitive.uvs;
     if (uvs.empty()) return {};
+    // Through the normal texture's transform, as decodeTangents takes them.
+    const std::array<glm::vec2, 2> rows = slot.linearRows();
     std::array<glm::dvec2, 3> uv;
-    for (int k = 0; k < 3; ++k) uv[k] = glm::dvec2(uvs[2 * face[k]], uvs[2 * face[k] + 1]);
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec2 meshUv(uvs[2 * face[k]], uvs[2 * face[k] + 1]);
+        uv[k] = glm::dvec2(glm::dot(glm::dvec2(rows[0]), meshUv), glm::dot(glm::dvec2(rows[1]), meshUv));
+    }
     const glm::vec4 frame = faceTangent({glm::dvec3(triangle.v0), glm::dvec3(triangle.v1), glm::dvec3(triangle.v2)},
                                         uv, glm::dvec3(geometric));
     return {frame, frame, frame};

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -135,6 +136,15 @@ struct TextureSlot {
     glm::vec2 scale{1.0f};
 
     bool used() const { return texture >= 0; }
+    // The rotation and scale as the rows of a 2 x 2 matrix: uv' = (dot(rows[0], uv), dot(rows[1], uv)) +
+    // offset. The extension writes its rotation as mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) and means those
+    // as rows, (cos, sin) and (-sin, cos), as the Khronos sample viewer applies it: with them, every arrow of
+    // the self-checking TextureTransformTest points at its "correct" mark (the transposed rotation points
+    // them at "error").
+    std::array<glm::vec2, 2> linearRows() const {
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        return {glm::vec2(c * scale.x, s * scale.y), glm::vec2(-s * scale.x, c * scale.y)};
+    }
 };
 
 // glTF metallic-roughness material with the transmission, ior, volume and emissive-strength extensions.

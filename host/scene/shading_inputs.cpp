@@ -27,17 +27,14 @@ uint32_t wrapBits(WrapMode mode) {
 }
 
 // A texture slot of `material` as a binding (sRGB where the slot holds colours): KHR_texture_transform's
-// translation * rotation * scale as two matrix rows. The extension writes its rotation as mat3(cos, sin, 0,
-// -sin, cos, 0, 0, 0, 1) and means those as rows, (cos, sin) and (-sin, cos), as the Khronos sample viewer
-// applies it: with them, every arrow of the self-checking TextureTransformTest points at its "correct" mark
-// (the transposed rotation points them at "error").
+// translation * rotation * scale as two matrix rows (TextureSlot::linearRows, then the offset).
 int bind(const Material& material, const TextureSlot& slot, std::vector<gpu::GpuTextureBinding>& bindings) {
     if (!slot.used()) return -1;
     const bool srgb = material.holdsColour(&slot);
-    const float c = std::cos(slot.rotation), s = std::sin(slot.rotation);
+    const std::array<glm::vec2, 2> rows = slot.linearRows();
     gpu::GpuTextureBinding binding{};
-    binding.row0 = glm::vec3(c * slot.scale.x, s * slot.scale.y, slot.offset.x);
-    binding.row1 = glm::vec3(-s * slot.scale.x, c * slot.scale.y, slot.offset.y);
+    binding.row0 = glm::vec3(rows[0], slot.offset.x);
+    binding.row1 = glm::vec3(rows[1], slot.offset.y);
     binding.texture = slot.texture;
     binding.flags = (srgb ? VKRT_BINDING_SRGB : 0u) | (slot.texCoord == 1 ? VKRT_BINDING_TEXCOORD1 : 0u);
     bindings.push_back(binding);
