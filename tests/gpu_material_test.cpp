@@ -60,18 +60,24 @@ int cellsAlongRow(const Image& image, int y) {
     return cells;
 }
 
+// A scene holding a 2x2 white and black checker texture, and a material that shows it scaled by 4 (8 cells
+// across and down the square) and moved by `offset`.
+std::pair<Scene, Material> scaledChecker(float offset) {
+    Scene scene;
+    scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
+    Material checker;
+    checker.metallic = 0.0f;
+    checker.ior = 1.0f;  // no specular: the albedo alone
+    checker.baseColorTexture.texture = 0;
+    checker.baseColorTexture.scale = glm::vec2(4.0f);
+    checker.baseColorTexture.offset = glm::vec2(offset);
+    return {scene, checker};
+}
+
 TEST_F(GpuMaterials, TextureTransformScalesTheChecker) {
-    // A 2x2 white and black checker, scaled by 4 (and, the second time, moved by one whole period of the
-    // texture, which must not show): 8 cells across and down the square.
+    // The scaled checker, the second time moved by one whole period of the texture, which must not show.
     for (const float offset : {0.0f, 1.0f}) {
-        Scene scene;
-        scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
-        Material checker;
-        checker.metallic = 0.0f;
-        checker.ior = 1.0f;  // no specular: the albedo alone
-        checker.baseColorTexture.texture = 0;
-        checker.baseColorTexture.scale = glm::vec2(4.0f);
-        checker.baseColorTexture.offset = glm::vec2(offset);
+        const auto [scene, checker] = scaledChecker(offset);
         const auto [gpu, cpu] = renderSquare(scene, checker, ambientOnly(64));
         for (const Image* image : {&gpu.image, &cpu.image}) {
             EXPECT_EQ(cellsAlongRow(*image, 4), 8);
@@ -109,16 +115,9 @@ TEST_F(GpuMaterials, TextureCoordinatesFarFromTheImageReadItSafely) {
     // beyond an int (undefined; the CPU read the wrong texels). The CPU reference, in double precision, keeps
     // the coordinates' fractions and must show the checker as if unmoved. In single precision 4u + 2^30 is
     // 2^30 (its unit in the last place is 128), so every GPU pixel reads the one texture coordinate 0.
-    Scene scene;
-    scene.textures.push_back(textureOf(2, 2, {0xffffffffu, 0xff000000u, 0xff000000u, 0xffffffffu}));
-    Material checker;
-    checker.metallic = 0.0f;
-    checker.ior = 1.0f;
-    checker.baseColorTexture.texture = 0;
-    checker.baseColorTexture.scale = glm::vec2(4.0f);
-    const auto unmoved = renderSquare(scene, checker, ambientOnly(64));
-    checker.baseColorTexture.offset = glm::vec2(1073741824.0f);
-    const auto [gpu, cpu] = renderSquare(scene, checker, ambientOnly(64));
+    const auto [scene, unmovedChecker] = scaledChecker(0.0f);
+    const auto unmoved = renderSquare(scene, unmovedChecker, ambientOnly(64));
+    const auto [gpu, cpu] = renderSquare(scene, scaledChecker(1073741824.0f).second, ambientOnly(64));
     EXPECT_EQ(compareImages(cpu.image, unmoved.cpu.image, 0.0, 1e-4).fractionOff, 0.0);
     const glm::vec3 first = gpu.image.at(0, 0);
     for (int y = 0; y < gpu.image.height; y += 7) {
