@@ -795,6 +795,10 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
                               ggxG1(cosOut, surface.alpha);
         }
     }
+    // Radiance over the index squared is what crosses an interface unchanged (Veach 1997, 5.2): the viewer's side
+    // sees 1 / eta^2 of the radiance beyond. A ray entering a volume and leaving it again takes both factors,
+    // which cancel; a lamp inside water seen from the air had been 1.33^2 times too bright.
+    if (bends) transmitWeight /= eta * eta;
     // A glossy ray on its way to the lights (it arrived with a lobe's density) is owed its transmission.
     const real transmitSurvival = passes ? branchSurvival(context, ray.node, 1u, ray.arrivalPdf > 0.0,
                                                           maxComponent(pathThroughput * transmitWeight), cut)
@@ -821,10 +825,21 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 // probability proportional to its weight (the largest component), its throughput divided by that probability,
 // so the one ray estimates the sum of all three without bias; past VKRT_ROULETTE_DEPTH bounces it survives
 // Russian roulette with probability min(1, throughput) and is divided by that too. False when the path ends.
-VKRT_FN bool continuePath(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, VKRT_IN(ShadedHit) shaded,
-                          VKRT_OUT(RayState) next) {
+// Both see the energy a refraction carries rather than its radiance, which the index ratio squared scales
+// (shadeHit): a refraction is picked by its Fresnel share and roulette reads the throughput times the square of
+// the index of the medium the path is in (camera rays start in air), as pbrt's etaScale does, so that smooth
+// glass in a white furnace still weighs every path exactly 1.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN bool continuePath(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray,
+                          VKRT_IN(ShadedHit) shaded, VKRT_OUT(RayState) next) {
     const real reflect = shaded.reflects ? maxComponent(shaded.reflectionWeight) : 0.0;
-    const real transmit = shaded.transmits ? maxComponent(shaded.transmissionWeight) : 0.0;
+    real transmit = shaded.transmits ? maxComponent(shaded.transmissionWeight) : 0.0;
+#ifdef VKRT_HAS_VOLUMES
+    if (shaded.transmits) {
+        const real ratio = mediumIor(VKRT_DEVICE_ARG shaded.transmission.media) / mediumIor(VKRT_DEVICE_ARG ray.media);
+        transmit *= ratio * ratio;
+    }
+#endif
     const real scatter = shaded.scatters ? maxComponent(shaded.scatterWeight) : 0.0;
     const real total = reflect + transmit + scatter;
     if (!(total > 0.0)) return false;
@@ -842,7 +857,12 @@ VKRT_FN bool continuePath(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray
     }
     next.throughput = next.throughput / probability;
     if (next.depth > VKRT_ROULETTE_DEPTH) {
-        const real survival = min(1.0, maxComponent(next.throughput));
+        real energy = maxComponent(next.throughput);
+#ifdef VKRT_HAS_VOLUMES
+        const real index = mediumIor(VKRT_DEVICE_ARG next.media);
+        energy *= index * index;
+#endif
+        const real survival = min(1.0, energy);
         if (!(stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 1u) < survival)) return false;
         next.throughput = next.throughput / survival;
     }

@@ -223,6 +223,52 @@ TEST_F(GpuMaterials, CutOutLampsLightAlikeWithAndWithoutMultipleImportanceSampli
     }
 }
 
+TEST_F(GpuMaterials, LightFromInsideWaterIsDimmedByTheIndexSquaredOnTheWayOut) {
+    // A slab of clear water (index 1.33, without reflection: KHR_materials_specular's factor 0) 2 deep;
+    // inside it a point light of 10 cd at depth 0.5 over a white Lambertian floor at depth 1.5, seen straight
+    // down from the air. The floor's radiance in the water is 10 / 1^2 / pi; radiance over the index squared
+    // crosses the surface unchanged, so the air sees 1 / 1.33^2 of it. Without that factor it came out 1.33^2
+    // times too bright.
+    Scene scene;
+    Material water = lambertian(1.0f);
+    water.roughness = 0.0f;
+    water.transmission = 1.0f;
+    water.ior = 1.33f;
+    water.thickness = 1.0f;
+    scene.materials = {water, lambertian(1.0f)};
+    const glm::vec3 corners[4] = {{-20, -20, 0}, {20, -20, 0}, {20, 20, 0}, {-20, 20, 0}};
+    const glm::vec3 depth(0.0f, 0.0f, 2.0f);
+    addFlatQuad(scene, corners[0], corners[1], corners[2], corners[3], 0);  // the surface, facing up
+    addFlatQuad(scene, corners[3] - depth, corners[2] - depth, corners[1] - depth, corners[0] - depth, 0);
+    addFlatQuad(scene, {-0.5f, -0.5f, -1.5f}, {0.5f, -0.5f, -1.5f}, {0.5f, 0.5f, -1.5f}, {-0.5f, 0.5f, -1.5f},
+                1);
+    PunctualLight lamp;
+    lamp.position = {0.0, 0.0, -0.5};
+    lamp.intensity = 10.0f;
+    scene.lights.push_back(lamp);
+    finalizeScene(scene);
+    const FlatBvh bvh = test::bvhFor(scene);
+    Camera down;
+    down.projection = Projection::Orthographic;
+    down.position = {0.0, 0.0, 3.0};
+    down.forward = {0.0, 0.0, -1.0};
+    down.xmag = down.ymag = 1e-3;  // the floor's irradiance falls by 2e-6 over the view
+    const double expected = 10.0 / M_PI / (1.33 * 1.33);
+    for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+        SCOPED_TRACE(integratorName(integrator));
+        RenderSettings settings;
+        settings.integrator = integrator;
+        settings.maxDepth = 1;  // the floor's direct light alone
+        settings.width = settings.height = 4;
+        settings.samplesPerPixel = 4;
+        settings.ambient = glm::dvec3(0.0);
+        const auto both =
+            test::renderGpuAndCpu(context(), scene, bvh, down, settings, test::shaderCacheDir());
+        EXPECT_NEAR(both.cpu.image.at(2, 2).x, expected, 1e-5 * expected);
+        EXPECT_NEAR(both.gpu.image.at(2, 2).x, expected, 1e-5 * expected);
+    }
+}
+
 TEST_F(GpuMaterials, MetallicRoughnessTextureMultipliesTheFactors) {
     // Metallic and roughness factors 1 under a texture whose blue channel is 0 make a dielectric, equal to
     // factors (0, 1) without a texture; green 0 and blue 1 make a mirror metal, equal to factors (1, 0).
