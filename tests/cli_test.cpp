@@ -12,6 +12,8 @@
 #include <string>
 #include <utility>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -783,6 +785,65 @@ TEST(Cli, OutputsAreWrittenAllOrNone) {
     std::ifstream file(image);
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(file), {}), "an earlier run's image");
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1) << "no temporary file left";
+}
+
+// An output replaces an earlier file with that file's permissions: a private image (0600) stayed private,
+// where the new one was 0644.
+TEST(Cli, OutputsKeepThePermissionsOfTheFilesTheyReplace) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "private.pfm";
+    test::writeText(image, "an earlier run's image");
+    const auto ownerOnly = std::filesystem::perms::owner_read | std::filesystem::perms::owner_write;
+    std::filesystem::permissions(image, ownerOnly);
+    const auto run = test::runVkrt("--scene " + kCornell +
+                                   " --device cpu --width 8 --height 8 --spp 1 --out " + quoted(image));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_EQ(std::filesystem::status(image).permissions(), ownerOnly);
+    EXPECT_GT(std::filesystem::file_size(image), 100u) << "the new image";
+}
+
+// An output the user cannot replace is refused before the render, as bad usage: a file read-only to them (it
+// was replaced, since a rename asks only the folder), or another user's in a folder with the sticky bit, like
+// /tmp (the rename failed after the whole render, exit 1). Run as a user other than the files' owner (nobody,
+// when the test runs as root).
+TEST(Cli, OutputsTheUserCannotReplaceAreRefusedBeforeTheRender) {
+    const std::string as = geteuid() == 0 ? "runuser -u nobody -- " : "";
+    if (!as.empty() && test::runCommand(as + "true").exitCode != 0)
+        GTEST_SKIP() << "no user nobody to run as";
+    const auto folder = test::temporaryFolder();
+    std::filesystem::permissions(folder, std::filesystem::perms::all | std::filesystem::perms::sticky_bit);
+    const auto readOnly = folder / "read-only.pfm";
+    test::writeText(readOnly, "kept");
+    std::filesystem::permissions(readOnly, std::filesystem::perms::owner_read |
+                                               std::filesystem::perms::group_read |
+                                               std::filesystem::perms::others_read);
+    const auto theirs = folder / "theirs.pfm";
+    test::writeText(theirs, "kept");
+    std::filesystem::permissions(theirs, std::filesystem::perms::all & ~std::filesystem::perms::owner_exec &
+                                             ~std::filesystem::perms::group_exec &
+                                             ~std::filesystem::perms::others_exec);
+    const std::string command = as + std::string(VKRT_BINARY) + " --scene " + kCornell +
+                                " --device cpu --width 8 --height 8 --spp 1 --out ";
+    if (geteuid() != 0) {
+        const auto own = test::runCommand(command + quoted(readOnly));
+        EXPECT_EQ(own.exitCode, 2) << own.output;
+        EXPECT_NE(own.output.find("read-only.pfm: is read-only"), std::string::npos) << own.output;
+        return;  // the files are this user's own: the sticky bit keeps nothing from them
+    }
+    const auto readOnlyRun = test::runCommand(command + quoted(readOnly));
+    EXPECT_EQ(readOnlyRun.exitCode, 2) << readOnlyRun.output;
+    EXPECT_NE(readOnlyRun.output.find("--out: " + readOnly.string() + ": is read-only"), std::string::npos)
+        << readOnlyRun.output;
+    const auto theirsRun =
+        test::runCommand(command + quoted(folder / "new.pfm") + " --stats " + quoted(theirs));
+    EXPECT_EQ(theirsRun.exitCode, 2) << theirsRun.output;
+    EXPECT_NE(theirsRun.output.find("theirs.pfm: belongs to another user"), std::string::npos)
+        << theirsRun.output;
+    for (const auto& kept : {readOnly, theirs}) {
+        std::ifstream file(kept);
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(file), {}), "kept") << kept;
+    }
+    EXPECT_FALSE(std::filesystem::exists(folder / "new.pfm")) << "nothing written";
 }
 
 // The stats say how much texture memory a scene holds: textures.gltf has a 2x2, a 16x1 and a 4x1 RGBA8 texture,

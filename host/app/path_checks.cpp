@@ -51,6 +51,8 @@ void checkWritable(const char* option, const std::string& asked) {
         throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " does not exist");
     if (access(folder.c_str(), W_OK | X_OK) != 0)
         throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " is not writable");
+    if (const std::string why = whyNotReplaceable(path); !why.empty())
+        throw UsageError(std::string(option) + ": " + path + ": " + why);
     // A name the folder's file system cannot hold failed only at the rename, after the render.
     const long longestName = pathconf(folder.c_str(), _PC_NAME_MAX);
     const std::string name = std::filesystem::path(path).filename().string();

@@ -2,6 +2,9 @@
 // folder, then rename it into place (rename is atomic within a file system); several files, all or none.
 #pragma once
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -49,6 +52,25 @@ inline OutputTarget outputTarget(const std::string& path) {
         file = target.is_absolute() ? target : file.parent_path() / target;
     }
     return {file, false};
+}
+
+// Why this process cannot, or should not, replace the existing regular file `path` by renaming a new one over
+// it (empty: it can, or there is no such file). The rename needs only the folder's permission, so without
+// this a file read-only to the user was replaced (as cp and editors refuse to), and another user's file in a
+// folder with the sticky bit (/tmp) failed only at the rename, after the whole render.
+inline std::string whyNotReplaceable(const std::filesystem::path& path) {
+    struct stat file {};
+    if (stat(path.c_str(), &file) != 0 || !S_ISREG(file.st_mode)) return {};
+    if (access(path.c_str(), W_OK) != 0) return "is read-only";
+    std::filesystem::path folder = path.parent_path();
+    if (folder.empty()) folder = ".";
+    struct stat dir {};
+    const uid_t user = geteuid();
+    if (user != 0 && stat(folder.c_str(), &dir) == 0 && (dir.st_mode & S_ISVTX) != 0 && file.st_uid != user &&
+        dir.st_uid != user) {
+        return "belongs to another user, in a folder whose sticky bit keeps it theirs";
+    }
+    return {};
 }
 
 // Whether two paths name the same file, existing or not (through links, those to files not there yet among
@@ -101,8 +123,18 @@ class FileBatch {
         staged_.push_back(std::move(staged));
     }
 
-    // Renames every staged file into place.
+    // Renames every staged file into place, with the permissions of the file it replaces (a private file
+    // stayed private). Every target is checked before the first rename, so that one that cannot be replaced
+    // leaves all as they were.
     void commit() {
+        for (const Staged& staged : staged_) {
+            const std::string why = whyNotReplaceable(staged.path);
+            if (!why.empty()) throw std::runtime_error(staged.path + ": " + why);
+            std::error_code error;
+            const std::filesystem::file_status replaced = std::filesystem::status(staged.path, error);
+            if (!error && std::filesystem::is_regular_file(replaced))
+                std::filesystem::permissions(staged.temporary, replaced.permissions(), error);
+        }
         for (Staged& staged : staged_) {
             std::error_code error;
             std::filesystem::rename(staged.temporary, staged.path, error);
