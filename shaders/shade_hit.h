@@ -822,13 +822,13 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 #define VKRT_ROULETTE_DEPTH 3
 
 // The path's next ray after the shading step `shaded` at the hit of `ray`: one of its continuations, picked with
-// probability proportional to its weight (the largest component), its throughput divided by that probability,
-// so the one ray estimates the sum of all three without bias; past VKRT_ROULETTE_DEPTH bounces it survives
-// Russian roulette with probability min(1, throughput) and is divided by that too. False when the path ends.
-// Both see the energy a refraction carries rather than its radiance, which the index ratio squared scales
-// (shadeHit): a refraction is picked by its Fresnel share and roulette reads the throughput times the square of
-// the index of the medium the path is in (camera rays start in air), as pbrt's etaScale does, so that smooth
-// glass in a white furnace still weighs every path exactly 1.
+// probability proportional to its energy weight (the largest component), its throughput divided by that
+// probability, so the one ray estimates the sum of all three without bias; past VKRT_ROULETTE_DEPTH bounces it
+// survives Russian roulette with probability min(1, energy throughput) and is divided by that too. False when
+// the path ends. Energy rather than radiance: a refraction's weight carries 1 / eta^2 (shadeHit), so it is
+// picked times eta^2 (by its Fresnel share), and the roulette reads the throughput times the square of the
+// index of the medium the path is in (camera rays start in air), as pbrt's etaScale does: smooth glass in a
+// white furnace still weighs every path exactly 1.
 VKRT_DEVICE_TEMPLATE
 VKRT_FN bool continuePath(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray,
                           VKRT_IN(ShadedHit) shaded, VKRT_OUT(RayState) next) {

@@ -808,10 +808,15 @@ TEST(Cli, OutputsKeepThePermissionsOfTheFilesTheyReplace) {
 // when the test runs as root).
 TEST(Cli, OutputsTheUserCannotReplaceAreRefusedBeforeTheRender) {
     const std::string as = geteuid() == 0 ? "runuser -u nobody -- " : "";
-    if (!as.empty() && test::runCommand(as + "true").exitCode != 0)
-        GTEST_SKIP() << "no user nobody to run as";
     const auto folder = test::temporaryFolder();
     std::filesystem::permissions(folder, std::filesystem::perms::all | std::filesystem::perms::sticky_bit);
+    // nobody must reach vkrt, the scene and the folder (a checkout under /root, or a private TMPDIR, keeps
+    // them out).
+    if (!as.empty() && test::runCommand(as + "test -x " + quoted(VKRT_BINARY) + " -a -r " + kCornell +
+                                        " -a -w " + quoted(folder))
+                               .exitCode != 0) {
+        GTEST_SKIP() << "no user nobody that can run vkrt here";
+    }
     const auto readOnly = folder / "read-only.pfm";
     test::writeText(readOnly, "kept");
     std::filesystem::permissions(readOnly, std::filesystem::perms::owner_read |

@@ -53,7 +53,8 @@ void ConvergenceReport::write(FileBatch& batch, const std::string& path,
             out << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
                 << "\n";  // paths need not be UTF-8
         }
-        if (!out.flush()) throw std::runtime_error(cannotWrite(path));
+        out.close();  // a failed write may show only when the last bytes go out
+        if (out.fail()) throw std::runtime_error(cannotWrite(path));
     });
 }
 

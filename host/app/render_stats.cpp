@@ -124,7 +124,8 @@ void stageJson(FileBatch& batch, const nlohmann::json& json, const std::string& 
         // Names in it (paths) need not be UTF-8 on Linux: bytes that are not become U+FFFD rather than an
         // error.
         file << json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
-        if (!file.flush()) throw std::runtime_error(cannotWrite(path));
+        file.close();  // a failed write may show only when the last bytes go out
+        if (file.fail()) throw std::runtime_error(cannotWrite(path));
     });
 }
 

@@ -123,17 +123,18 @@ class FileBatch {
         staged_.push_back(std::move(staged));
     }
 
-    // Renames every staged file into place, with the permissions of the file it replaces (a private file
-    // stayed private). Every target is checked before the first rename, so that one that cannot be replaced
-    // leaves all as they were.
+    // Renames every staged file into place, with the permissions of the file it replaces where that file is
+    // this user's (a private file stayed private). Every target is checked before the first rename, so that
+    // one that cannot be replaced leaves all as they were.
     void commit() {
         for (const Staged& staged : staged_) {
             const std::string why = whyNotReplaceable(staged.path);
             if (!why.empty()) throw std::runtime_error(staged.path + ": " + why);
-            std::error_code error;
-            const std::filesystem::file_status replaced = std::filesystem::status(staged.path, error);
-            if (!error && std::filesystem::is_regular_file(replaced))
-                std::filesystem::permissions(staged.temporary, replaced.permissions(), error);
+            // The mode alone, and only of this user's own file: another owner's private mode on a file now
+            // ours would shut them out of it (the owner is not ours to give back).
+            struct stat old {};
+            if (stat(staged.path.c_str(), &old) == 0 && S_ISREG(old.st_mode) && old.st_uid == geteuid())
+                chmod(staged.temporary.c_str(), old.st_mode & 0777);
         }
         for (Staged& staged : staged_) {
             std::error_code error;

@@ -105,7 +105,8 @@ void writePfm(const Image& image, const std::string& path) {
         file.write(reinterpret_cast<const char*>(&image.at(0, y)),
                    static_cast<std::streamsize>(image.width) * 12);
     }
-    if (!file.flush()) throw ImageError(cannotWrite(path));
+    file.close();  // a failed write may show only when the last bytes go out (writeBytes)
+    if (file.fail()) throw ImageError(cannotWrite(path));
 }
 
 Image readPfm(const std::string& path) {
