@@ -38,12 +38,7 @@ void addClearPane(Scene& scene, float z) {
     addFlatQuad(scene, {-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}, material);
 }
 
-// The mean of an image's red channel.
-double meanRed(const Image& image) {
-    double sum = 0.0;
-    for (const glm::vec3& p : image.pixels) sum += p.x;
-    return sum / static_cast<double>(image.pixels.size());
-}
+using test::meanRed;
 
 // The cube [-1, 1]^3 with its faces turned inwards, every face of material 0.
 void addInwardCube(Scene& scene) {

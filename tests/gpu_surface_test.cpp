@@ -59,14 +59,7 @@ RenderSettings litOnly(int size) {
     return settings;
 }
 
-// The mean of an image's red channel.
-double meanRed(const Image& image) {
-    double sum = 0.0;
-    for (int y = 0; y < image.height; ++y) {
-        for (int x = 0; x < image.width; ++x) sum += image.at(x, y).x;
-    }
-    return sum / (static_cast<double>(image.width) * image.height);
-}
+using test::meanRed;
 
 class GpuSurfaces : public Gpu {};
 

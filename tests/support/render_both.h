@@ -7,6 +7,7 @@
 #include "bvh/flat_bvh.h"
 #include "cpu/reference_renderer.h"
 #include "gpu/vulkan_context.h"
+#include "image/image.h"
 #include "scene/scene.h"
 
 namespace vkrt::test {
@@ -22,5 +23,12 @@ struct RenderPair {
 RenderPair renderGpuAndCpu(const VulkanContext& context, const Scene& scene, const FlatBvh& bvh,
                            const Camera& camera, const RenderSettings& settings,
                            const std::string& shaderCacheDir);
+
+// The mean of an image's red channel.
+inline double meanRed(const Image& image) {
+    double sum = 0.0;
+    for (const glm::vec3& p : image.pixels) sum += p.x;
+    return sum / static_cast<double>(image.pixels.size());
+}
 
 }  // namespace vkrt::test
