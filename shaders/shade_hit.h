@@ -108,6 +108,10 @@ struct ShadedHit {
     bool scatters;  // paths: the untraced lobes' continuation, sampled by the cosine
     real3 scatterWeight;
     RayState scattered;
+    // At a volume's surface, the indices of the medium the ray is in and of the one beyond, which continuePath
+    // reads for the energy its continuations carry; 1 elsewhere.
+    real indexHere;
+    real indexBeyond;
 };
 
 // Whether a traced lobe whose `mirror` flag (SurfaceResponse's `mirror` or `coatMirror`) is given is traced
@@ -551,6 +555,8 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.reflects = false;
     result.transmits = false;
     result.scatters = false;
+    result.indexHere = 1.0;
+    result.indexBeyond = 1.0;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     const real footprint = textureFootprint(VKRT_DEVICE_ARG ray, hit);
     const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint);
@@ -625,7 +631,9 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     volume = material.volume && surface.transmission > 0.0;
     if (volume) {
         beyond = frame.frontFace ? mediaEntered(ray.media, hit.material) : mediaExited(ray.media, hit.material);
-        eta = mediumIor(VKRT_DEVICE_ARG beyond) / mediumIor(VKRT_DEVICE_ARG ray.media);
+        result.indexHere = mediumIor(VKRT_DEVICE_ARG ray.media);
+        result.indexBeyond = mediumIor(VKRT_DEVICE_ARG beyond);
+        eta = result.indexBeyond / result.indexHere;
         // The lobes that lights are evaluated on see the interface the traced ones do: its relative index (a
         // light reflected off glass of index 1.5 inside glass of index 1.5, where no interface is, or off its
         // inside at the outer index).
@@ -828,23 +836,19 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 // the path ends. Energy rather than radiance: a refraction's weight carries 1 / eta^2 (shadeHit), so it is
 // picked times eta^2 (by its Fresnel share), and the roulette reads the throughput times the square of the
 // index of the medium the path is in (camera rays start in air), as pbrt's etaScale does: smooth glass in a
-// white furnace still weighs every path exactly 1.
-VKRT_DEVICE_TEMPLATE
-VKRT_FN bool continuePath(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray,
-                          VKRT_IN(ShadedHit) shaded, VKRT_OUT(RayState) next) {
+// white furnace still weighs every path exactly 1. (The indices are the volume's surface's, from shadeHit; at
+// other surfaces 1, where the roulette then reads radiance: unbiased still, but cut more often inside a medium.)
+VKRT_FN bool continuePath(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray, VKRT_IN(ShadedHit) shaded,
+                          VKRT_OUT(RayState) next) {
     const real reflect = shaded.reflects ? maxComponent(shaded.reflectionWeight) : 0.0;
-    real transmit = shaded.transmits ? maxComponent(shaded.transmissionWeight) : 0.0;
-#ifdef VKRT_HAS_VOLUMES
-    if (shaded.transmits) {
-        const real ratio = mediumIor(VKRT_DEVICE_ARG shaded.transmission.media) / mediumIor(VKRT_DEVICE_ARG ray.media);
-        transmit *= ratio * ratio;
-    }
-#endif
+    const real ratio = shaded.indexBeyond / shaded.indexHere;
+    const real transmit = shaded.transmits ? maxComponent(shaded.transmissionWeight) * ratio * ratio : 0.0;
     const real scatter = shaded.scatters ? maxComponent(shaded.scatterWeight) : 0.0;
     const real total = reflect + transmit + scatter;
     if (!(total > 0.0)) return false;
     const real u = stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 0u) * total;
     real probability;
+    real index = shaded.indexHere;  // of the medium the next ray is in
     if (u < scatter) {
         next = shaded.scattered;
         probability = scatter / total;
@@ -854,15 +858,11 @@ VKRT_FN bool continuePath(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VKR
     } else {
         next = shaded.transmission;
         probability = transmit / total;
+        index = shaded.indexBeyond;
     }
     next.throughput = next.throughput / probability;
     if (next.depth > VKRT_ROULETTE_DEPTH) {
-        real energy = maxComponent(next.throughput);
-#ifdef VKRT_HAS_VOLUMES
-        const real index = mediumIor(VKRT_DEVICE_ARG next.media);
-        energy *= index * index;
-#endif
-        const real survival = min(1.0, energy);
+        const real survival = min(1.0, maxComponent(next.throughput) * index * index);
         if (!(stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 1u) < survival)) return false;
         next.throughput = next.throughput / survival;
     }

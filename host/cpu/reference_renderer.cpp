@@ -187,7 +187,7 @@ glm::dvec3 ReferenceRenderer::pathRadiance(shading::RayState ray, const shading:
         const shading::ShadedHit shaded = shading::shadeHit(device, context, ray, point, weight);
         sum += weight * shaded.radiance;
         shading::RayState next;
-        if (!shading::continuePath(device, context, ray, shaded, next)) return sum;
+        if (!shading::continuePath(context, ray, shaded, next)) return sum;
         ray = next;
         ++counters.secondary;
     }
