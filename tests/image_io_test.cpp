@@ -103,6 +103,39 @@ TEST(ImageIo, PfmHeaderWithCrLfIsRead) {
     EXPECT_THROW(readImage(path), ImageError);
 }
 
+// Big-endian PFMs (a positive scale, as Netpbm's pamtopfm writes them) and grey ones ("Pf") are read too:
+// they were refused as references. The same pixels, rows bottom to top, as the little-endian colour file vkrt
+// writes.
+TEST(ImageIo, BigEndianAndGreyPfmsAreRead) {
+    const auto folder = test::temporaryFolder();
+    const Image image = gradient(5, 3);
+    const std::string path = (folder / "a.pfm").string();
+    auto bigEndian = [](float value) {
+        uint32_t bits;
+        std::memcpy(&bits, &value, 4);
+        std::string bytes(4, '\0');
+        for (int k = 0; k < 4; ++k) bytes[k] = static_cast<char>(bits >> (24 - 8 * k));
+        return bytes;
+    };
+    std::string colour = "PF\n5 3\n1.0\n", grey = "Pf\n5 3\n1.0\n";
+    for (int y = 2; y >= 0; --y) {
+        for (int x = 0; x < 5; ++x) {
+            for (int c = 0; c < 3; ++c) colour += bigEndian(image.at(x, y)[c]);
+            grey += bigEndian(image.at(x, y).y);
+        }
+    }
+    std::ofstream(path, std::ios::binary) << colour;
+    EXPECT_EQ(compareImages(readImage(path), image).rmse, 0.0);
+    std::ofstream(path, std::ios::binary) << grey;
+    const Image back = readImage(path);
+    for (int y = 0; y < 3; ++y) {
+        for (int x = 0; x < 5; ++x) EXPECT_EQ(back.at(x, y), glm::vec3(image.at(x, y).y)) << x << ", " << y;
+    }
+    // A grey file one value short is truncated.
+    std::ofstream(path, std::ios::binary) << grey.substr(0, grey.size() - 4);
+    EXPECT_THROW(readImage(path), ImageError);
+}
+
 TEST(ImageIo, SrgbEncoding) {
     EXPECT_EQ(toSrgb8(0.0), 0);
     EXPECT_EQ(toSrgb8(1.0), 255);

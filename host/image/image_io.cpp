@@ -1,8 +1,10 @@
 #include "image/image_io.h"
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +13,7 @@
 #include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
@@ -109,6 +112,9 @@ void writePfm(const Image& image, const std::string& path) {
     if (file.fail()) throw ImageError(cannotWrite(path));
 }
 
+// A portable float map: "PF" (RGB) or "Pf" (grey, read as equal RGB), rows bottom to top, little-endian
+// when the header's scale is negative and big-endian when it is positive (Netpbm's pamtopfm writes big-endian
+// by default; both were refused but the little-endian colour kind). The scale's magnitude is not applied.
 Image readPfm(const std::string& path) {
     std::ifstream file(path, std::ios::binary);
     if (!file) throw ImageError(path + ": cannot open");
@@ -117,9 +123,12 @@ Image readPfm(const std::string& path) {
     double scale = 0.0;
     file >> magic >> width >> height >> scale;
     const int separator = file.get();  // one whitespace character ends the header
-    if (magic != "PF" || width <= 0 || height <= 0 || scale >= 0.0 || !std::isspace(separator)) {
-        throw ImageError(path + ": not a little-endian colour PFM");
+    if ((magic != "PF" && magic != "Pf") || width <= 0 || height <= 0 || !(scale != 0.0) ||
+        !std::isfinite(scale) || !std::isspace(separator)) {
+        throw ImageError(path + ": not a PFM (PF or Pf, its size and a non-zero scale)");
     }
+    const int channels = magic == "PF" ? 3 : 1;
+    const std::streamoff rowBytes = static_cast<std::streamoff>(width) * channels * 4;
     // The pixels the header promises must be in the file before they are allocated.
     std::streamoff start = file.tellg();
     file.seekg(0, std::ios::end);
@@ -127,19 +136,28 @@ Image readPfm(const std::string& path) {
     // A header whose lines end in CR LF (written on Windows) leaves its last LF before the pixels: it is the
     // header's when the pixels then fill the rest of the file exactly.
     const std::streamoff rest = end - start - 1;
-    if (separator == '\r' && start >= 0 && rest % 12 == 0 && rest / 12 % width == 0 &&
-        rest / 12 / width == height) {
+    if (separator == '\r' && start >= 0 && rest % rowBytes == 0 && rest / rowBytes == height) {
         file.seekg(start);
         if (file.get() == '\n') ++start;
     }
     file.seekg(start);
-    if (start < 0 || (end - start) / 12 / width < height) {
+    if (start < 0 || (end - start) / rowBytes < height) {
         throw ImageError(path + ": file is truncated (its header says " + std::to_string(width) + "x" +
                          std::to_string(height) + ")");
     }
+    const bool bigEndian = scale > 0.0;
     Image image(width, height);
+    std::vector<uint32_t> row(static_cast<size_t>(width) * channels);
     for (int y = height - 1; y >= 0; --y) {
-        file.read(reinterpret_cast<char*>(&image.at(0, y)), static_cast<std::streamsize>(width) * 12);
+        file.read(reinterpret_cast<char*>(row.data()), rowBytes);
+        for (int x = 0; x < width; ++x) {
+            glm::vec3& pixel = image.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                uint32_t bits = row[static_cast<size_t>(x) * channels + (channels == 3 ? c : 0)];
+                if (bigEndian) bits = __builtin_bswap32(bits);
+                pixel[c] = std::bit_cast<float>(bits);
+            }
+        }
     }
     if (!file) throw ImageError(path + ": file is truncated");
     return image;
