@@ -404,6 +404,20 @@ TEST(ShapeLoader, EightShapesLoadAndTheirTableIsTheUnion) {
     EXPECT_EQ(scene.solids[0].table, truthTable(8, [](uint32_t s) { return s != 0u; }));
 }
 
+TEST(ShapeLoader, LongThinShapesAreNotSingular) {
+    // A rod 2e4 long and 2e-4 thick: its map is orthogonal, its inverse exact. (Its determinant, 1e-4, was
+    // compared with the largest scale cubed, and rods of aspect 1e6 were refused as singular.)
+    const json nodes = {
+        {{"name", "rod"}, {"scale", {1e-4, 1e-4, 1e4}}, {"extensions", shapeExtension("cylinder")}}};
+    const auto file = writeDocument(test::temporaryFolder(), "rod", documentOf(nodes, {0}));
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.shapes.size(), 1u);
+    const glm::dmat4 roundTrip = scene.shapes[0].toObject * glm::dmat4(scene.shapes[0].toWorld);
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) EXPECT_NEAR(roundTrip[c][r], c == r ? 1.0 : 0.0, 1e-12) << c << r;
+    }
+}
+
 // A data-URI buffer with one triangle (3 float positions, then 3 uint16 indices) and its mesh.
 void addTriangleMesh(json& document) {
     const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -443,6 +457,15 @@ std::vector<BadShapeFile> badShapeFiles() {
              {{{"name", "flat box"}, {"scale", {1.0, 0.0, 1.0}}, {"extensions", shapeExtension("box")}}},
              {0}),
          {"flat box", "singular"}});
+    files.push_back(  // sheared until its axes lie within 1e-7 of a plane (column-major: x, then y = x + 1e-7
+                      // y)
+        {"sheared flat",
+         documentOf(
+             {{{"name", "sheared box"},
+               {"matrix", {1.0, 0.0, 0.0, 0.0, 1.0, 1e-7, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0}},
+               {"extensions", shapeExtension("box")}}},
+             {0}),
+         {"sheared box", "singular"}});
     files.push_back(  // a float map of entries 1e-39 holds a few bits each
         {"vanishing scale",
          documentOf(

@@ -85,15 +85,20 @@ Shape SolidBuilder::placeShape(const tinygltf::Value& extension, const glm::dmat
     shape.toWorld = glm::mat4(world);
     const glm::dmat4 stored(shape.toWorld);
     const glm::dmat3 linear(stored);
-    const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const double x = glm::length(linear[0]), y = glm::length(linear[1]), z = glm::length(linear[2]);
     const double determinant = glm::determinant(linear);
-    bool finite = std::isfinite(determinant) && scale < 1e30;
+    bool finite = std::isfinite(determinant) && std::max({x, y, z}) < 1e30;
     for (int c = 0; c < 4; ++c) finite = finite && std::isfinite(stored[c].x + stored[c].y + stored[c].z);
     if (!finite) context_.fail(shapeWhere + ": the placed shape is not finite");
-    if (!(std::abs(determinant) > 1e-12 * scale * scale * scale))
+    // Flat: the volume the axes span against the product of their lengths, 1 for any orthogonal map whatever
+    // its scales (a rod 1e8 times longer than it is thick is no harder to trace than a cube), near 0 where
+    // the axes are near a plane (measured against the largest scale cubed, rods of aspect 1e6 were refused as
+    // singular).
+    if (!(std::abs(determinant) > 1e-6 * x * y * z))
         context_.fail(shapeWhere + ": the node transform is singular (it flattens the shape)");
     // Below 1e-30 a float map's entries lose their digits (1e-39 is a denormal of a few bits).
-    if (!(scale >= 1e-30)) context_.fail(shapeWhere + ": the node transform scales the shape below 1e-30");
+    if (!(std::min({x, y, z}) >= 1e-30))
+        context_.fail(shapeWhere + ": the node transform scales the shape below 1e-30");
     shape.toObject = glm::inverse(stored);
     return shape;
 }
