@@ -50,7 +50,7 @@ StabilityResult measure(const StabilityOptions& options, const std::string& grou
     if (!options.dumpDir.empty()) {
         std::string file = name;
         for (char& c : file) {
-            if (!std::isalnum(static_cast<unsigned char>(c))) c = '-';
+            if (!std::isalnum(static_cast<unsigned char>(c)) && c != '+') c = '-';  // x1e-10 and x1e+10 apart
         }
         // FILE-image.pfm is the GPU's, FILE-reference.pfm the CPU reference's.
         test::writeComparisonImages(options.dumpDir, file, r.gpu, r.cpu);
