@@ -1,8 +1,8 @@
 // Emissive triangles and spheres as area lights. The device picks one in proportion to its power (the table
 // lives with the scene, host/scene/light_table.h); these functions then choose a point on it and give the
-// densities that multiple importance sampling weighs. A triangle is sampled uniformly by area; a sphere by
-// solid angle, uniformly inside the cone it subtends from the shading point (uniformly by area when the point
-// is inside it).
+// densities that multiple importance sampling weighs. A triangle is sampled uniformly in the solid angle it
+// subtends from the shading point (uniformly by area where that angle is tiny or near a hemisphere); a sphere
+// uniformly inside the cone it subtends (uniformly by area when the point is inside it).
 #ifndef VKRT_AREA_LIGHT_H
 #define VKRT_AREA_LIGHT_H
 
@@ -26,20 +26,239 @@ struct LightPoint {
 // A light's power, by which light sampling picks it: luminance times area (at the shutter's opening).
 VKRT_FN real lightPower(real3 emission, real area) { return area * max(luminance(emission), 1e-12); }
 
-VKRT_FN real triangleArea(real3 v0, real3 v1, real3 v2) { return 0.5 * length(cross(v1 - v0, v2 - v0)); }
+// Half the cross product's length; where its square nears float's denormals, taken over its largest component:
+// the squared length is a denormal for a triangle 1e-10 across (area 1e-21), and the GPU's pick of a light, its
+// power over the total, lost its digits (the Cornell box scaled by 1e-10 came out up to 0.16% bright); at 1e-12
+// the area was 0.
+VKRT_FN real triangleArea(real3 v0, real3 v1, real3 v2) {
+    const real3 n = cross(v1 - v0, v2 - v0);
+    const real squared = dot(n, n);
+    if (squared > 1e-30) return 0.5 * sqrt(squared);
+    const real largest = maxComponent(abs(n));
+    return largest > 0.0 ? 0.5 * largest * length(n / largest) : 0.0;
+}
 
-// A uniform point on a triangle (Shirley and Chiu's square-root mapping); `pdfArea` is the light's pick
-// probability over its area.
-VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3 v2, real pdfArea, real u, real v) {
+#ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
+// Solid-angle sampling of triangles, compiled into the shaders of scenes with a large lamp only
+// (host/scene/light_table.h samplesTrianglesBySolidAngle); the CPU reference compiles it always.
+
+// cos t and sin t for t in [0, 2 pi], to a few ulps of the type on every device: Vulkan lets a device's sin
+// and cos be 2^-11 off (lavapipe's are 5e-5 off), which would swamp the small angles of a small triangle's
+// sampling. The angle is brought within pi / 4 of a multiple of pi / 2 and Taylor's series taken there (the
+// first omitted terms are below 2e-14).
+VKRT_FN real2 cosSin(real t) {
+    const real quarter = floor(t / (0.5 * VKRT_PI) + 0.5);
+    const real r = t - quarter * (0.5 * VKRT_PI);
+    const real r2 = r * r;
+    const real sinR =
+        r * (1.0 + r2 * (-1.0 / 6.0 +
+                         r2 * (1.0 / 120.0 +
+                               r2 * (-1.0 / 5040.0 +
+                                     r2 * (1.0 / 362880.0 + r2 * (-1.0 / 39916800.0 + r2 * (1.0 / 6227020800.0)))))));
+    const real cosR =
+        1.0 + r2 * (-0.5 + r2 * (1.0 / 24.0 +
+                                 r2 * (-1.0 / 720.0 +
+                                       r2 * (1.0 / 40320.0 +
+                                             r2 * (-1.0 / 3628800.0 +
+                                                   r2 * (1.0 / 479001600.0 + r2 * (-1.0 / 87178291200.0)))))));
+    const uint q = uint(quarter) % 4u;
+    if (q == 0u) return real2(cosR, sinR);
+    if (q == 1u) return real2(-sinR, cosR);
+    if (q == 2u) return real2(-cosR, -sinR);
+    return real2(sinR, -cosR);
+}
+
+// atan(y, x) for y >= 0, to a few ulps of the type on every device: Vulkan lets a device's atan be 4096 ulps
+// off (lavapipe's was 2e-5 relative off for a small triangle's solid angle). The ratio of the smaller to the
+// larger of |x| and y is halved twice (atan z = 2 atan(z / (1 + sqrt(1 + z^2)))) to at most tan(pi / 16), where
+// the series to z^21 leaves less than 1e-16.
+VKRT_FN real angleOf(real y, real x) {
+    const real ax = abs(x);
+    if (!(max(ax, y) > 0.0)) return 0.0;
+    const bool steep = y > ax;
+    real z = steep ? ax / y : y / ax;
+    z = z / (1.0 + sqrt(1.0 + z * z));
+    z = z / (1.0 + sqrt(1.0 + z * z));
+    const real z2 = z * z;
+    real series = 1.0 / 21.0;
+    series = 1.0 / 19.0 - z2 * series;
+    series = 1.0 / 17.0 - z2 * series;
+    series = 1.0 / 15.0 - z2 * series;
+    series = 1.0 / 13.0 - z2 * series;
+    series = 1.0 / 11.0 - z2 * series;
+    series = 1.0 / 9.0 - z2 * series;
+    series = 1.0 / 7.0 - z2 * series;
+    series = 1.0 / 5.0 - z2 * series;
+    series = 1.0 / 3.0 - z2 * series;
+    series = 1.0 - z2 * series;
+    real angle = 4.0 * z * series;
+    if (steep) angle = 0.5 * VKRT_PI - angle;
+    return x < 0.0 ? VKRT_PI - angle : angle;
+}
+
+// A triangle seen from a point as a spherical triangle: the unit directions to its corners, the angle at the
+// first one (its cosine and sine), the side from a to b (its sine and 1 - its cosine), the direction along
+// the side from a towards c, and the solid angle it covers (area; 0 where it is degenerate seen from there:
+// the point in the triangle's plane or on an edge).
+struct SphericalTriangle {
+    real3 a, b, c;
+    real cosAlpha, sinAlpha;
+    real sinAB, versinAB;
+    real3 towardsC;
+    real area;
+};
+
+// Everything is taken from the corners' offsets and the triangle's edges rather than from differences of the
+// unit directions, which lose their digits when the triangle looks small, and in ratios of lengths, which float
+// holds at any scale (products of lengths are denormals in a scene scaled by 1e-10). The solid angle is Van
+// Oosterom and Strackee's (1983), 2 atan(|a . (b x c)|, 1 + a.b + b.c + c.a): Girard's sum of the angles less
+// pi, from arcsines, came out 3e-4 off at 0.33 sr on lavapipe.
+VKRT_FN SphericalTriangle sphericalTriangle(real3 v0, real3 v1, real3 v2, real3 from) {
+    SphericalTriangle s;
+    const real3 d0 = v0 - from, d1 = v1 - from, d2 = v2 - from;
+    const real l0 = length(d0), l1 = length(d1), l2 = length(d2);
+    s.a = d0 / l0;
+    s.b = d1 / l1;
+    s.c = d2 / l2;
+    s.cosAlpha = 1.0;
+    s.sinAlpha = 0.0;
+    s.sinAB = 0.0;
+    s.versinAB = 0.0;
+    s.towardsC = real3(0.0);
+    s.area = 0.0;
+    const real3 e1 = v1 - v0, e2 = v2 - v0;
+    const real m1 = length(e1), m2 = length(e2);
+    if (!(l0 > 0.0 && l1 > 0.0 && l2 > 0.0 && m1 > 0.0 && m2 > 0.0)) return s;
+    const real3 u1 = e1 / m1, u2 = e2 / m2;
+    // The normals of the planes through `from` and the edges at v0 (to v1, to v2): the angle between them is the
+    // one at a, and their cross product is a times the triple product a . (u1 x u2).
+    const real3 nb = cross(s.a, u1), nc = cross(s.a, u2);
+    const real lb = length(nb), lc = length(nc);
+    const real tripleProduct = abs(dot(s.a, cross(u1, u2)));
+    if (!(lb > 0.0 && lc > 0.0 && tripleProduct > 0.0)) return s;
+    s.cosAlpha = dot(nb / lb, nc / lc);
+    s.sinAlpha = tripleProduct / lb / lc;
+    s.sinAB = lb * (m1 / l1);
+    const real3 chord = s.b - s.a;
+    s.versinAB = 0.5 * dot(chord, chord);
+    s.towardsC = normalize(u2 - dot(u2, s.a) * s.a);
+    s.area = 2.0 * angleOf(tripleProduct * (m1 / l1) * (m2 / l2),
+                           1.0 + dot(s.a, s.b) + dot(s.b, s.c) + dot(s.c, s.a));
+    return s;
+}
+
+// Whether a triangle of solid angle `area` is sampled by solid angle: Arvo's mapping loses its digits for tiny
+// spherical triangles (their angles sum to pi less a rounding error) and fails near a hemisphere, where uniform
+// area sampling is used instead (pbrt-v4's bounds). Both are right from any point; solid angle takes the
+// distance and the light's cosine out of the estimate, which area sampling leaves in (a surface next to a large
+// lamp saw fireflies).
+VKRT_FN bool triangleSampledBySolidAngle(real area) { return area >= 3e-4 && area <= 6.22; }
+
+// Whether a triangle is large as seen from `from`: its area over the squared distance to its centroid above
+// 0.1, about its solid angle where that is small. Smaller ones are sampled by area: for them the two strategies
+// differ little, and area sampling costs a fraction.
+VKRT_FN bool triangleLooksLarge(real3 v0, real3 v1, real3 v2, real3 from) {
+    const real3 toCentroid = (v0 + v1 + v2) / 3.0 - from;
+    return triangleArea(v0, v1, v2) > 0.1 * dot(toCentroid, toCentroid);
+}
+
+// The spherical triangle a triangle is sampled in from `from`, its area 0 where the triangle is sampled by
+// area: everywhere unless `bySolidAngle` (the scene has a large lamp: host/scene/light_table.h), where it
+// looks small, and where Arvo's mapping would fail.
+VKRT_FN SphericalTriangle sampledSphericalTriangle(real3 v0, real3 v1, real3 v2, real3 from, bool bySolidAngle) {
+    SphericalTriangle s;
+    s.area = 0.0;
+    if (bySolidAngle && triangleLooksLarge(v0, v1, v2, from)) s = sphericalTriangle(v0, v1, v2, from);
+    if (!triangleSampledBySolidAngle(s.area)) s.area = 0.0;
+    return s;
+}
+
+// The point of sampleTriangleLight where it samples spherical triangle `s` (of corners v0, v1, v2 seen from
+// `from`) uniformly: its position, barycentrics and density per unit area.
+VKRT_FN void pointInSolidAngle(VKRT_IN(SphericalTriangle) s, real3 v0, real3 v1, real3 v2, real3 from, real pick,
+                               real u, real v, VKRT_INOUT(LightPoint) p) {
+    // The part of area u * A next to corner a is cut off by the arc from b to a point c' on the side from a to c
+    // (Arvo's mapping). With h = u A / 2 and P = sin^2 h + sin^2(alpha - h), c' lies at an angle from a whose
+    // cosine and sine are proportional to (1 - cos(ab)) P - 2 sin^2 h and 2 sin h sin(alpha - h) sin(ab): Arvo's
+    // cosine rewritten in half angles, so that the sine needs no 1 - cos^2 (taken so, c' strayed up to 1.3e-3 off
+    // the side at u = 0 in single precision).
+    const real2 halfAngle = cosSin(0.5 * u * s.area);
+    const real sinRest = s.sinAlpha * halfAngle.x - s.cosAlpha * halfAngle.y;  // sin(alpha - h), positive
+    const real sin2H = halfAngle.y * halfAngle.y, sin2Rest = sinRest * sinRest;
+    const real P = sin2H + sin2Rest;
+    const real3 cp = normalize((s.versinAB * P - 2.0 * sin2H) * s.a +
+                               (2.0 * abs(halfAngle.y * sinRest) * s.sinAB) * s.towardsC);
+    // Then uniformly along the arc from b to c' by the cosine to b; 1 - cos is half the squared chord, which
+    // keeps its digits for short arcs.
+    const real3 chord = cp - s.b;
+    const real oneMinusCos = v * 0.5 * dot(chord, chord);
+    const real cosTheta = 1.0 - oneMinusCos;
+    const real sinTheta = sqrt(max(0.0, oneMinusCos * (2.0 - oneMinusCos)));
+    const real3 across = chord - dot(chord, s.b) * s.b;
+    const real acrossLength = length(across);
+    const real3 w = acrossLength > 0.0 ? cosTheta * s.b + (sinTheta / acrossLength) * across : s.b;
+    // Where that direction meets the triangle, as barycentrics (Moller-Trumbore from `from`).
+    const real3 e1 = v1 - v0, e2 = v2 - v0;
+    const real3 s1 = cross(w, e2);
+    const real divisor = dot(s1, e1);
+    const real3 offset = from - v0;
+    real b1 = divisor != 0.0 ? clamp(dot(offset, s1) / divisor, 0.0, 1.0) : 1.0 / 3.0;
+    real b2 = divisor != 0.0 ? clamp(dot(w, cross(offset, e1)) / divisor, 0.0, 1.0) : 1.0 / 3.0;
+    if (b1 + b2 > 1.0) {
+        const real sum = b1 + b2;
+        b1 /= sum;
+        b2 /= sum;
+    }
+    p.uv = real2(b1, b2);
+    p.position = (1.0 - b1 - b2) * v0 + b1 * v1 + b2 * v2;
+    // The solid-angle density pick / A, per unit area at the point: times |cos| / d^2 (no d^3, which is a
+    // denormal, its digits gone, for a point 1e-13 from the light).
+    const real3 toPoint = p.position - from;
+    const real d2 = dot(toPoint, toPoint);
+    p.pdfArea = d2 > 0.0 ? pick * abs(dot(p.normal, toPoint / sqrt(d2))) / (d2 * s.area) : 0.0;
+}
+#endif  // VKRT_HAS_SOLID_ANGLE_TRIANGLES
+
+// A point of a triangle picked with probability `pick` (`pdfArea`: pick over its area), seen from `from`:
+// uniform in the solid angle it subtends (Arvo, "Stratified Sampling of Spherical Triangles", SIGGRAPH 1995, as
+// pbrt-v4's SampleSphericalTriangle writes it) where sampledSphericalTriangle says so, else uniform by area
+// (Shirley and Chiu's square-root mapping). `pdfArea` of the result is per unit area at the point, the pick
+// included.
+VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3 v2, real pick, real pdfArea,
+                                       real3 from, bool bySolidAngle, real u, real v) {
     LightPoint p;
     p.primitive = primitive;
     p.material = 0u;  // the device's to fill in
+    p.normal = planeNormal(v0, v1, v2);
+#ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
+    if (bySolidAngle) {
+        const SphericalTriangle s = sampledSphericalTriangle(v0, v1, v2, from, true);
+        if (s.area > 0.0) {
+            pointInSolidAngle(s, v0, v1, v2, from, pick, u, v, p);
+            return p;
+        }
+    }
+#endif
     const real root = sqrt(u);
     p.uv = real2(root * (1.0 - v), root * v);
     p.position = (1.0 - root) * v0 + p.uv.x * v1 + p.uv.y * v2;
-    p.normal = planeNormal(v0, v1, v2);
     p.pdfArea = pdfArea;
     return p;
+}
+
+// The density per solid angle with which sampleTriangleLight, seen from `from` (and told `bySolidAngle`), picks a
+// point at squared distance `distance2` and cosine `cosLight` on a triangle picked with probability `pick`
+// (`pdfArea` per unit area).
+VKRT_FN real triangleLightSolidAnglePdf(real3 v0, real3 v1, real3 v2, real pick, real pdfArea, real3 from,
+                                        bool bySolidAngle, real distance2, real cosLight) {
+    if (!(cosLight > 0.0)) return 0.0;
+#ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
+    if (bySolidAngle) {
+        const real area = sampledSphericalTriangle(v0, v1, v2, from, true).area;
+        if (area > 0.0) return pick / area;
+    }
+#endif
+    return pdfArea * distance2 / cosLight;
 }
 
 // Whether sphere lights are sampled by area from `from` at squared distance `distance2` from the centre: from

@@ -16,6 +16,16 @@ void device_shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorl
 #endif
 #include "shape_light.h"
 
+// Whether triangle lights that look large are sampled by solid angle (params.solidAngleTriangles): compiled in
+// only for scenes with a large lamp, as the sampler's code costs every other scene's kernel.
+bool device_solidAngleTriangles() {
+#ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
+    return params.solidAngleTriangles != 0u;
+#else
+    return false;
+#endif
+}
+
 // Per invocation: shadow rays traced, and whether every BVH walk ran to its end (see traverse.glsl).
 uint vkrtShadowRays = 0u;
 bool vkrtWalksComplete = true;
@@ -87,7 +97,8 @@ LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
 #else
     const float pdfArea = light.pdfArea;
 #endif
-    p = sampleTriangleLight(light.primitive, emitter.v0, emitter.v1, emitter.v2, pdfArea, u, v);
+    p = sampleTriangleLight(light.primitive, emitter.v0, emitter.v1, emitter.v2, light.pick, pdfArea, from,
+                            device_solidAngleTriangles(), u, v);
     p.material = emitter.material;
     return p;
 }
@@ -118,7 +129,8 @@ float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 poin
 #else
     const float area = openArea;
 #endif
-    return solidAnglePdfFromArea(pick / area, dot(offset, offset), cosLight);
+    return triangleLightSolidAnglePdf(now.v0, now.v1, now.v2, pick, pick / area, from, device_solidAngleTriangles(),
+                                      dot(offset, offset), cosLight);
 }
 #endif
 

@@ -107,6 +107,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_TRACED_LOBES
 #define VKRT_HAS_GLOSSY_LOBES
 #define VKRT_HAS_ROUGH_REFRACTION
+#define VKRT_HAS_SOLID_ANGLE_TRIANGLES  // and the scene's LightTable says whether it is used
 
 #else  // GLSL
 

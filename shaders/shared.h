@@ -463,7 +463,7 @@ struct SceneParams {
     VKRT_ADDRESS(FloatBuffer, ggxAlbedoTable);
     VKRT_ADDRESS(FloatBuffer, ggxDielectricAlbedoTable);
     uint energyCompensation;  // 1: the GGX lobes make up for single scattering's loss; 0: they do not
-    uint unused0;
+    uint solidAngleTriangles;  // 1: triangle lights that look large are sampled by solid angle (light_table.h)
     VKRT_ADDRESS(ShapeBuffer, shapes);  // with VKRT_HAS_SHAPES: the solids' shapes
     VKRT_ADDRESS(SolidBuffer, solids);
     VKRT_ADDRESS(ShapePoseBuffer, shapePoses);  // motion blur: poses 1..motionSegments of every shape

@@ -1,7 +1,7 @@
 // Analytic scenes with known answers, on the GPU and the CPU reference alike: a white furnace that never
 // gains energy, a moving square's streak against velocity times shutter (two triangles, or a box shape
-// animated in a glTF file), an emissive box shape lighting a floor as its triangles do, and a sphere's
-// silhouette against its analytic area.
+// animated in a glTF file), an emissive box shape lighting a floor as its triangles do, a floor under a lamp
+// far larger than its height, and a sphere's silhouette against its analytic area.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,7 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cpu/reference_renderer.h"
+#include "gpu/scene_features.h"
 #include "scene/gltf_loader.h"
+#include "scene/light_table.h"
 #include "scene/scene_builder.h"
 #include "shape_geometry.h"
 #include "support/gpu_fixture.h"
@@ -384,6 +386,83 @@ TEST_F(Gpu, EmissiveBoxShapeLightsTheFloorAsItsTrianglesDo) {
                 which.c_str(), means[0][device], means[1][device], means[0][device] / means[1][device]);
             EXPECT_GT(means[1][device], 0.05) << which << ": the floor must be lit";
             EXPECT_NEAR(means[0][device] / means[1][device], 1.0, 0.02) << which;
+        }
+    }
+}
+
+// A lamp far larger than its height over a floor, as a sky quad or a ceiling panel is: Whitted's diffuse
+// floor sees it through light samples alone. Sampled by area, nearly every point lay thousands of units away,
+// and the floor was a few fireflies on black (a review: at 64 spp); sampled by the solid angle each triangle
+// covers, the only variance left is the cosine's. Against the closed form (Howell's B-3, four corner
+// rectangles), pixel by pixel.
+TEST_F(Gpu, FloorUnderALampFarLargerThanItsHeightIsSmooth) {
+    Scene scene;
+    scene.materials.push_back(test::lambertian(0.8f));
+    Material lamp;
+    lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    lamp.emission = glm::vec3(2.0f);
+    scene.materials.push_back(lamp);
+    addFlatQuad(scene, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+    const float half = 5000.0f, height = 5.0f;  // facing down
+    addFlatQuad(scene, {-half, height, -half}, {half, height, -half}, {half, height, half},
+                {-half, height, half}, 1);
+    finalizeScene(scene);
+    ASSERT_EQ(scene.emissiveTriangles.size(), 2u);
+    EXPECT_TRUE(detectFeatures(scene).solidAngleTriangles);
+    {
+        // A lamp 1 across at the same height is small beside the scene: sampled by area, its sampler left
+        // out.
+        Scene small;
+        small.materials = scene.materials;
+        addFlatQuad(small, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+        addFlatQuad(small, {-0.5f, height, -0.5f}, {0.5f, height, -0.5f}, {0.5f, height, 0.5f},
+                    {-0.5f, height, 0.5f}, 1);
+        finalizeScene(small);
+        EXPECT_FALSE(detectFeatures(small).solidAngleTriangles);
+        EXPECT_FALSE(buildLightTable(small).solidAngleTriangles);
+    }
+    const double x = half / height,
+                 formFactor = 4.0 * (x / std::sqrt(1 + x * x) * std::atan(x / std::sqrt(1 + x * x)) / M_PI);
+    const double expected = 0.8 * 2.0 * formFactor;
+    Camera camera;
+    camera.position = {0.0, 2.0, 0.0};
+    camera.forward = {0.0, -1.0, 0.0};
+    camera.up = {0.0, 0.0, -1.0};
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.yfov = 0.8;
+    // Whitted's light samples alone; paths' weighed against the floor's own rays by MIS, and without MIS (the
+    // lamp is black and the floor flat: the floor's light is all direct).
+    for (const auto& [integrator, mis] :
+         {std::pair{Integrator::Whitted, true}, std::pair{Integrator::Path, true},
+          std::pair{Integrator::Path, false}}) {
+        RenderSettings settings;
+        settings.integrator = integrator;
+        settings.multipleImportanceSampling = mis;
+        settings.width = settings.height = 24;
+        settings.samplesPerPixel = 64;
+        settings.ambient = glm::dvec3(0.0);
+        settings.background = glm::dvec3(0.0);
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+        for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
+            const std::string which = std::string(integratorName(integrator)) + (mis ? "" : " without MIS") +
+                                      (result == &pair.gpu ? ", gpu" : ", cpu");
+            EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
+            double sum = 0.0, sumSquares = 0.0, lowest = 1e30, highest = 0.0;
+            for (const glm::vec3& p : result->image.pixels) {
+                sum += p.x;
+                sumSquares += double(p.x) * p.x;
+                lowest = std::min(lowest, double(p.x));
+                highest = std::max(highest, double(p.x));
+            }
+            const double n = static_cast<double>(result->image.pixels.size());
+            const double mean = sum / n, spread = std::sqrt(std::max(0.0, sumSquares / n - mean * mean));
+            std::printf("%s: floor %.5f (closed form %.5f), pixels %.5f to %.5f, deviation %.5f\n",
+                        which.c_str(), mean, expected, lowest, highest, spread);
+            EXPECT_NEAR(mean, expected, 0.01 * expected) << which;
+            EXPECT_LT(spread, 0.1 * expected) << which;
+            EXPECT_GT(lowest, 0.7 * expected) << which;
+            EXPECT_LT(highest, 1.3 * expected) << which;
         }
     }
 }

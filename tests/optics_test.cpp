@@ -1,8 +1,10 @@
 // Fresnel, Snell and total internal reflection against closed forms.
+#include <array>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
+#include "area_light.h"
 #include "cpu/triangle_intersection.h"
 #include "optics.h"
 #include "random.h"
@@ -206,6 +208,91 @@ TEST(WhittedModel, LambertPartAndMirrorLobe) {
     EXPECT_TRUE(m.mirror && m.traced);
     EXPECT_EQ(specularBrdf(m, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), glm::dvec3(0.0));
     EXPECT_EQ(lobePdf(m, {0, 0, 1}, {0, 0, 1}, fromAngle(0.4), fromAngle(-0.4)), 0.0);
+}
+
+// The integral of max(0, n . w) over the directions w a triangle covers seen from `from`: Lambert's formula
+// for a polygon, half the sum over its edges of the angle each subtends times n . the unit normal of the
+// plane through it and `from` (Arvo 1995), for a triangle wholly above n's horizon.
+double projectedSolidAngle(const std::array<glm::dvec3, 3>& corners, const glm::dvec3& from,
+                           const glm::dvec3& n) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3 p = glm::normalize(corners[i] - from),
+                         q = glm::normalize(corners[(i + 1) % 3] - from);
+        sum += std::atan2(glm::length(glm::cross(p, q)), glm::dot(p, q)) *
+               glm::dot(n, glm::normalize(glm::cross(p, q)));
+    }
+    return 0.5 * std::abs(sum);
+}
+
+TEST(AreaLights, TriangleSamplesFallWhereTheirDensitySays) {
+    // Stratified samples of a triangle seen from near (where it covers 2.6 sr) and from farther (0.33 sr),
+    // where it looks large and is sampled by solid angle, and from far away (7e-4 and 7e-6 sr), where it is
+    // sampled by area, as it is everywhere in scenes without a large lamp (`bySolidAngle` false), estimate
+    // the projected solid angle for three normals as Lambert's formula gives it. Every point's density
+    // matches the one multiple importance sampling asks for, and by solid angle it is 1 / the solid angle
+    // (Van Oosterom and Strackee's, against Girard's from the triangle's angles).
+    const std::array<glm::dvec3, 3> corners = {glm::dvec3(0, 0, 1), glm::dvec3(2, 0, 1),
+                                               glm::dvec3(0, 3, 1.5)};
+    const double area = triangleArea(corners[0], corners[1], corners[2]);
+    for (const bool allowed : {true, false}) {
+        for (const glm::dvec3 from : {glm::dvec3(0.4, 0.6, 0.7), glm::dvec3(1.0, 1.0, 4.0),
+                                      glm::dvec3(30.0, -20.0, 50.0), glm::dvec3(300.0, -200.0, 500.0)}) {
+            const SphericalTriangle spherical = sphericalTriangle(corners[0], corners[1], corners[2], from);
+            const bool bySolidAngle =
+                sampledSphericalTriangle(corners[0], corners[1], corners[2], from, allowed).area > 0.0;
+            EXPECT_EQ(bySolidAngle, allowed && glm::length(from) < 10.0) << "solid angle " << spherical.area;
+            // Girard's theorem: the angles at the corners sum to pi plus the solid angle.
+            double angles = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                const glm::dvec3 p = corners[i] - from, q = corners[(i + 1) % 3] - from,
+                                 r = corners[(i + 2) % 3] - from;
+                const glm::dvec3 toQ = glm::cross(p, q), toR = glm::cross(p, r);
+                angles += std::acos(glm::dot(toQ, toR) / (glm::length(toQ) * glm::length(toR)));
+            }
+            EXPECT_NEAR(spherical.area, angles - M_PI, 1e-9 * spherical.area);
+            // Normals facing the triangle: its own (every direction to it above the horizon) and two tilted
+            // ones, used where the triangle stays above their horizon too.
+            glm::dvec3 facing = glm::normalize(glm::cross(corners[1] - corners[0], corners[2] - corners[0]));
+            if (glm::dot(facing, corners[0] - from) < 0.0) facing = -facing;
+            const glm::dvec3 side = glm::normalize(glm::cross(facing, glm::dvec3(0.3, 1.0, 0.2)));
+            int checked = 0;
+            for (const glm::dvec3 n :
+                 {facing, glm::normalize(facing + 0.3 * side), glm::normalize(facing - 0.2 * side)}) {
+                bool above = true;
+                for (const glm::dvec3& corner : corners) above = above && glm::dot(n, corner - from) > 0.0;
+                if (!above) continue;
+                ++checked;
+                constexpr int strata = 300;
+                double sum = 0.0;
+                for (int i = 0; i < strata; ++i) {
+                    for (int j = 0; j < strata; ++j) {
+                        const double u = (i + 0.5) / strata, v = (j + 0.5) / strata;
+                        const LightPoint p = sampleTriangleLight(7u, corners[0], corners[1], corners[2], 1.0,
+                                                                 1.0 / area, from, allowed, u, v);
+                        const glm::dvec3 offset = p.position - from;
+                        const double distance2 = glm::dot(offset, offset);
+                        const glm::dvec3 w = offset / std::sqrt(distance2);
+                        const double cosLight = std::abs(glm::dot(p.normal, w));
+                        const double pdf = p.pdfArea * distance2 / cosLight;  // per solid angle
+                        ASSERT_NEAR(
+                            pdf,
+                            triangleLightSolidAnglePdf(corners[0], corners[1], corners[2], 1.0, 1.0 / area,
+                                                       from, allowed, distance2, cosLight),
+                            1e-9 * pdf);
+                        if (bySolidAngle) {
+                            ASSERT_NEAR(pdf, 1.0 / spherical.area, 1e-9 * pdf);
+                        }
+                        sum += std::max(0.0, glm::dot(n, w)) / pdf;
+                    }
+                }
+                const double expected = projectedSolidAngle(corners, from, n);
+                EXPECT_NEAR(sum / (strata * strata), expected, 2e-4 * expected)
+                    << "from " << from.x << " n " << n.x << (allowed ? "" : ", by area");
+            }
+            EXPECT_GE(checked, 2);
+        }
+    }
 }
 
 }  // namespace

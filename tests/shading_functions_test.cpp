@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -171,10 +172,26 @@ std::vector<FunctionCase> makeCases() {
             }
         }
     }
-    for (float u : {0.0f, 0.3f, 0.999f}) {
-        for (float v : {0.0f, 0.5f, 0.999f}) {
-            cases.push_back(makeCase(VKRT_CASE_TRIANGLE_LIGHT, 0, {0, 0, 1, 0.25f}, {2, 0, 1, 0},
-                                     {0, 3, 1.5f, 0}, {u, v, 0, 0}));
+    // A triangle light (area 3.04, picked with probability 0.4) seen from just below it (solid angle 3.9),
+    // from above (0.33) and from far away (7e-4), sampled by solid angle, and from farther (7e-6) and from
+    // its own plane (0), sampled by area; and at scales 1e-12 and 1e12 (an area of 3e-24, whose square
+    // underflows in float).
+    struct View {
+        glm::vec3 from;
+        float scale;
+    };
+    for (const View view :
+         {View{{0.4f, 0.6f, 0.8f}, 1.0f}, View{{1.0f, 1.0f, 4.0f}, 1.0f}, View{{30.0f, -20.0f, 50.0f}, 1.0f},
+          View{{300.0f, -200.0f, 500.0f}, 1.0f}, View{{-2.0f, 0.0f, 1.0f}, 1.0f},
+          View{{0.4f, 0.6f, 0.8f}, 1e-12f}, View{{1.0f, 1.0f, 4.0f}, 1e-12f},
+          View{{300.0f, -200.0f, 500.0f}, 1e-12f}, View{{1.0f, 1.0f, 4.0f}, 1e12f}}) {
+        const float k = view.scale;
+        const glm::vec3 from = k * view.from;
+        for (float u : {0.0f, 0.3f, 0.999f}) {
+            for (float v : {0.0f, 0.5f, 0.999f}) {
+                cases.push_back(makeCase(VKRT_CASE_TRIANGLE_LIGHT, 0, {0, 0, k, 0}, {2 * k, 0, k, 0.4f},
+                                         {0, 3 * k, 1.5f * k, from.x}, {u, v, from.y, from.z}));
+            }
         }
     }
     // Spheres from 1e-2 to 1e5 in radius, seen from inside, nearby and far away.
@@ -312,6 +329,19 @@ std::array<Tolerance, 8> tolerances(const FunctionCase& fc) {
             t[2] = {0.0, 0.0};   // hit or miss: exact
             t[3] = {0.0, 1e-4};  // 1 - cos of the subtended cone
             t[4] = t[5] = {2e-5, 0.0};
+            break;
+        }
+        case VKRT_CASE_TRIANGLE_LIGHT: {
+            // Points are as exact as the direction to them times the distance from the viewpoint allows; the
+            // density per unit area, which scales as 1 / length^2, is compared relative to itself.
+            const glm::dvec3 v0(fc.a), v1(fc.b), v2(fc.c), from(fc.c.w, fc.d.z, fc.d.w);
+            const double scale = glm::length(v0 - from) + glm::length(v1 - v0) + glm::length(v2 - v0);
+            t[0] = t[1] = t[2] = {4e-7 * scale, 2e-5};
+            t[3] = {0.0, 2e-5};
+            // Seen edge-on, the density per solid angle at a point of the triangle is infinite: float and
+            // double round the point's cosine (0) differently.
+            if (std::abs(glm::dot(v0 - from, glm::cross(v1 - v0, v2 - v0))) < 1e-9 * scale * scale * scale)
+                t[7] = {std::numeric_limits<double>::infinity(), 0.0};
             break;
         }
         case VKRT_CASE_MEDIA:

@@ -57,6 +57,10 @@ smooth normals) on a Lambertian floor, with no light of their own. Every materia
 by: Lambertian (KHR_materials_specular factor 0), a white metal of roughness 0 (its Fresnel term is exactly 1)
 and smooth glass of index 1.5 (the exact dielectric Fresnel term, and refraction into its volume).
 
+studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
+2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
+they cover (docs/integrators.md). Every surface is Lambertian.
+
 csg.gltf: analytic shapes and constructive solid geometry (VKRT_shape and VKRT_csg, docs/vkrt_shape.md) on a
 grey floor, lit by an emissive box (an area light) and a point light. At the back, the classic CSG pieces: a
 box minus a sphere (bites in the box's faces, in the sphere's orange), a glass lens (the intersection of two
@@ -548,6 +552,30 @@ def outdoor():
     g.write(os.path.join(OUTPUT, "outdoor.gltf"))
 
 
+def studio():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    white = g.material("white", base_color=(0.8, 0.8, 0.8), specular=0.0)
+    blue = g.material("blue", base_color=(0.2, 0.35, 0.7), specular=0.0)
+    orange = g.material("orange", base_color=(0.85, 0.45, 0.15), specular=0.0)
+    panel = g.material("softbox", base_color=(0.0, 0.0, 0.0), emission=(1.0, 0.96, 0.9), emission_strength=2.0,
+                       specular=0.0)
+    floor = quad([[-2.0, 0.0, -2.0], [2.0, 0.0, -2.0], [2.0, 0.0, 4.5], [-2.0, 0.0, 4.5]], [0.0, 1.0, 0.0])
+    back = quad([[-2.0, 0.0, -2.0], [2.0, 0.0, -2.0], [2.0, 2.2, -2.0], [-2.0, 2.2, -2.0]], [0.0, 0.0, 1.0])
+    # The softbox: 2.8 x 2.8 at 1.5 above the floor, facing down; each of its triangles covers 6% of the square
+    # of the scene's diagonal.
+    softbox = quad([[-1.4, 1.5, -1.4], [1.4, 1.5, -1.4], [1.4, 1.5, 1.4], [-1.4, 1.5, 1.4]], [0.0, -1.0, 0.0])
+    box = cube([-0.6, 0.35, -0.4], 0.35)
+    ball = uv_sphere([0.65, 0.4, 0.2], 0.4, 24, 48)
+    primitives = [(floor[0], None, floor[1], white), (back[0], None, back[1], white),
+                  (softbox[0], None, softbox[1], panel), (box[0], None, box[1], orange),
+                  (ball[0], ball[1], ball[2], blue)]
+    g.node("studio", mesh=g.mesh("studio", primitives))
+    eye, target = [0.0, 0.9, 4.2], [0.0, 0.45, 0.0]
+    camera = g.perspective_camera("studio-camera", math.radians(36.0), aspect_ratio=1.0)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "studio.gltf"))
+
+
 def axis_angle(axis, degrees):
     """Quaternion (x, y, z, w) of a turn by `degrees` about a unit axis."""
     s = math.sin(math.radians(degrees) / 2)
@@ -756,3 +784,4 @@ if __name__ == "__main__":
     outdoor()
     csg()
     deform()
+    studio()

@@ -36,6 +36,8 @@ vkrt --scene scenes/outdoor.gltf --width 128 --spp 1024 --environment scenes/sof
     --out "$out/outdoor-128-cpu.png"
 vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
 vkrt --scene scenes/csg.gltf --width 512 --spp 256 --out "$out/csg-cpu.png"
+vkrt --scene scenes/studio.gltf --width 512 --spp 16 --integrator whitted --out "$out/studio-whitted-cpu.png"
+vkrt --scene scenes/studio.gltf --width 512 --spp 64 --out "$out/studio-cpu.png"
 vkrt --scene scenes/deform.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/deform-cpu.png"
 vkrt --scene scenes/deform.gltf --width 512 --spp 256 "${sky[@]}" --shutter 0 1 --out "$out/deform-motion-cpu.png"
 

@@ -81,7 +81,8 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, dou
     const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
     // The point is uniform over the triangle as it is now (animations may scale it).
     const double pdfArea = lights.pick[i] / shading::triangleArea(v0, v1, v2);
-    shading::LightPoint p = shading::sampleTriangleLight(primitive, v0, v1, v2, pdfArea, u, v);
+    shading::LightPoint p = shading::sampleTriangleLight(primitive, v0, v1, v2, lights.pick[i], pdfArea, from,
+                                                         lights.solidAngleTriangles, u, v);
     p.material = t.material;
     return p;
 }
@@ -110,8 +111,9 @@ double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, 
                                                  distance2, cosLight);
     }
     const Triangle t = scene.triangleAt(primitive, time_);
-    const double area = shading::triangleArea(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
-    return shading::solidAnglePdfFromArea(pick / area, distance2, cosLight);
+    const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
+    return shading::triangleLightSolidAnglePdf(v0, v1, v2, pick, pick / shading::triangleArea(v0, v1, v2),
+                                               from, data_.lights.solidAngleTriangles, distance2, cosLight);
 }
 
 glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction,

@@ -54,6 +54,7 @@ struct GpuSceneData {
     std::vector<gpu::GpuShapePose> shapePoses;  // poses 1..motionSegments of every shape
     int motionSegments = 0;
     double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling
+    bool solidAngleTriangles = false;  // LightTable::solidAngleTriangles
 };
 
 // Packs what the scene's features need; `features`, when given, replaces the detected set (a superset

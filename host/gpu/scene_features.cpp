@@ -7,6 +7,7 @@
 #include "media.h"
 #include "microfacet.h"
 #include "scene/ggx_albedo_tables.h"
+#include "scene/light_table.h"
 
 namespace vkrt {
 namespace {
@@ -44,6 +45,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::glossyLobes, "glossy_lobes", "VKRT_HAS_GLOSSY_LOBES"},
     {&SceneFeatures::roughRefraction, "rough_refraction", "VKRT_HAS_ROUGH_REFRACTION"},
     {&SceneFeatures::largeTriangles, "large_triangles", "VKRT_HAS_LARGE_TRIANGLES"},
+    {&SceneFeatures::solidAngleTriangles, "solid_angle_triangles", "VKRT_HAS_SOLID_ANGLE_TRIANGLES"},
 };
 
 // Whether some point of `material` may trace a lobe (surface_response.h's `traced` and `coatTraced`): a
@@ -196,6 +198,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();
     features.largeTriangles = hasLargeTriangles(scene);
+    features.solidAngleTriangles = samplesTrianglesBySolidAngle(scene);
     return features;
 }
 

@@ -18,6 +18,10 @@ struct LightTable {
     std::vector<double> pick;          // each one's probability of being picked
     std::vector<double> pdfArea;       // pick probability over area: the density of a triangle's points
     double totalPower = 0.0;
+    // Whether triangles that look large from the shading point are sampled by the solid angle they cover
+    // (shaders/area_light.h sampledSphericalTriangle): where some emissive triangle is large beside the
+    // scene.
+    bool solidAngleTriangles = false;
 
     bool empty() const { return primitives.empty(); }
     // The entry that `u` in [0, 1) picks: the first whose cumulative power exceeds it.
@@ -25,6 +29,9 @@ struct LightTable {
 };
 
 LightTable buildLightTable(const Scene& scene);
+
+// Whether some emissive triangle is large beside the scene (LightTable::solidAngleTriangles).
+bool samplesTrianglesBySolidAngle(const Scene& scene);
 
 // The area of triangle `index` (of Scene::triangles) or of a sphere's surface, at the shutter's opening.
 double primitiveArea(const Scene& scene, uint32_t primitive);

@@ -172,9 +172,19 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
                    isinf(arrival.distance) ? -1.0 : arrival.distance);
         r1 = real4(arrival.toLight.x, arrival.toLight.y, arrival.toLight.z, 0.0);
     } else if (fc.function == VKRT_CASE_TRIANGLE_LIGHT) {
-        const LightPoint p = sampleTriangleLight(7u, xyz(a), xyz(b), xyz(c), a.w, d.x, d.y);
+        // Corners a, b and c, picked with probability b.w, seen from (c.w, d.z, d.w) at (d.x, d.y); the
+        // density per unit area is the pick over the triangle's area, as the devices take it.
+        const real3 from = real3(c.w, d.z, d.w);
+        const real pdfArea = b.w / triangleArea(xyz(a), xyz(b), xyz(c));
+        const LightPoint p =
+            sampleTriangleLight(7u, xyz(a), xyz(b), xyz(c), b.w, pdfArea, from, true, d.x, d.y);
+        const real3 offset = p.position - from;
+        const real distance2 = dot(offset, offset);
+        const real cosLight = abs(dot(p.normal, offset)) / sqrt(distance2);
         r0 = real4(p.position.x, p.position.y, p.position.z, p.pdfArea);
-        r1 = real4(p.normal.x, p.normal.y, p.uv.x + p.uv.y, triangleArea(xyz(a), xyz(b), xyz(c)));
+        r1 = real4(p.normal.x, sphericalTriangle(xyz(a), xyz(b), xyz(c), from).area, p.uv.x + p.uv.y,
+                   triangleLightSolidAnglePdf(xyz(a), xyz(b), xyz(c), b.w, pdfArea, from, true, distance2,
+                                              cosLight));
     } else if (fc.function == VKRT_CASE_SPHERE_LIGHT) {
         const LightPoint p = sampleSphereLight(7u, xyz(a), a.w, b.w, xyz(b), c.x, c.y);
         const real3 offset = p.position - xyz(b);

@@ -11,6 +11,7 @@
 #define VKRT_HAS_CLEARCOAT
 #define VKRT_HAS_ENVIRONMENT
 #define VKRT_HAS_TRACED_LOBES  // reflectedLight's specular lobe (left out of Lambertian scenes' shaders)
+#define VKRT_HAS_SOLID_ANGLE_TRIANGLES
 #include "shared.h"
 #include "shading_language.h"
 
