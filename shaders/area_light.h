@@ -45,7 +45,7 @@ VKRT_FN real triangleArea(real3 v0, real3 v1, real3 v2) {
 // cos t and sin t for t in [0, 2 pi], to a few ulps of the type on every device: Vulkan lets a device's sin
 // and cos be 2^-11 off (lavapipe's are 5e-5 off), which would swamp the small angles of a small triangle's
 // sampling. The angle is brought within pi / 4 of a multiple of pi / 2 and Taylor's series taken there (the
-// first omitted terms are below 2e-14).
+// first omitted terms are at most 2e-14).
 VKRT_FN real2 cosSin(real t) {
     const real quarter = floor(t / (0.5 * VKRT_PI) + 0.5);
     const real r = t - quarter * (0.5 * VKRT_PI);

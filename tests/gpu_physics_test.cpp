@@ -313,19 +313,26 @@ TEST_F(Gpu, MotionBlurStreakIsVelocityTimesShutter) {
 // from between the floor and the light (which it does not see), and the mean over the image is the floor's
 // mean radiance, within 2% (the ratio varies by about 0.25% from seed to seed: 65,536 samples a render), path
 // and Whitted, GPU and CPU.
+// A Lambertian floor of albedo 0.8, 6 x 6 at y = 0 facing up (material 0), and a black lamp material of
+// radiance `radiance` (material 1) for the lamp the test adds.
+Scene litFloor(float radiance) {
+    Scene scene;
+    scene.materials.push_back(test::lambertian(0.8f));
+    Material lamp;
+    lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    lamp.emission = glm::vec3(radiance);
+    scene.materials.push_back(lamp);
+    addFlatQuad(scene, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+    return scene;
+}
+
 TEST_F(Gpu, EmissiveBoxShapeLightsTheFloorAsItsTrianglesDo) {
     const glm::dmat4 map =
         glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 1.3, -0.1)) *
         glm::rotate(glm::dmat4(1.0), glm::radians(35.0), glm::normalize(glm::dvec3(1.0, 0.4, 0.3))) *
         glm::scale(glm::dmat4(1.0), glm::dvec3(0.5, 0.08, 0.3));
     auto build = [&](bool shape) {
-        Scene scene;
-        scene.materials.push_back(test::lambertian(0.8f));
-        Material lamp;
-        lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-        lamp.emission = glm::vec3(4.0f);
-        scene.materials.push_back(lamp);
-        addFlatQuad(scene, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+        Scene scene = litFloor(4.0f);
         if (shape) {
             std::array<uint32_t, 8> alone{};
             alone[0] = 2u;  // inside exactly when inside shape 0
@@ -396,13 +403,7 @@ TEST_F(Gpu, EmissiveBoxShapeLightsTheFloorAsItsTrianglesDo) {
 // covers, the only variance left is the cosine's. Against the closed form (Howell's B-3, four corner
 // rectangles), pixel by pixel.
 TEST_F(Gpu, FloorUnderALampFarLargerThanItsHeightIsSmooth) {
-    Scene scene;
-    scene.materials.push_back(test::lambertian(0.8f));
-    Material lamp;
-    lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    lamp.emission = glm::vec3(2.0f);
-    scene.materials.push_back(lamp);
-    addFlatQuad(scene, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+    Scene scene = litFloor(2.0f);
     const float half = 5000.0f, height = 5.0f;  // facing down
     addFlatQuad(scene, {-half, height, -half}, {half, height, -half}, {half, height, half},
                 {-half, height, half}, 1);
@@ -412,9 +413,7 @@ TEST_F(Gpu, FloorUnderALampFarLargerThanItsHeightIsSmooth) {
     {
         // A lamp 1 across at the same height is small beside the scene: sampled by area, its sampler left
         // out.
-        Scene small;
-        small.materials = scene.materials;
-        addFlatQuad(small, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}, 0);
+        Scene small = litFloor(2.0f);
         addFlatQuad(small, {-0.5f, height, -0.5f}, {0.5f, height, -0.5f}, {0.5f, height, 0.5f},
                     {-0.5f, height, 0.5f}, 1);
         finalizeScene(small);

@@ -172,10 +172,10 @@ std::vector<FunctionCase> makeCases() {
             }
         }
     }
-    // A triangle light (area 3.04, picked with probability 0.4) seen from just below it (solid angle 3.9),
-    // from above (0.33) and from far away (7e-4), sampled by solid angle, and from farther (7e-6) and from
-    // its own plane (0), sampled by area; and at scales 1e-12 and 1e12 (an area of 3e-24, whose square
-    // underflows in float).
+    // A triangle light (area 3.04, picked with probability 0.4) seen from just below it (solid angle 3.9) and
+    // from above (0.33), where it looks large and is sampled by solid angle, and from far away (7e-4),
+    // farther (7e-6) and its own plane (0), sampled by area; and at scales 1e-12 and 1e12 (an area of 3e-24,
+    // whose square underflows in float).
     struct View {
         glm::vec3 from;
         float scale;
