@@ -326,6 +326,17 @@ Scene litFloor(float radiance) {
     return scene;
 }
 
+// A camera at `height` above the origin looking straight down (-Y), -Z up the image, of vertical field `yfov`.
+Camera lookingDown(double height, double yfov) {
+    Camera camera;
+    camera.position = {0.0, height, 0.0};
+    camera.forward = {0.0, -1.0, 0.0};
+    camera.up = {0.0, 0.0, -1.0};
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.yfov = yfov;
+    return camera;
+}
+
 TEST_F(Gpu, EmissiveBoxShapeLightsTheFloorAsItsTrianglesDo) {
     const glm::dmat4 map =
         glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 1.3, -0.1)) *
@@ -360,12 +371,7 @@ TEST_F(Gpu, EmissiveBoxShapeLightsTheFloorAsItsTrianglesDo) {
     const Scene shape = build(true), triangles = build(false);
     ASSERT_EQ(shape.emissiveShapes.size(), 1u);
     ASSERT_EQ(triangles.emissiveTriangles.size(), 12u);
-    Camera camera;
-    camera.position = {0.0, 0.6, 0.0};
-    camera.forward = {0.0, -1.0, 0.0};
-    camera.up = {0.0, 0.0, -1.0};
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.yfov = 1.2;
+    const Camera camera = lookingDown(0.6, 1.2);
     for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
         RenderSettings settings;
         settings.integrator = integrator;
@@ -423,12 +429,7 @@ TEST_F(Gpu, FloorUnderALampFarLargerThanItsHeightIsSmooth) {
     const double x = half / height,
                  formFactor = 4.0 * (x / std::sqrt(1 + x * x) * std::atan(x / std::sqrt(1 + x * x)) / M_PI);
     const double expected = 0.8 * 2.0 * formFactor;
-    Camera camera;
-    camera.position = {0.0, 2.0, 0.0};
-    camera.forward = {0.0, -1.0, 0.0};
-    camera.up = {0.0, 0.0, -1.0};
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.yfov = 0.8;
+    const Camera camera = lookingDown(2.0, 0.8);
     // Whitted's light samples alone; paths' weighed against the floor's own rays by MIS, and without MIS (the
     // lamp is black and the floor flat: the floor's light is all direct).
     for (const auto& [integrator, mis] :
