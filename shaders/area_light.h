@@ -162,13 +162,13 @@ VKRT_FN bool triangleLooksLarge(real3 v0, real3 v1, real3 v2, real3 from) {
     return triangleArea(v0, v1, v2) > 0.1 * dot(toCentroid, toCentroid);
 }
 
-// The spherical triangle a triangle is sampled in from `from`, its area 0 where the triangle is sampled by
-// area: everywhere unless `bySolidAngle` (the scene has a large lamp: host/scene/light_table.h), where it
-// looks small, and where Arvo's mapping would fail.
-VKRT_FN SphericalTriangle sampledSphericalTriangle(real3 v0, real3 v1, real3 v2, real3 from, bool bySolidAngle) {
+// In a scene with a large lamp (host/scene/light_table.h), the spherical triangle a triangle is sampled in from
+// `from`; its area 0 where the triangle is sampled by area: where it looks small, and where Arvo's mapping would
+// fail.
+VKRT_FN SphericalTriangle sampledSphericalTriangle(real3 v0, real3 v1, real3 v2, real3 from) {
     SphericalTriangle s;
     s.area = 0.0;
-    if (bySolidAngle && triangleLooksLarge(v0, v1, v2, from)) s = sphericalTriangle(v0, v1, v2, from);
+    if (triangleLooksLarge(v0, v1, v2, from)) s = sphericalTriangle(v0, v1, v2, from);
     if (!triangleSampledBySolidAngle(s.area)) s.area = 0.0;
     return s;
 }
@@ -232,7 +232,7 @@ VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3
     p.normal = planeNormal(v0, v1, v2);
 #ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
     if (bySolidAngle) {
-        const SphericalTriangle s = sampledSphericalTriangle(v0, v1, v2, from, true);
+        const SphericalTriangle s = sampledSphericalTriangle(v0, v1, v2, from);
         if (s.area > 0.0) {
             pointInSolidAngle(s, v0, v1, v2, from, pick, u, v, p);
             return p;
@@ -254,7 +254,7 @@ VKRT_FN real triangleLightSolidAnglePdf(real3 v0, real3 v1, real3 v2, real pick,
     if (!(cosLight > 0.0)) return 0.0;
 #ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
     if (bySolidAngle) {
-        const real area = sampledSphericalTriangle(v0, v1, v2, from, true).area;
+        const real area = sampledSphericalTriangle(v0, v1, v2, from).area;
         if (area > 0.0) return pick / area;
     }
 #endif
