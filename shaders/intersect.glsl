@@ -7,7 +7,17 @@
 struct ShearedRay {
     vec3 origin;
     vec3 direction;
-    vec3 inverseDirection;  // for the box test; zero components become huge, never NaN
+    // The box test's (traverse.glsl's intersectBox): 1 / direction, and the origins its lower and upper faces
+    // are measured from. Along an axis the ray does not move in (|direction| below 1e-36: less than 1e-23
+    // over the GPU's reach of 1e12, gpu_scene.cpp), the slab holds the ray when the origin lies between the
+    // faces, both included: there the inverse is a finite 1e38 (never NaN; products overflow to +-infinity)
+    // and the two origins lie n beyond the ray's on either side (n at least twice the origin's ulp and 1e-22),
+    // so an origin between or on the faces gives the slab distances below -1e16 and above 1e16, farther than
+    // anything within reach. With one origin and 1e30, an origin on the upper face gave 0 there, and the box
+    // was missed.
+    vec3 inverseDirection;
+    vec3 lowerFaceOrigin;
+    vec3 upperFaceOrigin;
     int kx, ky, kz;         // the permuted axes, kz the dominant direction
     vec3 shear;             // Sx, Sy, Sz
 };
@@ -16,10 +26,11 @@ ShearedRay shearRay(Ray ray) {
     ShearedRay r;
     r.origin = ray.origin;
     r.direction = ray.direction;
-    const float huge = 1e30;
-    r.inverseDirection = vec3(ray.direction.x != 0.0 ? 1.0 / ray.direction.x : huge,
-                              ray.direction.y != 0.0 ? 1.0 / ray.direction.y : huge,
-                              ray.direction.z != 0.0 ? 1.0 / ray.direction.z : huge);
+    const bvec3 still = lessThan(abs(ray.direction), vec3(1e-36));
+    r.inverseDirection = mix(1.0 / ray.direction, vec3(1e38), still);
+    const vec3 nudge = mix(vec3(0.0), max(abs(ray.origin) * (1.0 / 4194304.0), vec3(1e-22)), still);  // 2^-22
+    r.lowerFaceOrigin = ray.origin + nudge;
+    r.upperFaceOrigin = ray.origin - nudge;
     // The dominant axis becomes z; swapping x and y keeps the winding when it points backwards.
     vec3 a = abs(ray.direction);
     r.kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);

@@ -22,8 +22,8 @@ struct Hit {
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
 // touches (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
 bool intersectBox(vec3 boundsMin, vec3 boundsMax, ShearedRay r, float tMin, float tMax, out float tEntry) {
-    const vec3 t0 = (boundsMin - r.origin) * r.inverseDirection;
-    const vec3 t1 = (boundsMax - r.origin) * r.inverseDirection;
+    const vec3 t0 = (boundsMin - r.lowerFaceOrigin) * r.inverseDirection;
+    const vec3 t1 = (boundsMax - r.upperFaceOrigin) * r.inverseDirection;
     const vec3 near = min(t0, t1), far = max(t0, t1);
     tEntry = max(max(near.x, near.y), max(near.z, tMin));
     const float tExit = min(min(far.x, far.y), min(far.z, tMax)) * 1.0000003576;

@@ -447,6 +447,64 @@ TEST_F(Gpu, SurfacesCloserThanTheRaysPrecisionAreTies) {
     }
 }
 
+TEST_F(Gpu, AxisParallelRaysFromABoxFaceHit) {
+    // A square (two triangles) across [corner, corner + size] in two axes, at `size` * 5 along the third, and
+    // rays parallel to that third axis from a grid of points over the square's closed extent, its edges
+    // included, going towards it: every ray meets the square (edges count), so every box on the way holds
+    // the ray's origin on a face where the ray's direction is zero in that axis. The GPU's slab test took
+    // 1 / 0 as a finite 1e30, so an origin on a box's upper face gave (upper - origin) * 1e30 = 0 as the
+    // slab's exit: the rays along the square's upper edges missed it (CPU: hit). At 1e7 from the origin the
+    // coordinates are whole numbers, where a model's boxes fall on its vertices.
+    for (const float corner : {0.0f, 1e7f, -3.5f}) {
+        for (int axis = 0; axis < 3; ++axis) {
+            for (const float sign : {1.0f, -1.0f}) {
+                const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+                const float size = corner == 1e7f ? 4.0f : 1.0f;
+                auto point = [&](float pa, float pb, float along) {
+                    glm::vec3 p;
+                    p[a] = pa;
+                    p[b] = pb;
+                    p[axis] = along;
+                    return p;
+                };
+                const float lo = corner, hi = corner + size, plane = sign * 5.0f * size;
+                const Scene scene =
+                    sceneOf({{point(lo, lo, plane), point(hi, lo, plane), point(hi, hi, plane), 0},
+                             {point(lo, lo, plane), point(hi, hi, plane), point(lo, hi, plane), 0}});
+                const FlatBvh bvh = bvhFor(scene);
+                GpuRaycaster raycaster(context(), scene, bvh, test::shaderCacheDir());
+                std::vector<gpu::GpuRay> rays;
+                glm::vec3 direction(0.0f);
+                direction[axis] = sign;
+                for (int i = 0; i <= 8; ++i) {
+                    for (int j = 0; j <= 8; ++j) {
+                        rays.push_back({point(lo + size * static_cast<float>(i) / 8.0f,
+                                              lo + size * static_cast<float>(j) / 8.0f, 0.0f),
+                                        0.0f, direction, 1e30f});
+                    }
+                }
+                const std::vector<gpu::GpuHit> closest = raycaster.trace(rays, RaycastMode::Closest);
+                const std::vector<gpu::GpuHit> any = raycaster.trace(rays, RaycastMode::Any);
+                size_t cpuMisses = 0, gpuMisses = 0, gpuOcclusionMisses = 0;
+                std::string firstMiss;
+                for (size_t i = 0; i < rays.size(); ++i) {
+                    SurfaceHit cpu;
+                    cpuMisses += !closestHit(scene, bvh, {glm::dvec3(rays[i].origin), glm::dvec3(direction)},
+                                             1e30, kNoPrimitive, cpu);
+                    gpuOcclusionMisses += any[i].primitive == VKRT_NO_HIT;
+                    if (closest[i].primitive == VKRT_NO_HIT && gpuMisses++ == 0)
+                        firstMiss = "; the first from " + text(rays[i].origin);
+                }
+                const std::string name = "corner " + std::to_string(corner) + ", axis " +
+                                         std::to_string(axis) + (sign > 0.0f ? " +" : " -");
+                EXPECT_EQ(cpuMisses, 0u) << name;
+                EXPECT_EQ(gpuMisses, 0u) << name << firstMiss;
+                EXPECT_EQ(gpuOcclusionMisses, 0u) << name;
+            }
+        }
+    }
+}
+
 TEST_F(Gpu, ShapeHitsKeepTheirPrecisionFarAway) {
     // Each canonical shape (under a turn and a mild non-uniform scale) hit by 20,000 rays from 4, 32, 256 and
     // 2048 units away, aimed at points of its inner part: the float distance stays within 1e-5 relative of
