@@ -821,6 +821,40 @@ TEST(BadInput, SceneThroughANamedPipeLoads) {
     EXPECT_NE(empty.output.find("empty.gltf: the file is empty"), std::string::npos) << empty.output;
 }
 
+// A texture's image holding Radiance HDR data whose run-length encoded scanline is cut short or holds a run
+// of length 0: stb_image, through which tinygltf decoded it, looped forever on both. glTF textures are PNG
+// or JPEG (and WebP or KTX2 by extension), so HDR data is refused without being decoded. The command runs
+// under a time limit, so that a hang fails the test instead of stopping the suite.
+TEST(BadInput, HdrTextureDataIsRefusedWithoutDecoding) {
+    const auto folder = test::temporaryFolder();
+    const std::string rle =
+        "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 8\n" + std::string("\x02\x02\x00\x08", 4);
+    const std::string cutShort = rle, zeroRun = rle + std::string(41, '\0');
+    for (const std::string& hdr : {cutShort, zeroRun}) {
+        json d = validTriangle();
+        d["accessors"].push_back(
+            {{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+        d["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+        d["meshes"][0]["primitives"][0]["material"] = 0;
+        d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+        d["textures"] = {{{"source", 0}}};
+        d["images"] = {{{"uri", "data:image/vnd.radiance;base64," +
+                                    base64(std::vector<uint8_t>(hdr.begin(), hdr.end()))}}};
+        const auto file = folder / "hdr-texture.gltf";
+        writeJson(file, d);
+        const auto output = folder / "out.png";
+        const test::CommandResult result =
+            test::runCommand("timeout 60 '" + std::string(VKRT_BINARY) + "' --scene '" + file.string() +
+                             "' --device cpu --width 8 --height 8 --spp 1 --out '" + output.string() + "'");
+        EXPECT_EQ(result.exitCode, 2) << result.output;
+        EXPECT_NE(result.output.find(file.string() + ": "), std::string::npos) << result.output;
+        EXPECT_NE(result.output.find("image 0 could not be decoded: it holds Radiance HDR data"),
+                  std::string::npos)
+            << result.output;
+        EXPECT_FALSE(std::filesystem::exists(output));
+    }
+}
+
 // Inputs found by fuzzing (tools/fuzz_loader.sh) or made to break the loader: each must load or fail with one
 // SceneError, never crash, run out of memory or throw anything else.
 TEST(BadInput, FuzzRegressionsLoadOrFailCleanly) {

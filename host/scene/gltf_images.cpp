@@ -39,6 +39,16 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
         image->image.clear();  // no texture shows it
         return true;
     }
+    // Radiance HDR data is refused undecoded: glTF textures are PNG or JPEG (WebP and KTX2 by extension), and
+    // stb_image, which would decode it, loops forever on a run-length encoded scanline cut short or holding a
+    // run of length 0. vkrt reads HDR maps as --environment, through a reader that checks every run.
+    if (stbi_is_hdr_from_memory(bytes, size)) {
+        image->image.clear();
+        failures[imageIndex] =
+            "it holds Radiance HDR data, which a glTF texture cannot hold (vkrt reads HDR maps as "
+            "--environment)";
+        return true;
+    }
     // A WebP file is a RIFF container of type WEBP.
     const bool webp =
         size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0;
@@ -74,8 +84,7 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
         }
         decoding.decodedBytes -= counted;  // an image that does not decode takes nothing
         image->image.clear();
-        failures[imageIndex] =
-            "it is not an image vkrt can decode (PNG, JPEG, BMP, TGA, GIF, HDR, PNM or WebP)";
+        failures[imageIndex] = "it is not an image vkrt can decode (PNG, JPEG, BMP, TGA, GIF, PNM or WebP)";
         return true;
     }
     width = height = 0;
