@@ -294,6 +294,63 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "KHR_draco_mesh_compression: the compressed data does not decode"},
+        // Integers that tinygltf keeps as 32-bit ints, given 2^32 more than a valid value: it read the valid
+        // one.
+        {"sparse count of 2^32 + 1",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][0]["sparse"] = {{"count", (uint64_t{1} << 32) + 1},
+                                            {"indices", {{"bufferView", 1}, {"componentType", 5123}}},
+                                            {"values", {{"bufferView", 0}}}};
+             writeJson(file, d);
+         },
+         "accessors[0].sparse.count: expected a number in [1, 2147483647], got 4294967297"},
+        {"texture coordinate set 2^32",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["images"] = {{{"uri", "no-such-image.png"}}};
+             d["textures"] = {{{"source", 0}}};
+             d["materials"] = {{{"emissiveTexture", {{"index", 0}, {"texCoord", uint64_t{1} << 32}}}}};
+             writeJson(file, d);
+         },
+         "materials[0].emissiveTexture.texCoord: expected a number in [0, 2147483647], got 4294967296"},
+        // Compression extensions' properties of the wrong type or naming nothing: tinygltf's messages, or the
+        // decoder's, named another property or the wrong problem.
+        {"Draco buffer view that does not exist",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][1].erase("bufferView");
+             d["meshes"][0]["primitives"][0]["extensions"] = {
+                 {"KHR_draco_mesh_compression", {{"bufferView", 99}, {"attributes", {{"POSITION", 0}}}}}};
+             writeJson(file, d);
+         },
+         "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression.bufferView: buffer view 99 does not "
+         "exist"},
+        {"Draco extension naming no attributes",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["accessors"][1].erase("bufferView");
+             d["meshes"][0]["primitives"][0]["extensions"] = {
+                 {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", json::object()}}}};
+             writeJson(file, d);
+         },
+         "KHR_draco_mesh_compression: the compressed data does not decode"},
+        {"meshopt extension that is not an object",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["bufferViews"][0]["extensions"] = {{"EXT_meshopt_compression", 5}};
+             writeJson(file, d);
+         },
+         "bufferViews[0].extensions.EXT_meshopt_compression: expected an object"},
+        {"meshopt mode as a number",
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["bufferViews"][0]["extensions"] = {
+                 {"EXT_meshopt_compression",
+                  {{"buffer", 0}, {"byteLength", 36}, {"byteStride", 12}, {"count", 3}, {"mode", 1}}}};
+             writeJson(file, d);
+         },
+         "bufferViews[0].extensions.EXT_meshopt_compression.mode: expected a string"},
         // Properties of the wrong JSON type or out of range, which tinygltf alone would skip: each is named
         // by its JSON path.
         {"primitives as an object",

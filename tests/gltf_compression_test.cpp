@@ -528,6 +528,56 @@ TEST(GltfCompression, ImagesThatDoNotDecodeFailOnlyWhereUsed) {
     }
 }
 
+// tinygltf keeps an extension's integers as 32-bit ints, so a number 2^32 larger than a valid one was read as
+// that one: the file loaded other data than it named, without a word. Each such number is refused, named by
+// its JSON path and shown as the file gives it.
+TEST(GltfCompression, ExtensionIntegersBeyond32BitsAreRefused) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    constexpr uint64_t kWrap = uint64_t{1} << 32;
+    auto expectRefused = [&](const std::filesystem::path& file, const std::string& where, uint64_t value) {
+        try {
+            loadGltf(file.string());
+            ADD_FAILURE() << "loaded; expected " << where << " to be refused";
+        } catch (const SceneError& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find(where + ": "), std::string::npos) << message;
+            EXPECT_NE(message.find(std::to_string(value)), std::string::npos) << message;
+        }
+    };
+    for (const char* key : {"buffer", "byteOffset", "byteLength", "byteStride", "count"}) {
+        SCOPED_TRACE(key);
+        MeshoptGrid wrapped = meshoptGrid(g);
+        json& extension = wrapped.document["bufferViews"][0]["extensions"]["EXT_meshopt_compression"];
+        const uint64_t value = extension[key].get<uint64_t>() + kWrap;
+        extension[key] = value;
+        writeGlb(folder / "meshopt.glb", wrapped.document, wrapped.compressed);
+        expectRefused(folder / "meshopt.glb",
+                      std::string("bufferViews[0].extensions.EXT_meshopt_compression.") + key, value);
+    }
+
+    int positionId = -1, normalId = -1;
+    const std::string data = dracoGrid(g, false, positionId, normalId);
+    const std::string draco = "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression";
+    json view = dracoDocument(g, data.size(), positionId, normalId);
+    view["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = kWrap;
+    writeGlb(folder / "draco.glb", view, data);
+    expectRefused(folder / "draco.glb", draco + ".bufferView", kWrap);
+    json id = dracoDocument(g, data.size(), positionId, normalId);
+    id["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["NORMAL"] =
+        normalId + kWrap;
+    writeGlb(folder / "draco.glb", id, data);
+    expectRefused(folder / "draco.glb", draco + ".attributes.NORMAL", normalId + kWrap);
+
+    // A WebP source of 2^32 read as image 0, a PNG.
+    writeQuadData(folder);
+    const uint8_t grey[3] = {128, 128, 128};
+    ASSERT_TRUE(stbi_write_png((folder / "grey.png").string().c_str(), 1, 1, 3, grey, 3));
+    const json webp = {{"extensions", {{"EXT_texture_webp", {{"source", kWrap}}}}}};
+    test::writeText(folder / "quad.gltf", texturedTriangle(webp, {{{"uri", "grey.png"}}}, true).dump());
+    expectRefused(folder / "quad.gltf", "textures[0].extensions.EXT_texture_webp.source", kWrap);
+}
+
 // The scene in `file` rendered by the CPU reference at 32 x 32 and 16 samples per pixel.
 Image cpuImage(const std::string& file) {
     const Scene scene = loadGltf((test::sourceDir() / file).string());

@@ -51,6 +51,8 @@ class Decoder {
   private:
     [[noreturn]] void fail(const std::string& message) const { throw SceneError(path_ + ": " + message); }
 
+    // object[key] as a count or an index. tinygltf keeps an extension's integers as 32-bit ints, which wrap:
+    // the schema check (gltf_schema.cpp) has refused, from the file's own JSON, those beyond an int's range.
     size_t size(const tinygltf::Value& object, const char* key, const std::string& where, bool required,
                 size_t fallback = 0) const {
         if (!object.Has(key)) {
@@ -201,8 +203,10 @@ class Decoder {
     // indices as 32-bit integers.
     void dracoPrimitive(tinygltf::Primitive& primitive, const tinygltf::Value& extension,
                         const std::string& where) {
-        if (!extension.IsObject() || !extension.Has("attributes") || !extension.Get("attributes").IsObject())
-            fail(where + ": 'attributes' must be an object");
+        if (!extension.IsObject()) fail(where + " must be an object");
+        // (The schema check has found 'attributes' an object; tinygltf leaves out one that is empty.)
+        const std::vector<std::string> attributeNames =
+            extension.Has("attributes") ? extension.Get("attributes").Keys() : std::vector<std::string>();
         if (primitive.mode != TINYGLTF_MODE_TRIANGLES) fail(where + ": only triangle lists are decoded");
         const size_t viewIndex = size(extension, "bufferView", where, true);
         if (viewIndex >= model_.bufferViews.size())
@@ -238,7 +242,7 @@ class Decoder {
                             size_t{mesh->num_faces()} * 3, where + " indices");
 
         const tinygltf::Value& attributes = extension.Get("attributes");
-        for (const std::string& name : attributes.Keys()) {
+        for (const std::string& name : attributeNames) {
             const std::string attributeWhere = where + " " + name;
             const auto slot = primitive.attributes.find(name);
             if (slot == primitive.attributes.end())

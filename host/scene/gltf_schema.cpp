@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
@@ -21,6 +22,14 @@ using Json = nlohmann::json;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kHalfPi = 1.57079632679489661923;
 
+// A number as an error shows it: integers in full (4294967296, not 4.29497e+09), others to 6 digits.
+std::string shown(double v) {
+    if (std::trunc(v) == v && std::abs(v) < 0x1p63) return std::to_string(static_cast<int64_t>(v));
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
 // The numbers a property may take: from `low` to `high`, each end closed unless marked open.
 struct Range {
     double low = -kInfinity;
@@ -34,9 +43,10 @@ struct Range {
     std::string text() const {
         std::ostringstream s;
         if (high == kInfinity) {
-            s << (lowOpen ? "> " : ">= ") << low;
+            s << (lowOpen ? "> " : ">= ") << shown(low);
         } else {
-            s << "in " << (lowOpen ? "(" : "[") << low << ", " << high << (highOpen ? ")" : "]");
+            s << "in " << (lowOpen ? "(" : "[") << shown(low) << ", " << shown(high)
+              << (highOpen ? ")" : "]");
         }
         return s.str();
     }
@@ -46,6 +56,10 @@ const Range kAny;
 const Range kUnit{0.0, 1.0};
 const Range kNonNegative{0.0};
 const Range kPositive{0.0, kInfinity, true};
+// tinygltf keeps some integers as 32-bit ints (every one of an extension's, and of the core's a texture's
+// source, a texCoord, a sparse accessor's count and offsets), which wrap: 2^32 more than a valid value reads
+// as that value. Such integers are held to an int's range.
+const Range kNonNegativeInt{0.0, 2147483647.0};
 
 std::string member(const std::string& where, const char* key) {
     return where.empty() ? key : where + "." + key;
@@ -53,12 +67,6 @@ std::string member(const std::string& where, const char* key) {
 
 std::string element(const std::string& where, size_t i) {
     return where + "[" + std::to_string(i) + "]";
-}
-
-std::string shown(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
 }
 
 // The properties vkrt reads, by glTF object, each checked for its JSON type, its range and, for an index,
@@ -117,10 +125,16 @@ public:
                 fail(member(where, "byteStride"), "expected a multiple of 4");
             }
             oneOf(view, "target", where, {34962, 34963});
+            meshoptView(view, where);
         });
         eachObject(root_, "buffers", "", [&](const Json& buffer, const std::string& where) {
             string(buffer, "uri", where);
             integer(buffer, "byteLength", where, Range{1.0}, true);
+            if (const Json* extensions = object(buffer, "extensions", where)) {
+                const std::string at = member(where, "extensions");
+                if (const Json* meshopt = object(*extensions, "EXT_meshopt_compression", at))
+                    boolean(*meshopt, "fallback", member(at, "EXT_meshopt_compression"));
+            }
         });
         // Every view inside its buffer (tinygltf reads an image's view without checking: found by fuzzing).
         eachObject(root_, "bufferViews", "", [&](const Json& view, const std::string& where) {
@@ -143,7 +157,12 @@ public:
             index(texture, "sampler", where, "samplers", "sampler");
             // Its image must exist only when a material uses it (textureInfo): files in the wild keep unused
             // textures that name nothing.
-            integer(texture, "source", where, kNonNegative);
+            integer(texture, "source", where, kNonNegativeInt);
+            if (const Json* extensions = object(texture, "extensions", where)) {
+                const std::string at = member(where, "extensions");
+                if (const Json* webp = object(*extensions, "EXT_texture_webp", at))
+                    integer(*webp, "source", member(at, "EXT_texture_webp"), kNonNegativeInt);
+            }
         });
         eachObject(root_, "samplers", "", [&](const Json& sampler, const std::string& where) {
             oneOf(sampler, "magFilter", where, {9728, 9729});
@@ -419,10 +438,42 @@ private:
                 index(primitive, "indices", primitiveWhere, "accessors", "accessor");
                 index(primitive, "material", primitiveWhere, "materials", "material");
                 oneOf(primitive, "mode", primitiveWhere, {0, 1, 2, 3, 4, 5, 6});
+                dracoPrimitive(primitive, primitiveWhere);
                 eachObject(primitive, "targets", primitiveWhere,
                            [&](const Json& target, const std::string& targetWhere) { accessorMap(target, targetWhere); });
             },
             true, 1);
+    }
+
+    // EXT_meshopt_compression on a buffer view: where its compressed bytes are and what they decode to (the
+    // codec's values, mode and filter, are checked as the view is decoded).
+    void meshoptView(const Json& view, const std::string& where) const {
+        const Json* extensions = object(view, "extensions", where);
+        if (!extensions) return;
+        const std::string at = member(member(where, "extensions"), "EXT_meshopt_compression");
+        const Json* meshopt = object(*extensions, "EXT_meshopt_compression", member(where, "extensions"));
+        if (!meshopt) return;
+        index(*meshopt, "buffer", at, "buffers", "buffer", true);
+        integer(*meshopt, "byteOffset", at, kNonNegativeInt);
+        integer(*meshopt, "byteLength", at, kNonNegativeInt, true);
+        integer(*meshopt, "byteStride", at, kNonNegativeInt, true);
+        integer(*meshopt, "count", at, kNonNegativeInt, true);
+        string(*meshopt, "mode", at, true);
+        string(*meshopt, "filter", at);
+    }
+
+    // KHR_draco_mesh_compression on a primitive: the buffer view of its compressed data, and the Draco
+    // attribute id of each attribute it holds.
+    void dracoPrimitive(const Json& primitive, const std::string& where) const {
+        const Json* extensions = object(primitive, "extensions", where);
+        if (!extensions) return;
+        const std::string at = member(member(where, "extensions"), "KHR_draco_mesh_compression");
+        const Json* draco = object(*extensions, "KHR_draco_mesh_compression", member(where, "extensions"));
+        if (!draco) return;
+        index(*draco, "bufferView", at, "bufferViews", "buffer view", true);
+        const Json& attributes = requiredObject(*draco, "attributes", at);
+        for (auto it = attributes.begin(); it != attributes.end(); ++it)
+            checkInteger(it.value(), member(member(at, "attributes"), it.key().c_str()), kNonNegativeInt);
     }
 
     void accessor(const Json& accessor, const std::string& where) const {
@@ -438,15 +489,15 @@ private:
         const Json* sparse = object(accessor, "sparse", where);
         if (!sparse) return;
         const std::string sparseWhere = member(where, "sparse");
-        integer(*sparse, "count", sparseWhere, Range{1.0}, true);
+        integer(*sparse, "count", sparseWhere, Range{1.0, kNonNegativeInt.high}, true);
         const Json& sparseIndices = requiredObject(*sparse, "indices", sparseWhere);
         const std::string indicesWhere = member(sparseWhere, "indices");
         index(sparseIndices, "bufferView", indicesWhere, "bufferViews", "buffer view", true);
-        integer(sparseIndices, "byteOffset", indicesWhere, kNonNegative);
+        integer(sparseIndices, "byteOffset", indicesWhere, kNonNegativeInt);
         oneOf(sparseIndices, "componentType", indicesWhere, {5121, 5123, 5125}, true);
         const Json& values = requiredObject(*sparse, "values", sparseWhere);
         index(values, "bufferView", member(sparseWhere, "values"), "bufferViews", "buffer view", true);
-        integer(values, "byteOffset", member(sparseWhere, "values"), kNonNegative);
+        integer(values, "byteOffset", member(sparseWhere, "values"), kNonNegativeInt);
     }
 
     // A textureInfo: which texture, which coordinates, and their KHR_texture_transform.
@@ -458,7 +509,13 @@ private:
         const Json& texture = root_["textures"][(*info)["index"].get<size_t>()];
         if (const Json* source = find(texture, "source"))
             checkIndex(*source, member(at, "index") + " (its texture's source)", count("images"), "image");
-        integer(*info, "texCoord", at, kNonNegative);
+        const Json* textureExtensions = find(texture, "extensions");
+        if (const Json* webp = textureExtensions ? find(*textureExtensions, "EXT_texture_webp") : nullptr) {
+            if (const Json* source = find(*webp, "source"))
+                checkIndex(*source, member(at, "index") + " (its texture's WebP source)", count("images"),
+                           "image");
+        }
+        integer(*info, "texCoord", at, kNonNegativeInt);
         number(*info, "scale", at, kAny);            // normal textures
         number(*info, "strength", at, kUnit);        // occlusion textures
         const Json* extensions = object(*info, "extensions", at);
@@ -469,7 +526,7 @@ private:
         numbers(*transform, "offset", transformWhere, 2, kAny);
         number(*transform, "rotation", transformWhere, kAny);
         numbers(*transform, "scale", transformWhere, 2, kAny);
-        integer(*transform, "texCoord", transformWhere, kNonNegative);
+        integer(*transform, "texCoord", transformWhere, kNonNegativeInt);
     }
 
     void material(const Json& material, const std::string& where) const {
