@@ -578,6 +578,47 @@ TEST(GltfCompression, ExtensionIntegersBeyond32BitsAreRefused) {
     expectRefused(folder / "quad.gltf", "textures[0].extensions.EXT_texture_webp.source", kWrap);
 }
 
+// Draco's decoder allocates for the triangles its header declares before it reads them: the grid's data with
+// 10^8 triangles declared (and as many connectivity symbols, which Draco checks against them), 1 KB, had it
+// take 2.4 GB over 10 s, whatever memory the options allowed. The declared count is checked against the
+// indices accessor's (which glTF requires to match), and what decoding it takes against the memory allowed,
+// before anything is decoded.
+TEST(GltfCompression, DracoTrianglesAreBoundedBeforeDecoding) {
+    const auto folder = test::temporaryFolder();
+    const Grid g = grid();
+    int positionId = -1, normalId = -1;
+    const std::string data = dracoGrid(g, false, positionId, normalId);
+    // The header (Draco 2.2; a mesh, by edgebreaker): 11 bytes, the traversal's type, then as varints the
+    // vertex count (49), the triangle count (72), one byte, and the symbol count (at most 72).
+    ASSERT_EQ(data.substr(0, 5), "DRACO");
+    ASSERT_EQ(data[7], 1);
+    ASSERT_EQ(data[8], 1);
+    ASSERT_EQ(data[12], 49);
+    ASSERT_EQ(data[13], 72);
+    const std::string hundredMillion = "\x80\xc2\xd7\x2f";  // 10^8 as a varint
+    const std::string bomb =
+        data.substr(0, 13) + hundredMillion + data[14] + hundredMillion + data.substr(16);
+    auto expectRefused = [&](const json& document, const LoadOptions& options, const std::string& expected) {
+        writeGlb(folder / "bomb.glb", document, bomb);
+        try {
+            loadGltf((folder / "bomb.glb").string(), options);
+            ADD_FAILURE() << "loaded; expected " << expected;
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+        }
+    };
+    expectRefused(
+        dracoDocument(g, bomb.size(), positionId, normalId), LoadOptions(),
+        "KHR_draco_mesh_compression: the compressed data holds 100000000 triangles, and its indices "
+        "accessor declares 216 indices");
+    json declared = dracoDocument(g, bomb.size(), positionId, normalId);
+    declared["accessors"][2]["count"] = 300000000;
+    LoadOptions limited;
+    limited.maxSceneBytes = uint64_t{256} << 20;
+    limited.memorySource = "--max-memory";
+    expectRefused(declared, limited, "of host memory, and 256 MiB is available (--max-memory)");
+}
+
 // The scene in `file` rendered by the CPU reference at 32 x 32 and 16 samples per pixel.
 Image cpuImage(const std::string& file) {
     const Scene scene = loadGltf((test::sourceDir() / file).string());

@@ -3,13 +3,18 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include <draco/compression/decode.h>
+#include <draco/compression/point_cloud/point_cloud_decoder.h>
+#include <draco/core/varint_decoding.h>
+#include <draco/metadata/metadata_decoder.h>
 #include <meshoptimizer.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
+#include "common/memory_need.h"
 #include "scene/scene_error.h"
 
 namespace vkrt {
@@ -24,9 +29,65 @@ constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr size_t kMaxMeshoptRatio = 64;
 constexpr size_t kMaxDecodedBytes = size_t{1} << 32;
 
+// The host memory decoding a Draco mesh takes, estimated from the counts its header declares: Draco's
+// corner table (24 bytes a triangle), its traversal's and its symbols' buffers and the faces it decodes,
+// then the indices copied here; and, a vertex, its attributes' values in Draco's form and in the accessors'.
+constexpr uint64_t kDracoBytesPerTriangle = 96;
+constexpr uint64_t kDracoBytesPerVertex = 64;
+
+// The triangles and vertices a Draco mesh declares.
+struct DracoCounts {
+    uint64_t triangles = 0;
+    uint64_t vertices = 0;
+};
+
+// The counts of the Draco mesh in `data`, read from its header the way Draco's decoders read them
+// (mesh_sequential_decoder.cc and mesh_edgebreaker_decoder_impl.cc, Draco 1.5) before they allocate for
+// them; none when the header does not read as a mesh's, which Draco's decoder would refuse as well.
+std::optional<DracoCounts> dracoCounts(const unsigned char* data, size_t size) {
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(data), size);
+    draco::DracoHeader header;
+    if (!draco::PointCloudDecoder::DecodeHeader(&buffer, &header).ok() ||
+        header.encoder_type != draco::TRIANGULAR_MESH)
+        return std::nullopt;
+    const uint16_t version = DRACO_BITSTREAM_VERSION(header.version_major, header.version_minor);
+    buffer.set_bitstream_version(version);
+    if (version >= DRACO_BITSTREAM_VERSION(1, 3) && (header.flags & METADATA_FLAG_MASK)) {
+        draco::GeometryMetadata metadata;
+        if (!draco::MetadataDecoder().DecodeGeometryMetadata(&buffer, &metadata)) return std::nullopt;
+    }
+    // Each count is a varint from the version given, a 32-bit word before it.
+    const auto count = [&](uint16_t varintsFrom, uint64_t& out) {
+        uint32_t value = 0;
+        const bool read =
+            version >= varintsFrom ? draco::DecodeVarint(&value, &buffer) : buffer.Decode(&value);
+        out += value;
+        return read;
+    };
+    DracoCounts counts;
+    if (header.encoder_method == draco::MESH_SEQUENTIAL_ENCODING) {
+        const uint16_t varints = DRACO_BITSTREAM_VERSION(2, 2);
+        if (!count(varints, counts.triangles) || !count(varints, counts.vertices)) return std::nullopt;
+        return counts;
+    }
+    if (header.encoder_method != draco::MESH_EDGEBREAKER_ENCODING) return std::nullopt;
+    // Edgebreaker: the traversal's type, before version 2.2 the vertices added at seams, the vertices, the
+    // triangles.
+    const uint16_t varints = DRACO_BITSTREAM_VERSION(2, 0);
+    uint8_t traversal = 0;
+    if (!buffer.Decode(&traversal) ||
+        (version < DRACO_BITSTREAM_VERSION(2, 2) && !count(varints, counts.vertices)) ||
+        !count(varints, counts.vertices) || !count(varints, counts.triangles))
+        return std::nullopt;
+    return counts;
+}
+
 class Decoder {
   public:
-    Decoder(tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
+    Decoder(tinygltf::Model& model, const std::string& path, uint64_t availableBytes,
+            const std::string& memorySource)
+        : model_(model), path_(path), availableBytes_(availableBytes), memorySource_(memorySource) {}
 
     void meshoptViews() {
         for (size_t i = 0; i < model_.bufferViews.size(); ++i) {
@@ -216,6 +277,25 @@ class Decoder {
         const unsigned char* data =
             bytes(static_cast<size_t>(view.buffer), view.byteOffset, view.byteLength, where);
 
+        // Draco allocates for the triangles its header declares before it reads them (a 4 KB file declaring
+        // 10^8 had it take 2.4 GB): they must be the ones the indices accessor counts, and fit in memory.
+        const std::optional<DracoCounts> counts = dracoCounts(data, view.byteLength);
+        if (!counts) fail(where + ": the compressed data does not decode (its header is not a Draco mesh's)");
+        if (primitive.indices >= 0 && static_cast<size_t>(primitive.indices) < model_.accessors.size() &&
+            model_.accessors[primitive.indices].count != counts->triangles * 3) {
+            fail(where + ": the compressed data holds " + std::to_string(counts->triangles) +
+                 " triangles, and its indices accessor declares " +
+                 std::to_string(model_.accessors[primitive.indices].count) + " indices");
+        }
+        const uint64_t need =
+            counts->triangles * kDracoBytesPerTriangle + counts->vertices * kDracoBytesPerVertex;
+        if (need > availableBytes_) {
+            throw MemoryError(path_ + ": " + where + ": decoding its " + std::to_string(counts->triangles) +
+                              " triangles and " + std::to_string(counts->vertices) + " vertices would take " +
+                              formatBytes(need) + " of host memory, and " + formatBytes(availableBytes_) +
+                              " is available (" + memorySource_ + ")");
+        }
+
         draco::DecoderBuffer buffer;
         buffer.Init(reinterpret_cast<const char*>(data), view.byteLength);
         draco::Decoder decoder;
@@ -291,6 +371,8 @@ class Decoder {
 
     tinygltf::Model& model_;
     const std::string& path_;
+    uint64_t availableBytes_;          // the host memory a Draco mesh's decoding may take
+    const std::string& memorySource_;  // where that figure comes from, for the error
     std::set<int> decodedAccessors_;  // accessors a Draco primitive's data has replaced
 };
 
@@ -355,8 +437,9 @@ bool stubCompressedData(nlohmann::json& document) {
     return changed;
 }
 
-void decompressMeshes(tinygltf::Model& model, const std::string& path) {
-    Decoder decoder(model, path);
+void decompressMeshes(tinygltf::Model& model, const std::string& path, uint64_t availableBytes,
+                      const std::string& memorySource) {
+    Decoder decoder(model, path, availableBytes, memorySource);
     decoder.meshoptViews();
     decoder.dracoPrimitives();
 }

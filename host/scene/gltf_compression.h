@@ -5,6 +5,7 @@
 // does for any file.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>
@@ -23,7 +24,10 @@ namespace vkrt {
 bool stubCompressedData(nlohmann::json& document);
 
 // Decodes, in place, every compressed buffer view and primitive of `model`; throws SceneError naming `path`
-// for data that does not decode or does not fit its declared sizes.
-void decompressMeshes(tinygltf::Model& model, const std::string& path);
+// for data that does not decode or does not fit its declared sizes, and MemoryError, before decoding, for a
+// Draco mesh whose decoding would take more than `availableBytes` of host memory (`memorySource` says where
+// that figure comes from).
+void decompressMeshes(tinygltf::Model& model, const std::string& path, uint64_t availableBytes,
+                      const std::string& memorySource);
 
 }  // namespace vkrt

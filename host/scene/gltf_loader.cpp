@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <set>
 #include <string>
 #include <string_view>
@@ -554,15 +555,23 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
 }  // namespace
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
-    ImageDecoding imageDecoding;
-    std::vector<std::string> files;
-    tinygltf::Model model = parseGltf(path, options, imageDecoding, files);
-    decompressMeshes(model, path);
-    GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
-                            imageDecoding.decodedBytes);
-    Scene scene = converter.convert();
-    scene.files = std::move(files);
-    return scene;
+    try {
+        ImageDecoding imageDecoding;
+        std::vector<std::string> files;
+        tinygltf::Model model = parseGltf(path, options, imageDecoding, files);
+        decompressMeshes(model, path,
+                         options.maxSceneBytes - std::min(options.maxSceneBytes, imageDecoding.decodedBytes),
+                         options.memorySource);
+        GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
+                                imageDecoding.decodedBytes);
+        Scene scene = converter.convert();
+        scene.files = std::move(files);
+        return scene;
+    } catch (const std::bad_alloc&) {
+        // An allocation the loader's estimates did not foresee (a library's, sized by the file): the file
+        // asked for more memory than there is.
+        throw SceneError(path + ": the host ran out of memory while loading the file");
+    }
 }
 
 }  // namespace vkrt
