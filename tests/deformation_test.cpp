@@ -277,15 +277,22 @@ TEST(Deformation, MalformedSkinsAndTargetsAreRefused) {
                 << c.name << ": " << e.what();
         }
     }
-    // Targets' weights: the node's must match its mesh's targets, and so must an animation's per key.
+    // Targets' weights: the node's must match its mesh's targets, and so must an animation's per key. Every
+    // primitive of a mesh has as many targets (glTF 2.0 section 3.7.2.2).
     test::GltfDocument wrongCount = morphedTriangles();
     wrongCount.json["nodes"][1]["weights"] = {1.0, 0.0, 0.0};
     test::GltfDocument wrongKeys = morphedTriangles();
     wrongKeys.json["animations"][0]["samplers"][0]["output"] =
         wrongKeys.floats({0.5f, 0, 0, 1, 1, 0}, "SCALAR");
+    test::GltfDocument unevenTargets = morphedTriangles();
+    json fewerTargets = unevenTargets.json["meshes"][0]["primitives"][0];
+    fewerTargets["targets"].erase(1);
+    unevenTargets.json["meshes"][0]["primitives"].push_back(fewerTargets);
     for (auto& [name, d, expected] : std::vector<std::tuple<std::string, test::GltfDocument, std::string>>{
              {"node weights", wrongCount, "has 3 morph-target weight(s) for 2 morph target(s)"},
-             {"animated weights", wrongKeys, "3 morph-target weight(s) per key; its mesh has 2"}}) {
+             {"animated weights", wrongKeys, "3 morph-target weight(s) per key; its mesh has 2"},
+             {"uneven targets", unevenTargets,
+              "mesh 0 primitive 1 has 1 morph target(s) and primitive 0 2"}}) {
         const auto file = folder / (name + ".gltf");
         d.write(file);
         try {

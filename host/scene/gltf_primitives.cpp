@@ -399,9 +399,19 @@ glm::dmat4 skinTransform(const DecodedPrimitive& primitive, const InstancePose& 
 }  // namespace
 
 size_t MeshInstancer::morphTargetCount(int meshIndex) const {
-    size_t count = 0;
-    for (const tinygltf::Primitive& primitive : context_.model.meshes[meshIndex].primitives)
-        count = std::max(count, primitive.targets.size());
+    // glTF 2.0 section 3.7.2.2: every primitive of a mesh has the same number of targets, the number of
+    // weights the mesh and its nodes give.
+    const tinygltf::Mesh& mesh = context_.model.meshes[meshIndex];
+    if (mesh.primitives.empty()) return 0;
+    const size_t count = mesh.primitives[0].targets.size();
+    for (size_t p = 1; p < mesh.primitives.size(); ++p) {
+        if (mesh.primitives[p].targets.size() != count) {
+            context_.fail(describe("mesh", meshIndex, mesh.name) + " primitive " + std::to_string(p) +
+                          " has " + std::to_string(mesh.primitives[p].targets.size()) +
+                          " morph target(s) and primitive 0 " + std::to_string(count) +
+                          "; glTF 2.0 section 3.7.2.2 wants the same number in each");
+        }
+    }
     return count;
 }
 

@@ -67,7 +67,8 @@ class MeshInstancer {
     // the poses' joints, which replace the node's transform (glTF 2.0 section 3.7.3.3).
     void addInstance(int meshIndex, const std::vector<InstancePose>& poses);
 
-    // The most morph targets a primitive of mesh `meshIndex` has (the count its weights must have).
+    // The number of morph targets each primitive of mesh `meshIndex` has (the count its weights must have);
+    // throws SceneError when its primitives have different numbers.
     size_t morphTargetCount(int meshIndex) const;
 
     // By mesh, which morph targets some node weighs: the others are not read (all are, without this).
