@@ -233,6 +233,30 @@ TEST(Skins, AMeshNoNodeSkinsIgnoresItsJointsAndWeights) {
     expectNear(glm::vec3(corners(scene, 0)[1]), {102, 0, 0}, "placed by its node");
 }
 
+// glTF sets no limit on a vertex's joints (section 3.7.3.2): the first test's influences spread over three
+// sets, the second of them all zero, place the triangle where one set did (the third set was ignored: the
+// corner it alone weighs followed the node, and the corner it shares followed its other joint alone).
+TEST(Skins, EveryJointAndWeightSetIsRead) {
+    test::GltfDocument d = skinnedTriangle();
+    d.json["meshes"][0]["primitives"].erase(1);
+    json& attributes = d.json["meshes"][0]["primitives"][0]["attributes"];
+    attributes["JOINTS_0"] = d.unsignedShorts(std::vector<uint16_t>(12, 0), "VEC4");
+    attributes["WEIGHTS_0"] = d.floats({1, 0, 0, 0, 0, 0, 0, 0, 0.6f, 0, 0, 0}, "VEC4");
+    attributes["JOINTS_1"] = d.unsignedShorts(std::vector<uint16_t>(12, 0), "VEC4");
+    attributes["WEIGHTS_1"] = d.floats(std::vector<float>(12, 0.0f), "VEC4");
+    attributes["JOINTS_2"] = d.unsignedShorts({0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1}, "VEC4");
+    attributes["WEIGHTS_2"] = d.floats({0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0.2f}, "VEC4");
+    const auto file = test::temporaryFolder() / "three sets.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    const auto skinned = corners(scene, 0);
+    expectNear(glm::vec3(skinned[0]), {0, 0, 0}, "on A in the first set");
+    expectNear(glm::vec3(skinned[1]), {1, 1, 0}, "on B in the third set");
+    expectNear(glm::vec3(skinned[2]), {0, 0.5, 0}, "on A in the first set and B in the third");
+}
+
 // Malformed skins and targets: each refused with a message naming the problem.
 TEST(Deformation, MalformedSkinsAndTargetsAreRefused) {
     const auto folder = test::temporaryFolder();
@@ -263,6 +287,21 @@ TEST(Deformation, MalformedSkinsAndTargetsAreRefused) {
          "expected at least 1 item"},
         {"weights for other targets", [](test::GltfDocument& d) { d.json["nodes"][2]["weights"] = {1.0}; },
          "0 morph target(s)"},
+        {"a third set without its joints",
+         [](test::GltfDocument& d) {
+             json& attributes = d.json["meshes"][0]["primitives"][0]["attributes"];
+             attributes["JOINTS_1"] = attributes["JOINTS_0"];
+             attributes["WEIGHTS_1"] = d.floats(std::vector<float>(12, 0.0f), "VEC4");
+             attributes["WEIGHTS_2"] = attributes["WEIGHTS_1"];
+         },
+         "JOINTS_2 and WEIGHTS_2 without the other"},
+        {"a set missing below the highest",
+         [](test::GltfDocument& d) {
+             json& attributes = d.json["meshes"][0]["primitives"][0]["attributes"];
+             attributes["JOINTS_2"] = attributes["JOINTS_0"];
+             attributes["WEIGHTS_2"] = d.floats(std::vector<float>(12, 0.0f), "VEC4");
+         },
+         "but not JOINTS_1 and WEIGHTS_1"},
     };
     for (const Case& c : cases) {
         test::GltfDocument d = skinnedTriangle();

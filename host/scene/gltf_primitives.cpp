@@ -214,21 +214,23 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
         }
         decoded.targets.push_back(std::move(target));
     }
-    // Joints and their weights, four per set; a second set adds four more influences. A mesh no node skins
-    // keeps its vertices where its nodes put them, and its JOINTS and WEIGHTS are not read.
+    // Joints and their weights, four per set, every set the primitive has (glTF 2.0 section 3.7.3.2 sets no
+    // limit). A mesh no node skins keeps its vertices where its nodes put them, and its JOINTS and WEIGHTS
+    // are not read.
     if (skinnedMeshes_ && !skinnedMeshes_->count(meshIndex)) return;
-    for (int set = 0; set < 2; ++set) {
-        const std::string jointsName = set == 0 ? "JOINTS_0" : "JOINTS_1";
-        const std::string weightsName = set == 0 ? "WEIGHTS_0" : "WEIGHTS_1";
-        const auto joints = primitive.attributes.find(jointsName);
-        const auto weights = primitive.attributes.find(weightsName);
-        if (joints == primitive.attributes.end() && weights == primitive.attributes.end()) break;
-        if (joints == primitive.attributes.end() || weights == primitive.attributes.end())
-            context_.fail(where + " has one of " + jointsName + " and " + weightsName + " without the other");
+    const int sets = skinSetCount(primitive, where);
+    if (sets == 0) return;
+    decoded.influences = 4 * sets;
+    const size_t influences = static_cast<size_t>(decoded.influences);
+    decoded.joints.resize(influences * vertexCount);
+    decoded.jointWeights.resize(influences * vertexCount);
+    for (int set = 0; set < sets; ++set) {
+        const std::string jointsName = "JOINTS_" + std::to_string(set);
+        const std::string weightsName = "WEIGHTS_" + std::to_string(set);
         const std::vector<uint32_t> jointSet =
-            accessors.readUnsigned(joints->second, 4, where + " " + jointsName);
+            accessors.readUnsigned(primitive.attributes.at(jointsName), 4, where + " " + jointsName);
         const std::vector<float> weightSet =
-            accessors.readFloats(weights->second, 4, where + " " + weightsName);
+            accessors.readFloats(primitive.attributes.at(weightsName), 4, where + " " + weightsName);
         if (jointSet.size() != 4 * vertexCount || weightSet.size() != 4 * vertexCount)
             context_.fail(where + " " + jointsName + ", " + weightsName + " and POSITION counts differ");
         for (size_t i = 0; i < weightSet.size(); ++i) {
@@ -236,24 +238,45 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
                 context_.fail(where + " " + weightsName + " has a negative or non-finite value at vertex " +
                               std::to_string(i / 4));
         }
-        // Interleaved per vertex: the first set's four influences, then the second's.
-        const int influences = decoded.influences + 4;
-        std::vector<uint32_t> allJoints(static_cast<size_t>(influences) * vertexCount);
-        std::vector<float> allWeights(allJoints.size());
+        // Interleaved per vertex: set 0's four influences, then set 1's, and so on.
         for (size_t v = 0; v < vertexCount; ++v) {
-            for (int i = 0; i < influences; ++i) {
-                const size_t to = static_cast<size_t>(influences) * v + i;
-                const bool earlier = i < decoded.influences;
-                const size_t from = earlier ? static_cast<size_t>(decoded.influences) * v + i
-                                            : 4 * v + (i - decoded.influences);
-                allJoints[to] = earlier ? decoded.joints[from] : jointSet[from];
-                allWeights[to] = earlier ? decoded.jointWeights[from] : weightSet[from];
-            }
+            std::copy_n(jointSet.begin() + static_cast<std::ptrdiff_t>(4 * v), 4,
+                        decoded.joints.begin() + static_cast<std::ptrdiff_t>(influences * v + 4 * set));
+            std::copy_n(weightSet.begin() + static_cast<std::ptrdiff_t>(4 * v), 4,
+                        decoded.jointWeights.begin() + static_cast<std::ptrdiff_t>(influences * v + 4 * set));
         }
-        decoded.joints = std::move(allJoints);
-        decoded.jointWeights = std::move(allWeights);
-        decoded.influences = influences;
     }
+}
+
+int MeshInstancer::skinSetCount(const tinygltf::Primitive& primitive, const std::string& where) const {
+    // The highest set number named by a JOINTS_n or WEIGHTS_n attribute.
+    int sets = 0;
+    for (const auto& attribute : primitive.attributes) {
+        const std::string& name = attribute.first;
+        for (const std::string prefix : {"JOINTS_", "WEIGHTS_"}) {
+            if (name.compare(0, prefix.size(), prefix) != 0) continue;
+            const std::string number = name.substr(prefix.size());
+            const bool decimal =
+                !number.empty() && number.size() <= 9 &&
+                std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+                (number == "0" || number[0] != '0');
+            if (decimal) sets = std::max(sets, std::stoi(number) + 1);
+        }
+    }
+    // Every set below it has both (glTF 2.0 section 3.7.2.1 numbers the sets from 0 without gaps).
+    for (int set = 0; set < sets; ++set) {
+        const std::string joints = "JOINTS_" + std::to_string(set),
+                          weights = "WEIGHTS_" + std::to_string(set);
+        const bool hasJoints = primitive.attributes.count(joints) > 0;
+        const bool hasWeights = primitive.attributes.count(weights) > 0;
+        if (hasJoints != hasWeights)
+            context_.fail(where + " has one of " + joints + " and " + weights + " without the other");
+        if (!hasJoints)
+            context_.fail(where + " has JOINTS_" + std::to_string(sets - 1) + " or WEIGHTS_" +
+                          std::to_string(sets - 1) + " but not " + joints + " and " + weights +
+                          " (the sets are numbered from 0 without gaps)");
+    }
+    return sets;
 }
 
 void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, DecodedPrimitive& decoded) {

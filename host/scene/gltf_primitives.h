@@ -44,8 +44,8 @@ struct DecodedPrimitive {
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
     std::vector<MorphTarget> targets;  // morph targets, in the order of the mesh's weights
-    // Skinning (glTF 2.0 section 3.7.3): JOINTS_0 and WEIGHTS_0, then JOINTS_1 and WEIGHTS_1 where given,
-    // `influences` (4 or 8) per vertex; empty for a primitive without them.
+    // Skinning (glTF 2.0 section 3.7.3): JOINTS_n and WEIGHTS_n for every set n the primitive has,
+    // interleaved per vertex, `influences` (4 per set) per vertex; empty for a primitive without them.
     int influences = 0;
     std::vector<uint32_t> joints;
     std::vector<float> jointWeights;
@@ -93,6 +93,9 @@ class MeshInstancer {
     static void keepUsedVertices(DecodedPrimitive& decoded);
     // Morph targets, and skinning's joints and weights, of a primitive.
     void decodeDeformation(int meshIndex, const tinygltf::Primitive& primitive, DecodedPrimitive& decoded);
+    // How many JOINTS_n and WEIGHTS_n sets a primitive has; throws when one lacks its partner or a set is
+    // missing below the highest.
+    int skinSetCount(const tinygltf::Primitive& primitive, const std::string& where) const;
     void place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses);
     // The frame of a flat face (a primitive without normals), from its placed corners.
     std::array<glm::vec4, 3> flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
