@@ -180,7 +180,8 @@ TEST(MorphTargets, WeightsComeFromTheNodeElseTheMeshAndAnimationsMoveThem) {
 }
 
 // Only the targets some node weighs are read, each counted against the memory: a target of 100,000 vertices
-// (a sparse accessor of 20 bytes) takes 1.2 MB once weighed, nothing while no node weighs it.
+// (a sparse accessor of 20 bytes) takes 3.6 MB to read (a double and a float per value) beside the positions'
+// 1.2 MB once weighed, nothing while no node weighs it; reading the positions alone takes 3.6 MB.
 TEST(MorphTargets, OnlyWeighedTargetsAreReadAndCounted) {
     const auto folder = test::temporaryFolder();
     test::GltfDocument d;
@@ -211,7 +212,7 @@ TEST(MorphTargets, OnlyWeighedTargetsAreReadAndCounted) {
     d.node({{"mesh", 0}});
     d.write(folder / "unweighed.gltf");
     LoadOptions small;
-    small.maxSceneBytes = 1000000;
+    small.maxSceneBytes = 4000000;
     EXPECT_NO_THROW(loadGltf((folder / "unweighed.gltf").string(), small));
     d.json["meshes"][0]["weights"] = {1.0};
     d.write(folder / "weighed.gltf");
@@ -255,6 +256,52 @@ TEST(Skins, EveryJointAndWeightSetIsRead) {
     expectNear(glm::vec3(skinned[0]), {0, 0, 0}, "on A in the first set");
     expectNear(glm::vec3(skinned[1]), {1, 1, 0}, "on B in the third set");
     expectNear(glm::vec3(skinned[2]), {0, 0.5, 0}, "on A in the first set and B in the third");
+}
+
+// A skinned triangle whose POSITION, JOINTS_0 and WEIGHTS_0 claim a million vertices (sparse accessors of a
+// few bytes): each is counted against the memory before it is read, beside what is read already. The
+// positions take 36 MB to read (a double and a float per value), the joints and weights 48 MB each beside
+// them and the 32 MB they are interleaved into: the skin is refused in 64 MiB (at 2^26 vertices it took 5 GB
+// under --max-memory 500M) and loaded in 256 MiB; placed by a node without the skin, the mesh loads in 64.
+TEST(Skins, JointsAndWeightsAreCountedAgainstTheMemoryBeforeTheyAreRead) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d;
+    const size_t vertices = 1000000;
+    const int positions =
+        d.sparseOnly(vertices, {0, 1, 2}, std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}, 5126, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int joints = d.sparseOnly(vertices, {0, 1, 2}, std::vector<uint16_t>(12, 0), 5123, "VEC4");
+    const int weights = d.sparseOnly(vertices, {0, 1, 2},
+                                     std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, 5126, "VEC4");
+    const int indices = d.unsignedShorts({0, 1, 2}, "SCALAR");
+    d.json["meshes"] = {
+        {{"primitives",
+          {{{"attributes", {{"POSITION", positions}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}},
+            {"indices", indices}}}}}};
+    const int joint = d.node({{"translation", {5, 0, 0}}});
+    d.json["skins"] = {{{"joints", {joint}}}};
+    const int skinned = d.node({{"mesh", 0}, {"skin", 0}});
+    d.write(folder / "skinned.gltf");
+    LoadOptions small;
+    small.maxSceneBytes = 64u << 20;
+    small.memorySource = "--max-memory";
+    try {
+        loadGltf((folder / "skinned.gltf").string(), small);
+        ADD_FAILURE() << "read a million vertices' joints and weights in 64 MiB";
+    } catch (const MemoryError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("mesh 0 primitive 0 JOINTS_0 would take"), std::string::npos) << message;
+        EXPECT_NE(message.find("(--max-memory)"), std::string::npos) << message;
+    }
+    LoadOptions large;
+    large.maxSceneBytes = 256u << 20;
+    const Scene scene = loadGltf((folder / "skinned.gltf").string(), large);
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    expectNear(glm::vec3(corners(scene, 0)[1]), {6, 0, 0}, "on the joint");
+    d.json["nodes"][skinned].erase("skin");
+    d.write(folder / "rigid.gltf");
+    EXPECT_EQ(loadGltf((folder / "rigid.gltf").string(), small).triangles.size(), 1u);
 }
 
 // Malformed skins and targets: each refused with a message naming the problem.

@@ -1019,6 +1019,45 @@ TEST(GltfLoader, PlacedTrianglesAreCountedAgainstTheMemoryBeforeTheyArePlaced) {
     EXPECT_THROW(loadGltf(moving, exact), MemoryError);
 }
 
+// Every vertex attribute is counted against the memory before it is read, beside what is read already, the
+// vertices no triangle uses too: a triangle whose POSITION and NORMAL claim a million vertices (sparse
+// accessors of a few bytes) takes 36 MB to read its positions (a double and a float per value) and 36 MB more
+// for its normals beside the 12 MB of positions kept. Refused in 16 MiB, its positions alone are read in 40
+// MiB, and its normals refused there (at 2^26 vertices they took 2.4 GB under --max-memory 500M).
+TEST(GltfLoader, VertexAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d;
+    const size_t vertices = 1000000;
+    const int positions =
+        d.sparseOnly(vertices, {0, 1, 2}, std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}, 5126, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int normals =
+        d.sparseOnly(vertices, {0, 1, 2}, std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}, 5126, "VEC3");
+    const int indices = d.unsignedShorts({0, 1, 2}, "SCALAR");
+    d.json["meshes"] = {
+        {{"primitives", {{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}}}}};
+    d.node({{"mesh", 0}});
+    d.write(folder / "positions.gltf");
+    d.json["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = normals;
+    d.write(folder / "normals.gltf");
+    const auto refusal = [](const std::filesystem::path& file, uint64_t bytes) -> std::string {
+        LoadOptions options;
+        options.maxSceneBytes = bytes;
+        try {
+            loadGltf(file.string(), options);
+        } catch (const MemoryError& e) {
+            return e.what();
+        }
+        return "loaded";
+    };
+    EXPECT_NE(refusal(folder / "positions.gltf", 16u << 20).find("mesh 0 primitive 0 POSITION would take"),
+              std::string::npos);
+    EXPECT_EQ(refusal(folder / "positions.gltf", 40u << 20), "loaded");
+    EXPECT_NE(refusal(folder / "normals.gltf", 40u << 20).find("mesh 0 primitive 0 NORMAL would take"),
+              std::string::npos);
+}
+
 TEST(GltfLoader, SharedMeshInstancesArePlacedPerNode) {
     const Scene scene = loadGltf(writeInstancedMeshes(test::temporaryFolder(), true).string());
     // Each node's mesh corners, placed by hand, in walk order (nodes 0 to 4, then 5 under 4).

@@ -91,6 +91,11 @@ class GltfConverter {
     void reserveTriangles(int meshIndex, uint64_t instances, const std::string& where);
     // Counts `bytes` more of host memory for `what` against what the options allow.
     void reserveBytes(uint64_t bytes, const std::string& what);
+    // Checks that `bytes` that a primitive holds while it is decoded fit beside the triangles placed so far
+    // and the other memory counted (those reserved but not yet placed take nothing yet).
+    void checkDecoding(uint64_t bytes, const std::string& what) const;
+    // Throws MemoryError when `bytes` more for `what` do not fit beside the `held` bytes.
+    void refuseUnlessAvailable(double held, uint64_t bytes, const std::string& what) const;
     // Where the mesh of node `nodeIndex`, whose world transforms are `poses`, is at each pose time: with its
     // morph targets' weights and, when the node has a skin, its joints' matrices.
     std::vector<InstancePose> meshPoses(int nodeIndex, const Poses& poses, const std::string& where);
@@ -111,7 +116,7 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
-    uint64_t otherBytes_ = 0;        // host memory beside the triangles: images, skins' joints, targets
+    uint64_t otherBytes_ = 0;        // host memory beside the triangles: images, skins' joints, deformations
     glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
     std::vector<int> parents_;       // each node's parent, -1 for none (filled when first needed)
     std::map<int, Poses> worlds_;    // world transforms of the joints and their ancestors, by node
@@ -153,6 +158,7 @@ Scene GltfConverter::convert() {
     chooseShutter();
     markDeformations();
     meshes_.setReserve([this](uint64_t bytes, const std::string& what) { reserveBytes(bytes, what); });
+    meshes_.setDecodingCheck([this](uint64_t bytes, const std::string& what) { checkDecoding(bytes, what); });
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
 
     meshes_.warnAboutSkipped();
@@ -360,15 +366,27 @@ void GltfConverter::markDeformations() {
 
 void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what) {
     const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
-    const double held = static_cast<double>(triangleBound_) * static_cast<double>(bytesPerTriangle) +
-                        static_cast<double>(otherBytes_);
+    refuseUnlessAvailable(static_cast<double>(triangleBound_) * static_cast<double>(bytesPerTriangle) +
+                              static_cast<double>(otherBytes_),
+                          bytes, what);
+    otherBytes_ += bytes;
+}
+
+void GltfConverter::checkDecoding(uint64_t bytes, const std::string& what) const {
+    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
+    refuseUnlessAvailable(
+        static_cast<double>(context_.scene.triangles.size()) * static_cast<double>(bytesPerTriangle) +
+            static_cast<double>(otherBytes_),
+        bytes, what);
+}
+
+void GltfConverter::refuseUnlessAvailable(double held, uint64_t bytes, const std::string& what) const {
     if (held + static_cast<double>(bytes) > static_cast<double>(options_.maxSceneBytes)) {
         throw MemoryError(context_.path + ": " + what + " would take " + formatBytes(bytes) +
                           " of host memory beside the scene's " + formatBytes(static_cast<uint64_t>(held)) +
                           ", and " + formatBytes(options_.maxSceneBytes) + " is available (" +
                           options_.memorySource + ")");
     }
-    otherBytes_ += bytes;
 }
 
 const GltfConverter::Poses& GltfConverter::worldOf(int nodeIndex) {

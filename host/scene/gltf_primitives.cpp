@@ -11,6 +11,13 @@
 
 namespace vkrt {
 
+namespace {
+
+// Byte counts saturate here, below 2^64, rather than wrap (an accessor's count is the file's to claim).
+constexpr double kMostBytes = 1.8e19;
+
+}  // namespace
+
 void MeshInstancer::addInstance(int meshIndex, const std::vector<InstancePose>& poses) {
     // Decode each primitive on the mesh's first instance, placing it before decoding the next, so that
     // errors come in the order the file's content meets them; later instances only place.
@@ -38,8 +45,8 @@ void MeshInstancer::warnAboutSkipped() {
 DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     const tinygltf::Mesh& mesh = context_.model.meshes[meshIndex];
     const tinygltf::Primitive& primitive = mesh.primitives[primitiveIndex];
-    const AccessorReader& accessors = context_.accessors;
     DecodedPrimitive decoded;
+    decodingBytes_ = 0;
     decoded.where = describe("mesh", meshIndex, mesh.name) + " primitive " + std::to_string(primitiveIndex);
     const std::string& where = decoded.where;
 
@@ -63,7 +70,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         decoded.skipped = true;
         return decoded;
     }
-    decoded.positions = accessors.readFloats(position->second, 3, where + " POSITION");
+    decoded.positions = readCountedFloats(position->second, 3, where + " POSITION");
     const std::vector<float>& positions = decoded.positions;
     const size_t vertexCount = positions.size() / 3;
     for (size_t i = 0; i < positions.size(); ++i) {
@@ -72,7 +79,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         }
     }
     if (auto it = primitive.attributes.find("NORMAL"); it != primitive.attributes.end()) {
-        decoded.normals = accessors.readFloats(it->second, 3, where + " NORMAL");
+        decoded.normals = readCountedFloats(it->second, 3, where + " NORMAL");
         if (decoded.normals.size() != positions.size())
             context_.fail(where + " NORMAL and POSITION counts differ");
     }
@@ -80,7 +87,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         auto it = primitive.attributes.find(set);
         if (it == primitive.attributes.end()) continue;
         std::vector<float>& uvs = set[9] == '0' ? decoded.uvs : decoded.uvs1;
-        uvs = accessors.readFloats(it->second, 2, where + " " + set);
+        uvs = readCountedFloats(it->second, 2, where + " " + set);
         if (uvs.size() / 2 != vertexCount) context_.fail(where + " " + set + " and POSITION counts differ");
         for (size_t i = 0; i < uvs.size(); ++i) {
             if (!std::isfinite(uvs[i]))
@@ -93,9 +100,10 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
         const bool rgba = it->second >= 0 && it->second < static_cast<int>(context_.model.accessors.size()) &&
                           context_.model.accessors[it->second].type == TINYGLTF_TYPE_VEC4;
         const int components = rgba ? 4 : 3;
-        const std::vector<float> colors = accessors.readFloats(it->second, components, where + " COLOR_0");
+        const std::vector<float> colors = readCountedFloats(it->second, components, where + " COLOR_0");
         if (colors.size() / components != vertexCount)
             context_.fail(where + " COLOR_0 and POSITION counts differ");
+        holdWhileDecoding(4.0 * sizeof(float) * vertexCount, 0.0, where + " COLOR_0");
         for (size_t v = 0; v < vertexCount; ++v) {
             for (int c = 0; c < 4; ++c) {
                 const float value = c < components ? colors[components * v + c] : 1.0f;
@@ -109,7 +117,7 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     // Read and check the indices; without an accessor, the vertices in order.
     std::vector<uint32_t> indices;
     if (primitive.indices >= 0) {
-        indices = accessors.readIndices(primitive.indices, where + " indices");
+        indices = readCountedUnsigned(primitive.indices, 1, where + " indices");
         for (size_t i = 0; i < indices.size(); ++i) {
             if (indices[i] >= vertexCount) {
                 context_.fail(where + " index " + std::to_string(indices[i]) + " at position " +
@@ -118,12 +126,18 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
             }
         }
     } else {
+        holdWhileDecoding(static_cast<double>(sizeof(uint32_t)) * vertexCount, 0.0, where + " indices");
         indices.resize(vertexCount);
         for (size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<uint32_t>(i);
     }
 
     // Triangle list from strips and fans (glTF 2.0 section 3.7.2.1).
     std::vector<std::array<uint32_t, 3>>& faces = decoded.faces;
+    const size_t faceCount = mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3
+                             : indices.size() > 2            ? indices.size() - 2
+                                                             : 0;
+    holdWhileDecoding(static_cast<double>(sizeof(faces[0])) * faceCount, 0.0, where + " triangles");
+    faces.reserve(faceCount);
     if (mode == TINYGLTF_MODE_TRIANGLES) {
         for (size_t i = 0; i + 2 < indices.size(); i += 3)
             faces.push_back({indices[i], indices[i + 1], indices[i + 2]});
@@ -165,12 +179,44 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
                       (decoded.uvs.empty()
                            ? " has no TEXCOORD_1, which its material's textures read; they read (0, 0)"
                            : " has no TEXCOORD_1, which its material's textures read; they read TEXCOORD_0"));
+        holdWhileDecoding(static_cast<double>(sizeof(float)) * decoded.uvs.size(), 0.0,
+                          where + " TEXCOORD_1");
         decoded.uvs1 = decoded.uvs;
     }
     decodeTangents(primitive, decoded);
     decodeDeformation(meshIndex, primitive, decoded);
     keepUsedVertices(decoded);
+    // The vertices' other attributes are at most three per triangle, whose memory is counted; their morph
+    // targets and skin influences, any number per vertex, are counted for the rest of the load.
+    uint64_t deformationBytes =
+        sizeof(uint32_t) * decoded.joints.size() + sizeof(float) * decoded.jointWeights.size();
+    for (const MorphTarget& target : decoded.targets)
+        deformationBytes +=
+            sizeof(float) * (target.positions.size() + target.normals.size() + target.tangents.size());
+    if (reserve_ && deformationBytes > 0)
+        reserve_(deformationBytes, where + " morph targets and skin influences");
     return decoded;
+}
+
+void MeshInstancer::holdWhileDecoding(double keptBytes, double passingBytes, const std::string& what) {
+    const double peak = std::min(static_cast<double>(decodingBytes_) + keptBytes + passingBytes, kMostBytes);
+    if (checkDecoding_) checkDecoding_(static_cast<uint64_t>(peak), what);
+    decodingBytes_ =
+        static_cast<uint64_t>(std::min(static_cast<double>(decodingBytes_) + keptBytes, kMostBytes));
+}
+
+std::vector<float> MeshInstancer::readCountedFloats(int accessor, int components, const std::string& what) {
+    // The reader builds doubles beside the floats it returns, and frees them when it does.
+    const double values = static_cast<double>(context_.accessors.count(accessor, what)) * components;
+    holdWhileDecoding(values * sizeof(float), values * sizeof(double), what);
+    return context_.accessors.readFloats(accessor, components, what);
+}
+
+std::vector<uint32_t> MeshInstancer::readCountedUnsigned(int accessor, int components,
+                                                         const std::string& what) {
+    const double values = static_cast<double>(context_.accessors.count(accessor, what)) * components;
+    holdWhileDecoding(values * sizeof(uint32_t), values * sizeof(double), what);
+    return context_.accessors.readUnsigned(accessor, components, what);
 }
 
 bool MeshInstancer::liveTarget(int meshIndex, size_t target) const {
@@ -183,9 +229,8 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
                                       DecodedPrimitive& decoded) {
     const std::string& where = decoded.where;
     const size_t vertexCount = decoded.positions.size() / 3;
-    const AccessorReader& accessors = context_.accessors;
-    // Each weighed target's displacements of the attributes the primitive has, counted against the memory
-    // first; other attributes are passed over, once said. A target no node weighs is left empty.
+    // Each weighed target's displacements of the attributes the primitive has; other attributes are passed
+    // over, once said. A target no node weighs is left empty.
     for (size_t t = 0; t < primitive.targets.size(); ++t) {
         MorphTarget target;
         if (!liveTarget(meshIndex, t)) {
@@ -203,8 +248,7 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
                 if (name != "NORMAL" && name != "TANGENT") ignoredTargetAttributes_.insert(name);
                 continue;
             }
-            if (reserve_) reserve_(vertexCount * 3 * sizeof(float), what);
-            *values = accessors.readFloats(accessor, 3, what);
+            *values = readCountedFloats(accessor, 3, what);
             if (values->size() != decoded.positions.size())
                 context_.fail(what + " and POSITION counts differ");
             for (size_t i = 0; i < values->size(); ++i) {
@@ -222,15 +266,17 @@ void MeshInstancer::decodeDeformation(int meshIndex, const tinygltf::Primitive& 
     if (sets == 0) return;
     decoded.influences = 4 * sets;
     const size_t influences = static_cast<size_t>(decoded.influences);
+    holdWhileDecoding(static_cast<double>(sizeof(uint32_t) + sizeof(float)) * influences * vertexCount, 0.0,
+                      where + " skin influences");
     decoded.joints.resize(influences * vertexCount);
     decoded.jointWeights.resize(influences * vertexCount);
     for (int set = 0; set < sets; ++set) {
         const std::string jointsName = "JOINTS_" + std::to_string(set);
         const std::string weightsName = "WEIGHTS_" + std::to_string(set);
         const std::vector<uint32_t> jointSet =
-            accessors.readUnsigned(primitive.attributes.at(jointsName), 4, where + " " + jointsName);
+            readCountedUnsigned(primitive.attributes.at(jointsName), 4, where + " " + jointsName);
         const std::vector<float> weightSet =
-            accessors.readFloats(primitive.attributes.at(weightsName), 4, where + " " + weightsName);
+            readCountedFloats(primitive.attributes.at(weightsName), 4, where + " " + weightsName);
         if (jointSet.size() != 4 * vertexCount || weightSet.size() != 4 * vertexCount)
             context_.fail(where + " " + jointsName + ", " + weightsName + " and POSITION counts differ");
         for (size_t i = 0; i < weightSet.size(); ++i) {
@@ -288,7 +334,7 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     const std::string& where = decoded.where;
     const size_t vertexCount = decoded.positions.size() / 3;
     if (auto it = primitive.attributes.find("TANGENT"); it != primitive.attributes.end()) {
-        decoded.tangents = context_.accessors.readFloats(it->second, 4, where + " TANGENT");
+        decoded.tangents = readCountedFloats(it->second, 4, where + " TANGENT");
         if (decoded.tangents.size() / 4 != vertexCount) context_.fail(where + " TANGENT and POSITION counts differ");
         for (size_t i = 0; i < decoded.tangents.size(); ++i) {
             if (!std::isfinite(decoded.tangents[i]))
@@ -303,6 +349,10 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     // is the image's, whatever writes the mapping. Taken from the mesh's coordinates alone, a normal map
     // mirrored by the transform showed its ridges as valleys, and one turned by it was lit from the side.
     const std::array<glm::vec2, 2> rows = normalTexture.linearRows();
+    // The tangents kept, beside the mapped coordinates and the two sums per vertex that derive them.
+    holdWhileDecoding(4.0 * sizeof(float) * vertexCount,
+                      static_cast<double>(2 * sizeof(float) + 2 * sizeof(glm::dvec3)) * vertexCount,
+                      where + " derived tangents");
     std::vector<float> mapped(uvs.size());
     for (size_t i = 0; i + 1 < uvs.size(); i += 2) {
         const glm::vec2 uv(uvs[i], uvs[i + 1]);

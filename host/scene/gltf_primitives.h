@@ -75,9 +75,15 @@ class MeshInstancer {
     void setLiveTargets(const std::map<int, std::vector<bool>>* live) { liveTargets_ = live; }
     // The meshes some node skins: the others' joints and weights are not read (all are, without this).
     void setSkinnedMeshes(const std::set<int>* skinned) { skinnedMeshes_ = skinned; }
-    // Counts the host memory that decoded morph targets take (throws when it is more than is available).
+    // Counts the host memory that decoded morph targets and skin influences take for the rest of the load
+    // (throws when it is more than is available).
     void setReserve(std::function<void(uint64_t bytes, const std::string& what)> reserve) {
         reserve_ = std::move(reserve);
+    }
+    // Checks that `bytes`, held only while one primitive is decoded, fit in the host memory available beside
+    // the scene's (throws when they do not).
+    void setDecodingCheck(std::function<void(uint64_t bytes, const std::string& what)> check) {
+        checkDecoding_ = std::move(check);
     }
 
     // Warnings for what instances skipped: degenerate triangles and point or line primitives.
@@ -96,6 +102,12 @@ class MeshInstancer {
     // How many JOINTS_n and WEIGHTS_n sets a primitive has; throws when one lacks its partner or a set is
     // missing below the highest.
     int skinSetCount(const tinygltf::Primitive& primitive, const std::string& where) const;
+    // Counts `keptBytes` more held by the primitive being decoded, checking first that they fit with
+    // `passingBytes` more beside them for a moment.
+    void holdWhileDecoding(double keptBytes, double passingBytes, const std::string& what);
+    // An accessor of the primitive being decoded, read as AccessorReader reads it once its memory is counted.
+    std::vector<float> readCountedFloats(int accessor, int components, const std::string& what);
+    std::vector<uint32_t> readCountedUnsigned(int accessor, int components, const std::string& what);
     void place(const DecodedPrimitive& primitive, const std::vector<InstancePose>& poses);
     // The frame of a flat face (a primitive without normals), from its placed corners.
     std::array<glm::vec4, 3> flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
@@ -110,6 +122,8 @@ class MeshInstancer {
     const std::map<int, std::vector<bool>>* liveTargets_ = nullptr;
     const std::set<int>* skinnedMeshes_ = nullptr;
     std::function<void(uint64_t, const std::string&)> reserve_;
+    std::function<void(uint64_t, const std::string&)> checkDecoding_;
+    uint64_t decodingBytes_ = 0;  // what the primitive being decoded holds so far
 };
 
 }  // namespace vkrt

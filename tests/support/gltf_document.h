@@ -38,6 +38,25 @@ class GltfDocument {
         return accessor(values, 5123, type);
     }
 
+    // An accessor of `count` elements of `type` with no bufferView (glTF 2.0 section 3.6.2.3): zero but for
+    // elements `indices`, which take `values`, floats (5126) or unsigned shorts (5123) as `componentType`
+    // says. A few bytes of file that claim as many elements as they like.
+    template <typename T>
+    int sparseOnly(size_t count, const std::vector<uint16_t>& indices, const std::vector<T>& values,
+                   int componentType, const char* type) {
+        const int where = accessor(indices, 5123, "SCALAR");
+        const int what = accessor(values, componentType, type);
+        json["accessors"].push_back(
+            {{"count", count},
+             {"componentType", componentType},
+             {"type", type},
+             {"sparse",
+              {{"count", indices.size()},
+               {"indices", {{"bufferView", json["accessors"][where]["bufferView"]}, {"componentType", 5123}}},
+               {"values", {{"bufferView", json["accessors"][what]["bufferView"]}}}}}});
+        return static_cast<int>(json["accessors"].size()) - 1;
+    }
+
     // Appends a node (a scene root when `root`) and returns its index.
     int node(const nlohmann::json& fields, bool root = true) {
         json["nodes"].push_back(fields);
