@@ -90,11 +90,11 @@ float tieWidth(float t, float originScale) {
     return float(VKRT_TIE_EPSILON) * (originScale + t);
 }
 
-// How far hits still matter: the best hit so far, plus a tie's width for closest-hit walks (ties are won by
-// the smaller scene index, so a tie just beyond the best hit can still win).
-float searchLimit(Hit hit, float tMax, float originScale, const int mode) {
-    if (mode != VKRT_TRACE_CLOSEST || hit.primitive == VKRT_NO_PRIMITIVE) return hit.t;
-    return min(tMax, hit.t + tieWidth(hit.t, originScale));
+// How far hits still matter: the nearest hit so far (tMax before the first; any-hit walks keep it there), plus
+// a tie's width for closest-hit walks (a tie just beyond the nearest hit can still win).
+float searchLimit(float nearest, float tMax, float originScale, const int mode) {
+    if (mode != VKRT_TRACE_CLOSEST || nearest >= tMax) return nearest;
+    return min(tMax, nearest + tieWidth(nearest, originScale));
 }
 
 // The path integrator's shadow rays stop at a volume's boundary (surface_response.h's shadowTint).
@@ -200,7 +200,8 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
 // are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
-                   float originScale, const int mode, inout Hit hit, inout vec4 transmittance) {
+                   float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost,
+                   inout vec4 transmittance) {
 #ifdef VKRT_HAS_SHAPES
     const GpuPrimitive primitive = primitiveAt(index);
     if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
@@ -212,7 +213,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
         const bool found = visitSolid(r, index, solidOf(primitive), tMin,
-                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(hit, tMax, originScale, mode), mode, t, u, v,
+                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(nearest, tMax, originScale, mode), mode, t, u, v,
                                       transmittance);
         if (mode == VKRT_TRACE_SHADOW || !found) return found;
     } else
@@ -222,12 +223,12 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     } else
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
-        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(hit, tMax, originScale, mode), t)) {
+        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(nearest, tMax, originScale, mode), t)) {
             return false;
         }
     } else
 #endif
-    if (!intersectTriangle(r, primitive, tMin, searchLimit(hit, tMax, originScale, mode), t, u, v)) {
+    if (!intersectTriangle(r, primitive, tMin, searchLimit(nearest, tMax, originScale, mode), t, u, v)) {
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
@@ -235,12 +236,15 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         return true;
     }
     if (mode == VKRT_TRACE_CLOSEST) {
-        // Nearer by more than the tie tolerance, or a tie won by the smaller scene index (shared.h).
-        const float tolerance = tieWidth(hit.t, originScale);
+        // The hit of smallest scene index within a tie's width of the nearest (shared.h); the search limit
+        // keeps t inside the nearest one's window. A nearer hit narrows the window: when the best falls out of
+        // it while an earlier hit may stay inside, the walk has lost a candidate and is run again (`lost`).
         const bool first = hit.primitive == VKRT_NO_PRIMITIVE;
-        if (first || t < hit.t - tolerance || primitive.sceneIndex < hit.sceneIndex) {
-            hit = Hit(t, u, v, index, primitive.sceneIndex);
-        }
+        const float reach = t + tieWidth(t, originScale);
+        const bool dropsBest = !first && t < nearest && hit.t > reach;
+        lost = lost || (dropsBest && nearest <= reach);
+        if (first || dropsBest || primitive.sceneIndex < hit.sceneIndex) hit = Hit(t, u, v, index, primitive.sceneIndex);
+        nearest = min(nearest, t);
         return false;
     }
     return false;
@@ -266,6 +270,11 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
     complete = true;
     if (params.primitiveCount == 0u) return false;
+    // Closest-hit walks: the nearest hit's distance, which ties are judged against, and whether a candidate
+    // within a tie's width of it was dropped (visitPrimitive); then the walk runs once more with the nearest
+    // distance known, and every hit in its window is seen (rare: three surfaces within two ties' widths).
+    float nearest = tMax;
+    bool lost = false;
     // Pending children: their links and the distances at which the ray enters them. A wide level stacks
     // at most three, and the wide tree is no deeper than the binary one (VKRT_BVH_MAX_DEPTH). (One 64-bit
     // word an entry was 3-5% slower on lavapipe.)
@@ -285,7 +294,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             VKRT_COUNT_ITERATION();
             const WideBvhNode node = VKRT_NODE(link);
             const WideGrid grid = wideGrid(node);
-            const float limit = searchLimit(hit, tMax, originScale, mode);
+            const float limit = searchLimit(nearest, tMax, originScale, mode);
             float key0, key1, key2, key3;
             uint link0, link1, link2, link3;
             testChild(node, grid, 0u, node.child0, r, tMin, limit, key0, link0);
@@ -315,7 +324,8 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             uint index = first;
             do {
                 VKRT_COUNT_ITERATION();
-                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, originScale, mode, hit, transmittance)) {
+                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, originScale, mode, hit, nearest, lost,
+                                   transmittance)) {
                     complete = true;
                     return true;
                 }
@@ -325,13 +335,19 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
         for (;;) {
             VKRT_COUNT_ITERATION();
             if (size == 0) {
+                if (lost) {  // from the root again, the nearest distance kept
+                    lost = false;
+                    hit.primitive = VKRT_NO_PRIMITIVE;
+                    link = 0u;
+                    break;
+                }
                 complete = true;
                 return mode == VKRT_TRACE_CLOSEST && hit.primitive != VKRT_NO_PRIMITIVE;
             }
             --size;
             float entry;
             VKRT_POP(link, entry);
-            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(hit, tMax, originScale, mode)) break;
+            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(nearest, tMax, originScale, mode)) break;
         }
     }
 #undef VKRT_PUSH

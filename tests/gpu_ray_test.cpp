@@ -447,6 +447,57 @@ TEST_F(Gpu, SurfacesCloserThanTheRaysPrecisionAreTies) {
     }
 }
 
+TEST_F(Gpu, TiesAreJudgedAgainstTheNearestHitInAnyWalkOrder) {
+    // Three parallel squares `gap` apart, the nearest (triangles 4 and 5) at z = 0, the middle (2, 3) at -gap
+    // and the farthest (0, 1) at -2 gap, under rays coming down from z = 10: a tie's width there is about
+    // VKRT_TIE_EPSILON * 20, and the gaps are 0.6 to 0.8 of it, so the middle square ties with the nearest
+    // and the farthest does not. The middle one wins (the smallest index within a tie's width of the nearest
+    // hit), whatever order the walk meets them in: the built trees, and one leaf holding the six triangles in
+    // either order. Before, each new best hit moved the window to its own distance, so ties chained: the
+    // built tree gave the farthest square (1.2 to 1.6 ties' widths behind the nearest), one leaf the nearest.
+    const float width = static_cast<float>(VKRT_TIE_EPSILON * 20.0);
+    for (const float share : {0.6f, 0.7f, 0.8f}) {
+        const float gap = share * width;
+        std::vector<Triangle> triangles;
+        for (const float z : {-2.0f * gap, -gap, 0.0f}) {
+            triangles.push_back({{-1, -1, z}, {1, -1, z}, {1, 1, z}, 0});
+            triangles.push_back({{-1, -1, z}, {1, 1, z}, {-1, 1, z}, 0});
+        }
+        const Scene scene = sceneOf(triangles);
+        auto oneLeaf = [&](bool reversed) {
+            FlatBvh bvh;
+            bvh.nodes.push_back({scene.bounds.min, 0u, scene.bounds.max, 6u});
+            for (uint32_t i = 0; i < 6; ++i) bvh.primIndices.push_back(reversed ? 5 - i : i);
+            return bvh;
+        };
+        const std::pair<const char*, FlatBvh> trees[] = {
+            {"built", bvhFor(scene)}, {"one leaf", oneLeaf(false)}, {"one leaf, reversed", oneLeaf(true)}};
+        std::vector<gpu::GpuRay> rays;
+        for (int i = 0; i < 32; ++i) {
+            for (int j = 0; j < 32; ++j) {
+                const glm::vec3 origin((i + 0.37f) / 32.0f - 0.5f, (j + 0.61f) / 32.0f - 0.5f, 10.0f);
+                const glm::vec3 direction = glm::normalize(
+                    glm::vec3(0.002f * static_cast<float>(i % 7), 0.002f * static_cast<float>(j % 5), -1.0f));
+                rays.push_back({origin, 0.0f, direction, 1e30f});
+            }
+        }
+        for (const auto& [name, bvh] : trees) {
+            GpuRaycaster raycaster(context(), scene, bvh, test::shaderCacheDir());
+            const std::vector<gpu::GpuHit> gpuHits = raycaster.trace(rays, RaycastMode::Closest);
+            size_t cpuMiddle = 0, gpuMiddle = 0;
+            for (size_t i = 0; i < rays.size(); ++i) {
+                SurfaceHit cpu;
+                closestHit(scene, bvh, {glm::dvec3(rays[i].origin), glm::dvec3(rays[i].direction)}, 1e30,
+                           kNoPrimitive, cpu);
+                cpuMiddle += cpu.primitive == 2u || cpu.primitive == 3u;
+                gpuMiddle += gpuHits[i].primitive == 2u || gpuHits[i].primitive == 3u;
+            }
+            EXPECT_EQ(cpuMiddle, rays.size()) << "CPU, " << name << ", gap " << share << " of a tie";
+            EXPECT_EQ(gpuMiddle, rays.size()) << "GPU, " << name << ", gap " << share << " of a tie";
+        }
+    }
+}
+
 TEST_F(Gpu, AxisParallelRaysFromABoxFaceHit) {
     // A square (two triangles) across [corner, corner + size] in two axes, at `size` * 5 along the third, and
     // rays parallel to that third axis from a grid of points over the square's closed extent, its edges

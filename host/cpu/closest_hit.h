@@ -56,31 +56,40 @@ inline double tieWidth(double t, double originScale) {
     return VKRT_TIE_EPSILON * (originScale + t);
 }
 
-// Whether a hit at `t` on primitive `index` wins over the best so far: nearer by more than a tie's width, or
-// a tie with a smaller index.
-inline bool winsOver(double t, uint32_t index, double bestT, uint32_t bestIndex, double originScale) {
-    const double tolerance = tieWidth(bestT, originScale);
-    return t < bestT - tolerance || (t <= bestT + tolerance && index < bestIndex);
-}
-
-// The closest hit in (tMin, tMax) other than primitive `exclude`, ties broken by primitive index, with the
-// scene at shutter time `time`; false on a miss.
+// The closest hit in (tMin, tMax) other than primitive `exclude`, with the scene at shutter time `time`;
+// false on a miss. Hits within a tie's width of the nearest are ties, won by the smallest primitive index
+// (shared.h's VKRT_TIE_EPSILON): the winner depends on the hits alone, not on the order the walk meets them.
+// A nearer hit narrows the window; when the best so far falls out of it while an earlier hit may still lie
+// inside, that candidate was not kept, and the walk runs once more with the nearest distance known (as the
+// GPU's does: traverse.glsl's visitPrimitive).
 inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
                              double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
-    bool found = false;
     const double originScale =
         std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)});
-    traverseBvh(bvh, ray, tMin, tMax, [&](uint32_t prim, double& limit) {
-        TriangleHit candidate;
-        if (prim != exclude && intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time) &&
-            (!found || winsOver(candidate.t, prim, hit.t, hit.primitive, originScale))) {
-            hit = {prim, candidate.t, candidate.u, candidate.v};
+    double nearest = tMax, searchLimit = tMax;
+    bool found = false, lost = false;
+    auto walk = [&] {
+        traverseBvh(bvh, ray, tMin, searchLimit, [&](uint32_t prim, double& limit) {
+            TriangleHit candidate;
+            if (prim == exclude || !intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time))
+                return false;
+            const double reach = candidate.t + tieWidth(candidate.t, originScale);
+            const bool dropsBest = found && candidate.t < nearest && hit.t > reach;
+            lost = lost || (dropsBest && nearest <= reach);
+            if (!found || dropsBest || prim < hit.primitive)
+                hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
-            // Keep looking a tie's width beyond the best hit, where a tie can still win.
-            limit = std::min(tMax, hit.t + tieWidth(hit.t, originScale));
-        }
-        return false;
-    });
+            nearest = std::min(nearest, candidate.t);
+            // Keep looking a tie's width beyond the nearest hit, where a tie can still win.
+            limit = std::min(limit, nearest + tieWidth(nearest, originScale));
+            return false;
+        });
+    };
+    walk();
+    if (lost) {
+        found = false;
+        walk();
+    }
     return found;
 }
 
