@@ -445,13 +445,21 @@ private:
             true, 1);
     }
 
+    // `owner`'s extension `name`, which must be an object, or null when it has none; `at` names where it
+    // lies.
+    const Json* extension(const Json& owner, const char* name, const std::string& where,
+                          std::string& at) const {
+        const Json* extensions = object(owner, "extensions", where);
+        if (!extensions) return nullptr;
+        at = member(member(where, "extensions"), name);
+        return object(*extensions, name, member(where, "extensions"));
+    }
+
     // EXT_meshopt_compression on a buffer view: where its compressed bytes are and what they decode to (the
     // codec's values, mode and filter, are checked as the view is decoded).
     void meshoptView(const Json& view, const std::string& where) const {
-        const Json* extensions = object(view, "extensions", where);
-        if (!extensions) return;
-        const std::string at = member(member(where, "extensions"), "EXT_meshopt_compression");
-        const Json* meshopt = object(*extensions, "EXT_meshopt_compression", member(where, "extensions"));
+        std::string at;
+        const Json* meshopt = extension(view, "EXT_meshopt_compression", where, at);
         if (!meshopt) return;
         index(*meshopt, "buffer", at, "buffers", "buffer", true);
         integer(*meshopt, "byteOffset", at, kNonNegativeInt);
@@ -465,10 +473,8 @@ private:
     // KHR_draco_mesh_compression on a primitive: the buffer view of its compressed data, and the Draco
     // attribute id of each attribute it holds.
     void dracoPrimitive(const Json& primitive, const std::string& where) const {
-        const Json* extensions = object(primitive, "extensions", where);
-        if (!extensions) return;
-        const std::string at = member(member(where, "extensions"), "KHR_draco_mesh_compression");
-        const Json* draco = object(*extensions, "KHR_draco_mesh_compression", member(where, "extensions"));
+        std::string at;
+        const Json* draco = extension(primitive, "KHR_draco_mesh_compression", where, at);
         if (!draco) return;
         index(*draco, "bufferView", at, "bufferViews", "buffer view", true);
         const Json& attributes = requiredObject(*draco, "attributes", at);
