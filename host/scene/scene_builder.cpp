@@ -12,7 +12,7 @@ namespace {
 
 // A triangle's corners rotated so the lexicographically smallest comes first (winding kept), as bits.
 struct TriangleKey {
-    std::array<uint32_t, 10> words;
+    std::array<uint32_t, 9> words;
     bool operator==(const TriangleKey& other) const { return words == other.words; }
 };
 
@@ -41,7 +41,6 @@ TriangleKey keyOf(const Triangle& t) {
         const glm::vec3 p = v[(first + i) % 3] + glm::vec3(0.0f);  // + 0 turns -0 into +0
         std::memcpy(&key.words[3 * i], &p, sizeof(p));
     }
-    key.words[9] = t.material;
     return key;
 }
 

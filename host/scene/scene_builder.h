@@ -31,9 +31,11 @@ std::array<uint32_t, 8> truthTable(uint32_t count, const std::function<bool(uint
 // inside the solid. One shape with inside = {2} is the shape itself. The solid's bounds are its shapes' union.
 void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<uint32_t, 8>& inside);
 
-// Removes exact duplicates: triangles with the same corners in the same winding (any rotation) and the
-// same material as an earlier one. A duplicate can never be seen (it ties with its twin), but a stack of
-// them makes every ray through it visit every copy. Returns how many were removed.
+// Removes exact duplicates: triangles with the same corners in the same winding (any rotation) as an earlier
+// one, whatever their materials. A duplicate can never be seen (it ties with its twin, and the smaller index
+// wins), so it must not light the scene either (an emissive one behind its twin was among the lights) or
+// filter shadow rays; and a stack of them makes every ray through it visit every copy. Back-to-back faces
+// (the reverse winding) are other surfaces and stay. Returns how many were removed.
 size_t removeDuplicateTriangles(Scene& scene);
 
 // Removes duplicates (with a warning), then recomputes what derives from the triangles and materials:
