@@ -899,52 +899,61 @@ TEST(Cli, RadianceBeyondFloatSumsIsLeftOutAndCounted) {
     }
 }
 
-// 20,000 point lights over a quad that fills the view: on lavapipe every sample's light loop runs past
-// llvmpipe's loop budget and is left out. The image would be black throughout (it was written so, with exit 0
-// and a warning): vkrt says why and writes neither the image nor the stats. The CPU reference renders it.
-TEST(Cli, RenderThatKeepsNoSampleWritesNothing) {
+// 20,000 point lights over a quad: on lavapipe every sample's light loop runs past llvmpipe's loop budget and
+// is left out. Where the quad fills the view the image would be black throughout, and where it fills half the
+// view that half would be (both were written so, with exit 0 and a warning): vkrt says why and writes neither
+// the image nor the stats. The CPU reference renders both.
+TEST(Cli, RenderThatKeepsNoSampleOfSomePixelsWritesNothing) {
     const auto folder = test::temporaryFolder();
-    test::GltfDocument d;
-    const int positions = d.floats({-4, -4, 0, 4, -4, 0, 4, 4, 0, -4, 4, 0}, "VEC3");
-    d.json["accessors"][positions]["min"] = {-4, -4, 0};
-    d.json["accessors"][positions]["max"] = {4, 4, 0};
-    const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
-    d.json["meshes"] = {
-        {{"primitives", {{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}}}}};
-    d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.01}}}}};
-    d.node({{"mesh", 0}});
-    d.node({{"camera", 0}, {"translation", {0.0, 0.0, 3.0}}});
-    constexpr int kLights = 20000;
-    nlohmann::json lights = nlohmann::json::array();
-    for (int i = 0; i < kLights; ++i) {
-        lights.push_back({{"type", "point"}, {"intensity", 10.0 / kLights}});
-        d.node({{"translation", {std::cos(i), std::sin(i), 1.0}},
-                {"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}});
-    }
-    d.json["extensions"] = {{"KHR_lights_punctual", {{"lights", lights}}}};
-    d.json["extensionsUsed"] = {"KHR_lights_punctual"};
-    const auto scene = folder / "lamps.gltf";
-    d.write(scene);
-    for (const char* device : {"gpu", "cpu"}) {
-        SCOPED_TRACE(device);
-        const auto image = folder / (std::string(device) + ".pfm");
-        const auto stats = folder / (std::string(device) + ".json");
-        const auto result = test::runVkrt("--scene " + quoted(scene) + " --device " + device +
-                                          " --integrator whitted --width 8 --spp 2 --out " + quoted(image) +
-                                          " --stats " + quoted(stats));
-        if (std::string(device) == "gpu" && result.exitCode != 0) {
-            EXPECT_EQ(result.exitCode, 1) << result.output;
-            EXPECT_NE(result.output.find("vkrt: error: all 128 samples were left out"), std::string::npos)
-                << result.output;
-            EXPECT_FALSE(std::filesystem::exists(image));
-            EXPECT_FALSE(std::filesystem::exists(stats));
-            continue;
+    for (const float right : {4.0f, 0.0f}) {
+        const bool fills = right > 0.0f;
+        SCOPED_TRACE(fills ? "the quad fills the view" : "the quad fills its left half");
+        test::GltfDocument d;
+        const int positions = d.floats({-4, -4, 0, right, -4, 0, right, 4, 0, -4, 4, 0}, "VEC3");
+        d.json["accessors"][positions]["min"] = {-4, -4, 0};
+        d.json["accessors"][positions]["max"] = {right, 4, 0};
+        const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
+        d.json["meshes"] = {
+            {{"primitives", {{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}}}}};
+        d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.01}}}}};
+        d.node({{"mesh", 0}});
+        d.node({{"camera", 0}, {"translation", {0.0, 0.0, 3.0}}});
+        constexpr int kLights = 20000;
+        nlohmann::json lights = nlohmann::json::array();
+        for (int i = 0; i < kLights; ++i) {
+            lights.push_back({{"type", "point"}, {"intensity", 10.0 / kLights}});
+            d.node({{"translation", {std::cos(i), std::sin(i), 1.0}},
+                    {"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}});
         }
-        // The CPU, and a GPU without a loop budget: every sample kept, the quad lit.
-        ASSERT_EQ(result.exitCode, 0) << result.output;
-        std::ifstream file(stats);
-        EXPECT_EQ(nlohmann::json::parse(file)["nonfinite_samples"], 0u);
-        EXPECT_GT(readImage(image.string()).at(4, 4).x, 0.0f);
+        d.json["extensions"] = {{"KHR_lights_punctual", {{"lights", lights}}}};
+        d.json["extensionsUsed"] = {"KHR_lights_punctual"};
+        const auto scene = folder / (fills ? "lamps.gltf" : "half.gltf");
+        d.write(scene);
+        for (const char* device : {"gpu", "cpu"}) {
+            SCOPED_TRACE(device);
+            const auto image = folder / (std::string(device) + ".pfm");
+            const auto stats = folder / (std::string(device) + ".json");
+            const auto result = test::runVkrt("--scene " + quoted(scene) + " --device " + device +
+                                              " --integrator whitted --width 8 --spp 2 --out " +
+                                              quoted(image) + " --stats " + quoted(stats));
+            if (std::string(device) == "gpu" && result.exitCode != 0) {
+                EXPECT_EQ(result.exitCode, 1) << result.output;
+                const std::string expected =
+                    scene.string() + (fills ? ": all 128 samples were left out"
+                                            : ": every sample of 32 of the 8x8 pixels was left out");
+                EXPECT_NE(result.output.find("vkrt: error: " + expected), std::string::npos) << result.output;
+                EXPECT_FALSE(std::filesystem::exists(image));
+                EXPECT_FALSE(std::filesystem::exists(stats));
+                continue;
+            }
+            // The CPU, and a GPU without a loop budget: every sample kept, the quad lit.
+            ASSERT_EQ(result.exitCode, 0) << result.output;
+            std::ifstream file(stats);
+            EXPECT_EQ(nlohmann::json::parse(file)["nonfinite_samples"], 0u);
+            EXPECT_GT(readImage(image.string()).at(1, 4).x, 0.0f);
+            std::filesystem::remove(image);
+            std::filesystem::remove(stats);
+        }
     }
 }
 

@@ -91,7 +91,7 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
                      report.deviceLost.c_str());
         return kExitRuntimeFailure;
     }
-    if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
+    if (samplesLeftOutOfWholePixels(result, options.scenePath) || interruptedBeforeEveryPixel(result)) {
         return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
     }
     // All of them or none: each is written under a temporary name, and they are renamed into place together

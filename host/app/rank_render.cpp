@@ -209,7 +209,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     report.renderMs = millisecondsSince(renderStart);
 
     // Rank 0: the image and the stats, as one process writes them.
-    if (everySampleLeftOut(result) || interruptedBeforeEveryPixel(result)) {
+    if (samplesLeftOutOfWholePixels(result, options.scenePath) || interruptedBeforeEveryPixel(result)) {
         return result.stopped == StopReason::Requested ? stoppedExitCode() : kExitRuntimeFailure;
     }
     // All of them or none (one_process_render.cpp).

@@ -49,15 +49,24 @@ void writeStats(FileBatch& batch, const Options& options, RunReport& report) {
     if (!options.statsPath.empty()) stageJson(batch, toJson(report), options.statsPath);
 }
 
-bool everySampleLeftOut(const RenderResult& result) {
-    if (result.mostSamples == 0 || result.samplesKept > 0) return false;
-    std::fprintf(
-        stderr,
-        "vkrt: error: all %llu samples were left out (not finite, beyond their pixel's sum, or past the "
-        "device's loop budget: llvmpipe's is 65535 passes an invocation, and --device cpu has none); "
-        "nothing written\n",
-        static_cast<unsigned long long>(result.rays.nonFiniteSamples));
-    return true;
+bool samplesLeftOutOfWholePixels(const RenderResult& result, const std::string& scenePath) {
+    const char* why =
+        "(not finite, beyond their pixel's sum, or past the device's loop budget: llvmpipe's is 65535 passes "
+        "an "
+        "invocation, and --device cpu has none); nothing written";
+    if (result.mostSamples > 0 && result.samplesKept == 0) {
+        std::fprintf(stderr, "vkrt: error: %s: all %llu samples were left out %s\n", scenePath.c_str(),
+                     static_cast<unsigned long long>(result.rays.nonFiniteSamples), why);
+        return true;
+    }
+    // Where every pixel had samples traced, one without any kept lost them all.
+    if (result.fewestSamples > 0 && result.pixelsWithoutSamples > 0) {
+        std::fprintf(stderr, "vkrt: error: %s: every sample of %llu of the %dx%d pixels was left out %s\n",
+                     scenePath.c_str(), static_cast<unsigned long long>(result.pixelsWithoutSamples),
+                     result.image.width, result.image.height, why);
+        return true;
+    }
+    return false;
 }
 
 bool interruptedBeforeEveryPixel(const RenderResult& result) {

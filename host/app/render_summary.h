@@ -21,10 +21,12 @@ void recordResult(const RenderResult& result, RunReport& report);
 // Records the process's peak resident memory and writes the --stats file into `batch`, when asked.
 void writeStats(FileBatch& batch, const Options& options, RunReport& report);
 
-// True, after one error line, where samples were traced and every one was left out (not finite, beyond its
-// pixel's single-precision sum, or past llvmpipe's loop budget): the image would be black throughout, so the
-// caller writes nothing and exits with kExitRuntimeFailure.
-bool everySampleLeftOut(const RenderResult& result);
+// True, after one error line naming the scene, where samples were traced and every one was left out (not
+// finite, beyond its pixel's single-precision sum, or past llvmpipe's loop budget), of the whole image or of
+// pixels that all had samples traced: the image would be black there (an object whose every sample ran past
+// the budget vanished, with exit 0 and a warning), so the caller writes nothing and exits with
+// kExitRuntimeFailure.
+bool samplesLeftOutOfWholePixels(const RenderResult& result, const std::string& scenePath);
 
 // True, after one line, where an interrupt (SIGINT, SIGTERM) stopped the render before every pixel had a
 // sample: the image would have black holes (and replace whatever stood at its path), so the caller writes

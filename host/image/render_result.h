@@ -24,6 +24,8 @@ struct RenderResult {
     uint32_t mostSamples = 0;
     // Samples the pixels' averages hold: those traced less the ones left out (rays.nonFiniteSamples).
     uint64_t samplesKept = 0;
+    // Pixels whose averages hold no sample: not rendered yet, or every sample left out.
+    uint64_t pixelsWithoutSamples = 0;
     StopReason stopped = StopReason::None;
 };
 
@@ -31,7 +33,11 @@ struct RenderResult {
 inline void resolveSums(RenderResult& result, const std::vector<glm::dvec4>& sums, int width, int height) {
     result.image = averageOf(sums, width, height);
     result.samplesKept = 0;
-    for (const glm::dvec4& sum : sums) result.samplesKept += static_cast<uint64_t>(sum.w);
+    result.pixelsWithoutSamples = 0;
+    for (const glm::dvec4& sum : sums) {
+        result.samplesKept += static_cast<uint64_t>(sum.w);
+        result.pixelsWithoutSamples += sum.w == 0.0;
+    }
 }
 
 // Called as rows (CPU) or passes (GPU) finish: done out of total.
