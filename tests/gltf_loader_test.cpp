@@ -1058,6 +1058,55 @@ TEST(GltfLoader, VertexAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) {
               std::string::npos);
 }
 
+// What a file asks the loader to read for it, refused or loaded under `bytes` of host memory: the
+// MemoryError's message, or "loaded".
+std::string refusalUnder(const std::filesystem::path& file, uint64_t bytes) {
+    LoadOptions options;
+    options.maxSceneBytes = bytes;
+    options.memorySource = "--max-memory";
+    try {
+        loadGltf(file.string(), options);
+    } catch (const MemoryError& e) {
+        return e.what();
+    }
+    return "loaded";
+}
+
+// EXT_mesh_gpu_instancing's attributes are counted against the memory before they are read, and so are the
+// transforms made of them, which are held while the instances' triangles are placed. A TRANSLATION of a
+// million instances (a sparse accessor of a few bytes) takes 36 MB to read (a double and a float per value):
+// refused in 16 MiB before it is read (at 2^26 instances it asked for 9.4 GB, whatever --max-memory said).
+// Ten thousand instances of a triangle hold 1.28 MB of transforms beside their 1 MB of triangles: refused in
+// 2 MiB, loaded in 4.
+TEST(GltfLoader, InstanceAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d;
+    const int positions = d.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
+    const size_t claimedInstances = 1000000, placedInstances = 10000;
+    const int claimed = d.sparseOnly(claimedInstances, {0}, std::vector<float>{1, 0, 0}, 5126, "VEC3");
+    std::vector<float> offsets;
+    for (size_t i = 0; i < placedInstances; ++i) offsets.insert(offsets.end(), {2.0f * i, 0.0f, 0.0f});
+    const int placed = d.floats(offsets, "VEC3");
+    d.json["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+    const int node =
+        d.node({{"mesh", 0},
+                {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", claimed}}}}}}}});
+    d.write(folder / "claimed.gltf");
+    d.json["nodes"][node]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = placed;
+    d.write(folder / "placed.gltf");
+    const std::string refused = refusalUnder(folder / "claimed.gltf", 16u << 20);
+    EXPECT_NE(refused.find("node 0 EXT_mesh_gpu_instancing TRANSLATION would take 34.3 MiB"),
+              std::string::npos)
+        << refused;
+    EXPECT_NE(refused.find("(--max-memory)"), std::string::npos) << refused;
+    const std::string crowded = refusalUnder(folder / "placed.gltf", 2u << 20);
+    EXPECT_NE(crowded.find("node 0 places mesh 0 10000 time(s)"), std::string::npos) << crowded;
+    EXPECT_EQ(refusalUnder(folder / "placed.gltf", 4u << 20), "loaded");
+}
+
 TEST(GltfLoader, SharedMeshInstancesArePlacedPerNode) {
     const Scene scene = loadGltf(writeInstancedMeshes(test::temporaryFolder(), true).string());
     // Each node's mesh corners, placed by hand, in walk order (nodes 0 to 4, then 5 under 4).

@@ -37,6 +37,11 @@ inline std::string formatBytes(uint64_t bytes) {
     return text;
 }
 
+// A byte count figured in double from counts a file claims, saturated below 2^64 rather than wrapped.
+inline uint64_t saturatedBytes(double bytes) {
+    return static_cast<uint64_t>(std::min(bytes, 1.8e19));
+}
+
 class MemoryNeed {
   public:
     struct Part {

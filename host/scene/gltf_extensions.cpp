@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/memory_need.h"
 #include "scene/gltf_loader.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_transforms.h"
@@ -93,23 +94,30 @@ float readMaterialExtensions(const GltfContext& context, const tinygltf::Extensi
 
 // One translation / rotation / scale per instance, applied before the node's own transform (instance
 // transforms are in the node's local space).
-std::vector<glm::dmat4> instanceTransforms(const GltfContext& context, const tinygltf::Value& extension,
-                                           const std::string& where) {
+std::vector<glm::dmat4> instanceTransforms(
+    const GltfContext& context, const tinygltf::Value& extension, const std::string& where,
+    const std::function<void(uint64_t bytes, const std::string& what)>& checkHeld) {
     const std::string extWhere = where + " EXT_mesh_gpu_instancing";
     if (!extension.IsObject() || !extension.Has("attributes") || !extension.Get("attributes").IsObject()) {
         context.fail(extWhere + " needs an 'attributes' object");
     }
-    // Read the attribute accessors, which must agree on the instance count.
+    // Read the attribute accessors, which must agree on the instance count. Each is counted before it is
+    // read, as the floats kept beside those read before and the doubles the reader builds them from.
     const tinygltf::Value& attributes = extension.Get("attributes");
     std::vector<float> translation, rotation, scale;
     size_t count = 0;
     bool any = false;
+    double attributeBytes = 0.0;  // the floats of the attributes read so far
     auto read = [&](const char* name, int components, std::vector<float>& out) {
         if (!attributes.Has(name)) return;
         if (!attributes.Get(name).IsInt())
             context.fail(extWhere + ": attribute " + name + " must be an accessor index");
-        out = context.accessors.readFloats(attributes.Get(name).GetNumberAsInt(), components,
-                                           extWhere + " " + name);
+        const int accessor = attributes.Get(name).GetNumberAsInt();
+        const std::string what = extWhere + " " + name;
+        const double values = static_cast<double>(context.accessors.count(accessor, what)) * components;
+        checkHeld(saturatedBytes(attributeBytes + values * (sizeof(float) + sizeof(double))), what);
+        out = context.accessors.readFloats(accessor, components, what);
+        attributeBytes += values * sizeof(float);
         const size_t n = out.size() / components;
         if (any && n != count) context.fail(extWhere + ": attributes have different counts");
         count = n;
@@ -123,6 +131,8 @@ std::vector<glm::dmat4> instanceTransforms(const GltfContext& context, const tin
     read("SCALE", 3, scale);
     if (!any) context.fail(extWhere + " has no TRANSLATION, ROTATION or SCALE attribute");
     // Compose each instance's TRS, with glTF's defaults for absent attributes.
+    checkHeld(saturatedBytes(attributeBytes + static_cast<double>(count) * sizeof(glm::dmat4)),
+              extWhere + "'s " + std::to_string(count) + " instance transforms");
     std::vector<glm::dmat4> transforms(count);
     for (size_t i = 0; i < count; ++i) {
         glm::dvec3 t(0.0), s(1.0);

@@ -2,8 +2,9 @@
 // transforms, KHR_lights_punctual lights, VKRT_sphere spheres and the depth of field in camera extras.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <optional>
-
 #include <string>
 #include <vector>
 
@@ -28,9 +29,11 @@ std::optional<std::string> unsupportedRequiredExtension(const nlohmann::json& do
 float readMaterialExtensions(const GltfContext& context, const tinygltf::ExtensionMap& extensions,
                              const std::string& where, Material& material);
 
-// EXT_mesh_gpu_instancing: one transform per instance, in the node's local space.
-std::vector<glm::dmat4> instanceTransforms(const GltfContext& context, const tinygltf::Value& extension,
-                                           const std::string& where);
+// EXT_mesh_gpu_instancing: one transform per instance, in the node's local space. `checkHeld` is given the
+// bytes the reading holds at its peak before each allocation, and throws when they do not fit.
+std::vector<glm::dmat4> instanceTransforms(
+    const GltfContext& context, const tinygltf::Value& extension, const std::string& where,
+    const std::function<void(uint64_t bytes, const std::string& what)>& checkHeld);
 
 // KHR_lights_punctual on a node: appends the light it names, placed by `world`.
 void addLight(GltfContext& context, const tinygltf::Value& extension, const glm::dmat4& world,

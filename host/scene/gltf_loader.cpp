@@ -268,7 +268,12 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
             reserveTriangles(node.mesh, 1, where);
             meshes_.addInstance(node.mesh, meshAt);
         } else {
-            const std::vector<glm::dmat4> instances = instanceTransforms(context_, instancing->second, where);
+            const std::vector<glm::dmat4> instances = instanceTransforms(
+                context_, instancing->second, where,
+                [this](uint64_t bytes, const std::string& what) { checkDecoding(bytes, what); });
+            // The instances' transforms are held beside their triangles while those are placed.
+            const uint64_t transformBytes = instances.size() * sizeof(glm::dmat4);
+            otherBytes_ += transformBytes;
             reserveTriangles(node.mesh, instances.size(), where);
             if (node.skin >= 0)
                 context_.warn(where + ": the instances of a skinned mesh all follow its joints");
@@ -277,6 +282,7 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
                 for (InstancePose& pose : instanceAt) pose.world = pose.world * instance;
                 meshes_.addInstance(node.mesh, instanceAt);
             }
+            otherBytes_ -= transformBytes;
         }
     }
     // Place its camera, light and sphere.
