@@ -1007,13 +1007,14 @@ TEST(GltfLoader, PlacedTrianglesAreCountedAgainstTheMemoryBeforeTheyArePlaced) {
         EXPECT_NE(message.find("(--max-memory)"), std::string::npos) << message;
     }
     // Under motion blur each pose keeps the corners, not the shading: the motion-blur scene loads in exactly
-    // what its triangles take (it was refused in 2.3 times that).
+    // what its triangles and the 26 floats of its animation's keys take (it was refused in 2.3 times that).
     const std::string moving = (test::sourceDir() / "scenes/motion-blur.gltf").string();
     const Scene scene = loadGltf(moving);
     ASSERT_GT(scene.motionSegments, 1);
     const uint64_t poses = static_cast<uint64_t>(scene.motionSegments) + 1;
     LoadOptions exact;
-    exact.maxSceneBytes = scene.triangles.size() * (sizeof(Triangle) * poses + sizeof(TriangleShading));
+    exact.maxSceneBytes =
+        scene.triangles.size() * (sizeof(Triangle) * poses + sizeof(TriangleShading)) + 26 * sizeof(float);
     EXPECT_EQ(loadGltf(moving, exact).triangles.size(), scene.triangles.size());
     exact.maxSceneBytes -= 1;
     EXPECT_THROW(loadGltf(moving, exact), MemoryError);
@@ -1105,6 +1106,41 @@ TEST(GltfLoader, InstanceAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) 
     const std::string crowded = refusalUnder(folder / "placed.gltf", 2u << 20);
     EXPECT_NE(crowded.find("node 0 places mesh 0 10000 time(s)"), std::string::npos) << crowded;
     EXPECT_EQ(refusalUnder(folder / "placed.gltf", 4u << 20), "loaded");
+}
+
+// An animation's keys are counted against the memory before they are read, and held for the rest of the
+// load. A sampler whose input and output claim a million keys (sparse accessors of a few bytes) takes 12 MB
+// to read its times (a double and a float each) and 36 MB more for its translations beside the 4 MB of times
+// kept: refused in 16 MiB naming the output, before it is read (at 2^26 keys they asked for 2.7 GB, whatever
+// --max-memory said). A hundred thousand keys keep 0.4 MB of times and take 3.6 MB to read their translations
+// beside them: refused in 3 MiB, loaded in 8.
+TEST(GltfLoader, AnimationKeysAreCountedAgainstTheMemoryBeforeTheyAreRead) {
+    const auto folder = test::temporaryFolder();
+    test::GltfDocument d;
+    const int positions = d.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+    d.json["accessors"][positions]["min"] = {0, 0, 0};
+    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
+    const int node = d.node({{"mesh", 0}});
+    const size_t claimedKeys = 1000000, givenKeys = 100000;
+    const int claimedTimes = d.sparseOnly(claimedKeys, {0}, std::vector<float>{0}, 5126, "SCALAR");
+    const int claimedTranslations = d.sparseOnly(claimedKeys, {0}, std::vector<float>{0, 0, 0}, 5126, "VEC3");
+    std::vector<float> times(givenKeys);
+    for (size_t k = 0; k < givenKeys; ++k) times[k] = 0.001f * static_cast<float>(k);
+    const int givenTimes = d.floats(times, "SCALAR");
+    const int givenTranslations = d.floats(std::vector<float>(3 * givenKeys, 0.0f), "VEC3");
+    d.json["animations"] = {
+        {{"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", "translation"}}}}}},
+         {"samplers", {{{"input", claimedTimes}, {"output", claimedTranslations}}}}}};
+    d.write(folder / "claimed.gltf");
+    d.json["animations"][0]["samplers"][0] = {{"input", givenTimes}, {"output", givenTranslations}};
+    d.write(folder / "given.gltf");
+    const std::string refused = refusalUnder(folder / "claimed.gltf", 16u << 20);
+    EXPECT_NE(refused.find("animation 0 channel 0 output would take 34.3 MiB"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("(--max-memory)"), std::string::npos) << refused;
+    const std::string crowded = refusalUnder(folder / "given.gltf", 3u << 20);
+    EXPECT_NE(crowded.find("animation 0 channel 0 output would take 3.43 MiB"), std::string::npos) << crowded;
+    EXPECT_EQ(refusalUnder(folder / "given.gltf", 8u << 20), "loaded");
 }
 
 TEST(GltfLoader, SharedMeshInstancesArePlacedPerNode) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/memory_need.h"
 #include "scene/gltf_transforms.h"
 #include "scene/scene_error.h"
 
@@ -89,10 +90,18 @@ glm::dmat4 NodeTrs::matrix() const {
     return trsMatrix(translation, rotation, scale);
 }
 
-NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors,
-                               const std::string& path, int selected)
+NodeAnimations::NodeAnimations(
+    const tinygltf::Model& model, const AccessorReader& accessors, const std::string& path, int selected,
+    const std::function<void(uint64_t keptBytes, uint64_t passingBytes, const std::string& what)>& reserve)
     : path_(path) {
     auto fail = [&](const std::string& message) { throw SceneError(path + ": " + message); };
+    // An accessor's floats, counted before they are read: those kept, and the doubles the reader builds them
+    // from and frees.
+    auto readCounted = [&](int accessor, int components, const std::string& what) {
+        const double values = static_cast<double>(accessors.count(accessor, what)) * components;
+        reserve(saturatedBytes(values * sizeof(float)), saturatedBytes(values * sizeof(double)), what);
+        return accessors.readFloats(accessor, components, what);
+    };
     if (selected >= 0 && selected < static_cast<int>(model.animations.size())) {
         const size_t a = static_cast<size_t>(selected);
         const tinygltf::Animation& animation = model.animations[a];
@@ -128,11 +137,11 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReade
                 channel.interpolation = Interpolation::Linear;
             else
                 fail(channelWhere + " has unknown interpolation '" + sampler.interpolation + "'");
-            channel.times = accessors.readFloats(sampler.input, 1, channelWhere + " input");
+            channel.times = readCounted(sampler.input, 1, channelWhere + " input");
             const size_t parts = channel.interpolation == Interpolation::CubicSpline ? 3 : 1;
             if (channel.path == AnimatedPath::Weights) {
                 // Scalars, one per morph target for each key (and each tangent).
-                channel.values = accessors.readFloats(sampler.output, 1, channelWhere + " output");
+                channel.values = readCounted(sampler.output, 1, channelWhere + " output");
                 const size_t perKey =
                     channel.times.empty() ? 0 : channel.values.size() / (channel.times.size() * parts);
                 if (perKey == 0 || perKey > 65536)
@@ -140,8 +149,7 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const AccessorReade
                 channel.components = static_cast<int>(perKey);
             } else {
                 channel.components = channel.path == AnimatedPath::Rotation ? 4 : 3;
-                channel.values =
-                    accessors.readFloats(sampler.output, channel.components, channelWhere + " output");
+                channel.values = readCounted(sampler.output, channel.components, channelWhere + " output");
             }
             const size_t perKey = parts * static_cast<size_t>(channel.components);
             if (channel.times.empty() || channel.values.size() != channel.times.size() * perKey)

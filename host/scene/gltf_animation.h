@@ -2,6 +2,8 @@
 // CUBICSPLINE samplers) evaluated at a time, for the shutter's poses.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -36,10 +38,15 @@ struct NodeTrs {
 
 class NodeAnimations {
   public:
+    // No animation: every node stays at rest.
+    NodeAnimations() = default;
     // Reads animation `selected` of the model (none where -1); throws SceneError on malformed channels and
-    // samplers.
+    // samplers. Before each accessor is read, `reserve` is given the bytes its keys keep for the rest of the
+    // load and those the reading takes beside them for a moment, and throws when they do not fit.
     NodeAnimations(const tinygltf::Model& model, const AccessorReader& accessors, const std::string& path,
-                   int selected);
+                   int selected,
+                   const std::function<void(uint64_t keptBytes, uint64_t passingBytes,
+                                            const std::string& what)>& reserve);
 
     // Whether a channel moves the node (translation, rotation or scale).
     bool animates(int node) const;

@@ -69,7 +69,7 @@ class GltfConverter {
                   ImageFailures imageFailures, uint64_t imageBytes)
         : context_(model, std::move(path)),
           options_(options),
-          animations_(model, context_.accessors, context_.path, chooseAnimation(context_, options.animation)),
+          selectedAnimation_(chooseAnimation(context_, options.animation)),
           meshes_(context_) {
         context_.imageFailures = std::move(imageFailures);
         otherBytes_ = imageBytes;  // the decoded images share the memory with the triangles
@@ -89,8 +89,9 @@ class GltfConverter {
     // Counts `instances` more placements of mesh `meshIndex` against the host memory the options allow,
     // before any of them is placed.
     void reserveTriangles(int meshIndex, uint64_t instances, const std::string& where);
-    // Counts `bytes` more of host memory for `what` against what the options allow.
-    void reserveBytes(uint64_t bytes, const std::string& what);
+    // Counts `bytes` more of host memory for `what` against what the options allow, checking first that
+    // `passingBytes` more fit beside them for a moment (what reading them takes and frees).
+    void reserveBytes(uint64_t bytes, const std::string& what, uint64_t passingBytes = 0);
     // Checks that `bytes` that a primitive holds while it is decoded fit beside the triangles placed so far
     // and the other memory counted (those reserved but not yet placed take nothing yet).
     void checkDecoding(uint64_t bytes, const std::string& what) const;
@@ -112,7 +113,8 @@ class GltfConverter {
 
     GltfContext context_;
     LoadOptions options_;
-    NodeAnimations animations_;
+    int selectedAnimation_;      // the animation that plays, -1 for none
+    NodeAnimations animations_;  // read by convert(), once the images are counted
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
@@ -146,6 +148,10 @@ uint64_t triangleBound(const tinygltf::Model& model, const tinygltf::Mesh& mesh)
 Scene GltfConverter::convert() {
     Scene& scene = context_.scene;
     scene.sourcePath = context_.path;
+    animations_ = NodeAnimations(context_.model, context_.accessors, context_.path, selectedAnimation_,
+                                 [this](uint64_t keptBytes, uint64_t passingBytes, const std::string& what) {
+                                     reserveBytes(keptBytes, what, passingBytes);
+                                 });
     checkExtensions(context_);
     convertTextures(context_);
     convertMaterials(context_);
@@ -370,11 +376,12 @@ void GltfConverter::markDeformations() {
     meshes_.setSkinnedMeshes(&skinnedMeshes_);
 }
 
-void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what) {
+void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what, uint64_t passingBytes) {
     const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
     refuseUnlessAvailable(static_cast<double>(triangleBound_) * static_cast<double>(bytesPerTriangle) +
                               static_cast<double>(otherBytes_),
-                          bytes, what);
+                          saturatedBytes(static_cast<double>(bytes) + static_cast<double>(passingBytes)),
+                          what);
     otherBytes_ += bytes;
 }
 
