@@ -864,24 +864,30 @@ TEST(Cli, StatsReportTextureMemory) {
     EXPECT_EQ(nlohmann::json::parse(file)["texture_bytes"], ((2 * 2 + 1) + (16 + 8 + 4 + 2 + 1) + (4 + 2 + 1)) * 4);
 }
 
-// Radiance near float's limit (an environment of strength 3e38): the GPU's single-precision sums would
-// overflow (their Kahan compensation then made NaN pixels while no sample was counted as lost); samples that
-// would take a sum beyond float's range are left out and counted instead, and vkrt warns. The CPU's double
-// sums hold them.
+// Radiance near float's limit (an environment of strength 3e38, seen by every pixel of an empty scene): the
+// GPU's single-precision sums would overflow (their Kahan compensation then made NaN pixels while no sample
+// was counted as lost); samples that would take a sum beyond float's range are left out and counted instead,
+// and vkrt warns. Every pixel keeps its first sample. The CPU's double sums hold them all.
 TEST(Cli, RadianceBeyondFloatSumsIsLeftOutAndCounted) {
     const auto folder = test::temporaryFolder();
     // A uniform map of radiance 1 at strength 3e38: every texel stays a float, four samples' sum does not.
     Image uniform(8, 4);
     for (glm::vec3& texel : uniform.pixels) texel = glm::vec3(1.0f);
     writeImage(uniform, (folder / "uniform.exr").string());
+    test::GltfDocument d;
+    d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
+    d.node({{"camera", 0}});
+    d.floats({0.0f}, "SCALAR");  // the document's buffer may not be empty
+    const auto scene = folder / "sky.gltf";
+    d.write(scene);
     for (const char* device : {"gpu", "cpu"}) {
         SCOPED_TRACE(device);
         const auto image = folder / (std::string(device) + ".pfm");
         const auto stats = folder / (std::string(device) + ".json");
         const auto result = test::runVkrt(
-            "--scene " + quoted(test::sourceDir() / "scenes/environment.gltf") + " --environment " +
-            quoted(folder / "uniform.exr") + " --environment-strength 3e38 --device " + device +
-            " --width 16 --height 10 --spp 4 --out " + quoted(image) + " --stats " + quoted(stats));
+            "--scene " + quoted(scene) + " --environment " + quoted(folder / "uniform.exr") +
+            " --environment-strength 3e38 --device " + device + " --width 16 --height 10 --spp 4 --out " +
+            quoted(image) + " --stats " + quoted(stats));
         ASSERT_EQ(result.exitCode, 0) << result.output;
         const Image pixels = readImage(image.string());
         for (const glm::vec3& p : pixels.pixels)

@@ -1029,10 +1029,7 @@ TEST(GltfLoader, VertexAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) {
     const auto folder = test::temporaryFolder();
     test::GltfDocument d;
     const size_t vertices = 1000000;
-    const int positions =
-        d.sparseOnly(vertices, {0, 1, 2}, std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}, 5126, "VEC3");
-    d.json["accessors"][positions]["min"] = {0, 0, 0};
-    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int positions = d.sparsePositions(vertices, {0, 1, 2}, {0, 0, 0, 1, 0, 0, 0, 1, 0});
     const int normals =
         d.sparseOnly(vertices, {0, 1, 2}, std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}, 5126, "VEC3");
     const int indices = d.unsignedShorts({0, 1, 2}, "SCALAR");
@@ -1082,9 +1079,7 @@ std::string refusalUnder(const std::filesystem::path& file, uint64_t bytes) {
 TEST(GltfLoader, InstanceAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) {
     const auto folder = test::temporaryFolder();
     test::GltfDocument d;
-    const int positions = d.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
-    d.json["accessors"][positions]["min"] = {0, 0, 0};
-    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int positions = d.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
     const size_t claimedInstances = 1000000, placedInstances = 10000;
     const int claimed = d.sparseOnly(claimedInstances, {0}, std::vector<float>{1, 0, 0}, 5126, "VEC3");
@@ -1117,9 +1112,7 @@ TEST(GltfLoader, InstanceAttributesAreCountedAgainstTheMemoryBeforeTheyAreRead) 
 TEST(GltfLoader, AnimationKeysAreCountedAgainstTheMemoryBeforeTheyAreRead) {
     const auto folder = test::temporaryFolder();
     test::GltfDocument d;
-    const int positions = d.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
-    d.json["accessors"][positions]["min"] = {0, 0, 0};
-    d.json["accessors"][positions]["max"] = {1, 1, 0};
+    const int positions = d.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     d.json["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", positions}}}}}}}};
     const int node = d.node({{"mesh", 0}});
     const size_t claimedKeys = 1000000, givenKeys = 100000;

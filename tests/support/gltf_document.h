@@ -2,6 +2,7 @@
 // URI when written), each array its own buffer view and accessor.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -57,6 +58,14 @@ class GltfDocument {
         return static_cast<int>(json["accessors"].size()) - 1;
     }
 
+    // POSITION accessors, with the bounds glTF requires of them: `values` as VEC3 floats, or a sparse-only
+    // accessor of `count` positions, `values` at `indices` and the origin elsewhere.
+    int positions(const std::vector<float>& values) { return bounded(floats(values, "VEC3"), values, false); }
+    int sparsePositions(size_t count, const std::vector<uint16_t>& indices,
+                        const std::vector<float>& values) {
+        return bounded(sparseOnly(count, indices, values, 5126, "VEC3"), values, count > indices.size());
+    }
+
     // Appends a node (a scene root when `root`) and returns its index.
     int node(const nlohmann::json& fields, bool root = true) {
         json["nodes"].push_back(fields);
@@ -73,6 +82,21 @@ class GltfDocument {
     }
 
   private:
+    // Sets the min and max of VEC3 accessor `index` over `values`, and the origin when `withOrigin`.
+    int bounded(int index, const std::vector<float>& values, bool withOrigin) {
+        std::vector<float> low(3), high(3);
+        for (size_t c = 0; c < 3; ++c) {
+            low[c] = high[c] = withOrigin || values.empty() ? 0.0f : values[c];
+            for (size_t i = c; i < values.size(); i += 3) {
+                low[c] = std::min(low[c], values[i]);
+                high[c] = std::max(high[c], values[i]);
+            }
+        }
+        json["accessors"][index]["min"] = low;
+        json["accessors"][index]["max"] = high;
+        return index;
+    }
+
     template <typename T>
     int accessor(const std::vector<T>& values, int componentType, const char* type) {
         static const std::pair<const char*, size_t> kComponents[] = {
