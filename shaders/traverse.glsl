@@ -10,6 +10,7 @@
 #define VKRT_TRACE_SHADOW 2   // multiply the transmission of every surface crossed; stop when opaque
 
 #include "sphere_geometry.h"
+#include "ties.h"
 #include "solids.glsl"
 
 struct Hit {
@@ -83,12 +84,6 @@ uint vkrtLoopPasses = 0u;
 #else
 #define VKRT_COUNT_ITERATION()
 #endif
-
-// The width of a tie (shared.h's VKRT_TIE_EPSILON) at distance t along a ray whose origin's largest coordinate
-// is `originScale`: relative to the magnitude of the numbers the distance came from, as its rounding is.
-float tieWidth(float t, float originScale) {
-    return float(VKRT_TIE_EPSILON) * (originScale + t);
-}
 
 // How far hits still matter: the nearest hit so far (tMax before the first; any-hit walks keep it there), plus
 // a tie's width for closest-hit walks (a tie just beyond the nearest hit can still win).
@@ -236,15 +231,11 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         return true;
     }
     if (mode == VKRT_TRACE_CLOSEST) {
-        // The hit of smallest scene index within a tie's width of the nearest (shared.h); the search limit
-        // keeps t inside the nearest one's window. A nearer hit narrows the window: when the best falls out of
-        // it while an earlier hit may stay inside, the walk has lost a candidate and is run again (`lost`).
-        const bool first = hit.primitive == VKRT_NO_PRIMITIVE;
-        const float reach = t + tieWidth(t, originScale);
-        const bool dropsBest = !first && t < nearest && hit.t > reach;
-        lost = lost || (dropsBest && nearest <= reach);
-        if (first || dropsBest || primitive.sceneIndex < hit.sceneIndex) hit = Hit(t, u, v, index, primitive.sceneIndex);
-        nearest = min(nearest, t);
+        // ties.h's rule; a walk that lost a candidate runs again (`lost`).
+        if (takesClosestHit(t, primitive.sceneIndex, hit.primitive != VKRT_NO_PRIMITIVE, hit.t, hit.sceneIndex,
+                            originScale, nearest, lost)) {
+            hit = Hit(t, u, v, index, primitive.sceneIndex);
+        }
         return false;
     }
     return false;

@@ -14,6 +14,7 @@
 #include "scene/scene.h"
 #include "shared.h"
 #include "sphere_geometry.h"
+#include "ties.h"
 
 namespace vkrt {
 
@@ -49,19 +50,10 @@ inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const Ray
                                     tMax, hit.t);
 }
 
-// The width of a tie (VKRT_TIE_EPSILON) at distance t along a ray whose origin's largest coordinate is
-// `originScale`: relative to the magnitude of the numbers the distance came from, as the GPU's rounding is
-// (traverse.glsl's tieWidth).
-inline double tieWidth(double t, double originScale) {
-    return VKRT_TIE_EPSILON * (originScale + t);
-}
-
 // The closest hit in (tMin, tMax) other than primitive `exclude`, with the scene at shutter time `time`;
-// false on a miss. Hits within a tie's width of the nearest are ties, won by the smallest primitive index
-// (shared.h's VKRT_TIE_EPSILON): the winner depends on the hits alone, not on the order the walk meets them.
-// A nearer hit narrows the window; when the best so far falls out of it while an earlier hit may still lie
-// inside, that candidate was not kept, and the walk runs once more with the nearest distance known (as the
-// GPU's does: traverse.glsl's visitPrimitive).
+// false on a miss. Ties are won by the smallest primitive index within a tie's width of the nearest hit
+// (ties.h, the GPU's rule too), whatever order the walk meets them in: a walk that lost a candidate runs once
+// more.
 inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
                              double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
     const double originScale =
@@ -73,15 +65,12 @@ inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<
             TriangleHit candidate;
             if (prim == exclude || !intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time))
                 return false;
-            const double reach = candidate.t + tieWidth(candidate.t, originScale);
-            const bool dropsBest = found && candidate.t < nearest && hit.t > reach;
-            lost = lost || (dropsBest && nearest <= reach);
-            if (!found || dropsBest || prim < hit.primitive)
+            if (shading::takesClosestHit(candidate.t, prim, found, hit.t, hit.primitive, originScale, nearest,
+                                         lost))
                 hit = {prim, candidate.t, candidate.u, candidate.v};
             found = true;
-            nearest = std::min(nearest, candidate.t);
             // Keep looking a tie's width beyond the nearest hit, where a tie can still win.
-            limit = std::min(limit, nearest + tieWidth(nearest, originScale));
+            limit = std::min(limit, nearest + shading::tieWidth(nearest, originScale));
             return false;
         });
     };
