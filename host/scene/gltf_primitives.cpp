@@ -6,17 +6,11 @@
 #include <tiny_gltf.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/memory_need.h"
 #include "scene/gltf_materials.h"
 #include "scene/tangent_frames.h"
 
 namespace vkrt {
-
-namespace {
-
-// Byte counts saturate here, below 2^64, rather than wrap (an accessor's count is the file's to claim).
-constexpr double kMostBytes = 1.8e19;
-
-}  // namespace
 
 void MeshInstancer::addInstance(int meshIndex, const std::vector<InstancePose>& poses) {
     // Decode each primitive on the mesh's first instance, placing it before decoding the next, so that
@@ -199,10 +193,9 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
 }
 
 void MeshInstancer::holdWhileDecoding(double keptBytes, double passingBytes, const std::string& what) {
-    const double peak = std::min(static_cast<double>(decodingBytes_) + keptBytes + passingBytes, kMostBytes);
-    if (checkDecoding_) checkDecoding_(static_cast<uint64_t>(peak), what);
-    decodingBytes_ =
-        static_cast<uint64_t>(std::min(static_cast<double>(decodingBytes_) + keptBytes, kMostBytes));
+    if (checkDecoding_)
+        checkDecoding_(saturatedBytes(static_cast<double>(decodingBytes_) + keptBytes + passingBytes), what);
+    decodingBytes_ = saturatedBytes(static_cast<double>(decodingBytes_) + keptBytes);
 }
 
 std::vector<float> MeshInstancer::readCountedFloats(int accessor, int components, const std::string& what) {
