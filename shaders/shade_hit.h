@@ -311,8 +311,8 @@ struct LightQuery {
     real shadowLength;      // the shadow ray's end
     uint lightPrimitive;    // the emitter the shadow ray skips, else VKRT_NO_PRIMITIVE
     real distance;          // to the light, over which the viewer's volume absorbs (paths)
-    real3 irradiance;       // on a surface facing the light, before the shadow ray and `divisor`
-    real divisor;           // the environment sample's density, else 1 (kept apart: L V / pdf rounds as before)
+    real3 irradiance;       // on a surface facing the light, before the shadow ray (and `divisor`)
+    real divisor;           // the environment sample's density, else 1 (divides the weights: see directLight)
     real weight;            // the power heuristic against the traced glossy lobe, else 1
     real untracedWeight;    // the same against the untraced lobes' continuation (paths), else 1
 };
@@ -492,10 +492,12 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         // them through glass too, as every light's does where the lobe's rays end at the glass or are not traced.
         // Paths trace no lobe apart, so both groups see the same.
         const real3 tracedVisible = lobeThroughGlass && q >= punctualQueries ? real3(passage.w) : visible;
+        // The density divides the weights, not the irradiance: L / pdf is about 4 pi L for a uniform environment,
+        // which overflows a float where the light the surface reflects (about albedo L) does not.
         const real3 reflected =
-            reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight,
-                           query.irradiance / query.divisor, query.weight * tracedVisible,
-                           query.untracedWeight * visible);
+            reflectedLight(surface, frame.normal, frame.coatNormal, frame.toViewer, query.toLight, query.irradiance,
+                           query.weight * tracedVisible / query.divisor,
+                           query.untracedWeight * visible / query.divisor);
         if (q < punctualQueries) {
             punctualSum += reflected;
         } else if (q < areaEnd) {

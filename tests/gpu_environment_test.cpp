@@ -4,7 +4,8 @@
 // r L sin^2 t with per-pixel noise under 10% at 16 spp, and a tilted plane under a turned map with one bright
 // region shows the irradiance integrated by brute force. Also: multiple importance sampling keeps the mean,
 // the GPU matches the reference on scenes/environment.gltf, lights of every kind at once add up to the
-// renders lit by each alone, and scenes without an environment get neither its code nor its buffers.
+// renders lit by each alone, light from a map near float's limit scales with its strength, and scenes without
+// an environment get neither its code nor its buffers.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -153,6 +154,45 @@ TEST_F(Gpu, LambertianSphereInAUniformEnvironmentShowsItsAlbedo) {
         }
         std::printf("%s: sphere of albedo 0.6 shows %.5f\n", device, sum / count);
         EXPECT_NEAR(sum / count, 0.6, 0.6 * 0.03) << device;
+    }
+}
+
+TEST_F(Gpu, LightFromAnEnvironmentNearFloatsLimitScalesWithIt) {
+    // Radiance is linear in the environment's strength, and a power of two scales every float operation
+    // exactly: a sphere under a uniform map of strength 2^125 (4.3e37) renders 2^125 times the image at
+    // strength
+    // 1. Its pixels (about 0.6 L, one sample each: no pixel's sum nears float's limit) stay far below 3.4e38,
+    // but a light sample's L / pdf (about 4 pi L) does not: the GPU lost such samples when it divided the
+    // radiance by the density before the weights.
+    const float strength = std::ldexp(1.0f, 125);
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        SCOPED_TRACE(integratorName(integrator));
+        RenderSettings settings = darkSettings(16, 1);
+        settings.integrator = integrator;
+        std::vector<Image> gpu, cpu;
+        for (const float radiance : {1.0f, strength}) {
+            Scene scene;
+            scene.materials.push_back(test::lambertian(0.6f));
+            scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+            scene.environment = mapOf(16, 8, [&](int, int) { return glm::vec3(radiance); });
+            finalizeScene(scene);
+            // Every pixel sees the sphere: rays that miss would bring the map's radiance itself.
+            const Camera camera = orthographic({0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 0.6);
+            const test::RenderPair pair = test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera,
+                                                                settings, test::shaderCacheDir());
+            EXPECT_EQ(pair.gpu.rays.nonFiniteSamples, 0u) << "strength " << radiance;
+            EXPECT_EQ(pair.cpu.rays.nonFiniteSamples, 0u) << "strength " << radiance;
+            gpu.push_back(pair.gpu.image);
+            cpu.push_back(pair.cpu.image);
+        }
+        for (const auto* images : {&gpu, &cpu}) {
+            const char* device = images == &gpu ? "gpu" : "cpu";
+            EXPECT_NEAR(test::meanRed((*images)[0]), 0.6, 0.15) << device;  // one sample a pixel
+            for (size_t i = 0; i < (*images)[0].pixels.size(); ++i) {
+                const glm::vec3 dim = (*images)[0].pixels[i], bright = (*images)[1].pixels[i];
+                ASSERT_NEAR(bright.x / strength, dim.x, dim.x * 1e-6) << device << " pixel " << i;
+            }
+        }
     }
 }
 
