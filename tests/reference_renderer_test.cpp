@@ -591,6 +591,26 @@ TEST_F(CornellBox, IsRecognisable) {
     EXPECT_GT(floor.x, 0.05);
 }
 
+TEST_F(CornellBox, SamplesBeyondFloatsRangeAreLeftOutAndCounted) {
+    // The lamp at 2e37 times its emission (red 17): its own pixels are 3.4e37, but the light near it reflects
+    // beyond float's range in some samples, which the double-precision sums kept and the image wrote as
+    // infinity.
+    Scene bright = scene;
+    for (Material& material : bright.materials) material.emission *= 2e37f;
+    RenderRequest request;
+    request.settings.width = 32;
+    request.height = 32;
+    request.settings.samplesPerPixel = 8;
+    const RenderSetup setup = resolveRender(request, bright);
+    const RenderResult result =
+        ReferenceRenderer(bright, bvhFor(bright), setup.camera, setup.settings).render();
+    EXPECT_GT(result.rays.nonFiniteSamples, 0u);
+    EXPECT_EQ(result.samplesKept, 32u * 32u * 8u - result.rays.nonFiniteSamples);
+    for (const glm::vec3& p : result.image.pixels) {
+        ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    }
+}
+
 TEST_F(CornellBox, SameSeedSameImageOtherSeedOtherNoise) {
     const Image a = render(24, 2).image;
     const Image b = render(24, 2, 0, 1).image;

@@ -90,11 +90,13 @@ void printRenderSummary(const Options& options, const RunReport& report, int ran
                  report.stopped == StopReason::Requested ? "interrupted: " : "", options.outputPath.c_str(),
                  report.settings.width, report.settings.height, spp.c_str(), report.renderMs, mrays,
                  where.c_str());
-    // Samples left out of their pixels' averages: not finite, a BVH walk or light loop cut short, or (on the
-    // GPU) radiance that would take a pixel's single-precision sum beyond its range.
+    // Samples left out of their pixels' averages: not finite in single precision (the image's, on either
+    // device), a BVH walk or light loop cut short, or (on the GPU) radiance that would take a pixel's
+    // single-precision sum beyond its range.
     if (report.rays.nonFiniteSamples > 0) {
         std::fprintf(stderr,
-                     "vkrt: warning: %llu samples were not finite (or would overflow their pixel's sum, or "
+                     "vkrt: warning: %llu samples were not finite in single precision (or would overflow "
+                     "their pixel's sum, or "
                      "ran past the device's loop budget: llvmpipe's is 65535 passes an invocation, and "
                      "--device cpu has none) and were left out\n",
                      static_cast<unsigned long long>(report.rays.nonFiniteSamples));

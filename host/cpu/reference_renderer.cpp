@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "camera.h"
@@ -221,7 +222,10 @@ glm::dvec4 ReferenceRenderer::renderPixel(int x, int y, uint32_t firstSample, ui
                                   vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_LENS_U, 0),
                                   vkrtStratified(settings_.seed, pixel, sample, VKRT_DIM_LENS_U, 1));
         const glm::dvec3 value = radiance(ray, pixel, sample, counters);
-        if (shading::allFinite(value)) {
+        // The image holds floats, and a sample beyond their range made its pixel infinite (written so, with
+        // exit 0): it is left out and counted as the GPU leaves out what its floats cannot hold. A pixel's
+        // average of the samples kept is then within range too.
+        if (shading::allFinite(value) && shading::maxAbs(value) <= std::numeric_limits<float>::max()) {
             sum += value;
             ++finite;
         } else {
