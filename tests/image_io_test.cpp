@@ -241,6 +241,15 @@ TEST(ImageMetrics, BlocksCompareTheirMeans) {
     EXPECT_NEAR(within.meanRatio.y, (9.0 + 100.0) / 10.0, 1e-5);  // the whole image's means count every pixel
 }
 
+TEST(ImageMetrics, AChannelBlackInTheReferenceAgreesOnlyWithBlack) {
+    Image image(2, 2), reference(2, 2);
+    for (glm::vec3& p : reference.pixels) p = glm::vec3(0.5f, 0.25f, 0.0f);
+    image.pixels = reference.pixels;
+    EXPECT_EQ(compareBlocks(image, reference, 2, 0.03).meanRatio, glm::dvec3(1.0));
+    image.at(1, 1).z = 5.0f;
+    EXPECT_TRUE(std::isinf(compareBlocks(image, reference, 2, 0.03).meanRatio.z));
+}
+
 // A Radiance HDR file cut anywhere before its last byte is refused: stb_image reads past the end as zeros,
 // and a file cut in its run-length data rendered black, or its missing rows as copies of the last texel,
 // without an error. Also files of unencoded texels: rows missing, or no pixel data at all.

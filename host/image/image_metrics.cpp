@@ -73,7 +73,14 @@ BlockAgreement compareBlocks(const Image& image, const Image& reference, int blo
         sumImage += glm::dvec3(image.pixels[i]);
         sumReference += glm::dvec3(reference.pixels[i]);
     }
-    for (int c = 0; c < 3; ++c) agreement.meanRatio[c] = sumReference[c] > 0.0 ? sumImage[c] / sumReference[c] : 0.0;
+    // A channel black throughout the reference agrees only with black (ratio 1); any light there is
+    // infinitely more (a ratio of 0 read as agreement's opposite, and hid light where the reference had
+    // none).
+    for (int c = 0; c < 3; ++c) {
+        agreement.meanRatio[c] = sumReference[c] > 0.0 ? sumImage[c] / sumReference[c]
+                                 : sumImage[c] == 0.0  ? 1.0
+                                                       : std::numeric_limits<double>::infinity();
+    }
     return agreement;
 }
 

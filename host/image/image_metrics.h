@@ -24,7 +24,7 @@ struct BlockAgreement {
     int blocks = 0;
     double fractionWithin = 0.0;   // blocks whose every channel mean is within the tolerance
     double worstBlock = 0.0;       // the largest relative difference of a block's channel mean
-    glm::dvec3 meanRatio{1.0};     // image / reference, per channel mean over the whole image
+    glm::dvec3 meanRatio{1.0};     // image / reference, per channel mean over the whole image (0 / 0 is 1)
 };
 
 // Compares `image` against `reference` (same size; partial blocks at the right and bottom edges are left out).
