@@ -461,6 +461,37 @@ TEST(Cli, EnvironmentLightsTheSceneAndIsRecordedInTheStats) {
     }
 }
 
+// A scene of one perspective camera and nothing else, written in `folder`.
+std::filesystem::path cameraOnlyScene(const std::filesystem::path& folder) {
+    test::GltfDocument d;
+    d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
+    d.node({{"camera", 0}});
+    d.floats({0.0f}, "SCALAR");  // the document's buffer may not be empty
+    const auto scene = folder / "camera-only.gltf";
+    d.write(scene);
+    return scene;
+}
+
+// The uniform environment that lights a scene without lights (radiance 1), or paths under --ambient, is
+// recorded as that radiance: it was recorded as a 16 x 8 map read from a file named "neutral", the same
+// whatever the ambient radiance.
+TEST(Cli, UniformEnvironmentIsRecordedAsItsRadiance) {
+    const auto folder = test::temporaryFolder();
+    const auto scene = cameraOnlyScene(folder);
+    const auto stats = folder / "stats.json";
+    for (const auto& [options, radiance] : {std::pair<std::string, nlohmann::json>{"", {1.0, 1.0, 1.0}},
+                                            {" --ambient 0.25", {0.25, 0.25, 0.25}}}) {
+        const auto result =
+            test::runVkrt("--scene " + quoted(scene) + " --device cpu --width 4 --spp 1" + options +
+                          " --out " + quoted(folder / "e.pfm") + " --stats " + quoted(stats));
+        ASSERT_EQ(result.exitCode, 0) << result.output;
+        std::ifstream file(stats);
+        EXPECT_EQ(nlohmann::json::parse(file)["environment"],
+                  (nlohmann::json{{"uniform_radiance", radiance}}))
+            << options;
+    }
+}
+
 TEST(Cli, HeightFollowsTheCameraAspectRatio) {
     const auto folder = test::temporaryFolder();
     const auto out = folder / "c.pfm";
@@ -874,12 +905,7 @@ TEST(Cli, RadianceBeyondFloatSumsIsLeftOutAndCounted) {
     Image uniform(8, 4);
     for (glm::vec3& texel : uniform.pixels) texel = glm::vec3(1.0f);
     writeImage(uniform, (folder / "uniform.exr").string());
-    test::GltfDocument d;
-    d.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
-    d.node({{"camera", 0}});
-    d.floats({0.0f}, "SCALAR");  // the document's buffer may not be empty
-    const auto scene = folder / "sky.gltf";
-    d.write(scene);
+    const auto scene = cameraOnlyScene(folder);
     for (const char* device : {"gpu", "cpu"}) {
         SCOPED_TRACE(device);
         const auto image = folder / (std::string(device) + ".pfm");

@@ -51,11 +51,16 @@ nlohmann::json toJson(const RunReport& r) {
     if (!r.deviceLost.empty()) json["device_lost_because"] = r.deviceLost;
     if (r.environment) {
         const RunReport::Environment& e = *r.environment;
-        json["environment"] = {{"file", e.file},
-                               {"width", e.width},
-                               {"height", e.height},
-                               {"rotation_degrees", e.rotationDegrees},
-                               {"strength", e.strength}};
+        if (e.uniformRadiance) {
+            const glm::dvec3 u = *e.uniformRadiance;
+            json["environment"] = {{"uniform_radiance", {u.x, u.y, u.z}}};
+        } else {
+            json["environment"] = {{"file", e.file},
+                                   {"width", e.width},
+                                   {"height", e.height},
+                                   {"rotation_degrees", e.rotationDegrees},
+                                   {"strength", e.strength}};
+        }
     }
     json["ranks"] = std::max<size_t>(1, r.ranks.size());
     if (!r.ranks.empty()) {

@@ -27,6 +27,9 @@ struct RunReport {
     RenderSettings settings;
     // The --environment map; absent without one.
     struct Environment {
+        // The uniform radiance that stands in for a map (a scene without lights, or paths' --ambient), else a
+        // map read from `file`.
+        std::optional<glm::dvec3> uniformRadiance;
         std::string file;
         int width = 0;
         int height = 0;

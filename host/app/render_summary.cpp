@@ -32,7 +32,9 @@ void describeRun(const Options& options, const Scene& scene, const RenderSetting
     report.textureBytes = packedTextureBytes(scene);
     report.settings = settings;
     if (const EnvironmentMap& e = scene.environment; e.present()) {
-        report.environment = RunReport::Environment{e.path, e.width, e.height, e.rotationDegrees, e.strength};
+        report.environment =
+            RunReport::Environment{std::nullopt, e.path, e.width, e.height, e.rotationDegrees, e.strength};
+        if (e.neutral) report.environment->uniformRadiance = glm::dvec3(e.radiance.front());
     }
 }
 
