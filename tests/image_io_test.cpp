@@ -103,6 +103,28 @@ TEST(ImageIo, PfmHeaderWithCrLfIsRead) {
     EXPECT_THROW(readImage(path), ImageError);
 }
 
+// A CR LF after the scale is one line end whatever follows the pixels: its LF was taken as the first pixel's
+// byte when a byte (a trailing newline, say) followed them, and every value was read shifted by a byte. A
+// file one byte short is still truncated.
+TEST(ImageIo, PfmCrLfHeaderIsReadWhateverFollowsThePixels) {
+    const auto folder = test::temporaryFolder();
+    const Image image = gradient(5, 3);
+    const std::string path = (folder / "a.pfm").string();
+    writeImage(image, path);
+    const std::string header = "PF\n5 3\n-1.0\n";
+    const std::string pixels = test::readText(path).substr(header.size());
+    ASSERT_EQ(pixels.size(), 5u * 3 * 12);
+    for (const std::string& after : {std::string("\n"), std::string("\r\n"), std::string(13, '\0')}) {
+        test::writeText(path, "PF\r\n5 3\r\n-1.0\r\n" + pixels + after);
+        const Image back = readImage(path);
+        ASSERT_EQ(back.width, 5);
+        ASSERT_EQ(back.height, 3);
+        EXPECT_EQ(compareImages(back, image).rmse, 0.0) << after.size() << " bytes after the pixels";
+    }
+    test::writeText(path, "PF\r\n5 3\r\n-1.0\r\n" + pixels.substr(0, pixels.size() - 1));
+    EXPECT_THROW(readImage(path), ImageError);
+}
+
 // Big-endian PFMs (a positive scale, as Netpbm's pamtopfm writes them) and grey ones ("Pf") are read too:
 // they were refused as references. The same pixels, rows bottom to top, as the little-endian colour file vkrt
 // writes.

@@ -122,7 +122,10 @@ Image readPfm(const std::string& path) {
     int width = 0, height = 0;
     double scale = 0.0;
     file >> magic >> width >> height >> scale;
-    const int separator = file.get();  // one whitespace character ends the header
+    // One whitespace character ends the header, a line end: a CR LF pair (a header written on Windows) is
+    // one, its LF the header's, not the first pixel's byte.
+    int separator = file.get();
+    if (separator == '\r' && file.peek() == '\n') separator = file.get();
     if ((magic != "PF" && magic != "Pf") || width <= 0 || height <= 0 || !(scale != 0.0) ||
         !std::isfinite(scale) || !std::isspace(separator)) {
         throw ImageError(path + ": not a PFM (PF or Pf, its size and a non-zero scale)");
@@ -130,16 +133,9 @@ Image readPfm(const std::string& path) {
     const int channels = magic == "PF" ? 3 : 1;
     const std::streamoff rowBytes = static_cast<std::streamoff>(width) * channels * 4;
     // The pixels the header promises must be in the file before they are allocated.
-    std::streamoff start = file.tellg();
+    const std::streamoff start = file.tellg();
     file.seekg(0, std::ios::end);
     const std::streamoff end = file.tellg();
-    // A header whose lines end in CR LF (written on Windows) leaves its last LF before the pixels: it is the
-    // header's when the pixels then fill the rest of the file exactly.
-    const std::streamoff rest = end - start - 1;
-    if (separator == '\r' && start >= 0 && rest % rowBytes == 0 && rest / rowBytes == height) {
-        file.seekg(start);
-        if (file.get() == '\n') ++start;
-    }
     file.seekg(start);
     if (start < 0 || (end - start) / rowBytes < height) {
         throw ImageError(path + ": file is truncated (its header says " + std::to_string(width) + "x" +
