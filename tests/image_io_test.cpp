@@ -1,10 +1,13 @@
 // Image writers and metrics: exact round trips for linear formats, the sRGB curve, atomic writes.
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -366,6 +369,176 @@ TEST(ImageIo, ExrChannelsThatAreNotRadianceAreRefused) {
             ADD_FAILURE() << "read";
         } catch (const ImageError& e) {
             EXPECT_NE(std::string(e.what()).find("cannot read EXR"), std::string::npos) << e.what();
+        }
+    }
+}
+
+// Where an EXR written by exrBytes puts its pixels, and in what order.
+struct ExrLayout {
+    int dataX = 0, dataY = 0;       // the data window's top-left pixel
+    int display[4] = {0, 0, 0, 0};  // the display window: min x, min y, max x, max y (inclusive)
+    int lineOrder = 0;              // 0: INCREASING_Y, 1: DECREASING_Y
+    int tileSize = 0;               // tiled (one level, square tiles) when positive
+};
+
+// An uncompressed EXR of FLOAT channels B, G and R, written byte by byte: tinyexr's writer sets both windows
+// to the image's size and the line order to INCREASING_Y. `pixels` fill the data window. A DECREASING_Y file
+// stores its rows, or rows of tiles, bottom first, its offset table still ordered by y as OpenEXR requires.
+std::string exrBytes(const Image& pixels, const ExrLayout& layout) {
+    const auto words = [](std::initializer_list<uint32_t> values) {
+        std::string bytes;
+        for (uint32_t value : values) {
+            for (int k = 0; k < 4; ++k) bytes += static_cast<char>(value >> (8 * k));
+        }
+        return bytes;
+    };
+    const auto ints = [&](std::initializer_list<int> values) {
+        std::string bytes;
+        for (int value : values) bytes += words({static_cast<uint32_t>(value)});
+        return bytes;
+    };
+    const auto floats = [&](std::initializer_list<float> values) {
+        std::string bytes;
+        for (float value : values) bytes += words({std::bit_cast<uint32_t>(value)});
+        return bytes;
+    };
+    std::string header = std::string("\x76\x2f\x31\x01", 4) + ints({layout.tileSize > 0 ? 0x202 : 2});
+    const auto attribute = [&](const char* name, const char* type, const std::string& value) {
+        header += std::string(name) + '\0' + type + '\0' + ints({static_cast<int>(value.size())}) + value;
+    };
+    std::string channels;
+    for (const char* name : {"B", "G", "R"}) channels += std::string(name) + '\0' + ints({2, 0, 1, 1});
+    attribute("channels", "chlist", channels + '\0');
+    attribute("compression", "compression", std::string(1, '\0'));
+    attribute("dataWindow", "box2i",
+              ints({layout.dataX, layout.dataY, layout.dataX + pixels.width - 1,
+                    layout.dataY + pixels.height - 1}));
+    attribute("displayWindow", "box2i",
+              ints({layout.display[0], layout.display[1], layout.display[2], layout.display[3]}));
+    attribute("lineOrder", "lineOrder", std::string(1, static_cast<char>(layout.lineOrder)));
+    attribute("pixelAspectRatio", "float", floats({1.0f}));
+    attribute("screenWindowCenter", "v2f", floats({0.0f, 0.0f}));
+    attribute("screenWindowWidth", "float", floats({1.0f}));
+    if (layout.tileSize > 0) attribute("tiles", "tiledesc", ints({layout.tileSize, layout.tileSize}) + '\0');
+    header += '\0';
+    // A chunk's pixels: row by row, each row channel by channel.
+    const auto texels = [&](int x0, int y0, int width, int height) {
+        std::string bytes;
+        for (int y = y0; y < y0 + height; ++y) {
+            for (int c = 2; c >= 0; --c) {
+                for (int x = x0; x < x0 + width; ++x) bytes += floats({pixels.at(x, y)[c]});
+            }
+        }
+        return bytes;
+    };
+    // The chunks in the offset table's order: scanlines by y, tiles by row then column.
+    std::vector<std::string> chunks;
+    int chunksPerRow = 1;
+    if (layout.tileSize > 0) {
+        const int tile = layout.tileSize;
+        chunksPerRow = (pixels.width + tile - 1) / tile;
+        for (int ty = 0; ty * tile < pixels.height; ++ty) {
+            for (int tx = 0; tx * tile < pixels.width; ++tx) {
+                const int width = std::min(tile, pixels.width - tx * tile);
+                const int height = std::min(tile, pixels.height - ty * tile);
+                chunks.push_back(ints({tx, ty, 0, 0, 12 * width * height}) +
+                                 texels(tx * tile, ty * tile, width, height));
+            }
+        }
+    } else {
+        for (int y = 0; y < pixels.height; ++y)
+            chunks.push_back(ints({layout.dataY + y, 12 * pixels.width}) + texels(0, y, pixels.width, 1));
+    }
+    std::vector<size_t> fileOrder(chunks.size());
+    for (size_t i = 0; i < chunks.size(); ++i) {
+        const size_t row = i / chunksPerRow, rows = chunks.size() / chunksPerRow;
+        fileOrder[i] = (layout.lineOrder == 0 ? row : rows - 1 - row) * chunksPerRow + i % chunksPerRow;
+    }
+    std::vector<uint64_t> offsets(chunks.size());
+    std::string body;
+    for (size_t index : fileOrder) {
+        offsets[index] = header.size() + 8 * chunks.size() + body.size();
+        body += chunks[index];
+    }
+    std::string table;
+    for (uint64_t offset : offsets)
+        table += words({static_cast<uint32_t>(offset), static_cast<uint32_t>(offset >> 32)});
+    return header + table + body;
+}
+
+// A DECREASING_Y EXR reads as the same image written INCREASING_Y: tinyexr put row y of such a file at
+// height - 1 - y, though each row carries its own y, and such maps and references were read upside down
+// (tiled ones upside down within each tile).
+TEST(ImageIo, ExrRowsAreReadWhereTheyLieInEitherLineOrder) {
+    const auto folder = test::temporaryFolder();
+    const Image image = gradient(13, 7);
+    const std::string path = (folder / "a.exr").string();
+    for (const int tileSize : {0, 4}) {  // 4 x 4 tiles, those on the right and bottom edges cut
+        for (const int lineOrder : {0, 1}) {
+            SCOPED_TRACE("tile size " + std::to_string(tileSize) + ", line order " +
+                         std::to_string(lineOrder));
+            ExrLayout layout;
+            layout.display[2] = 12;
+            layout.display[3] = 6;
+            layout.lineOrder = lineOrder;
+            layout.tileSize = tileSize;
+            test::writeText(path, exrBytes(image, layout));
+            const Image back = readImage(path);
+            ASSERT_EQ(back.width, 13);
+            ASSERT_EQ(back.height, 7);
+            EXPECT_EQ(compareImages(back, image).rmse, 0.0);
+            EXPECT_EQ(back.at(12, 0), image.at(12, 0));  // top-right stays top-right
+        }
+    }
+}
+
+// An EXR's image is its display window, its data window's pixels where they lie in it and zeros elsewhere
+// (OpenEXR's meaning): the data window's pixels were stretched over the whole image, of the data window's
+// size. Windows are inclusive, their corners may be negative, and what of the data window lies outside is
+// cut.
+TEST(ImageIo, ExrDataWindowIsPlacedInTheDisplayWindow) {
+    const auto folder = test::temporaryFolder();
+    const std::string path = (folder / "a.exr").string();
+    struct Case {
+        int dataX, dataY, width, height;
+        int display[4];
+    };
+    for (const Case& c : {Case{2, 1, 3, 2, {0, 0, 6, 4}},          // inside
+                          Case{-1, -1, 3, 2, {-3, -2, 3, 2}},      // negative corners
+                          Case{5, 3, 4, 3, {0, 0, 6, 4}},          // over the right and bottom edges
+                          Case{-2, -3, 12, 10, {10, 20, 12, 23}},  // no overlap
+                          Case{8, 18, 9, 9, {10, 20, 12, 23}}}) {  // all around
+        const Image data = gradient(c.width, c.height);
+        const int width = c.display[2] - c.display[0] + 1, height = c.display[3] - c.display[1] + 1;
+        Image expected(width, height);
+        for (int y = 0; y < data.height; ++y) {
+            for (int x = 0; x < data.width; ++x) {
+                const int imageX = c.dataX + x - c.display[0], imageY = c.dataY + y - c.display[1];
+                if (imageX >= 0 && imageY >= 0 && imageX < width && imageY < height)
+                    expected.at(imageX, imageY) = data.at(x, y);
+            }
+        }
+        for (const int tileSize : {0, 2}) {
+            for (const int lineOrder : {0, 1}) {
+                SCOPED_TRACE("data window at " + std::to_string(c.dataX) + ", " + std::to_string(c.dataY) +
+                             ", display window from " + std::to_string(c.display[0]) + ", " +
+                             std::to_string(c.display[1]) + ", tile size " + std::to_string(tileSize) +
+                             ", line order " + std::to_string(lineOrder));
+                ExrLayout layout;
+                layout.dataX = c.dataX;
+                layout.dataY = c.dataY;
+                std::copy(c.display, c.display + 4, layout.display);
+                layout.lineOrder = lineOrder;
+                layout.tileSize = tileSize;
+                test::writeText(path, exrBytes(data, layout));
+                const Image back = readImage(path);
+                ASSERT_EQ(back.width, width);
+                ASSERT_EQ(back.height, height);
+                for (int y = 0; y < height; ++y) {
+                    for (int x = 0; x < width; ++x)
+                        EXPECT_EQ(back.at(x, y), expected.at(x, y)) << "pixel " << x << ", " << y;
+                }
+            }
         }
     }
 }

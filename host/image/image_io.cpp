@@ -172,25 +172,23 @@ void checkDecodingFits(const std::string& path, uint64_t texels, uint64_t bytesP
     }
 }
 
-// Refuses an EXR whose channels LoadEXR would misread. LoadEXR names a channel by what follows its last '.'
-// (diffuse.R is R) and looks at the first four channels alone: it takes a file's one channel, whatever its
-// name (alpha, depth), as grey radiance, a second layer's B among the first four in place of the first's (B,
-// G, R, other.B read other.B as blue), and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G
-// and B once each among the first four channels, or Y alone, in HALF or FLOAT, all of one layer (an AOV's or
-// Cryptomatte's channels after them are not read). Refuses one whose decoding would take more than
-// `maxBytes`: LoadEXR's planes of each channel as floats, its RGBA copy and the image made from it.
-void checkExrHeader(const std::string& path, uint64_t maxBytes) {
-    EXRVersion version;
-    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) return;  // LoadEXR says why
-    EXRHeader header;
-    InitEXRHeader(&header);
-    const char* error = nullptr;
-    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &error) != TINYEXR_SUCCESS) {
-        if (error) FreeEXRErrorMessage(error);
-        return;
-    }
+// The channels of an EXR read as red, green and blue (a grey file's one channel, 0, as all three).
+struct ExrColourChannels {
+    int red = 0, green = 0, blue = 0;
+};
+
+// Picks the channels of an EXR that hold radiance, and refuses a file whose channels are not radiance.
+// Channels are named by what follows their last '.' (diffuse.R is R), and the first four alone are looked at,
+// as tinyexr's LoadEXR did; it took a file's one channel, whatever its name (alpha, depth), as grey radiance,
+// a second layer's B among the first four in place of the first's (B, G, R, other.B read other.B as blue),
+// and UINT channels' bits as floats (7 read as 1e-44). Radiance is R, G and B once each among the first four
+// channels, or Y alone, in HALF or FLOAT, all of one layer (an AOV's or Cryptomatte's channels after them are
+// not read). Refuses one whose decoding would take more than `maxBytes`: tinyexr's planes of each channel of
+// the data window as floats, and the image of the display window made from them.
+ExrColourChannels checkExrHeader(const std::string& path, const EXRHeader& header, uint64_t maxBytes) {
     const int channels = header.num_channels;
     std::string names, problem, layer;
+    ExrColourChannels colours;
     int red = 0, green = 0, blue = 0;
     bool luminance = false, oneLayer = true;
     for (int i = 0; i < channels; ++i) {
@@ -200,7 +198,7 @@ void checkExrHeader(const std::string& path, uint64_t maxBytes) {
         const std::string base = dot == std::string::npos ? name : name.substr(dot + 1);
         const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
         const bool colour = base == "R" || base == "G" || base == "B" || base == "Y";
-        if (!colour || i >= 4) continue;  // LoadEXR reads the first four alone (AOVs after RGBA are left)
+        if (!colour || i >= 4) continue;  // the first four alone are read (AOVs after RGBA are left)
         if (header.pixel_types[i] == TINYEXR_PIXELTYPE_UINT)
             problem = "channel " + name + " holds unsigned integers, not radiance";
         if (red + green + blue == 0 && !luminance) layer = prefix;
@@ -209,38 +207,104 @@ void checkExrHeader(const std::string& path, uint64_t maxBytes) {
         green += base == "G";
         blue += base == "B";
         luminance |= base == "Y";
+        if (base == "R") colours.red = i;
+        if (base == "G") colours.green = i;
+        if (base == "B") colours.blue = i;
     }
-    const uint64_t width =
-        static_cast<uint64_t>(std::max(0, header.data_window.max_x - header.data_window.min_x + 1));
-    const uint64_t height =
-        static_cast<uint64_t>(std::max(0, header.data_window.max_y - header.data_window.min_y + 1));
-    FreeEXRHeader(&header);
     if (problem.empty() && !oneLayer) problem = "colour channels of several layers (" + names + ")";
     if (problem.empty() && !(red == 1 && green == 1 && blue == 1) && !(luminance && channels == 1))
         problem = "no R, G and B among its first four channels, nor Y alone (it has " + names + ")";
+    // Windows are inclusive boxes of pixel coordinates; the display window is the image, of ints' size.
+    const auto extent = [](int min, int max) { return std::max<int64_t>(0, int64_t{max} - min + 1); };
+    const EXRBox2i& display = header.display_window;
+    const int64_t width = extent(display.min_x, display.max_x), height = extent(display.min_y, display.max_y);
+    if (problem.empty() && (width == 0 || height == 0)) problem = "its display window is empty";
+    if (problem.empty() && (width > INT32_MAX || height > INT32_MAX))
+        problem =
+            "its display window is " + std::to_string(width) + " x " + std::to_string(height) + " pixels";
     if (!problem.empty()) throw ImageError(path + ": cannot read EXR: " + problem);
-    checkDecodingFits(path, width * height, 4 * static_cast<uint64_t>(channels) + 16 + sizeof(glm::vec3), 0,
-                      maxBytes);
+    const EXRBox2i& data = header.data_window;
+    const uint64_t planes =
+        saturatedBytes(static_cast<double>(extent(data.min_x, data.max_x)) *
+                       static_cast<double>(extent(data.min_y, data.max_y)) * 4.0 * channels);
+    checkDecodingFits(path, static_cast<uint64_t>(width * height), sizeof(glm::vec3), planes, maxBytes);
+    return colours;
 }
 
+// Throws the error of a tinyexr call that failed, as one line.
+[[noreturn]] void throwExrError(const std::string& path, const char* error) {
+    std::string message = error ? error : "unknown error";
+    if (error) FreeEXRErrorMessage(error);
+    // tinyexr's messages can end in a newline, or span lines; the command line reports one.
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    while (!message.empty() && message.back() == ' ') message.pop_back();
+    throw ImageError(path + ": cannot read EXR: " + message);
+}
+
+// Reads an EXR's display window, which is the image in OpenEXR's meaning: the pixels of its data window
+// (which may be smaller, larger or offset) where they lie in it, zeros elsewhere.
 Image readExr(const std::string& path, uint64_t maxBytes = UINT64_MAX) {
-    checkExrHeader(path, maxBytes);
-    float* rgba = nullptr;
-    int width = 0, height = 0;
+    EXRVersion version;
+    const int status = ParseEXRVersionFromFile(&version, path.c_str());
+    if (status == TINYEXR_ERROR_CANT_OPEN_FILE) throw ImageError(path + ": cannot open");
+    if (status != TINYEXR_SUCCESS) throw ImageError(path + ": cannot read EXR: not an OpenEXR 2 file");
+    if (version.multipart || version.non_image)
+        throw ImageError(path + ": cannot read EXR: multi-part and deep files are not read");
+    EXRHeader header;
+    InitEXRHeader(&header);
     const char* error = nullptr;
-    if (LoadEXR(&rgba, &width, &height, path.c_str(), &error) != TINYEXR_SUCCESS) {
-        std::string message = error ? error : "unknown error";
-        if (error) FreeEXRErrorMessage(error);
-        // tinyexr's messages can end in a newline, or span lines; the command line reports one.
-        std::replace(message.begin(), message.end(), '\n', ' ');
-        while (!message.empty() && message.back() == ' ') message.pop_back();
-        throw ImageError(path + ": cannot read EXR: " + message);
+    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &error) != TINYEXR_SUCCESS) {
+        FreeEXRHeader(&header);
+        throwExrError(path, error);
     }
-    Image image(width, height);
-    for (size_t i = 0; i < image.pixels.size(); ++i) {
-        image.pixels[i] = glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
+    const std::unique_ptr<EXRHeader, decltype(&FreeEXRHeader)> ownedHeader(&header, &FreeEXRHeader);
+    const ExrColourChannels colours = checkExrHeader(path, header, maxBytes);
+    // Each row where the file says it lies. This tinyexr (Debian's 1.0.1) puts row y of a DECREASING_Y file
+    // (line_order 1) at height - 1 - y, though the file stores each row with its own y (tinyexr issue 213):
+    // scanline files read upside down, tiled ones upside down within each tile. As INCREASING_Y it puts a
+    // compressed chunk's rows at the y they carry, an uncompressed row at its place in the offset table
+    // (which OpenEXR orders by y in either line order), and a tile's rows in order at its tile coordinates.
+    header.line_order = 0;
+    for (int i = 0; i < header.num_channels; ++i) {
+        if (header.pixel_types[i] == TINYEXR_PIXELTYPE_HALF)
+            header.requested_pixel_types[i] = TINYEXR_PIXELTYPE_FLOAT;
     }
-    free(rgba);
+    EXRImage exrImage;
+    InitEXRImage(&exrImage);
+    // A load that fails has freed what it allocated (freeing it again would free it twice).
+    if (LoadEXRImageFromFile(&exrImage, &header, path.c_str(), &error) != TINYEXR_SUCCESS)
+        throwExrError(path, error);
+    const std::unique_ptr<EXRImage, decltype(&FreeEXRImage)> ownedImage(&exrImage, &FreeEXRImage);
+    const EXRBox2i& data = header.data_window;
+    const EXRBox2i& display = header.display_window;
+    Image image(display.max_x - display.min_x + 1, display.max_y - display.min_y + 1);
+    // Texel (x, y) of the data window, at `index` in `planes`, goes where it lies in the display window.
+    const auto place = [&](int64_t x, int64_t y, const unsigned char* const* planes, size_t index) {
+        const int64_t imageX = data.min_x + x - display.min_x, imageY = data.min_y + y - display.min_y;
+        if (imageX < 0 || imageY < 0 || imageX >= image.width || imageY >= image.height) return;
+        const auto channel = [&](int c) { return reinterpret_cast<const float*>(planes[c])[index]; };
+        image.at(static_cast<int>(imageX), static_cast<int>(imageY)) =
+            glm::vec3(channel(colours.red), channel(colours.green), channel(colours.blue));
+    };
+    if (header.tiled) {
+        // The first level's tiles (a mipmapped file's smaller levels are not read): each is tile_size_x
+        // texels wide in memory, its width and height cut where the data window ends.
+        for (int t = 0; t < exrImage.num_tiles; ++t) {
+            const EXRTile& tile = exrImage.tiles[t];
+            for (int j = 0; j < tile.height; ++j) {
+                for (int i = 0; i < tile.width; ++i) {
+                    place(int64_t{tile.offset_x} * header.tile_size_x + i,
+                          int64_t{tile.offset_y} * header.tile_size_y + j, tile.images,
+                          static_cast<size_t>(j) * header.tile_size_x + i);
+                }
+            }
+        }
+    } else {
+        for (int y = 0; y < exrImage.height; ++y) {
+            for (int x = 0; x < exrImage.width; ++x)
+                place(x, y, exrImage.images, static_cast<size_t>(y) * exrImage.width + x);
+        }
+    }
     return image;
 }
 
