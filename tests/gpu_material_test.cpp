@@ -111,21 +111,30 @@ TEST_F(GpuMaterials, TextureTransformRotatesAsTheSampleViewerDoes) {
 }
 
 TEST_F(GpuMaterials, TextureCoordinatesFarFromTheImageReadItSafely) {
-    // The checker of TextureTransformScalesTheChecker moved by 2^30 whole periods: its texel positions were
-    // beyond an int (undefined; the CPU read the wrong texels). The CPU reference, in double precision, keeps
-    // the coordinates' fractions and must show the checker as if unmoved. In single precision 4u + 2^30 is
-    // 2^30 (its unit in the last place is 128), so every GPU pixel reads the one texture coordinate 0.
+    // The checker of TextureTransformScalesTheChecker moved by whole periods, 2^16 and 2^30: both devices
+    // show it unmoved. The offset is taken modulo 2 when the material is packed: in single precision 4u +
+    // 2^16 keeps 7 bits of u's fraction and 4u + 2^30 none (its unit in the last place is 128), so the GPU
+    // read texels displaced, or every pixel the one coordinate 0.
     const auto [scene, unmovedChecker] = scaledChecker(0.0f);
     const auto unmoved = renderSquare(scene, unmovedChecker, ambientOnly(64));
-    const auto [gpu, cpu] = renderSquare(scene, scaledChecker(1073741824.0f).second, ambientOnly(64));
-    EXPECT_EQ(compareImages(cpu.image, unmoved.cpu.image, 0.0, 1e-4).fractionOff, 0.0);
-    const glm::vec3 first = gpu.image.at(0, 0);
-    for (int y = 0; y < gpu.image.height; y += 7) {
-        for (int x = 0; x < gpu.image.width; x += 7) {
-            EXPECT_EQ(gpu.image.at(x, y), first) << x << ", " << y;
-        }
+    for (const float offset : {65536.0f, 1073741824.0f}) {
+        const auto [gpu, cpu] = renderSquare(scene, scaledChecker(offset).second, ambientOnly(64));
+        EXPECT_EQ(compareImages(cpu.image, unmoved.cpu.image, 0.0, 1e-4).fractionOff, 0.0) << offset;
+        EXPECT_EQ(compareImages(gpu.image, unmoved.gpu.image, 0.0, 1e-4).fractionOff, 0.0) << offset;
     }
-    EXPECT_TRUE(first.x >= 0.0f && first.x <= 1.0f) << first.x;
+    // Scaled by 2^32: texel positions beyond an int (undefined; the CPU read the wrong texels) are brought
+    // near the image before they are read. Every pixel's footprint covers the whole texture: its last mipmap
+    // level.
+    Material far = unmovedChecker;
+    far.baseColorTexture.scale = glm::vec2(4294967296.0f);
+    const auto [gpu, cpu] = renderSquare(scene, far, ambientOnly(64));
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        const glm::vec3 first = image->at(0, 0);
+        for (int y = 0; y < image->height; y += 7) {
+            for (int x = 0; x < image->width; x += 7) EXPECT_EQ(image->at(x, y), first) << x << ", " << y;
+        }
+        EXPECT_TRUE(first.x >= 0.0f && first.x <= 1.0f) << first.x;
+    }
 }
 
 // A lamp 1 x 1 at height 1, facing down, whose emission and alpha are a 64 x 64 checker (mipmapped,

@@ -24,7 +24,7 @@ glm::dvec3 reflect(const glm::dvec3& toViewer, const glm::dvec3& normal) {
 }
 SurfaceMaterial untextured(const Material& material) {
     std::vector<gpu::GpuTextureBinding> bindings;
-    return surfaceMaterial(material, bindings);
+    return surfaceMaterial(material, {}, bindings);
 }
 
 glm::dvec3 fromAngle(double theta) {

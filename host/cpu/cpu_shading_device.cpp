@@ -11,7 +11,8 @@ namespace vkrt {
 
 CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
-    for (const Material& m : scene.materials) materials.push_back(surfaceMaterial(m, bindings));
+    for (const Material& m : scene.materials)
+        materials.push_back(surfaceMaterial(m, scene.textures, bindings));
     shapePick.assign(scene.shapes.size(), 0.0);
     for (size_t i = 0; i < lights.shapes.size(); ++i) {
         if (lights.shapes[i] != kNoPrimitive) shapePick[lights.shapes[i]] = lights.pick[i];

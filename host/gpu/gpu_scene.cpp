@@ -250,7 +250,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     }
 
     for (const Material& m : scene.materials) {
-        shading::SurfaceMaterial s = surfaceMaterial(m, data.textureBindings);
+        shading::SurfaceMaterial s = surfaceMaterial(m, scene.textures, data.textureBindings);
         specialise(s, data.features);
         data.materials.push_back(gpuMaterial(s, m.thickness));
     }

@@ -26,15 +26,25 @@ uint32_t wrapBits(WrapMode mode) {
     }
 }
 
+// `offset` less a whole number of periods of 2, within which repeat and mirrored repeat both repeat: the same
+// image, but the GPU's single-precision sum u + offset keeps u's fraction (4u + 65536 kept 7 bits of it, and
+// the GPU's texels moved where the CPU's did not). A clamped axis is not periodic and keeps its offset.
+float offsetWithinPeriod(float offset, WrapMode mode) {
+    if (mode == WrapMode::ClampToEdge || !std::isfinite(offset)) return offset;
+    return static_cast<float>(offset - 2.0 * std::floor(0.5 * static_cast<double>(offset)));  // exact
+}
+
 // A texture slot of `material` as a binding (sRGB where the slot holds colours): KHR_texture_transform's
 // translation * rotation * scale as two matrix rows (TextureSlot::linearRows, then the offset).
-int bind(const Material& material, const TextureSlot& slot, std::vector<gpu::GpuTextureBinding>& bindings) {
+int bind(const Material& material, const TextureSlot& slot, const std::vector<Texture>& textures,
+         std::vector<gpu::GpuTextureBinding>& bindings) {
     if (!slot.used()) return -1;
     const bool srgb = material.holdsColour(&slot);
     const std::array<glm::vec2, 2> rows = slot.linearRows();
+    const Texture& texture = textures.at(static_cast<size_t>(slot.texture));
     gpu::GpuTextureBinding binding{};
-    binding.row0 = glm::vec3(rows[0], slot.offset.x);
-    binding.row1 = glm::vec3(rows[1], slot.offset.y);
+    binding.row0 = glm::vec3(rows[0], offsetWithinPeriod(slot.offset.x, texture.wrapS));
+    binding.row1 = glm::vec3(rows[1], offsetWithinPeriod(slot.offset.y, texture.wrapT));
     binding.texture = slot.texture;
     binding.flags = (srgb ? VKRT_BINDING_SRGB : 0u) | (slot.texCoord == 1 ? VKRT_BINDING_TEXCOORD1 : 0u);
     bindings.push_back(binding);
@@ -43,7 +53,8 @@ int bind(const Material& material, const TextureSlot& slot, std::vector<gpu::Gpu
 
 }  // namespace
 
-shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::GpuTextureBinding>& bindings) {
+shading::SurfaceMaterial surfaceMaterial(const Material& m, const std::vector<Texture>& textures,
+                                         std::vector<gpu::GpuTextureBinding>& bindings) {
     shading::SurfaceMaterial s;
     s.baseColor = glm::dvec3(glm::vec3(m.baseColor));
     s.metallic = m.metallic;
@@ -55,34 +66,34 @@ shading::SurfaceMaterial surfaceMaterial(const Material& m, std::vector<gpu::Gpu
     s.ior = m.ior;
     s.volume = m.hasVolume();
     s.doubleSided = m.doubleSided;
-    s.baseColorTexture = bind(m, m.baseColorTexture, bindings);
-    s.emissiveTexture = bind(m, m.emissiveTexture, bindings);
-    s.metallicRoughnessTexture = bind(m, m.metallicRoughnessTexture, bindings);
-    s.occlusionTexture = bind(m, m.occlusionTexture, bindings);
+    s.baseColorTexture = bind(m, m.baseColorTexture, textures, bindings);
+    s.emissiveTexture = bind(m, m.emissiveTexture, textures, bindings);
+    s.metallicRoughnessTexture = bind(m, m.metallicRoughnessTexture, textures, bindings);
+    s.occlusionTexture = bind(m, m.occlusionTexture, textures, bindings);
     s.occlusionStrength = m.occlusionStrength;
     s.specularFactor = m.specularFactor;
     s.specularColor = glm::dvec3(m.specularColor);
-    s.specularTexture = bind(m, m.specularTexture, bindings);
-    s.specularColorTexture = bind(m, m.specularColorTexture, bindings);
-    s.normalTexture = bind(m, m.normalTexture, bindings);
+    s.specularTexture = bind(m, m.specularTexture, textures, bindings);
+    s.specularColorTexture = bind(m, m.specularColorTexture, textures, bindings);
+    s.normalTexture = bind(m, m.normalTexture, textures, bindings);
     s.normalScale = m.normalScale;
     s.alphaMode = m.alphaMode == AlphaMode::Mask    ? VKRT_ALPHA_MASK
                   : m.alphaMode == AlphaMode::Blend ? VKRT_ALPHA_BLEND
                                                     : VKRT_ALPHA_OPAQUE;
     s.alpha = m.baseColor.a;
     s.alphaCutoff = m.alphaCutoff;
-    s.transmissionTexture = bind(m, m.transmissionTexture, bindings);
+    s.transmissionTexture = bind(m, m.transmissionTexture, textures, bindings);
     s.unlit = m.unlit;
     s.clearcoat = m.clearcoat;
     s.clearcoatRoughness = m.clearcoatRoughness;
-    s.clearcoatTexture = bind(m, m.clearcoatTexture, bindings);
-    s.clearcoatRoughnessTexture = bind(m, m.clearcoatRoughnessTexture, bindings);
-    s.clearcoatNormalTexture = bind(m, m.clearcoatNormalTexture, bindings);
+    s.clearcoatTexture = bind(m, m.clearcoatTexture, textures, bindings);
+    s.clearcoatRoughnessTexture = bind(m, m.clearcoatRoughnessTexture, textures, bindings);
+    s.clearcoatNormalTexture = bind(m, m.clearcoatNormalTexture, textures, bindings);
     s.clearcoatNormalScale = m.clearcoatNormalScale;
     s.sheenColor = glm::dvec3(m.sheenColor);
     s.sheenRoughness = m.sheenRoughness;
-    s.sheenColorTexture = bind(m, m.sheenColorTexture, bindings);
-    s.sheenRoughnessTexture = bind(m, m.sheenRoughnessTexture, bindings);
+    s.sheenColorTexture = bind(m, m.sheenColorTexture, textures, bindings);
+    s.sheenRoughnessTexture = bind(m, m.sheenRoughnessTexture, textures, bindings);
     s.textureSlots = shading::materialTextureSlots(s);
     return s;
 }

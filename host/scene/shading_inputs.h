@@ -15,9 +15,9 @@
 
 namespace vkrt {
 
-// The material in the shared code's form. Its texture slots are appended to `bindings` (the GPU's
-// GpuTextureBinding table) and named by their index there; a slot without a texture is -1.
-shading::SurfaceMaterial surfaceMaterial(const Material& material,
+// The material in the shared code's form. Its texture slots, of `textures`, are appended to `bindings` (the
+// GPU's GpuTextureBinding table) and named by their index there; a slot without a texture is -1.
+shading::SurfaceMaterial surfaceMaterial(const Material& material, const std::vector<Texture>& textures,
                                          std::vector<gpu::GpuTextureBinding>& bindings);
 
 shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
