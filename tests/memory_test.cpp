@@ -109,6 +109,21 @@ TEST(HostMemory, EstimateGrowsWithPixelsTrianglesAndTheWayItIsRendered) {
     EXPECT_EQ(estimate(), pixelsOnly + 24000000u + 16000000u + 1000000u * 32) << "and lavapipe's copy";
 }
 
+// The EXR encoder's buffers are counted whatever the case of the output's extension, as the writer reads it:
+// "m.EXR" left them out, so a render refused as m.exr (needing 240 MiB of 200) was let through as m.EXR.
+TEST(HostMemory, EncoderIsCountedInAnyCaseOfTheExtension) {
+    HostMemoryInputs in;
+    in.width = 1000;
+    in.height = 1000;
+    auto estimate = [&](const char* path) {
+        in.outputPath = path;
+        return estimateHostMemory(in).total();
+    };
+    const uint64_t exr = estimate("x.exr");
+    EXPECT_GT(exr, estimate("x.pfm")) << "the encoder's buffers";
+    for (const char* name : {"x.EXR", "x.Exr"}) EXPECT_EQ(estimate(name), exr) << name;
+}
+
 // An environment map is counted before it is decoded: a file of half a megabyte of run-length data can claim
 // 4000 x 2000 texels (192 MB decoded), and took 443 MB under --max-memory 16MiB; decoded, its tables count in
 // the render's estimate.

@@ -3,9 +3,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "common/file_names.h"
 
 namespace vkrt {
 namespace {
@@ -25,9 +26,10 @@ constexpr uint64_t kImageBytesPerPixel = 12;
 constexpr uint64_t kDeviceAccumulationBytesPerPixel = 32;
 
 // What an encoder holds besides the image: stb's PNG (8-bit RGB, filtered rows, the deflated file) or
-// tinyexr's EXR (interleaved and planar float copies, the compressed file); PFM writes from the image.
+// tinyexr's EXR (interleaved and planar float copies, the compressed file); PFM writes from the image. The
+// extension is read in any case, as the writers read it: "m.EXR" is an EXR, and its encoder was left out.
 uint64_t encoderBytesPerPixel(const std::string& path) {
-    const std::string extension = std::filesystem::path(path).extension().string();
+    const std::string extension = lowerExtension(path);
     if (extension == ".png") return 10;
     if (extension == ".exr") return 48;
     return 0;
