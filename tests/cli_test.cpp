@@ -142,6 +142,26 @@ TEST(Cli, OutputThroughASymbolicLinkWritesTheFileItNames) {
     EXPECT_TRUE(std::filesystem::is_regular_file(folder / "real" / "stats.json"));
 }
 
+// An output path in a loop of symbolic links names no file: it is refused before the render, in one line, as
+// bad usage, and the links stay as they were (the loop was replaced by a regular file, with exit 0).
+TEST(Cli, OutputThroughALoopOfSymbolicLinksIsRefused) {
+    const auto folder = test::temporaryFolder();
+    std::filesystem::create_symlink("loop2.png", folder / "loop1.png");
+    std::filesystem::create_symlink("loop1.png", folder / "loop2.png");
+    const auto result = test::runVkrt("--scene " + kCornell + " --device cpu --width 8 --spp 1 --out " +
+                                      quoted(folder / "loop1.png"));
+    EXPECT_EQ(result.exitCode, 2) << result.output;
+    EXPECT_EQ(result.output.rfind("vkrt: error: --out: ", 0), 0u) << result.output;
+    EXPECT_NE(result.output.find("(Too many levels of symbolic links)"), std::string::npos) << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+    for (const auto& [link, target] :
+         {std::pair{"loop1.png", "loop2.png"}, std::pair{"loop2.png", "loop1.png"}}) {
+        ASSERT_TRUE(std::filesystem::is_symlink(folder / link)) << link;
+        EXPECT_EQ(std::filesystem::read_symlink(folder / link), target) << link;
+    }
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 2) << "the links alone";
+}
+
 TEST(Cli, CameraOutOfRangeIsBadInput) {
     const auto folder = test::temporaryFolder();
     const auto result =

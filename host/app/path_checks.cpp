@@ -50,9 +50,8 @@ void checkWritable(const char* option, const std::string& asked) {
     if (!std::filesystem::is_directory(folder, error))
         throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " does not exist");
     if (access(folder.c_str(), W_OK | X_OK) != 0)
-        throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() + " is not writable");
-    if (const std::string why = whyNotReplaceable(path); !why.empty())
-        throw UsageError(std::string(option) + ": " + path + ": " + why);
+        throw UsageError(std::string(option) + ": " + path + ": folder " + folder.string() +
+                         " is not writable");
     // A name the folder's file system cannot hold failed only at the rename, after the render.
     const long longestName = pathconf(folder.c_str(), _PC_NAME_MAX);
     const std::string name = std::filesystem::path(path).filename().string();
@@ -66,6 +65,9 @@ void checkWritable(const char* option, const std::string& asked) {
         throw UsageError(std::string(option) + ": the path has " + std::to_string(path.size()) +
                          " bytes; the system takes fewer than " + std::to_string(longestPath));
     }
+    // After the lengths: a name too long fails its lookup too, and is better said as such.
+    if (const std::string why = whyNotReplaceable(path); !why.empty())
+        throw UsageError(std::string(option) + ": " + path + ": " + why);
 }
 
 }  // namespace

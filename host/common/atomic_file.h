@@ -57,10 +57,17 @@ inline OutputTarget outputTarget(const std::string& path) {
 // Why this process cannot, or should not, replace the existing regular file `path` by renaming a new one over
 // it (empty: it can, or there is no such file). The rename needs only the folder's permission, so without
 // this a file read-only to the user was replaced (as cp and editors refuse to), and another user's file in a
-// folder with the sticky bit (/tmp) failed only at the rename, after the whole render.
+// folder with the sticky bit (/tmp) failed only at the rename, after the whole render. A path that cannot be
+// looked up, though it may be there, is not replaced either: a loop of symbolic links, which outputTarget
+// stops following after as many links as the system follows, was replaced by a regular file.
 inline std::string whyNotReplaceable(const std::filesystem::path& path) {
     struct stat file {};
-    if (stat(path.c_str(), &file) != 0 || !S_ISREG(file.st_mode)) return {};
+    if (stat(path.c_str(), &file) != 0) {
+        const int error = errno;
+        return error == ENOENT ? std::string()
+                               : "cannot be resolved (" + std::string(std::strerror(error)) + ")";
+    }
+    if (!S_ISREG(file.st_mode)) return {};
     if (access(path.c_str(), W_OK) != 0) return "is read-only";
     std::filesystem::path folder = path.parent_path();
     if (folder.empty()) folder = ".";
