@@ -807,6 +807,22 @@ TEST(Cli, FailedWritesSayWhy) {
         << run.output;
 }
 
+// A file-size limit (`ulimit -f`) that the image passes makes its write fail, said in one line (exit 1), with
+// no temporary file left: vkrt was ended by SIGXFSZ with the image half written under its temporary name. The
+// image is 256 x 256 PFM, 768 KiB; the limit, 4 blocks (2 KiB in dash, 4 in bash).
+TEST(Cli, FileSizeLimitFailsTheWriteAndLeavesNothing) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "keep.pfm";
+    const auto run = test::runCommand(
+        "sh -c 'ulimit -f 4; exec \"$0\" \"$@\"' " + quoted(VKRT_BINARY) + " --scene " + kCornell +
+        " --device cpu --width 256 --height 256 --spp 1 --quiet --out " + quoted(image));
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("vkrt: error: " + image.string() + ": cannot write (File too large)"),
+              std::string::npos)
+        << run.output;
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 0) << "no temporary file left";
+}
+
 // A reader of vkrt's messages that has gone (`vkrt ... 2>&1 | head -1`, here a reader that exits at once)
 // does not end vkrt: its writes to stderr fail, and the image is written and the exit code 0, on both
 // devices. It ended by SIGPIPE (exit 141) at its first message, the last line after the image or a progress

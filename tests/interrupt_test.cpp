@@ -1,7 +1,9 @@
-// Renders that end early keep their work: SIGINT and SIGTERM end the render after the dispatch or pixel in
-// flight and write the image of the samples done (exit 128 + signal); a second signal ends vkrt at once; a
-// time limit can end a render part way through its first pass. Each render asked for here would take hours
-// if it did not stop, so a stop that failed would time the test out.
+// Renders that end early keep their work: SIGINT, SIGTERM and SIGHUP end the render after the dispatch or
+// pixel in flight and write the image of the samples done (exit 128 + signal); a second signal ends vkrt at
+// once; a time limit can end a render part way through its first pass. Each render asked for here would take
+// hours if it did not stop, so a stop that failed would time the test out.
+#include <signal.h>
+
 #include <filesystem>
 #include <string>
 
@@ -75,6 +77,50 @@ void expectKeptWork(const std::string& device, const std::string& signal, int ex
 TEST(Interrupt, SigintOnTheCpuWritesTheSamplesDone) { expectKeptWork("cpu", "INT", 130); }
 
 TEST(Interrupt, SigtermOnTheGpuWritesTheSamplesDone) { expectKeptWork("gpu", "TERM", 143); }
+
+// Whether this process, and so vkrt started from it, ignores hang-ups (run under nohup): vkrt then leaves
+// them ignored, and a test that hangs up on it has nothing to test.
+bool hangUpsIgnored() {
+    struct sigaction hangUp {};
+    return sigaction(SIGHUP, nullptr, &hangUp) == 0 && hangUp.sa_handler == SIG_IGN;
+}
+
+// A hang-up (the terminal closed) stops the render as SIGTERM does; it ended vkrt at once, writing nothing,
+// or leaving a temporary file half written.
+TEST(Interrupt, SighupOnTheCpuWritesTheSamplesDone) {
+    if (hangUpsIgnored()) GTEST_SKIP() << "hang-ups are ignored here (nohup)";
+    expectKeptWork("cpu", "HUP", 129);
+}
+
+// The hang-up comes twice as a terminal goes (the shell passes it on, and the system sends it when the shell
+// has exited): the second is the same request, and the samples done are still written. The second comes while
+// the 4096 x 4096 image is being averaged and written (see SecondSigintEndsAtOnceWithoutWriting).
+TEST(Interrupt, SecondSighupIsTheSameRequest) {
+    if (hangUpsIgnored()) GTEST_SKIP() << "hang-ups are ignored here (nohup)";
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const Interrupted run =
+        interrupt(backgroundOnly(folder) + " --device cpu --width 4096 --height 4096 --spp 1000000 --out '" +
+                      image.string() + "'",
+                  "HUP HUP", 0.3, 6.0);
+    EXPECT_EQ(run.exitCode, 129) << run.command.output;
+    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;
+}
+
+// Under nohup (hang-ups ignored when vkrt starts) a hang-up stays ignored: the render goes on until the
+// SIGTERM after it.
+TEST(Interrupt, SighupIgnoredAtTheStartStaysIgnored) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const test::CommandResult run = test::runCommand(
+        "trap '' HUP; '" + std::string(VKRT_BINARY) + "' " + scene() +
+        " --device cpu --width 64 --height 64 --spp 1000000 --out '" + image.string() +
+        "' 2>&1 & pid=$!; sleep 2; kill -HUP $pid; sleep 1; kill -TERM $pid; wait $pid; echo \"exit=$?\"");
+    EXPECT_NE(run.output.find("exit=143"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.output;
+}
 
 // The first SIGINT stops a 4096 x 4096 render, whose image then takes seconds to average and write; the
 // second, 0.3 s later, ends vkrt there and then, leaving no file, not even the temporary one. The first comes

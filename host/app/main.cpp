@@ -131,6 +131,10 @@ int main(int argc, char** argv) {
     // writes fail instead of ending vkrt by SIGPIPE in the middle of a render, or after it, before its exit
     // code.
     std::signal(SIGPIPE, SIG_IGN);
+    // A file-size limit (`ulimit -f`) reached while writing an output makes the write fail, said in one line
+    // and the temporary file removed, instead of ending vkrt by SIGXFSZ with the temporary file left half
+    // written.
+    std::signal(SIGXFSZ, SIG_IGN);
     bool shared = false;
     const int exitCode = vkrt::runJob(argc, argv, shared);
     // A process of its own that a signal stopped ends by it, its outputs written and MPI finalised (mpirun

@@ -161,11 +161,9 @@ struct CommandLine {
         app.set_help_flag();  // --help is an ordinary flag: main() prints the help and exits 0
         app.get_formatter()->column_width(30);
         app.footer(
-            "Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input. SIGINT or SIGTERM stops the "
-            "render "
-            "and writes the samples done, then ends vkrt by that signal (130 or 143 in a shell); a second "
-            "one ends "
-            "it at once.");
+            "Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input. SIGINT, SIGTERM or SIGHUP "
+            "stops the render and writes the samples done, then ends vkrt by that signal (130, 143 or 129 in "
+            "a shell); a second one ends it at once.");
         app.add_flag("-h,--help", options.help, "this text");
         app.add_option("--scene", options.scenePath, "glTF 2.0 scene (.gltf or .glb) to render (required)")
             ->type_name("FILE");

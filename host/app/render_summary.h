@@ -28,9 +28,9 @@ void writeStats(FileBatch& batch, const Options& options, RunReport& report);
 // kExitRuntimeFailure.
 bool samplesLeftOutOfWholePixels(const RenderResult& result, const std::string& scenePath);
 
-// True, after one line, where an interrupt (SIGINT, SIGTERM) stopped the render before every pixel had a
-// sample: the image would have black holes (and replace whatever stood at its path), so the caller writes
-// nothing and exits as the signal asks.
+// True, after one line, where an interrupt (SIGINT, SIGTERM, SIGHUP) stopped the render before every pixel
+// had a sample: the image would have black holes (and replace whatever stood at its path), so the caller
+// writes nothing and exits as the signal asks.
 bool interruptedBeforeEveryPixel(const RenderResult& result);
 
 // Unless --quiet: the line that says what was written, with the samples per pixel ("A to B" when the render

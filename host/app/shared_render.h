@@ -44,8 +44,9 @@ struct ShareOptions {
     // A batch is sized, from the rank's speed so far, to take about this long; and to at most half of what
     // is left divided by the ranks, so that the last batches are small and the ranks end together.
     double batchTargetMs = 250.0;
-    // Set by SIGINT and SIGTERM. Once it is, a rank waits at most abandonAfterSeconds for the others at the end
-    // (when a rank fails, Open MPI ends the others by SIGTERM, and they must not wait for it forever).
+    // Set by SIGINT, SIGTERM and SIGHUP. Once it is, a rank waits at most abandonAfterSeconds for the others
+    // at the end (when a rank fails, Open MPI ends the others by SIGTERM, and they must not wait for it
+    // forever).
     const std::atomic<bool>* stopRequested = nullptr;
     double abandonAfterSeconds = 5.0;
     // Error against run time (--report): called on rank 0 with the sums of samples [0, samples) of every

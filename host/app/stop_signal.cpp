@@ -53,7 +53,10 @@ extern "C" void onStopSignal(int signal, siginfo_t* info, void*) {
     clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe
     const int64_t nowNs = static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
     const int sender = info != nullptr && info->si_code == SI_USER ? static_cast<int>(info->si_pid) : 0;
+    // A hang-up comes more than once as a terminal goes (from the shell, which passes it on to its jobs, and
+    // from the system when the shell has exited), and no person sends a second one to end vkrt at once.
     auto sameRequest = [&](int first) {
+        if (signal == SIGHUP && first == SIGHUP) return true;
         return signal == first && sender != 0 && sender == gSender.load() &&
                nowNs - gFirstAtNs.load() < kSameRequestNs;
     };
@@ -85,11 +88,17 @@ void handleStopSignals() {
     struct sigaction action {};
     action.sa_sigaction = onStopSignal;
     action.sa_flags = SA_SIGINFO | SA_RESTART;  // as std::signal's, with the sender
-    sigemptyset(&action.sa_mask);               // neither interrupts the other's handler on its thread
+    sigemptyset(&action.sa_mask);               // none interrupts another's handler on its thread
     sigaddset(&action.sa_mask, SIGINT);
     sigaddset(&action.sa_mask, SIGTERM);
+    sigaddset(&action.sa_mask, SIGHUP);
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
+    // A hang-up (the terminal closed, an ssh session lost) ended vkrt at once, a temporary file left half
+    // written, where SIGTERM keeps the samples done. Under nohup it stays ignored, as nohup asked.
+    struct sigaction hangUp {};
+    if (sigaction(SIGHUP, nullptr, &hangUp) == 0 && hangUp.sa_handler != SIG_IGN)
+        sigaction(SIGHUP, &action, nullptr);
 }
 
 void renderBegins() {

@@ -1,13 +1,14 @@
-// SIGINT and SIGTERM: the first ends the render after the dispatch or pixel in flight, and the samples done
-// are written as usual; a second ends the process at once. A first one while the scene loads ends the process
-// if the render has not begun 3 s later (loading does not look for it, and may never end).
+// SIGINT, SIGTERM and SIGHUP: the first ends the render after the dispatch or pixel in flight, and the
+// samples done are written as usual; a second ends the process at once (a hang-up again is the same one). A
+// first one while the scene loads ends the process if the render has not begun 3 s later (loading does not
+// look for it, and may never end).
 #pragma once
 
 #include <atomic>
 
 namespace vkrt {
 
-// Installs the handler of both signals.
+// Installs the handler of the three signals (SIGHUP's only where it is not ignored, as under nohup).
 void handleStopSignals();
 
 // Called where a render begins: a signal that came while loading now stops the render, not the process.
