@@ -41,6 +41,27 @@ RunReport::Rank rankFromJson(const nlohmann::json& j) {
     return r;
 }
 
+// The samples per pixel of the whole job, at least and at most, on rank 0: from the summed sums' counts, and
+// from the ranks' RankShare::fewest and ::most summed, which only bound them (the pixels one rank's last
+// batch left short are not those another's did: the fewest summed read 166 where every pixel had 170). A
+// count holds a pixel's finite samples alone: with none left out it is the samples traced; with some, the
+// pixel traced its count and up to all `leftOut` more, and each end is the tighter of the two bounds.
+struct PixelSampleRange {
+    uint64_t fewest = 0;
+    uint64_t most = 0;
+};
+
+PixelSampleRange samplesEveryPixelHas(const std::vector<glm::dvec4>& sums, uint64_t summedFewest,
+                                      uint64_t summedMost, uint64_t leftOut) {
+    double fewestCount = std::numeric_limits<double>::infinity(), mostCount = 0.0;
+    for (const glm::dvec4& s : sums) {
+        fewestCount = std::min(fewestCount, s.w);
+        mostCount = std::max(mostCount, s.w);
+    }
+    return {std::max(summedFewest, static_cast<uint64_t>(fewestCount)),
+            std::min(summedMost, static_cast<uint64_t>(mostCount) + leftOut)};
+}
+
 }  // namespace
 
 RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRenderer& renderBatch,
@@ -83,19 +104,18 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
             }
             if (job.anyRank(share.stopped != StopReason::None)) {
                 // Stopped between checkpoints: the report ends with the image the ranks write, counted by the
-                // samples every pixel has (the summed sums' counts), as one process's does.
+                // samples every pixel has, as one process's does and as combineShares counts them.
                 std::vector<glm::dvec4> sums = share.sums;
                 job.sumToRoot(&sums[0].x, sums.size() * 4);
+                uint64_t bounds[] = {share.fewest, share.most, share.rays.nonFiniteSamples};
+                job.sumToRoot(bounds, std::size(bounds));
                 if (job.rank() == 0) {
-                    double fewest = std::numeric_limits<double>::infinity(), most = 0.0;
-                    for (const glm::dvec4& s : sums) {
-                        fewest = std::min(fewest, s.w);
-                        most = std::max(most, s.w);
-                    }
-                    if (static_cast<uint64_t>(fewest) != checkpointed || most > fewest) {
+                    const PixelSampleRange samples =
+                        samplesEveryPixelHas(sums, bounds[0], bounds[1], bounds[2]);
+                    if (samples.fewest != checkpointed || samples.most > samples.fewest) {
                         const double renderMs = schedule.renderMs();
                         schedule.take(renderMs, [&] {
-                            options.checkpoint(static_cast<uint32_t>(fewest), renderMs, sums);
+                            options.checkpoint(static_cast<uint32_t>(samples.fewest), renderMs, sums);
                         });
                     }
                 }
@@ -170,8 +190,9 @@ RenderResult combineShares(const MpiJob& job, RankShare& share, const RunReport:
     if (job.rank() != 0) return result;
     for (const std::string& entry : entries) ranks.push_back(rankFromJson(nlohmann::json::parse(entry)));
     result.rays = {totals[0], totals[1], totals[2], totals[3]};
-    result.fewestSamples = static_cast<uint32_t>(totals[4]);
-    result.mostSamples = static_cast<uint32_t>(totals[5]);
+    const PixelSampleRange samples = samplesEveryPixelHas(share.sums, totals[4], totals[5], totals[3]);
+    result.fewestSamples = static_cast<uint32_t>(samples.fewest);
+    result.mostSamples = static_cast<uint32_t>(samples.most);
     result.stopped = totals[6] > 0   ? StopReason::Requested
                      : totals[7] > 0 ? StopReason::TimeLimit
                                      : StopReason::None;

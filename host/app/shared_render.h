@@ -29,8 +29,10 @@ using BatchRenderer = std::function<RenderResult(uint32_t first, uint32_t end, s
 struct RankShare {
     std::vector<glm::dvec4> sums;  // per pixel: rgb sums and finite-sample counts
     RayCounters rays;
-    // Samples per pixel, summed over the rank's batches: every pixel has at least `fewest`, at most `most`
-    // (they differ only when a batch was cut short).
+    // Samples per pixel, summed over the rank's batches: every pixel has at least `fewest` of this rank's, at
+    // most `most` (they differ only when a batch was cut short, and only the last one can be). Summed over
+    // the ranks they only bound the job's, whose short pixels differ by rank: combineShares counts the summed
+    // sums.
     uint64_t fewest = 0;
     uint64_t most = 0;
     uint32_t batches = 0;
