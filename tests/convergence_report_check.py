@@ -78,3 +78,21 @@ with tempfile.TemporaryDirectory() as out:
     for name in ("R&D-path", "R&D-2-path"):
         ElementTree.parse(os.path.join(out, name + ".svg"))
     print("convergence report, two scenes of one name: each its own outputs, plots well-formed")
+
+# X's path outputs are named X-path, as are the Whitted outputs of a scene X-path: the second scene takes the
+# next free name (its outputs overwrote the first's path outputs), and the first keeps its own.
+with tempfile.TemporaryDirectory() as out:
+    paths = [os.path.join(out, name) for name in ("dark.gltf", "dark-path.gltf")]
+    for path in paths:
+        with open(path, "w") as f:
+            json.dump(dark, f)
+    subprocess.run([sys.executable, tool, "--vkrt", vkrt, "--out-dir", out, "--width", "8", "--gpu-spp", "2",
+                    "--cpu-spp", "2", "--reference-spp", "4"] + paths, check=True, stdout=subprocess.DEVNULL)
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    expected = {"dark": "whitted", "dark-path": "path", "dark-path-2": "whitted", "dark-path-2-path": "path"}
+    assert sorted(summary) == sorted(expected), sorted(summary)
+    for name, integrator in expected.items():
+        assert all(summary[name][d]["integrator"] == integrator for d in ("gpu", "cpu")), (name, summary[name])
+    table = open(os.path.join(out, "table.md")).read()
+    assert "| dark | path | gpu |" in table and "| dark-path-2 | whitted | gpu |" in table, table
+    print("convergence report, scenes X and X-path: each its own outputs")

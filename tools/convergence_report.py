@@ -78,17 +78,25 @@ def time_to(points, rmse):
     return None
 
 
-def unique_stems(scenes):
-    """Each scene's file name without its extension, with -2, -3, ... after those met before (glTF/X.gltf and
-    glTF-Binary/X.glb): the outputs are named by them, and one scene's would overwrite another's."""
+def output_name(stem, integrator):
+    """The name of a scene's outputs under an integrator: Whitted keeps the names the report had before paths
+    existed."""
+    return stem if integrator == "whitted" else stem + "-path"
+
+
+def unique_stems(scenes, integrators):
+    """Each scene's file name without its extension, with -2, -3, ... where an output name it would have under
+    one of `integrators` was met before: two scenes of one stem (glTF/X.gltf and glTF-Binary/X.glb), or X's path
+    outputs and X-path's Whitted ones. One scene's outputs would overwrite another's. Each output's file name
+    ends with one of a few suffixes none of which ends another, so distinct names make distinct files."""
     stems, taken = [], set()
     for scene in scenes:
         stem = os.path.splitext(os.path.basename(scene))[0]
         name, n = stem, 1
-        while name in taken:  # a/X, b/X and X-2 become X, X-2 and X-2-2
+        while any(output_name(name, i) in taken for i in integrators):  # a/X, b/X and X-2: X, X-2 and X-2-2
             n += 1
             name = "%s-%d" % (stem, n)
-        taken.add(name)
+        taken.update(output_name(name, i) for i in integrators)
         stems.append(name)
     return stems
 
@@ -169,11 +177,10 @@ def main():
              " | ms to RMSE %g |" % target,
              "|---|---|---|---|" + "---|" * (len(times) + 1)]
     summary = {}
-    stems = unique_stems(args.scenes)
+    stems = unique_stems(args.scenes, integrators)
     for index, integrator in [(k, i) for k in range(len(args.scenes)) for i in integrators]:
         scene, stem = args.scenes[index], stems[index]
-        # Whitted keeps the file names the report had before paths existed.
-        name = stem if integrator == "whitted" else stem + "-path"
+        name = output_name(stem, integrator)
         common = [args.vkrt, "--scene", scene, "--quiet", "--width", str(args.width), "--integrator", integrator]
         reference = os.path.join(args.out_dir, name + "-reference.exr")
         run(common + ["--device", "cpu", "--spp", str(args.reference_spp), "--seed", "1000", "--out", reference])

@@ -394,7 +394,8 @@ summary["scene_access"] = None if not access else {
 convergence = []
 for name, devices in (load("convergence/summary.json") or {}).items():
     for device, d in devices.items():
-        convergence.append({"scene": name[:-5] if name.endswith("-path") else name, "integrator": d["integrator"],
+        # Only path outputs carry -path (a Whitted scene may be named X-path: convergence_report's output_name).
+        convergence.append({"scene": name[:-5] if d["integrator"] == "path" else name, "integrator": d["integrator"],
                             "device": device, "ms_to_rmse_0.01": d.get("ms_to_rmse_0.01"), "slope": d["slope"]})
 summary["convergence"] = convergence
 json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=1)
