@@ -2,7 +2,7 @@
 """The scripts in tools/ refuse what they cannot use before any run, in one line: a folder or a missing file given
 as a binary (a folder passed os.access's test, and the run ended in a traceback), an output in a folder that is
 not there (the results were lost to a traceback at the end), a missing scene among several (the runs before it
-were thrown away); options after -- that end vkrt before it renders are said to, not a traceback; and the shell
+were thrown away), a number vkrt refuses (convergence_report rendered its reference for minutes first); options after -- that end vkrt before it renders are said to, not a traceback; and the shell
 scripts answer --help and refuse what is not an argument of theirs (fuzz_loader.sh --help built for minutes, then
 fuzzed with no time limit).
 
@@ -46,6 +46,15 @@ with tempfile.TemporaryDirectory() as folder:
     open(os.path.join(folder, "a-file"), "w").close()
     check(python_tool("convergence_report.py", "--vkrt", vkrt, "--out-dir", os.path.join(folder, "a-file"), cornell),
           2, "--out-dir")
+    # A number vkrt refuses, before the reference is rendered (minutes at the defaults) and the out-dir made.
+    small = ["--width", "8", "--gpu-spp", "1", "--cpu-spp", "1", "--reference-spp", "1"]
+    unmade = os.path.join(folder, "unmade")
+    for option, value in [("--gpu-spp", "0"), ("--cpu-spp", "0"), ("--reference-spp", str((1 << 24) + 1)),
+                          ("--width", "0"), ("--width", "16385")]:
+        check(python_tool("convergence_report.py", "--vkrt", vkrt, "--out-dir", unmade, *small, option, value,
+                          cornell), 2, f"{option} {value}: must be from 1 to")
+    if os.path.exists(unmade):
+        failures.append(f"convergence_report.py made {unmade} before refusing its numbers")
     check(python_tool("compare_builds.py", "--baseline", vkrt, "--candidate", vkrt, "--out", missing, cornell), 2,
           "no folder")
     check(python_tool("compare_builds.py", "--baseline", vkrt, "--candidate", vkrt, cornell,

@@ -20,7 +20,7 @@ import subprocess
 import sys
 from xml.sax.saxutils import escape
 
-from vkrt_args import check_vkrt_and_scenes, integrators_from
+from vkrt_args import MAX_IMAGE_SIDE, MAX_SPP, check_range, check_vkrt_and_scenes, integrators_from
 
 COLORS = {"gpu": "#1f77b4", "cpu": "#d62728"}
 
@@ -165,6 +165,10 @@ def main():
                         help="comma-separated: path, whitted (each has its own reference and plot)")
     args = parser.parse_args()
     integrators = integrators_from(parser, args.integrators)
+    check_range(parser, "--width", args.width, 1, MAX_IMAGE_SIDE)
+    for option, spp in (("--gpu-spp", args.gpu_spp), ("--cpu-spp", args.cpu_spp),
+                        ("--reference-spp", args.reference_spp)):
+        check_range(parser, option, spp, 1, MAX_SPP)
     args.vkrt = check_vkrt_and_scenes(parser, args.vkrt, args.scenes)
     try:
         os.makedirs(args.out_dir, exist_ok=True)

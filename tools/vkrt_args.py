@@ -66,6 +66,18 @@ def check_writable(parser, path, option="--out"):
         parser.error(f"{option} {path}: the folder {folder} cannot be written")
 
 
+# vkrt's own limits on --width (and --height) and --spp (host/app/options.cpp).
+MAX_IMAGE_SIDE = 16384
+MAX_SPP = 1 << 24
+
+
+def check_range(parser, option, value, low, high):
+    """A usage error unless low <= value <= high: a number vkrt would refuse, checked before any run, so that no
+    run before the one given it is wasted (convergence_report rendered its reference for minutes first)."""
+    if not low <= value <= high:
+        parser.error(f"{option} {value}: must be from {low} to {high}")
+
+
 def check_vkrt_and_scenes(parser, vkrt, scenes):
     """`vkrt` made absolute, or a usage error unless it is an executable file and every scene is a file."""
     vkrt = executable_file(parser, vkrt)
