@@ -595,12 +595,21 @@ TEST(Cli, ReportRecordsErrorAtEveryDoublingOfSamples) {
         for (const char* device : {"gpu", "cpu"}) {
             SCOPED_TRACE(std::string(scene) + " " + device);
             const auto report = folder / "report.csv";
-            const auto result =
-                test::runVkrt("--scene " + path + " --quiet --device " + device +
-                              " --width 24 --height 16 --spp 32 --reference " + quoted(reference) +
-                              " --report " + quoted(report) + " --out " + quoted(folder / "x.pfm"));
+            const auto stats = folder / "stats.json";
+            const auto result = test::runVkrt("--scene " + path + " --quiet --device " + device +
+                                              " --width 24 --height 16 --spp 32 --reference " +
+                                              quoted(reference) + " --report " + quoted(report) + " --out " +
+                                              quoted(folder / "x.pfm") + " --stats " + quoted(stats));
             ASSERT_EQ(result.exitCode, 0) << result.output;
             const auto rows = readCsv(report);
+            // Render time counts from the renderer's set-up on, as the stats' render_ms does: the GPU's
+            // pipeline creation (its setup.total_ms) was left out, which favoured the GPU against the CPU.
+            std::ifstream statsFile(stats);
+            const nlohmann::json json = nlohmann::json::parse(statsFile);
+            if (std::string(device) == "gpu") {
+                EXPECT_GT(rows.front()[1], json["setup"]["total_ms"].get<double>());
+            }
+            EXPECT_LE(rows.back()[1], json["render_ms"].get<double>());
             ASSERT_EQ(rows.size(), 6u);  // 1, 2, 4, 8, 16, 32 samples
             for (size_t i = 0; i < rows.size(); ++i) {
                 EXPECT_EQ(rows[i][0], static_cast<double>(1u << i));

@@ -373,6 +373,24 @@ TEST(Mpi, InterruptKeepsTheSamplesDone) {
 
 // --report across ranks: the ranks render in phases that end at the checkpoints, so every checkpoint's image
 // is the one process's (the errors agree to rounding), and the reference is shared as the render is.
+// A job's checkpoints count their render time from rank 0's renderer set-up on, as its stats' render_ms and
+// one process's checkpoints do: the GPU's pipeline creation (setup.total_ms) was left out.
+TEST(Mpi, ReportsRenderTimeCountsTheSetUp) {
+    SKIP_WITHOUT_MPI();
+    const auto folder = test::temporaryFolder();
+    ASSERT_EQ(test::runVkrt(render("cpu", folder / "reference.pfm", 64) + " --quiet").exitCode, 0);
+    const test::CommandResult job = test::runCommand(
+        mpirun() + " -np 2 " + vkrt() + " " + render("gpu", folder / "two.pfm", 8) + " --reference '" +
+        (folder / "reference.pfm").string() + "' --report '" + (folder / "report.json").string() +
+        "' --stats '" + (folder / "stats.json").string() + "' --quiet");
+    ASSERT_EQ(job.exitCode, 0) << job.output;
+    const nlohmann::json report = readJson(folder / "report.json");
+    const nlohmann::json stats = readJson(folder / "stats.json");
+    ASSERT_EQ(report["checkpoints"].size(), 4u);  // 1, 2, 4, 8 samples
+    EXPECT_GT(report["checkpoints"][0]["render_ms"].get<double>(), stats["setup"]["total_ms"].get<double>());
+    EXPECT_LE(report["checkpoints"][3]["render_ms"].get<double>(), stats["render_ms"].get<double>());
+}
+
 TEST(Mpi, ReportUnderTwoRanksEqualsOneProcess) {
     SKIP_WITHOUT_MPI();
     const auto folder = test::temporaryFolder();

@@ -39,9 +39,19 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
         if (stopRequested().load()) throw InterruptedBeforeRender{"before every pixel had a sample"};
         renderBegins();
         RenderResult rendered;
+        // Checkpoints count their render time from here, as the stats' render_ms does: the renderer's set-up
+        // (a GPU's pipeline creation) is waited for as much as its samples are.
+        const auto fromRenderStart = [&](double setupMs) {
+            if (!checkpoint) return CheckpointCallback{};
+            return CheckpointCallback(
+                [&checkpoint, setupMs](uint32_t samples, double renderMs, double gpuMs, const Image& image) {
+                    checkpoint(samples, setupMs + renderMs, gpuMs, image);
+                });
+        };
         if (context) {
             GpuRenderer renderer(*context, scene, flatBvh, camera, renderSettings, gpuRenderOptions(options));
-            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
+            rendered = renderer.render(onProgress, fromRenderStart(millisecondsSince(renderStart)),
+                                       options.reportEveryMs, stop);
             // The reference of --report is all or nothing.
             if (!runReport && rendered.stopped == StopReason::DeviceLost)
                 throw GpuError(renderer.report().deviceLost + " while rendering the reference for --report");
@@ -52,7 +62,8 @@ int renderOneProcess(const Options& options, const PreparedRender& prepared, Run
             throwOnValidationMessages(*context);
         } else {
             const ReferenceRenderer renderer(scene, flatBvh, camera, renderSettings);
-            rendered = renderer.render(onProgress, checkpoint, options.reportEveryMs, stop);
+            rendered = renderer.render(onProgress, fromRenderStart(millisecondsSince(renderStart)),
+                                       options.reportEveryMs, stop);
         }
         if (runReport) {
             runReport->renderMs = millisecondsSince(renderStart);

@@ -193,6 +193,7 @@ int renderShared(const MpiJob& job, const Options& options, const PreparedRender
     shareOptions.checkpointEveryMs = job.fromRoot(options.reportEveryMs);
 
     // The render itself, and every rank's share of it summed on rank 0.
+    shareOptions.setupStarted = std::chrono::steady_clock::now();
     RankShare rendered = share(settings, context ? "gpu" : "cpu",
                                StopCondition(&stopRequested(), options.timeLimitSeconds), shareOptions, true);
     mine.samples = rendered.fewest;

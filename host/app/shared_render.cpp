@@ -73,6 +73,10 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
     job.barrier();
     stop.start();
     share.started = std::chrono::steady_clock::now();
+    const double setupMs =
+        options.setupStarted == std::chrono::steady_clock::time_point{}
+            ? 0.0
+            : std::chrono::duration<double, std::milli>(share.started - options.setupStarted).count();
     const uint64_t spp = samplesPerPixel;
     // With checkpoints, phases: the samples of each phase [done, phaseEnd) are handed out, every rank renders
     // its batches of them, and the ranks meet at its end for the checkpoint. Rank 0's schedule decides by time.
@@ -115,7 +119,8 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
                     if (samples.fewest != checkpointed || samples.most > samples.fewest) {
                         const double renderMs = schedule.renderMs();
                         schedule.take(renderMs, [&] {
-                            options.checkpoint(static_cast<uint32_t>(samples.fewest), renderMs, sums);
+                            options.checkpoint(static_cast<uint32_t>(samples.fewest), setupMs + renderMs,
+                                               sums);
                         });
                     }
                 }
@@ -128,7 +133,9 @@ RankShare renderShare(const MpiJob& job, uint32_t samplesPerPixel, const BatchRe
                 std::vector<glm::dvec4> sums = share.sums;
                 job.sumToRoot(&sums[0].x, sums.size() * 4);
                 if (job.rank() == 0) {
-                    schedule.take(renderMs, [&] { options.checkpoint(static_cast<uint32_t>(done), renderMs, sums); });
+                    schedule.take(renderMs, [&] {
+                        options.checkpoint(static_cast<uint32_t>(done), setupMs + renderMs, sums);
+                    });
                 }
                 checkpointed = done;
             }

@@ -57,6 +57,9 @@ struct ShareOptions {
     // in phases that end at those sample counts, every rank together, and wait for each other at each.
     std::function<void(uint32_t samples, double renderMs, const std::vector<glm::dvec4>& sums)> checkpoint;
     double checkpointEveryMs = 0.0;  // the same on every rank
+    // When rank 0's renderer began its set-up: checkpoints' render times count from there, as the stats'
+    // render_ms and one process's do (the ranks' set-ups, a GPU's pipeline among them, are waited for).
+    std::chrono::steady_clock::time_point setupStarted{};
     size_t pixels = 0;               // the image's, for the sums
 };
 
