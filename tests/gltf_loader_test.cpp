@@ -5,8 +5,10 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <utility>
 
 #include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
 #include <nlohmann/json.hpp>
 
 #include "common/memory_need.h"
@@ -146,6 +148,69 @@ TEST(GltfLoader, SixteenBitImagesRoundToTheNearestEightBitValue) {
     ASSERT_GE(texture.rgba.size(), 8u);
     const std::vector<uint8_t> expected = {254, 254, 254, 255, 2, 2, 2, 255};
     EXPECT_EQ(std::vector<uint8_t>(texture.rgba.begin(), texture.rgba.begin() + 8), expected);
+}
+
+// A file of one sphere of material 0 among `materials`, over `textures` and the PNG images `images` (files
+// written beside it: each name's side in texels, a grey checker), with `extensionsUsed`.
+std::filesystem::path texturedSphereFile(const std::string& name, const nlohmann::json& materials,
+                                         const nlohmann::json& textures,
+                                         const std::vector<std::pair<std::string, int>>& images,
+                                         nlohmann::json extensionsUsed = nlohmann::json::array()) {
+    const std::filesystem::path folder = test::temporaryFolder();
+    nlohmann::json imageList = nlohmann::json::array();
+    for (const auto& [uri, side] : images) {
+        if (uri.rfind("data:", 0) == 0) {
+            imageList.push_back({{"uri", uri}});
+            continue;
+        }
+        std::vector<uint8_t> grey(static_cast<size_t>(side) * side);
+        for (size_t i = 0; i < grey.size(); ++i) grey[i] = ((i % side + i / side) % 2) != 0 ? 200 : 50;
+        EXPECT_TRUE(stbi_write_png((folder / uri).string().c_str(), side, side, 1, grey.data(), side));
+        imageList.push_back({{"uri", uri}});
+    }
+    extensionsUsed.push_back("VKRT_sphere");
+    const nlohmann::json document = {
+        {"asset", {{"version", "2.0"}}},
+        {"extensionsUsed", extensionsUsed},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"images", imageList},
+        {"textures", textures},
+        {"materials", materials},
+        {"nodes", {{{"extensions", {{"VKRT_sphere", {{"radius", 1}, {"material", 0}}}}}}}}};
+    const std::filesystem::path file = folder / (name + ".gltf");
+    test::writeText(file, document.dump());
+    return file;
+}
+
+// KHR_materials_volume's thicknessTexture is checked and never read (a ray tracer measures the thickness):
+// an image that does not decode, or a texture with only a KTX2 image, failed the whole load there. A texture
+// that does not exist still fails.
+TEST(GltfLoader, ThicknessTextureIsCheckedAndNotRead) {
+    const nlohmann::json volume = {
+        {"extensions",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+          {"KHR_materials_volume", {{"thicknessFactor", 0.1}, {"thicknessTexture", {{"index", 0}}}}}}}};
+    const nlohmann::json used = {"KHR_materials_transmission", "KHR_materials_volume", "KHR_texture_basisu"};
+    const std::string garbage =
+        "data:image/png;base64," + test::base64({'n', 'o', 't', ' ', 'a', 'n', ' ', 'i'});
+    const std::string ktx2 =
+        "data:image/ktx2;base64," + test::base64({0xab, 'K', 'T', 'X', ' ', '2', '0', 0xbb});
+    const nlohmann::json basisu = {{"extensions", {{"KHR_texture_basisu", {{"source", 0}}}}}};
+    for (const auto& [texture, uri] :
+         {std::pair{nlohmann::json{{"source", 0}}, garbage}, std::pair{basisu, ktx2}}) {
+        SCOPED_TRACE(uri);
+        const Scene scene = loadGltf(texturedSphereFile("thickness", nlohmann::json::array({volume}),
+                                                        nlohmann::json::array({texture}), {{uri, 0}}, used)
+                                         .string());
+        EXPECT_TRUE(scene.materials[0].hasVolume());
+    }
+    nlohmann::json missing = volume;
+    missing["extensions"]["KHR_materials_volume"]["thicknessTexture"]["index"] = 1;
+    EXPECT_THROW(loadGltf(texturedSphereFile("missing", nlohmann::json::array({missing}),
+                                             nlohmann::json::array({{{"source", 0}}}), {{garbage, 0}}, used)
+                              .string()),
+                 SceneError);
 }
 
 TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {

@@ -36,10 +36,8 @@ void readExtensionTextures(GltfContext& context, const tinygltf::ExtensionMap& e
         material.transmissionTexture = textureSlot(context, it->second.Get("transmissionTexture"),
                                                    where + " KHR_materials_transmission transmissionTexture");
     }
-    if (const auto it = extensions.find("KHR_materials_volume");
-        it != extensions.end() && it->second.Has("thicknessTexture")) {
-        textureSlot(context, it->second.Get("thicknessTexture"), where + " KHR_materials_volume thicknessTexture");
-    }
+    // KHR_materials_volume's thicknessTexture is not read: gltf_schema.cpp checks that its texture exists,
+    // and its image is not decoded, so one that does not decode (or a KTX2 image alone) fails nothing.
 }
 
 void readClearcoat(GltfContext& context, const tinygltf::ExtensionMap& extensions, const std::string& where,

@@ -26,8 +26,8 @@ inline float normalScaleOf(double scale) {
 void readSpecular(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions, const std::string& where,
                   Material& material);
 
-// KHR_materials_transmission's texture and KHR_materials_volume's (thicknessTexture: checked, and unused,
-// because a ray tracer measures the distance through the real geometry; docs/materials.md).
+// KHR_materials_transmission's texture. KHR_materials_volume's thicknessTexture is unused, because a ray
+// tracer measures the distance through the real geometry (docs/materials.md): only its index is checked.
 void readExtensionTextures(GltfContext& context, const std::map<std::string, tinygltf::Value>& extensions,
                            const std::string& where, Material& material);
 
