@@ -9,6 +9,7 @@
 
 #include "common/memory_need.h"
 #include "scene/gltf_context.h"
+#include "scene/gltf_texture_slots.h"
 
 namespace vkrt {
 
@@ -16,7 +17,10 @@ std::set<int> shownImages(const nlohmann::json& document) {
     std::set<int> shown;
     if (!document.is_object() || !document.contains("textures") || !document["textures"].is_array())
         return shown;
-    for (const nlohmann::json& texture : document["textures"]) {
+    const nlohmann::json& textures = document["textures"];
+    for (const int index : texturesReadByMaterials(document)) {
+        if (index < 0 || static_cast<size_t>(index) >= textures.size()) continue;
+        const nlohmann::json& texture = textures[static_cast<size_t>(index)];
         if (!texture.is_object()) continue;
         const nlohmann::json* source = texture.contains("source") ? &texture["source"] : nullptr;
         if (texture.contains("extensions") && texture["extensions"].is_object() &&
@@ -104,6 +108,11 @@ bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* /*error*
     image->image.assign(rgba, rgba + static_cast<size_t>(width) * height * 4);
     WebPFree(rgba);
     return true;
+}
+
+bool holdsPixels(const tinygltf::Image& image) {
+    return !image.image.empty() && image.width > 0 && image.height > 0 && image.component >= 1 &&
+           image.component <= 4 && (image.bits == 8 || image.bits == 16);
 }
 
 bool retypeImageDataUris(nlohmann::json& document) {

@@ -21,9 +21,9 @@ namespace vkrt {
 // Why images could not be decoded, by image index.
 using ImageFailures = std::map<int, std::string>;
 
-// What loadGltfImage is given and keeps, its `userData`: the images textures show (the others are not
-// decoded: they would only take memory; every image when unknown), the host memory the decoded images may
-// take, and why images could not be decoded.
+// What loadGltfImage is given and keeps, its `userData`: the images that the textures vkrt reads show (the
+// others are not decoded: they would only take memory; every image when unknown), the host memory the decoded
+// images may take, and why images could not be decoded.
 struct ImageDecoding {
     std::optional<std::set<int>> shown;
     uint64_t maxBytes = UINT64_MAX;
@@ -32,7 +32,8 @@ struct ImageDecoding {
     ImageFailures failures;
 };
 
-// The images the textures of a glTF document show (imageSource of each), read from its JSON.
+// The images that the textures a material slot vkrt reads names show (imageSource of each), read from a glTF
+// document's JSON: a texture no such slot names is not decoded.
 std::set<int> shownImages(const nlohmann::json& document);
 
 // tinygltf's image loader (TinyGLTF::SetImageLoader): WebP data by libwebp, as 8-bit RGBA, anything else by
@@ -45,6 +46,9 @@ std::set<int> shownImages(const nlohmann::json& document);
 bool loadGltfImage(tinygltf::Image* image, int imageIndex, std::string* error, std::string* warning,
                    int requiredWidth, int requiredHeight, const unsigned char* bytes, int size,
                    void* userData);
+
+// Whether loadGltfImage decoded `image` to pixels vkrt reads: 1 to 4 channels of 8 or 16 bits.
+bool holdsPixels(const tinygltf::Image& image);
 
 // Gives images whose data URI has a media type tinygltf does not know (image/webp, image/ktx2) the type
 // application/octet-stream, which it decodes (and then loadGltfImage reads the bytes for what they are); true

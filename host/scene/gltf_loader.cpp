@@ -153,8 +153,8 @@ Scene GltfConverter::convert() {
                                      reserveBytes(keptBytes, what, passingBytes);
                                  });
     checkExtensions(context_);
-    convertTextures(context_);
     convertMaterials(context_);
+    convertTextures(context_);
 
     std::vector<int> roots = sceneRoots(context_);
     checkNodeGraph(context_, roots);

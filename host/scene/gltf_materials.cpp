@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include <tiny_gltf.h>
 
@@ -49,10 +50,6 @@ void readMinFilter(int minFilter, Texture& texture) {
 
 // Expand the image's 1 to 4 channels of 8 or 16 bits to 8-bit RGBA (16-bit values rounded to the nearest).
 void decodeImage(const GltfContext& context, const tinygltf::Image& image, int imageIndex, Texture& texture) {
-    if (image.image.empty() || image.width <= 0 || image.height <= 0 || image.component < 1 ||
-        image.component > 4 || (image.bits != 8 && image.bits != 16)) {
-        return;
-    }
     texture.width = image.width;
     texture.height = image.height;
     const size_t pixels = static_cast<size_t>(image.width) * image.height;
@@ -97,35 +94,45 @@ void readAlpha(GltfContext& context, const tinygltf::Material& m, const std::str
     material.alphaCutoff = static_cast<float>(m.alphaCutoff);
 }
 
+// Texture `index` of the file: its image, decoded (textureSlot checked that it did), and its sampler.
+Texture convertTexture(const GltfContext& context, int index) {
+    const tinygltf::Model& model = context.model;
+    const tinygltf::Texture& gltfTexture = model.textures[index];
+    Texture texture;
+    texture.name = gltfTexture.name;
+    const int source = imageSource(gltfTexture);
+    decodeImage(context, model.images[source], source, texture);
+    if (gltfTexture.sampler >= 0) {
+        if (gltfTexture.sampler >= static_cast<int>(model.samplers.size())) {
+            context.fail(describe("texture", index, gltfTexture.name) + " refers to sampler " +
+                         std::to_string(gltfTexture.sampler) + ", which does not exist");
+        }
+        const tinygltf::Sampler& sampler = model.samplers[gltfTexture.sampler];
+        texture.wrapS = wrapMode(sampler.wrapS);
+        texture.wrapT = wrapMode(sampler.wrapT);
+        texture.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        readMinFilter(sampler.minFilter, texture);
+    }
+    return texture;
+}
+
 }  // namespace
 
 void convertTextures(GltfContext& context) {
-    const tinygltf::Model& model = context.model;
-    for (size_t i = 0; i < model.textures.size(); ++i) {
-        const tinygltf::Texture& gltfTexture = model.textures[i];
-        Texture texture;
-        texture.name = gltfTexture.name;
-        const int source = imageSource(gltfTexture);
-        if (source < 0 || source >= static_cast<int>(model.images.size())) {
-            // Textures without an image vkrt reads (e.g. only KHR_texture_basisu's) stay empty; using one
-            // fails.
-            context.scene.textures.push_back(texture);
-            continue;
-        }
-        decodeImage(context, model.images[source], source, texture);
-        if (gltfTexture.sampler >= 0) {
-            if (gltfTexture.sampler >= static_cast<int>(model.samplers.size())) {
-                context.fail(describe("texture", static_cast<int>(i), gltfTexture.name) +
-                             " refers to sampler " + std::to_string(gltfTexture.sampler) +
-                             ", which does not exist");
-            }
-            const tinygltf::Sampler& sampler = model.samplers[gltfTexture.sampler];
-            texture.wrapS = wrapMode(sampler.wrapS);
-            texture.wrapT = wrapMode(sampler.wrapT);
-            texture.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
-            readMinFilter(sampler.minFilter, texture);
-        }
-        context.scene.textures.push_back(std::move(texture));
+    Scene& scene = context.scene;
+    // The textures some slot reads, in the file's order: the others would only take memory and time.
+    std::map<int, int> sceneIndex;  // by glTF texture, its index in scene.textures (set below)
+    for (const Material& material : scene.materials) {
+        for (const TextureSlot* slot : material.textureSlots())
+            if (slot->used()) sceneIndex[slot->texture] = 0;
+    }
+    for (auto& [gltfIndex, index] : sceneIndex) {
+        index = static_cast<int>(scene.textures.size());
+        scene.textures.push_back(convertTexture(context, gltfIndex));
+    }
+    for (Material& material : scene.materials) {
+        for (TextureSlot* slot : material.textureSlots())
+            if (slot->used()) slot->texture = sceneIndex.at(slot->texture);
     }
 }
 

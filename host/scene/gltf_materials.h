@@ -1,5 +1,5 @@
-// glTF images, samplers and textures to Scene::textures, and materials to Scene::materials (index for
-// index, so primitives keep the file's material indices).
+// glTF materials to Scene::materials (index for index, so primitives keep the file's material indices), and
+// the textures they read, with their images and samplers, to Scene::textures.
 #pragma once
 
 #include <cstdint>
@@ -8,12 +8,13 @@
 
 namespace vkrt {
 
-// Decodes every texture's image to 8-bit RGBA and reads its sampler. A texture without a core image
-// source stays empty; a material that uses one fails.
-void convertTextures(GltfContext& context);
-
-// Reads every material, with the KHR_materials_* extensions vkrt supports.
+// Reads every material, with the KHR_materials_* extensions vkrt supports. Its texture slots name the file's
+// textures, whose images textureSlot checked, until convertTextures.
 void convertMaterials(GltfContext& context);
+
+// The textures the materials' slots name, each with its image expanded to 8-bit RGBA and its sampler read, as
+// Scene::textures in the file's order; the slots are renumbered to them. Textures no slot names are left out.
+void convertTextures(GltfContext& context);
 
 // The index of glTF's default material (white, metallic 1, roughness 1), appended on first use.
 uint32_t defaultMaterial(GltfContext& context);

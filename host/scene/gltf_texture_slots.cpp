@@ -1,5 +1,8 @@
 #include "scene/gltf_texture_slots.h"
 
+#include <utility>
+#include <vector>
+
 #include <tiny_gltf.h>
 
 #include "scene/gltf_images.h"
@@ -7,20 +10,19 @@
 namespace vkrt {
 namespace {
 
-// The scene texture a material slot refers to (-1 for none); a texture whose image is missing fails here.
+// The glTF texture a material slot refers to (-1 for none); a texture whose image is missing fails here.
 int textureIndex(const GltfContext& context, int gltfTexture, const std::string& where) {
     const tinygltf::Model& model = context.model;
     if (gltfTexture < 0) return -1;
-    if (gltfTexture >= static_cast<int>(context.scene.textures.size())) {
+    if (gltfTexture >= static_cast<int>(model.textures.size())) {
         context.fail(where + " refers to texture " + std::to_string(gltfTexture) + ", which does not exist");
     }
-    const tinygltf::Texture& texture = model.textures[gltfTexture];
-    if (context.scene.textures[gltfTexture].rgba.empty()) {
-        const int source = imageSource(texture);
-        if (source < 0 || source >= static_cast<int>(model.images.size())) {
-            context.fail(where + " uses texture " + std::to_string(gltfTexture) +
-                         ", which has no image vkrt reads");
-        }
+    const int source = imageSource(model.textures[gltfTexture]);
+    if (source < 0 || source >= static_cast<int>(model.images.size())) {
+        context.fail(where + " uses texture " + std::to_string(gltfTexture) +
+                     ", which has no image vkrt reads");
+    }
+    if (!holdsPixels(model.images[source])) {
         const auto failure = context.imageFailures.find(source);
         context.fail(where + " uses texture " + std::to_string(gltfTexture) + " but " +
                      describeImage(model, source) +
@@ -50,6 +52,41 @@ void warnAboutTexCoord(GltfContext& context, TextureSlot& slot, const std::strin
 }
 
 }  // namespace
+
+std::set<int> texturesReadByMaterials(const nlohmann::json& document) {
+    // The slots convertMaterials and the readers of gltf_material_extensions.h read: an image this leaves out
+    // is not decoded, and a slot that reads it fails.
+    static const std::pair<const char*, std::vector<const char*>> kExtensionSlots[] = {
+        {"KHR_materials_specular", {"specularTexture", "specularColorTexture"}},
+        {"KHR_materials_transmission", {"transmissionTexture"}},
+        {"KHR_materials_clearcoat",
+         {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"}},
+        {"KHR_materials_sheen", {"sheenColorTexture", "sheenRoughnessTexture"}}};
+    std::set<int> read;
+    const auto add = [&read](const nlohmann::json& parent, const char* key) {
+        if (!parent.is_object() || !parent.contains(key)) return;
+        const nlohmann::json& info = parent[key];
+        if (info.is_object() && info.contains("index") && info["index"].is_number_integer())
+            read.insert(info["index"].get<int>());
+    };
+    if (!document.is_object() || !document.contains("materials") || !document["materials"].is_array())
+        return read;
+    for (const nlohmann::json& material : document["materials"]) {
+        if (!material.is_object()) continue;
+        if (material.contains("pbrMetallicRoughness")) {
+            add(material["pbrMetallicRoughness"], "baseColorTexture");
+            add(material["pbrMetallicRoughness"], "metallicRoughnessTexture");
+        }
+        for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) add(material, key);
+        if (!material.contains("extensions") || !material["extensions"].is_object()) continue;
+        const nlohmann::json& extensions = material["extensions"];
+        for (const auto& [extension, keys] : kExtensionSlots) {
+            if (!extensions.contains(extension)) continue;
+            for (const char* key : keys) add(extensions[extension], key);
+        }
+    }
+    return read;
+}
 
 TextureSlot textureSlot(GltfContext& context, int index, int texCoord,
                         const tinygltf::ExtensionMap& extensions, const std::string& where) {

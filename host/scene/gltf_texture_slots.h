@@ -2,7 +2,10 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "scene/gltf_context.h"
 #include "scene/scene.h"
@@ -13,8 +16,14 @@ class Value;
 
 namespace vkrt {
 
-// A material's texture slot: the texture, its texture coordinate set and its KHR_texture_transform (an empty
-// slot for index -1). A texture that does not exist, or whose image is missing, fails.
+// The textures that the slots vkrt reads name, read from a glTF document's JSON (its materials' core slots
+// and those of the extensions below; not KHR_materials_volume's thicknessTexture, nor those of extensions
+// vkrt ignores): only their images are decoded.
+std::set<int> texturesReadByMaterials(const nlohmann::json& document);
+
+// A material's texture slot: the glTF texture, its texture coordinate set and its KHR_texture_transform (an
+// empty slot for index -1). A texture that does not exist, or whose image is missing or did not decode,
+// fails.
 TextureSlot textureSlot(GltfContext& context, int index, int texCoord, const std::map<std::string, tinygltf::Value>& extensions,
                         const std::string& where);
 
