@@ -478,7 +478,7 @@ TEST(GltfCompression, WebpTexturesDecodeToTheirPixels) {
         ASSERT_EQ(scene.textures.size(), 1u);
         EXPECT_EQ(scene.textures[0].width, 4);
         EXPECT_EQ(scene.textures[0].height, 3);
-        EXPECT_EQ(scene.textures[0].rgba, pixels);
+        EXPECT_EQ(*scene.textures[0].rgba, pixels);
     }
     // Bytes that claim to be WebP and are not.
     test::writeText(folder / "texture.webp",
@@ -511,7 +511,7 @@ TEST(GltfCompression, ImagesThatDoNotDecodeFailOnlyWhereUsed) {
         test::writeText(folder / "quad.gltf", document.dump());
         const Scene scene = loadGltf((folder / "quad.gltf").string());
         ASSERT_EQ(scene.textures.size(), 1u);
-        EXPECT_EQ(scene.textures[0].rgba, std::vector<uint8_t>({128, 128, 128, 255}));
+        EXPECT_EQ(*scene.textures[0].rgba, std::vector<uint8_t>({128, 128, 128, 255}));
     }
     // Used, it fails, saying why.
     json used = texturedTriangle({{"source", 1}}, {{{"uri", "fallback.png"}}, {{"uri", "logo.ktx2"}}}, false);

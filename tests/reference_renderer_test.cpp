@@ -58,15 +58,18 @@ glm::dvec3 radianceDown(const ReferenceRenderer& renderer, double x, double y) {
 // Both renderers address the packed texels (every texture's levels, one after another) with 32 bits: textures
 // holding more are refused by name before anything is packed, where the offsets wrapped and a texture read
 // another's texels. The textures here are described, never packed: their level 0 is one texel, and their mip
-// chains count from their size (1.43e9 texels each).
+// chains count from their size (1.43e9 texels each). Each has texels of its own (textures that share theirs
+// are packed once).
 TEST(ShadingInputs, TexelsBeyond32BitAddressesAreRefused) {
     Scene scene;
-    Texture huge;
-    huge.width = huge.height = 65535;
-    huge.rgba.assign(4, 0xff);
-    scene.textures.assign(2, huge);
+    std::vector<Texture> huge(4);
+    for (Texture& texture : huge) {
+        texture.width = texture.height = 65535;
+        texture.rgba = std::make_shared<const std::vector<uint8_t>>(4, 0xff);
+    }
+    scene.textures.assign(huge.begin(), huge.begin() + 2);
     EXPECT_EQ(describeTextures(scene).size(), 2u);
-    scene.textures.assign(4, huge);
+    scene.textures = huge;
     try {
         describeTextures(scene);
         ADD_FAILURE() << "described textures past 2^32 texels";

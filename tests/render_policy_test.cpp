@@ -188,7 +188,7 @@ TEST(RenderPolicy, LightFromEmissiveTexturesAloneIsSaid) {
     addFlatTriangle(scene, {-1, 2, 0}, {1, 2, 0}, {0, 3, 0}, glow);
     Texture white;
     white.width = white.height = 1;
-    white.rgba = {255, 255, 255, 255};
+    white.rgba = std::make_shared<const std::vector<uint8_t>>(std::vector<uint8_t>{255, 255, 255, 255});
     scene.textures.push_back(white);
     scene.materials[glow].emissiveTexture.texture = 0;
     finalizeScene(scene);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include <tiny_gltf.h>
 
@@ -49,15 +50,14 @@ void readMinFilter(int minFilter, Texture& texture) {
 }
 
 // Expand the image's 1 to 4 channels of 8 or 16 bits to 8-bit RGBA (16-bit values rounded to the nearest).
-void decodeImage(const GltfContext& context, const tinygltf::Image& image, int imageIndex, Texture& texture) {
-    texture.width = image.width;
-    texture.height = image.height;
+std::shared_ptr<const std::vector<uint8_t>> decodeImage(const GltfContext& context,
+                                                        const tinygltf::Image& image, int imageIndex) {
     const size_t pixels = static_cast<size_t>(image.width) * image.height;
     const size_t bytesPerChannel = image.bits / 8;
     if (image.image.size() < pixels * image.component * bytesPerChannel) {
         context.fail(describeImage(context.model, imageIndex) + " has fewer pixels than its size");
     }
-    texture.rgba.resize(pixels * 4);
+    auto rgba = std::make_shared<std::vector<uint8_t>>(pixels * 4);
     for (size_t p = 0; p < pixels; ++p) {
         uint8_t channel[4] = {0, 0, 0, 255};
         for (int c = 0; c < image.component; ++c) {
@@ -76,8 +76,9 @@ void decodeImage(const GltfContext& context, const tinygltf::Image& image, int i
             channel[3] = image.component == 2 ? channel[1] : 255;
             channel[1] = channel[2] = channel[0];
         }
-        std::copy(channel, channel + 4, texture.rgba.begin() + p * 4);
+        std::copy(channel, channel + 4, rgba->begin() + p * 4);
     }
+    return rgba;
 }
 
 // alphaMode and alphaCutoff: how the base colour's alpha covers the surface.
@@ -94,14 +95,21 @@ void readAlpha(GltfContext& context, const tinygltf::Material& m, const std::str
     material.alphaCutoff = static_cast<float>(m.alphaCutoff);
 }
 
-// Texture `index` of the file: its image, decoded (textureSlot checked that it did), and its sampler.
-Texture convertTexture(const GltfContext& context, int index) {
+// Texture `index` of the file: its image, decoded (textureSlot checked that it did) unless another texture
+// decoded it already (`decoded`, by image: loadGltfImage counted one copy of each), and its sampler.
+Texture convertTexture(const GltfContext& context, int index,
+                       std::map<int, std::shared_ptr<const std::vector<uint8_t>>>& decoded) {
     const tinygltf::Model& model = context.model;
     const tinygltf::Texture& gltfTexture = model.textures[index];
     Texture texture;
     texture.name = gltfTexture.name;
     const int source = imageSource(gltfTexture);
-    decodeImage(context, model.images[source], source, texture);
+    const tinygltf::Image& image = model.images[source];
+    std::shared_ptr<const std::vector<uint8_t>>& rgba = decoded[source];
+    if (!rgba) rgba = decodeImage(context, image, source);
+    texture.width = image.width;
+    texture.height = image.height;
+    texture.rgba = rgba;
     if (gltfTexture.sampler >= 0) {
         if (gltfTexture.sampler >= static_cast<int>(model.samplers.size())) {
             context.fail(describe("texture", index, gltfTexture.name) + " refers to sampler " +
@@ -122,13 +130,14 @@ void convertTextures(GltfContext& context) {
     Scene& scene = context.scene;
     // The textures some slot reads, in the file's order: the others would only take memory and time.
     std::map<int, int> sceneIndex;  // by glTF texture, its index in scene.textures (set below)
+    std::map<int, std::shared_ptr<const std::vector<uint8_t>>> decoded;  // by image
     for (const Material& material : scene.materials) {
         for (const TextureSlot* slot : material.textureSlots())
             if (slot->used()) sceneIndex[slot->texture] = 0;
     }
     for (auto& [gltfIndex, index] : sceneIndex) {
         index = static_cast<int>(scene.textures.size());
-        scene.textures.push_back(convertTexture(context, gltfIndex));
+        scene.textures.push_back(convertTexture(context, gltfIndex, decoded));
     }
     for (Material& material : scene.materials) {
         for (TextureSlot* slot : material.textureSlots())

@@ -12,8 +12,9 @@ namespace vkrt {
 // textures, whose images textureSlot checked, until convertTextures.
 void convertMaterials(GltfContext& context);
 
-// The textures the materials' slots name, each with its image expanded to 8-bit RGBA and its sampler read, as
-// Scene::textures in the file's order; the slots are renumbered to them. Textures no slot names are left out.
+// The textures the materials' slots name, each with its sampler read, as Scene::textures in the file's order;
+// the slots are renumbered to them. Textures no slot names are left out. Each image is expanded to 8-bit RGBA
+// once, its texels shared by the textures that show it.
 void convertTextures(GltfContext& context);
 
 // The index of glTF's default material (white, metallic 1, roughness 1), appended on first use.

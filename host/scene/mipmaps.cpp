@@ -135,7 +135,7 @@ void writeMipmapChain(const Texture& texture, bool srgb, uint8_t* out, unsigned 
     // (reading it back is the likely reason Avocado's renders on an H200 took 1.5 s for 2 ms of tracing). Each
     // level is halved from the one above kept in host memory (two buffers, in turn).
     std::vector<uint8_t> levels[2];
-    const uint8_t* above = texture.rgba.data();
+    const uint8_t* above = texture.rgba->data();
     LevelSize aboveSize{texture.width, texture.height};
     int next = 0;
     for (const LevelSize& level : mipmapLevelSizes(texture.width, texture.height)) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -117,7 +118,9 @@ enum class MipmapMode : uint8_t { None, Nearest, Linear };
 struct Texture {
     int width = 0;
     int height = 0;
-    std::vector<uint8_t> rgba;
+    // Shared by the textures that show one image (glTF pairs an image with a sampler, and any number of
+    // textures may show one image): it is decoded once, and packed once for each colour space it is read in.
+    std::shared_ptr<const std::vector<uint8_t>> rgba;
     WrapMode wrapS = WrapMode::Repeat;
     WrapMode wrapT = WrapMode::Repeat;
     bool nearest = false;     // magnification filter NEAREST; otherwise bilinear

@@ -144,9 +144,9 @@ void addSolid(Scene& scene, const std::vector<Shape>& shapes, const std::array<u
 namespace {
 
 // A texture read as colours by one slot (sRGB: base, emissive, specular and sheen colour) and as data by
-// another (linear) gets a copy for the data slots, since its mipmaps are averaged in one space
-// (shading_inputs.cpp's writeTexels): an occlusion map shared with a base colour read the colours' encoded
-// means, 0.737 for 0.5.
+// another (linear) gets a copy for the data slots (of the same decoded texels, packed apart), since its
+// mipmaps are averaged in one space (shading_inputs.cpp's writeTexels): an occlusion map shared with a base
+// colour read the colours' encoded means, 0.737 for 0.5.
 void separateColourSpaces(Scene& scene) {
     std::vector<bool> colour(scene.textures.size(), false), data(scene.textures.size(), false);
     for (const Material& m : scene.materials) {

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "common/parallel_for.h"
 #include "scene/mipmaps.h"
@@ -134,44 +136,86 @@ namespace {
 
 // Whether a texture has mipmap levels (below level 0) in the packed array.
 bool mipmapped(const Texture& t) {
-    return t.mipmaps != MipmapMode::None && !t.rgba.empty();
+    return t.mipmaps != MipmapMode::None && t.rgba && !t.rgba->empty();
 }
 
-// The texels a texture takes in the packed array: level 0, then its mipmaps.
-size_t packedTexels(const Texture& t) {
-    return t.rgba.size() / 4 + (mipmapped(t) ? mipmapChainTexels(t.width, t.height) : 0);
+// Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
+std::vector<bool> colourTextures(const Scene& scene) {
+    std::vector<bool> srgb(scene.textures.size(), false);
+    for (const Material& m : scene.materials) {
+        for (const TextureSlot* slot : m.textureSlots()) {
+            if (slot->used() && m.holdsColour(slot)) srgb[slot->texture] = true;
+        }
+    }
+    return srgb;
+}
+
+// Texels packed once for all the textures that show one image in one colour space: level 0, then the mipmaps
+// when any of them has mipmaps (one without reads level 0 alone). Their samplers may differ: each texture's
+// GpuTexture keeps its own, and the mipmaps depend only on the texels and the colour space.
+struct TexelBlock {
+    size_t texture = 0;  // the first texture that shows it
+    bool srgb = false;
+    bool mipmapped = false;
+    size_t firstTexel = 0;
+};
+
+// Where the textures' texels lie in the packed array.
+struct TexelLayout {
+    std::vector<TexelBlock> blocks;
+    std::vector<size_t> blockOf;  // by texture
+    size_t texels = 0;            // all the blocks'
+};
+
+TexelLayout texelLayout(const Scene& scene) {
+    TexelLayout layout;
+    const std::vector<bool> srgb = colourTextures(scene);
+    std::map<std::pair<const std::vector<uint8_t>*, bool>, size_t> blockIndex;
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& t = scene.textures[i];
+        const auto [it, added] = blockIndex.try_emplace({t.rgba.get(), srgb[i]}, layout.blocks.size());
+        if (added) layout.blocks.push_back({i, srgb[i], false, 0});
+        layout.blocks[it->second].mipmapped |= mipmapped(t);
+        layout.blockOf.push_back(it->second);
+    }
+    for (TexelBlock& block : layout.blocks) {
+        const Texture& t = scene.textures[block.texture];
+        block.firstTexel = layout.texels;
+        layout.texels +=
+            (t.rgba ? t.rgba->size() / 4 : 0) + (block.mipmapped ? mipmapChainTexels(t.width, t.height) : 0);
+    }
+    return layout;
 }
 
 }  // namespace
 
 size_t packedTextureBytes(const Scene& scene) {
-    size_t texels = 0;
-    for (const Texture& t : scene.textures) texels += packedTexels(t);
-    return texels * 4;
+    return texelLayout(scene).texels * 4;
 }
 
 std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
+    const TexelLayout layout = texelLayout(scene);
+    // The kernels and the reference address texels with 32 bits: past them a texture would read another's.
+    if (layout.texels > std::numeric_limits<uint32_t>::max()) {
+        throw SceneError("the textures hold " + std::to_string(layout.texels) +
+                         " texels with their mipmaps; vkrt addresses at most 2^32 - 1");
+    }
     std::vector<gpu::GpuTexture> textures;
-    // Each texture's first texel: level 0, then its mipmaps (texture_sampling.h finds level l's first texel).
-    size_t offset = 0;
-    for (const Texture& t : scene.textures) {
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& t = scene.textures[i];
         const uint32_t mipmapBits = t.mipmaps == MipmapMode::Linear    ? VKRT_MIPMAP_LINEAR
                                     : t.mipmaps == MipmapMode::Nearest ? VKRT_MIPMAP_NEAREST
                                                                        : VKRT_MIPMAP_NONE;
+        // Level 0 at the block's first texel, then its mipmaps (texture_sampling.h finds level l's first
+        // texel).
         const uint32_t levels =
             1u + (mipmapped(t) ? static_cast<uint32_t>(mipmapLevelSizes(t.width, t.height).size()) : 0u);
-        // The kernels and the reference address texels with 32 bits: past them a texture would read
-        // another's.
-        if (offset + packedTexels(t) > std::numeric_limits<uint32_t>::max()) {
-            throw SceneError("the textures hold " + std::to_string(packedTextureBytes(scene) / 4) +
-                             " texels with their mipmaps; vkrt addresses at most 2^32 - 1");
-        }
-        textures.push_back(
-            {static_cast<uint32_t>(offset), static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
-             wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) | (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
-                 (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) | (mipmapBits << VKRT_MIPMAP_SHIFT) |
-                 (levels << VKRT_LEVELS_SHIFT)});
-        offset += packedTexels(t);
+        textures.push_back({static_cast<uint32_t>(layout.blocks[layout.blockOf[i]].firstTexel),
+                            static_cast<uint32_t>(t.width), static_cast<uint32_t>(t.height),
+                            wrapBits(t.wrapS) | (wrapBits(t.wrapT) << 2) |
+                                (t.nearest ? VKRT_TEXTURE_NEAREST : 0u) |
+                                (t.minNearest ? VKRT_TEXTURE_MIN_NEAREST : 0u) |
+                                (mipmapBits << VKRT_MIPMAP_SHIFT) | (levels << VKRT_LEVELS_SHIFT)});
     }
     return textures;
 }
@@ -179,20 +223,14 @@ std::vector<gpu::GpuTexture> describeTextures(const Scene& scene) {
 void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& textures, uint32_t* texels) {
     // A texel's word holds red in its lowest byte: on a little-endian host, the RGBA bytes as they are.
     static_assert(std::endian::native == std::endian::little, "texels are packed as little-endian words");
-    // Which textures hold sRGB-encoded colours (their mipmaps are averaged as linear light).
-    std::vector<bool> srgb(scene.textures.size(), false);
-    for (const Material& m : scene.materials) {
-        for (const TextureSlot* slot : m.textureSlots()) {
-            if (slot->used() && m.holdsColour(slot)) srgb[slot->texture] = true;
-        }
-    }
     // Every level written once, in place: no copy of the packed texels (each copy first touches its pages, most
     // of what packing took); writeMipmapChain halves each level from a small host copy of the one above.
-    for (size_t i = 0; i < scene.textures.size(); ++i) {
-        const Texture& t = scene.textures[i];
-        uint8_t* const level0 = reinterpret_cast<uint8_t*>(texels + textures[i].firstTexel);
-        if (!t.rgba.empty()) std::memcpy(level0, t.rgba.data(), t.rgba.size());
-        if (mipmapped(t)) writeMipmapChain(t, srgb[i], level0 + t.rgba.size(), threadCount(0));
+    for (const TexelBlock& block : texelLayout(scene).blocks) {
+        const Texture& t = scene.textures[block.texture];
+        if (!t.rgba || t.rgba->empty()) continue;
+        uint8_t* const level0 = reinterpret_cast<uint8_t*>(texels + textures[block.texture].firstTexel);
+        std::memcpy(level0, t.rgba->data(), t.rgba->size());
+        if (block.mipmapped) writeMipmapChain(t, block.srgb, level0 + t.rgba->size(), threadCount(0));
     }
 }
 

@@ -26,7 +26,8 @@ shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
 shading::CameraFrame cameraFrame(const Camera& camera, int width, int height);
 
 // Every texture's RGBA8 texels in one array (red in the lowest byte, rows top to bottom), each texture
-// described by where its texels start, its size and its sampler (shaders/texture_sampling.h).
+// described by where its texels start, its size and its sampler (shaders/texture_sampling.h). Textures that
+// show one image in one colour space share their texels.
 struct PackedTextures {
     std::vector<gpu::GpuTexture> textures;
     HugePageVector<uint32_t> texels;  // often a hundred MB and more: on huge pages
@@ -39,7 +40,8 @@ PackedTextures packTextures(const Scene& scene);
 std::vector<gpu::GpuTexture> describeTextures(const Scene& scene);
 void writeTexels(const Scene& scene, const std::vector<gpu::GpuTexture>& textures, uint32_t* texels);
 
-// The bytes packTextures' texels take: every texture's RGBA8 texels with its mipmap levels.
+// The bytes packTextures' texels take: each image's RGBA8 texels with their mipmap levels, once for each
+// colour space its textures read it in.
 size_t packedTextureBytes(const Scene& scene);
 
 }  // namespace vkrt

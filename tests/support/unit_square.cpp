@@ -11,9 +11,11 @@ Texture textureOf(int width, int height, const std::vector<uint32_t>& texels) {
     texture.width = width;
     texture.height = height;
     texture.nearest = true;
+    std::vector<uint8_t> rgba;
     for (uint32_t t : texels) {
-        for (int c = 0; c < 4; ++c) texture.rgba.push_back(static_cast<uint8_t>(t >> (8 * c)));
+        for (int c = 0; c < 4; ++c) rgba.push_back(static_cast<uint8_t>(t >> (8 * c)));
     }
+    texture.rgba = std::make_shared<const std::vector<uint8_t>>(std::move(rgba));
     return texture;
 }
 
