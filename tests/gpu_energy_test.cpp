@@ -417,7 +417,7 @@ SceneFeatures sphereFeatures(const Material& material) {
     Scene scene;
     scene.materials = {material};
     scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0u});
-    scene.textures.push_back(Texture{1, 1, {255, 255, 255, 255}});
+    scene.textures.push_back(Texture{1, 1, std::make_shared<const std::vector<uint8_t>>(4, 255)});
     return detectFeatures(scene);
 }
 
