@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <tinyexr.h>
 
+#include "common/memory_need.h"
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "support/temporary_folder.h"
@@ -541,6 +542,22 @@ TEST(ImageIo, ExrDataWindowIsPlacedInTheDisplayWindow) {
             }
         }
     }
+}
+
+// An EXR whose display window claims 8 x 2e9 pixels around a data window of two rows is refused before it is
+// decoded when that would take more than the bytes given: --reference passes the host's memory, and the
+// image's allocation failed ("out of memory", exit 1) where --environment's map was refused with the figures.
+TEST(ImageIo, ExrDisplayWindowBeyondTheMemoryGivenIsRefusedBeforeDecoding) {
+    const auto folder = test::temporaryFolder();
+    const std::string path = (folder / "huge.exr").string();
+    ExrLayout layout;
+    const int display[4] = {0, 0, 7, 1999999999};
+    std::copy(display, display + 4, layout.display);
+    test::writeText(path, exrBytes(gradient(8, 2), layout));
+    EXPECT_THROW(readImage(path, uint64_t{1} << 30), MemoryError);
+    layout.display[3] = 1;  // the same pixels in a display window of their own size
+    test::writeText(path, exrBytes(gradient(8, 2), layout));
+    EXPECT_EQ(readImage(path, uint64_t{1} << 30).height, 2);
 }
 
 }  // namespace

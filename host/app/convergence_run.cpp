@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/host_memory.h"
 #include "image/image_io.h"
 
 namespace vkrt {
@@ -17,9 +18,11 @@ constexpr int kReferenceSampleFactor = 16;
 ConvergenceReport referenceFromFile(const Options& options, const RenderSettings& settings) {
     Image reference;
     try {
-        reference = readImage(options.referencePath);
+        reference = readImage(options.referencePath, hostMemoryFor(options).bytes);
     } catch (const ImageError& e) {
         throw UsageError(std::string("--reference: ") + e.what());
+    } catch (const MemoryError& e) {
+        throw MemoryError(std::string("--reference: ") + e.what());
     }
     if (reference.width != settings.width || reference.height != settings.height) {
         throw UsageError("--reference: " + options.referencePath + " is " + std::to_string(reference.width) +

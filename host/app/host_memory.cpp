@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/options.h"
 #include "common/file_names.h"
 
 namespace vkrt {
@@ -113,6 +114,13 @@ HostMemory availableHostMemory() {
         }
     }
     return memory;
+}
+
+HostMemory hostMemoryFor(const Options& options) {
+    HostMemory available = availableHostMemory();
+    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
+        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
+    return available;
 }
 
 void checkHostMemory(const MemoryNeed& need, const HostMemory& available) {

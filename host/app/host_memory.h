@@ -9,6 +9,8 @@
 
 namespace vkrt {
 
+struct Options;
+
 struct HostMemoryInputs {
     uint64_t triangles = 0;
     uint64_t textureBytes = 0;  // the scene's packed texels (packedTextureBytes)
@@ -36,6 +38,9 @@ struct HostMemory {
 
 // What the machine can give now: MemAvailable, or less when a cgroup (a container) limits the process.
 HostMemory availableHostMemory();
+
+// What the machine has for the render, or --max-memory when that is less.
+HostMemory hostMemoryFor(const Options& options);
 
 // Throws MemoryError naming the need and what is available, when `need` is more than `available`.
 void checkHostMemory(const MemoryNeed& need, const HostMemory& available);

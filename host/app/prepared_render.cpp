@@ -21,14 +21,6 @@
 namespace vkrt {
 namespace {
 
-// What the machine has for the render, or --max-memory when that is less.
-HostMemory hostMemoryFor(const Options& options) {
-    HostMemory available = availableHostMemory();
-    if (options.maxHostMemoryBytes > 0 && options.maxHostMemoryBytes < available.bytes)
-        available = HostMemory{options.maxHostMemoryBytes, "--max-memory"};
-    return available;
-}
-
 // The --environment map, decoded and checked; a file that cannot be used is bad input (exit code 2).
 EnvironmentMap loadEnvironment(const Options& options) {
     Image image;

@@ -356,10 +356,10 @@ void stageImage(FileBatch& batch, const Image& image, const std::string& path, d
     });
 }
 
-Image readImage(const std::string& path) {
+Image readImage(const std::string& path, uint64_t maxBytes) {
     const std::string extension = lowerExtension(path);
-    if (extension == ".pfm") return readPfm(path);
-    if (extension == ".exr") return readExr(path);
+    if (extension == ".pfm") return readPfm(path);  // the file holds every pixel its header claims
+    if (extension == ".exr") return readExr(path, maxBytes);
     // PNG among the rest: its pixels are tone mapped, not radiance.
     throw ImageError(path + ": not .exr or .pfm, the formats of linear radiance vkrt reads");
 }

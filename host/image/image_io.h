@@ -32,8 +32,9 @@ void writeImage(const Image& image, const std::string& path, double exposure = 0
 void stageImage(FileBatch& batch, const Image& image, const std::string& path, double exposure,
                 ToneMap toneMap);
 
-// Reads PFM and EXR (for references and tests).
-Image readImage(const std::string& path);
+// Reads PFM and EXR (for references and tests). Throws MemoryError, before decoding, when an EXR's decoding
+// would take more than `maxBytes` (its header can claim a display window of billions of pixels).
+Image readImage(const std::string& path, uint64_t maxBytes = UINT64_MAX);
 
 // Reads a linear radiance map for lighting: Radiance .hdr (stb_image) or OpenEXR (tinyexr). Throws
 // ImageError naming the file for any other extension or an unreadable file, and MemoryError, before decoding,
