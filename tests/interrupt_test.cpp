@@ -57,6 +57,21 @@ std::string backgroundOnly(const std::filesystem::path& folder) {
     return "--scene '" + file.string() + "'";
 }
 
+// `signals`, `gap` s apart from `after` s on, sent to a CPU render of the background alone, `size` pixels
+// square, are one request: the samples done are written, and vkrt exits `exitCode`.
+void expectOneRequest(int size, const std::string& signals, double gap, double after, int exitCode) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const std::string side = std::to_string(size);
+    const Interrupted run =
+        interrupt(backgroundOnly(folder) + " --device cpu --width " + side + " --height " + side +
+                      " --spp 1000000 --out '" + image.string() + "'",
+                  signals, gap, after);
+    EXPECT_EQ(run.exitCode, exitCode) << run.command.output;
+    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;
+}
+
 void expectKeptWork(const std::string& device, const std::string& signal, int exitCode) {
     const auto folder = test::temporaryFolder();
     const auto image = folder / "kept.exr";
@@ -97,15 +112,7 @@ TEST(Interrupt, SighupOnTheCpuWritesTheSamplesDone) {
 // the 4096 x 4096 image is being averaged and written (see SecondSigintEndsAtOnceWithoutWriting).
 TEST(Interrupt, SecondSighupIsTheSameRequest) {
     if (hangUpsIgnored()) GTEST_SKIP() << "hang-ups are ignored here (nohup)";
-    const auto folder = test::temporaryFolder();
-    const auto image = folder / "kept.exr";
-    const Interrupted run =
-        interrupt(backgroundOnly(folder) + " --device cpu --width 4096 --height 4096 --spp 1000000 --out '" +
-                      image.string() + "'",
-                  "HUP HUP", 0.3, 6.0);
-    EXPECT_EQ(run.exitCode, 129) << run.command.output;
-    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
-    EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;
+    expectOneRequest(4096, "HUP HUP", 0.3, 6.0, 129);
 }
 
 // Under nohup (hang-ups ignored when vkrt starts) a hang-up stays ignored: the render goes on until the
@@ -183,16 +190,8 @@ TEST(Interrupt, TimeLimitEndsInsideAPass) {
 // repeat from the same sender within 0.1 s is that request (it ended vkrt at once, writing nothing, in a
 // third of `timeout -s INT` runs); a second Ctrl-C, or a repeat later, still ends it at once.
 TEST(Interrupt, RepeatFromOneSenderIsOneRequest) {
-    const auto folder = test::temporaryFolder();
-    const auto image = folder / "kept.exr";
     // 2048 x 2048: its image takes a few tenths of a second to average and write, so the repeat comes first.
-    const Interrupted run =
-        interrupt(backgroundOnly(folder) + " --device cpu --width 2048 --height 2048 --spp 1000000 --out '" +
-                      image.string() + "'",
-                  "INT INT", 0.02);
-    EXPECT_EQ(run.exitCode, 130) << run.command.output;
-    EXPECT_NE(run.command.output.find("interrupted: wrote"), std::string::npos) << run.command.output;
-    EXPECT_TRUE(std::filesystem::exists(image)) << run.command.output;
+    expectOneRequest(2048, "INT INT", 0.02, 3.0, 130);
 }
 
 // Once its image is written, a stopped vkrt ends by the signal itself rather than exiting 130: a shell that

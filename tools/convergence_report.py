@@ -191,8 +191,9 @@ def main():
         # One untimed GPU render first fills the shader caches (vkrt's SPIR-V, the driver's compiled code), as
         # tools/device_comparison.py's warm-up does: the timed render's set-up is then what a user sees from the
         # second render of a scene on (the first compile of glossy.gltf's kernel took 1.4 s on lavapipe).
-        run(common + ["--device", "gpu", "--spp", "1", "--out", os.path.join(args.out_dir, name + "-warm-up.exr")])
-        os.remove(os.path.join(args.out_dir, name + "-warm-up.exr"))
+        warm_up = os.path.join(args.out_dir, name + "-warm-up.exr")
+        run(common + ["--device", "gpu", "--spp", "1", "--out", warm_up])
+        os.remove(warm_up)
         series = []
         for device, spp in (("gpu", args.gpu_spp), ("cpu", args.cpu_spp)):
             report = os.path.join(args.out_dir, "%s-%s.csv" % (name, device))
