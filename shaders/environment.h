@@ -13,11 +13,15 @@
 // is looked up at R_y(-rotation) d. Lookups are nearest-texel: the map is piecewise constant, which is
 // exactly what the sampling distribution below assumes.
 //
-// Sampling. Texel (x, y) is drawn with probability proportional to its luminance times sin(theta) at its
-// row's centre (the solid angle its rows cover): first a row from the marginal distribution over rows, then
-// a texel from that row's conditional distribution, each by inverting a cumulative table, and a uniform
-// point inside the texel. The density over the image is pdf_uv = W H p(row) p(texel | row), and per solid
-// angle pdf_uv / (2 pi^2 sin theta), the Jacobian of the mapping above.
+// Sampling. Texel (x, y) is drawn with probability proportional to its luminance, plus the same share for
+// every texel, times sin(theta) at its row's centre (the solid angle its rows cover): the shared part draws a
+// tenth of the samples by solid angle alone, whatever the map's range (a sky beside a sun a million times as
+// bright is still sampled). First a row from the marginal distribution over rows, then a texel from that row's
+// conditional distribution, each by inverting a cumulative table, and a uniform point inside the texel. The
+// tables' cumulative probabilities are multiples of the random numbers' step, 2^-24 (random.h), with at least
+// one step for every texel and row of positive weight: each texel is drawn with exactly the probability the
+// tables state, on both devices alike. The density over the image is pdf_uv = W H p(row) p(texel | row), and per
+// solid angle pdf_uv / (2 pi^2 sin theta), the Jacobian of the mapping above.
 //
 // The device provides (VKRT_DEVICE): environmentSize() (width, height), environmentRotation() (its cosine and
 // sine), environmentTexel(i) (the
@@ -28,6 +32,7 @@
 #define VKRT_ENVIRONMENT_H
 
 #include "optics.h"
+#include "random.h"
 #include "shading_language.h"
 
 VKRT_SHADING_BEGIN
@@ -122,9 +127,10 @@ VKRT_FN real environmentPdf(VKRT_DEVICE_PARAM real3 direction) {
     return pdfUv / (2.0 * VKRT_PI * VKRT_PI * sinTheta);
 }
 
-// A direction drawn from the map for the pair (u1, u2) in [0, 1)^2 (pbrt-v4, PiecewiseConstant2D::Sample).
+// A direction drawn from the map for the pair (u1, u2) in [0, 1)^2 (pbrt-v4, PiecewiseConstant2D::Sample), and
+// (fine1, fine2) in [0, 1) below the random numbers' step (see the texel's point).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN EnvironmentSample sampleEnvironment(VKRT_DEVICE_PARAM real u1, real u2) {
+VKRT_FN EnvironmentSample sampleEnvironment(VKRT_DEVICE_PARAM real u1, real u2, real fine1, real fine2) {
     const EnvironmentMapInfo map = environmentMapInfo(VKRT_DEVICE_ARG_ONLY);
     // Row: the first whose cumulative probability exceeds u1 (binary search of the marginal table).
     uint lo = 0u, hi = map.height - 1u;
@@ -148,9 +154,12 @@ VKRT_FN EnvironmentSample sampleEnvironment(VKRT_DEVICE_PARAM real u1, real u2) 
     const uint x = lo;
     const real columnBelow = x > 0u ? VKRT_DEVICE(environmentColumnCdf)(first + x - 1u) : 0.0;
     const real columnProbability = VKRT_DEVICE(environmentColumnCdf)(first + x) - columnBelow;
-    // Where inside the texel: the remainders of u1 and u2 in their intervals, which keeps stratification.
-    const real dv = clamp((u1 - rowBelow) / rowProbability, 0.0, 1.0);
-    const real du = clamp((u2 - columnBelow) / columnProbability, 0.0, 1.0);
+    // Where inside the texel: the remainders of u1 and u2 in their intervals, which keeps stratification,
+    // continued below the step by fine1 and fine2. (An interval of a few steps, a dim texel's beside a bright one,
+    // held u's remainder at a few points of the texel: at its corner alone for one step, the pole itself in the
+    // top row.) The differences are exact; the sum keeps the fine part's bits that the interval's count leaves.
+    const real dv = clamp((u1 - rowBelow + fine1 * VKRT_RANDOM_STEP) / rowProbability, 0.0, 1.0);
+    const real du = clamp((u2 - columnBelow + fine2 * VKRT_RANDOM_STEP) / columnProbability, 0.0, 1.0);
     const real2 uv = real2((real(x) + du) / real(map.width), (real(y) + dv) / real(map.height));
     EnvironmentSample s;
     s.direction = environmentDirection(map, uv);

@@ -19,6 +19,12 @@ using uint = uint32_t;
 #define VKRT_FUNC
 #endif
 
+// Every number drawn below is a multiple of VKRT_RANDOM_STEP (2^-24) in [0, 1): 24 random bits, exact in a float.
+// Sampling tables whose cumulative probabilities lie on the same grid (host/scene/sampling_grid.h) choose alike
+// on both devices, with the probabilities they state.
+#define VKRT_RANDOM_STEPS 16777216u
+#define VKRT_RANDOM_STEP 5.9604644775390625e-8
+
 // Dimensions: the pixel jitter uses the first two, the lens the next two, the shutter time one; each node
 // owns VKRT_DIMS_PER_NODE consecutive dimensions after those. Whitted's ray tree numbers its nodes as a binary
 // heap (the camera ray's hit is node 0, the reflection child of node k is 2k + 1 and the transmission child
@@ -81,7 +87,7 @@ VKRT_FUNC uint vkrtRandomBits(uint seed, uint pixel, uint sampleIndex, uint dime
 
 // A number in [0, 1) with 24 random bits, exactly representable as a float.
 VKRT_FUNC float vkrtRandom(uint seed, uint pixel, uint sampleIndex, uint dimension) {
-    return float(vkrtRandomBits(seed, pixel, sampleIndex, dimension) >> 8u) * 5.9604644775390625e-8;
+    return float(vkrtRandomBits(seed, pixel, sampleIndex, dimension) >> 8u) * VKRT_RANDOM_STEP;
 }
 
 // Bit reversal of a 32-bit word, written with shifts and masks so C++ and GLSL compute it alike.
@@ -131,12 +137,12 @@ VKRT_FUNC uint vkrtSobol2OfReversed(uint reversed) {
 // `stream` is the pixel's (vkrtPixelStream).
 VKRT_FUNC float vkrtPixelJitterX(uint stream, uint sampleIndex) {
     const uint scramble = vkrtStreamBits(stream, 0u, VKRT_DIM_PIXEL_X);
-    return float((vkrtReverseBits(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
+    return float((vkrtReverseBits(sampleIndex) ^ scramble) >> 8u) * VKRT_RANDOM_STEP;
 }
 
 VKRT_FUNC float vkrtPixelJitterY(uint stream, uint sampleIndex) {
     const uint scramble = vkrtStreamBits(stream, 0u, VKRT_DIM_PIXEL_Y);
-    return float((vkrtSobol2(sampleIndex) ^ scramble) >> 8u) * 5.9604644775390625e-8;
+    return float((vkrtSobol2(sampleIndex) ^ scramble) >> 8u) * VKRT_RANDOM_STEP;
 }
 
 // Laine and Karras's hash-based Owen scramble of the bits of x from the lowest up: each output bit depends
@@ -168,7 +174,7 @@ VKRT_FUNC float vkrtStratifiedFrom(uint pairRoot, uint sampleIndex, uint dimensi
     const uint shuffled = vkrtLaineKarras(vkrtReverseBits(sampleIndex), key);
     const uint bits = axis == 0u ? shuffled : vkrtSobol2OfReversed(shuffled);
     const uint scramble = vkrtHash(key ^ (0x68e31da4u + axis));
-    return float((bits ^ scramble) >> 8u) * 5.9604644775390625e-8;
+    return float((bits ^ scramble) >> 8u) * VKRT_RANDOM_STEP;
 }
 
 VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dimension, uint axis) {
@@ -181,7 +187,7 @@ VKRT_FUNC float vkrtStratified(uint seed, uint pixel, uint sampleIndex, uint dim
 VKRT_FUNC float vkrtLayered(uint stream, uint pairRoot, uint sampleIndex, uint dimension, uint layer) {
     if (layer < 2u) return vkrtStratifiedFrom(pairRoot, sampleIndex, dimension, layer);
     const uint bits = vkrtHash(vkrtStreamBits(stream, sampleIndex, dimension) ^ (layer * 0x9e3779b9u));
-    return float(bits >> 8u) * 5.9604644775390625e-8;
+    return float(bits >> 8u) * VKRT_RANDOM_STEP;
 }
 
 VKRT_FUNC uint vkrtNodeDimension(uint node, uint k) {

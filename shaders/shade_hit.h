@@ -412,8 +412,12 @@ VKRT_FN bool environmentQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context,
                               VKRT_IN(ShadingFrame) frame, VKRT_IN(SurfaceResponse) surface, bool lobeSampled,
                               bool untracedSampled, uint k, VKRT_OUT(LightQuery) query) {
     const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_ENVIRONMENT));
-    const EnvironmentSample light =
-        sampleEnvironment(VKRT_DEVICE_ARG stratified(context, dimension, 0u), stratified(context, dimension, 1u));
+    // The pair's first two numbers choose the texel, and two more hashed from its dimension the point below the
+    // grid's step (environment.h).
+    const EnvironmentSample light = sampleEnvironment(
+        VKRT_DEVICE_ARG stratified(context, dimension, 0u), stratified(context, dimension, 1u),
+        real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 2u)),
+        real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 3u)));
     const real3 toLight = light.direction;
     if (!(light.pdf > 0.0) || !facesLight(frame, toLight)) return false;
     query.toLight = toLight;

@@ -2,10 +2,11 @@
 // axes see the texels the mapping convention names; against closed forms, a Lambertian sphere in a uniform
 // environment shows its albedo, an upward plane under a polar cap of half-angle t and radiance L shows
 // r L sin^2 t with per-pixel noise under 10% at 16 spp, and a tilted plane under a turned map with one bright
-// region shows the irradiance integrated by brute force. Also: multiple importance sampling keeps the mean,
-// the GPU matches the reference on scenes/environment.gltf, lights of every kind at once add up to the
-// renders lit by each alone, light from a map near float's limit scales with its strength, and scenes without
-// an environment get neither its code nor its buffers.
+// region shows the irradiance integrated by brute force, and a plane beside a sun 1e12 times as bright as its
+// sky sees the sky. Also: multiple importance sampling keeps the mean, the GPU matches the reference on
+// scenes/environment.gltf, lights of every kind at once add up to the renders lit by each alone, light from a
+// map near float's limit scales with its strength, and scenes without an environment get neither its code nor
+// its buffers.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -282,6 +283,34 @@ TEST_F(Gpu, PlaneUnderAPolarCapShowsRLSinSquaredT) {
                     100.0 * s.relativeDeviation);
         EXPECT_NEAR(s.mean, expected, 0.03 * expected) << device;
         EXPECT_LT(s.relativeDeviation, 0.10) << device << ": importance sampling finds the cap";
+    }
+}
+
+TEST_F(Gpu, PlaneBesideASunFarBrighterThanItsSkySeesTheSky) {
+    // An upward plane under a sky of radiance 1 over the upper half of the map, beside a texel below the
+    // horizon 1e12 times as bright (the whole sky weighs 1e-9 of it): the plane shows r L, its albedo.
+    // Whitted reaches the sky only by light samples. Drawn by luminance alone the sky was never sampled (its
+    // rows had probability 0 in float on the GPU, and less than one random number's step on the CPU), and
+    // both images were black.
+    const double albedo = 0.5;
+    Scene scene;
+    scene.materials.push_back(test::lambertian(static_cast<float>(albedo)));
+    addPlane(scene, {0, 1, 0}, 1000.0, 0);
+    scene.environment = mapOf(64, 32, [](int x, int y) {
+        return glm::vec3(y < 16 ? 1.0f : x == 40 && y == 24 ? 1e12f : 0.0f);
+    });
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    const Camera camera = orthographic({0, 5, 0}, {0, -1, 0}, {0, 0, 1}, 1.0);
+    const test::RenderPair pair =
+        test::renderGpuAndCpu(context(), scene, bvh, camera, darkSettings(32, 256), test::shaderCacheDir());
+    for (const Image* image : {&pair.gpu.image, &pair.cpu.image}) {
+        const char* device = image == &pair.gpu.image ? "gpu" : "cpu";
+        const PixelStatistics s = statisticsOf(*image, 1);
+        std::printf("%s: mean %.5f (r L = %.5f), per-pixel noise %.1f%%\n", device, s.mean, albedo,
+                    100.0 * s.relativeDeviation);
+        // About a twentieth of the samples reach the sky: per-pixel noise near 40%, 1.3% over 1024 pixels.
+        EXPECT_NEAR(s.mean, albedo, 0.06 * albedo) << device;
     }
 }
 

@@ -250,8 +250,8 @@ std::vector<FunctionCase> makeCases() {
     // Environment samples across the marginal and conditional tables, and directions away from texel edges.
     for (float u1 : {0.03f, 0.3f, 0.62f, 0.97f}) {
         for (float u2 : {0.01f, 0.45f, 0.88f}) {
-            cases.push_back(
-                makeCase(VKRT_CASE_ENVIRONMENT, 0, {u1, u2, 0, 0}, direction(0.4 + 2.1 * u1, 6.0 * u2)));
+            cases.push_back(makeCase(VKRT_CASE_ENVIRONMENT, 0, {u1, u2, 0.37f, 0.81f},
+                                     direction(0.4 + 2.1 * u1, 6.0 * u2)));
         }
     }
     // Normals in the plane z = 0 with either sign of zero (a face of the Cornell box's blocks has -0): the basis

@@ -29,9 +29,10 @@ struct EnvironmentMap {
 EnvironmentMap makeEnvironmentMap(const std::string& path, int width, int height,
                                   std::vector<glm::vec3> texels, double rotationDegrees, double strength);
 
-// The piecewise-constant 2D distribution over the map's texels, proportional to luminance x sin(theta) at
-// each row's centre (pbrt-v4, PiecewiseConstant2D): cumulative tables that end at exactly 1. A row, or a
-// whole map, without light is sampled uniformly (it is then never chosen, or the map is black).
+// The piecewise-constant 2D distribution over the map's texels (pbrt-v4, PiecewiseConstant2D), proportional
+// to luminance plus a tenth's spread over the sphere, times sin(theta) at each row's centre
+// (shaders/environment.h, "Sampling"): cumulative tables on the random numbers' grid (scene/sampling_grid.h)
+// that end at exactly 1, identical on both devices. A black map is sampled uniformly.
 struct EnvironmentDistribution {
     std::vector<double> rowCdf;     // height entries: the probability of rows 0..y
     std::vector<double> columnCdf;  // width x height: within row y, the probability of texels 0..x

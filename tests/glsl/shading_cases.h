@@ -255,8 +255,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         const real2 uv = transformUv(binding, real2(a.x, a.y));
         r1 = real4(uv.x, uv.y, 0.0, 0.0);
     } else if (fc.function == VKRT_CASE_ENVIRONMENT) {
-        // A sample for (a.x, a.y), and the radiance and density of direction b.
-        const EnvironmentSample s = sampleEnvironment(VKRT_DEVICE_ARG a.x, a.y);
+        // A sample for (a.x, a.y) with fine parts (a.z, a.w), and the radiance and density of direction b.
+        const EnvironmentSample s = sampleEnvironment(VKRT_DEVICE_ARG a.x, a.y, a.z, a.w);
         r0 = real4(s.direction.x, s.direction.y, s.direction.z, s.pdf);
         const real3 d = normalize(xyz(b));
         const real3 radiance = environmentRadiance(VKRT_DEVICE_ARG d);
