@@ -1,8 +1,9 @@
-// Emissive triangles and spheres as area lights. The device picks one in proportion to its power (the table
-// lives with the scene, host/scene/light_table.h); these functions then choose a point on it and give the
-// densities that multiple importance sampling weighs. A triangle is sampled uniformly in the solid angle it
-// subtends from the shading point (uniformly by area where that angle is tiny or near a hemisphere); a sphere
-// uniformly inside the cone it subtends (uniformly by area when the point is inside it).
+// Emissive triangles and spheres as area lights. The device picks one, nine tenths in proportion to its power
+// and a tenth uniformly (lightPickProbability; the table lives with the scene, host/scene/light_table.h); these
+// functions then choose a point on it and give the densities that multiple importance sampling weighs. A
+// triangle is sampled uniformly in the solid angle it subtends from the shading point (uniformly by area where
+// that angle is tiny or near a hemisphere); a sphere uniformly inside the cone it subtends (uniformly by area
+// when the point is inside it).
 #ifndef VKRT_AREA_LIGHT_H
 #define VKRT_AREA_LIGHT_H
 
@@ -25,6 +26,16 @@ struct LightPoint {
 
 // A light's power, by which light sampling picks it: luminance times area (at the shutter's opening).
 VKRT_FN real lightPower(real3 emission, real area) { return area * max(luminance(emission), 1e-12); }
+
+// The probability that light sampling picks a light of power `power` among `count` of total power `totalPower`:
+// nine tenths by power, and a tenth uniformly (defensive importance sampling; Hesterberg 1995). By power alone, a
+// lamp of 1e-6 of the total (a room's, beside a sun) got one sample in a million, and Whitted, which reaches it
+// only by light samples, left the room black. The table (host/scene/light_table.h) holds these probabilities on
+// its grid; multiple importance sampling weighs a lamp that a bounce ray meets by this function.
+#define VKRT_UNIFORM_LIGHT_SHARE 0.1
+VKRT_FN real lightPickProbability(real power, real totalPower, uint count) {
+    return (1.0 - VKRT_UNIFORM_LIGHT_SHARE) * (power / totalPower) + VKRT_UNIFORM_LIGHT_SHARE / real(count);
+}
 
 // Half the cross product's length; where its square nears float's denormals, taken over its largest component:
 // the squared length is a denormal for a triangle 1e-10 across (area 1e-21), and the GPU's pick of a light, its

@@ -65,13 +65,15 @@ PunctualLightParams device_punctualLight(uint i) {
 #ifdef VKRT_HAS_AREA_LIGHTS
 bool device_hasAreaLights() { return params.areaLightCount > 0u; }
 
-// Light `pick` in [0, 1) by power (the first whose cumulative power exceeds it, by binary search), and a
-// point on it.
-LightPoint device_sampleAreaLight(float pick, float u, float v, vec3 from) {
+// The light that (pick, pickFine), 24 bits each, picks as one 48-bit number (the first whose cumulative steps
+// exceed it, by binary search: host/scene/light_table.h), and a point on it.
+LightPoint device_sampleAreaLight(float pick, float pickFine, float u, float v, vec3 from) {
+    const uint high = uint(pick * float(VKRT_RANDOM_STEPS)), low = uint(pickFine * float(VKRT_RANDOM_STEPS));
     uint lo = 0u, hi = params.areaLightCount - 1u;
     while (lo < hi) {
         const uint mid = (lo + hi) / 2u;
-        if (gpuAreaLightCdf(mid) > pick) hi = mid;
+        const uvec2 steps = gpuAreaLightSteps(mid);
+        if (steps.x > high || (steps.x == high && steps.y > low)) hi = mid;
         else lo = mid + 1u;
     }
     const GpuAreaLight light = gpuAreaLightAt(lo);
@@ -118,12 +120,14 @@ float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 poin
     const vec3 offset = point - from;
 #ifdef VKRT_HAS_SPHERES
     if (opened.kind == VKRT_PRIMITIVE_SPHERE) {
-        const float pick = lightPower(emission, 4.0 * VKRT_PI * opened.v1.x * opened.v1.x) / params.areaLightPower;
+        const float pick = lightPickProbability(lightPower(emission, 4.0 * VKRT_PI * opened.v1.x * opened.v1.x),
+                                                params.areaLightPower, params.areaLightCount);
         return sphereLightSolidAnglePdf(now.v0, now.v1.x, pick, from, dot(offset, offset), cosLight);
     }
 #endif
     const float openArea = triangleArea(opened.v0, opened.v1, opened.v2);
-    const float pick = lightPower(emission, openArea) / params.areaLightPower;
+    const float pick = lightPickProbability(lightPower(emission, openArea), params.areaLightPower,
+                                            params.areaLightCount);
 #ifdef VKRT_HAS_MOTION
     const float area = triangleArea(now.v0, now.v1, now.v2);
 #else

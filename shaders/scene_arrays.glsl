@@ -76,12 +76,12 @@ GpuPunctualLight gpuLightAt(uint i) {
 
 GpuAreaLight gpuAreaLightAt(uint i) {
     const uvec4 a = texelFetch(areaLightTexels, int(2u * i)), b = texelFetch(areaLightTexels, int(2u * i + 1u));
-    return GpuAreaLight(a.x, uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w), b.x, b.y, b.z, b.w);
+    return GpuAreaLight(a.x, a.y, a.z, uintBitsToFloat(a.w), uintBitsToFloat(b.x), b.y, b.z, b.w);
 }
 
-// The cumulative power of area light `i` (GpuAreaLight's cdf): the light table's binary search reads only
-// that.
-float gpuAreaLightCdf(uint i) { return uintBitsToFloat(texelFetch(areaLightTexels, int(2u * i)).y); }
+// The cumulative steps of area light `i` (GpuAreaLight's cdfHigh and cdfLow): the light table's binary search
+// reads only those.
+uvec2 gpuAreaLightSteps(uint i) { return texelFetch(areaLightTexels, int(2u * i)).yz; }
 
 GpuShading gpuShadingAt(uint i) {
     const int t = int(4u * i);
@@ -195,7 +195,7 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 #define gpuMaterialAt(i) params.materials.materials[i]
 #define gpuLightAt(i) params.lights.lights[i]
 #define gpuAreaLightAt(i) params.areaLights.areaLights[i]
-#define gpuAreaLightCdf(i) params.areaLights.areaLights[i].cdf
+#define gpuAreaLightSteps(i) uvec2(params.areaLights.areaLights[i].cdfHigh, params.areaLights.areaLights[i].cdfLow)
 #define gpuShadingAt(i) params.shading.shading[i]
 #define gpuTextureAt(i) params.textures.textures[i]
 #define gpuTextureBindingAt(i) params.textureBindings.bindings[i]

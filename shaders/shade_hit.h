@@ -363,8 +363,10 @@ VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, u
                             VKRT_IN(SurfaceResponse) surface, bool lobeSampled, bool untracedSampled, uint k,
                             VKRT_OUT(LightQuery) query) {
     const real3 point = frame.position;
+    // The pick's pair gives the 48-bit number the light table is read with (host/scene/light_table.h).
     const LightPoint light = VKRT_DEVICE(sampleAreaLight)(
         stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 0u),
+        stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_PICK)), 1u),
         stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 0u),
         stratified(context, vkrtNodeDimension(node, VKRT_DIM_LIGHT(k, VKRT_DIM_LIGHT_U)), 1u), point);
     const real3 offset = light.position - point;

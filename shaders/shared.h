@@ -293,18 +293,19 @@ struct GpuPunctualLight {
     uint unused2;
 };
 
-// One emissive primitive: its index, the cumulative power up to and including it, its area pdf (pick
-// probability / area; triangles are sampled by area), its pick probability (spheres are sampled by
-// solid angle) and, for a solid's shape, the shape (shapes are sampled part by part; else VKRT_NO_HIT).
+// One emissive primitive: its index, the cumulative steps of 2^-48 up to and including it in two 24-bit halves
+// (host/scene/light_table.h; the last entry's are 2^24 and 0), its area pdf (pick probability / area; triangles
+// are sampled by area), its pick probability (spheres are sampled by solid angle) and, for a solid's shape, the
+// shape (shapes are sampled part by part; else VKRT_NO_HIT). The search reads the first 16 bytes alone.
 struct GpuAreaLight {
     uint primitive;
-    float cdf;
+    uint cdfHigh;
+    uint cdfLow;
     float pdfArea;
     float pick;
     uint shape;
     uint unused0;
     uint unused1;
-    uint unused2;
 };
 
 struct GpuCamera {

@@ -1,7 +1,8 @@
 // Analytic scenes with known answers, on the GPU and the CPU reference alike: a white furnace that never
 // gains energy, a moving square's streak against velocity times shutter (two triangles, or a box shape
 // animated in a glTF file), an emissive box shape lighting a floor as its triangles do, a floor under a lamp
-// far larger than its height, and a sphere's silhouette against its analytic area.
+// far larger than its height, a dim lamp beside one far brighter, and a sphere's silhouette against its
+// analytic area.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -463,6 +464,91 @@ TEST_F(Gpu, FloorUnderALampFarLargerThanItsHeightIsSmooth) {
             EXPECT_LT(spread, 0.1 * expected) << which;
             EXPECT_GT(lowest, 0.7 * expected) << which;
             EXPECT_LT(highest, 1.3 * expected) << which;
+        }
+    }
+}
+
+TEST(LightTable, PicksAreExactOnTheGridOfTwoRandomNumbers) {
+    // Three lamps of power 1, 1e-9 and 3 (triangles of one size, radiance 1, 1e-9, 3): each is picked with
+    // nine tenths of its share of the power plus a tenth of a third, on the grid of 2^-48 that two 24-bit
+    // random numbers read as one, so the stated probability is the one the search gives.
+    Scene scene;
+    for (float radiance : {1.0f, 1e-9f, 3.0f}) {
+        Material lamp;
+        lamp.emission = glm::vec3(radiance);
+        scene.materials.push_back(lamp);
+        const float x = 2.0f * static_cast<float>(scene.materials.size());
+        addFlatTriangle(scene, {x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0},
+                        static_cast<uint32_t>(scene.materials.size() - 1));
+    }
+    finalizeScene(scene);
+    const LightTable table = buildLightTable(scene);
+    ASSERT_EQ(table.primitives.size(), 3u);
+    const uint64_t grid = LightTable::kLightSteps;
+    EXPECT_EQ(table.steps.back(), grid);
+    for (size_t i = 0; i < 3; ++i) {
+        const uint64_t first = i > 0 ? table.steps[i - 1] : 0, own = table.steps[i] - first;
+        EXPECT_EQ(table.pick[i], static_cast<double>(own) / static_cast<double>(grid));
+        const double power = std::array<double, 3>{1.0, 1e-9, 3.0}[i] / (4.0 + 1e-9);
+        EXPECT_NEAR(table.pick[i], 0.9 * power + 0.1 / 3.0, 2.0 / static_cast<double>(grid)) << i;
+        EXPECT_EQ(table.find(first), i);
+        EXPECT_EQ(table.find(table.steps[i] - 1), i);
+    }
+}
+
+TEST_F(Gpu, DimLampBesideOneFarBrighterLightsTheFloor) {
+    // A lamp sphere of radius r and radiance 1 at height h over the floor, and one 1e14 times as powerful
+    // under it (the floor hides it from the top). Where the floor is lit by the dim lamp alone, at distance D
+    // from its centre, it shows albedo L (r / D)^2 (h / D). Picked by power alone the dim lamp got 1e-14 of
+    // the light samples, and Whitted, which reaches it by light samples only, left the floor black on both
+    // devices; a tenth of the samples now pick a light uniformly. Paths weigh their bounce rays that meet the
+    // lamp by the same probability (MIS): a pick that differed from the table's would show in their mean.
+    const double albedo = 0.8, r = 0.05, h = 1.0;
+    Scene scene = litFloor(1.0f);
+    scene.spheres.push_back({glm::vec3(0.0f, static_cast<float>(h), 0.0f), static_cast<float>(r), 1});
+    Material sun;
+    sun.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    sun.emission = glm::vec3(1e12f);
+    scene.materials.push_back(sun);
+    scene.spheres.push_back({glm::vec3(0.0f, -5.0f, 0.0f), 0.5f, 2});
+    finalizeScene(scene);
+    const LightTable lights = buildLightTable(scene);
+    ASSERT_EQ(lights.primitives.size(), 2u);
+    // A patch of the floor 0.01 across, 0.3 from the lamp's foot, seen from straight above.
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {0.3, 2.0, 0.0};
+    camera.forward = {0.0, -1.0, 0.0};
+    camera.up = {0.0, 0.0, -1.0};
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.xmag = camera.ymag = 0.005;
+    const int size = 32;
+    double expected = 0.0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const double px = 0.3 + 0.005 * (2.0 * (x + 0.5) / size - 1.0),
+                         pz = 0.005 * (2.0 * (y + 0.5) / size - 1.0);
+            const double d = std::sqrt(px * px + pz * pz + h * h);
+            expected += albedo * (r / d) * (r / d) * (h / d) / (size * size);
+        }
+    }
+    for (Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        RenderSettings settings;
+        settings.integrator = integrator;
+        settings.width = settings.height = size;
+        settings.samplesPerPixel = 256;
+        settings.ambient = glm::dvec3(0.0);
+        settings.background = glm::dvec3(0.0);
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+        for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
+            const std::string which =
+                std::string(integratorName(integrator)) + (result == &pair.gpu ? ", gpu" : ", cpu");
+            double sum = 0.0;
+            for (const glm::vec3& p : result->image.pixels) sum += p.y;
+            const double mean = sum / static_cast<double>(result->image.pixels.size());
+            std::printf("%s: floor %.6f (closed form %.6f)\n", which.c_str(), mean, expected);
+            EXPECT_NEAR(mean, expected, 0.04 * expected) << which;
         }
     }
 }

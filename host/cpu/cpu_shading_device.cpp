@@ -5,6 +5,7 @@
 
 #include "bvh/bvh_traversal.h"
 #include "cpu/closest_hit.h"
+#include "random.h"
 #include "shape_light.h"
 
 namespace vkrt {
@@ -60,10 +61,13 @@ glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) c
     return shading::barycentric(glm::dvec4(c[0]), glm::dvec4(c[1]), glm::dvec4(c[2]), hitUv);
 }
 
-shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double u, double v,
+shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double pickFine, double u, double v,
                                                       const glm::dvec3& from) const {
     const LightTable& lights = data_.lights;
-    const size_t i = lights.find(pick);
+    // The two 24-bit numbers as one of 48 bits (light_table.h).
+    const uint64_t high = static_cast<uint64_t>(pick * VKRT_RANDOM_STEPS);
+    const uint64_t low = static_cast<uint64_t>(pickFine * VKRT_RANDOM_STEPS);
+    const size_t i = lights.find(high << 24 | low);
     const uint32_t primitive = lights.primitives[i];
     if (lights.shapes[i] != kNoPrimitive) {
         const Solid& solid = data_.scene.solidOf(primitive);
@@ -101,9 +105,10 @@ double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, 
     const Scene& scene = data_.scene;
     if (shape != kNoPrimitive)
         return shading::shapeLightSolidAnglePdf(*this, shape, data_.shapePick[shape], from, point, cosLight);
-    const double pick = shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission),
-                                            primitiveArea(scene, primitive)) /
-                        data_.lights.totalPower;
+    const double pick = shading::lightPickProbability(
+        shading::lightPower(glm::dvec3(scene.materials[scene.materialOf(primitive)].emission),
+                            primitiveArea(scene, primitive)),
+        data_.lights.totalPower, static_cast<uint32_t>(data_.lights.primitives.size()));
     const glm::dvec3 offset = point - from;
     const double distance2 = glm::dot(offset, offset);
     if (scene.isSphere(primitive)) {

@@ -61,7 +61,8 @@ class CpuShadingDevice {
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }
 
     bool hasAreaLights() const { return !data_.lights.empty(); }
-    shading::LightPoint sampleAreaLight(double pick, double u, double v, const glm::dvec3& from) const;
+    shading::LightPoint sampleAreaLight(double pick, double pickFine, double u, double v,
+                                        const glm::dvec3& from) const;
     double lightSolidAnglePdf(uint32_t primitive, uint32_t shape, const glm::dvec3& from,
                               const glm::dvec3& point, double cosLight) const;
 

@@ -277,9 +277,13 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
 
     const LightTable lights = buildLightTable(scene);
     for (size_t i = 0; i < lights.primitives.size(); ++i) {
-        data.areaLights.push_back({gpuIndexOf[lights.primitives[i]], static_cast<float>(lights.cdf[i]),
+        // The cumulative steps of 2^-48 as two 24-bit halves, each exact in a uint (and the last, 2^48, as
+        // 2^24 and 0).
+        const uint64_t steps = lights.steps[i];
+        data.areaLights.push_back({gpuIndexOf[lights.primitives[i]], static_cast<uint32_t>(steps >> 24),
+                                   static_cast<uint32_t>(steps & 0xffffffu),
                                    static_cast<float>(lights.pdfArea[i]), static_cast<float>(lights.pick[i]),
-                                   lights.shapes[i], 0u, 0u, 0u});
+                                   lights.shapes[i], 0u, 0u});
     }
     if (data.features.shapes) packSolids(scene, lights, data);
     data.areaLightPower = lights.totalPower;

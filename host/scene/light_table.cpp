@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "area_light.h"
+#include "scene/sampling_grid.h"
 #include "shared.h"
 
 namespace vkrt {
@@ -52,14 +53,16 @@ LightTable buildLightTable(const Scene& scene) {
     for (uint32_t shape : scene.emissiveShapes)
         add(solids[shape], shape, shapeArea(scene, shape), scene.shapes[shape].material);
     for (double p : power) table.totalPower += p;
-    double running = 0.0;
-    for (size_t i = 0; i < power.size(); ++i) {
-        running += power[i];
-        table.cdf.push_back(running / table.totalPower);
-        table.pick.push_back(power[i] / table.totalPower);
-        table.pdfArea.push_back(power[i] / table.totalPower / area[i]);
+    const uint32_t count = static_cast<uint32_t>(power.size());
+    std::vector<double> probability(count);
+    for (uint32_t i = 0; i < count; ++i)
+        probability[i] = shading::lightPickProbability(power[i], table.totalPower, count);
+    table.steps = gridCdf(probability, LightTable::kLightSteps);
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint64_t own = table.steps[i] - (i > 0 ? table.steps[i - 1] : 0);
+        table.pick.push_back(static_cast<double>(own) / static_cast<double>(LightTable::kLightSteps));
+        table.pdfArea.push_back(table.pick[i] / area[i]);
     }
-    if (!table.cdf.empty()) table.cdf.back() = 1.0;
     table.solidAngleTriangles = samplesTrianglesBySolidAngle(scene);
     return table;
 }
@@ -77,9 +80,9 @@ bool samplesTrianglesBySolidAngle(const Scene& scene) {
     return false;
 }
 
-size_t LightTable::find(double u) const {
-    const size_t i = std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin();
-    return std::min(i, cdf.size() - 1);
+size_t LightTable::find(uint64_t u) const {
+    const size_t i = std::upper_bound(steps.begin(), steps.end(), u) - steps.begin();
+    return std::min(i, steps.size() - 1);
 }
 
 }  // namespace vkrt
