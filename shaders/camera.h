@@ -86,11 +86,18 @@ VKRT_FN CameraRay cameraRay(VKRT_IN(CameraFrame) camera, real filmX, real filmY,
                               sy * camera.tanHalfFov * camera.up);
 #ifdef VKRT_HAS_DEPTH_OF_FIELD
     if (!(camera.lensRadius > 0.0)) return ray;
-    // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane.
-    const real3 focus = camera.position + ray.direction * (camera.focusDistance / dot(ray.direction, camera.forward));
+    // Thin lens: rays from every point of the lens meet where the pinhole ray crosses the focal plane, at
+    // toFocal * F from the pinhole. The aim toFocal * F - lensOffset is divided by the larger of F and the lens
+    // radius before it is normalised: its squared length overflowed single precision for F above 1.8e19 (the
+    // GPU drew only background), and F = infinity leaves the pinhole direction, a focus at infinity.
+    const real3 toFocal = ray.direction / dot(ray.direction, camera.forward);
     const real2 disk = camera.lensRadius * concentricDisk(lensU, lensV);
-    ray.origin = camera.position + disk.x * camera.right + disk.y * camera.up;
-    ray.direction = normalize(focus - ray.origin);
+    const real3 lensOffset = disk.x * camera.right + disk.y * camera.up;
+    ray.origin = camera.position + lensOffset;
+    ray.direction = camera.focusDistance >= camera.lensRadius
+                        ? normalize(toFocal - lensOffset / camera.focusDistance)
+                        : normalize(toFocal * (camera.focusDistance / camera.lensRadius) -
+                                    lensOffset / camera.lensRadius);
 #endif
     return ray;
 }

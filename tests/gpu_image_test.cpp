@@ -4,6 +4,7 @@
 // Gaussian pixel filter).
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -137,6 +138,30 @@ TEST_F(Gpu, SeveralLightSamplesAndAGaussianFilterMatchCpuReference) {
     expectMatchesReference(gpu.image, cpu.image, "cornell-6-light-samples");
     EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
                 0.002 * cpu.rays.shadow);
+}
+
+// A lens focused farther than 1.8e19 aimed its rays through a vector whose squared length overflowed single
+// precision: the GPU drew background alone where the CPU drew the focus-at-infinity blur. Up to float's
+// largest value the GPU draws what the CPU draws, and what a far finite focus (1e15) draws.
+TEST_F(Gpu, LensFocusedAt1e30Or3e38BlursLikeTheCpuAndLikeAFocusAt1e15) {
+    auto [scene, bvh, camera] = ownScene("dof.gltf", 64.0 / 48.0);
+    ASSERT_GT(camera.aperture, 0.0);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    settings.samplesPerPixel = 4;
+    settings.seed = 7;
+    camera.focusDistance = 1e15;
+    const RenderResult farFinite = renderGpu(scene, bvh, camera, settings);
+    for (double focus : {1e30, 3.4e38}) {
+        camera.focusDistance = focus;
+        const auto [gpu, cpu] =
+            test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+        const std::string name = "dof-focus-" + std::to_string(static_cast<int>(std::log10(focus)));
+        expectMatchesReference(gpu.image, cpu.image, name);
+        expectMatchesReference(gpu.image, farFinite.image, name + "-against-1e15");
+        EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u) << name;
+    }
 }
 
 }  // namespace

@@ -241,6 +241,12 @@ std::vector<FunctionCase> makeCases() {
             }
         }
     }
+    // Lenses focused beyond 1.8e19, where the aim's squared length overflowed single precision, up to float's
+    // largest value; and one focused nearer than its radius.
+    for (float focus : {1e30f, 3.4e38f, 0.05f}) {
+        cases.push_back(makeCase(VKRT_CASE_CAMERA, 0, {1, 2, 10, 0.4f}, {0, 0, -1, 0.2f}, {1, 0, 0, focus},
+                                 {0, 1, 0, 3.0f}, {63.5f, 20, 0.1f, 0.9f}));
+    }
     for (uint32_t filter : {0u, 1u, 2u}) {
         for (glm::vec2 u :
              {glm::vec2(0, 0), glm::vec2(0.25f, 0.75f), glm::vec2(0.5f, 0.5f), glm::vec2(0.999f, 0.01f)}) {
