@@ -494,6 +494,16 @@ std::vector<BadCase> badCases() {
              writeJson(file, d);
          },
          "cameras[0].perspective: missing, and required"},
+        {"camera with both projections",  // glTF 2.0: each MUST NOT be defined when the other is
+         [](auto&, auto& file) {
+             json d = validTriangle();
+             d["cameras"] = {
+                 {{"type", "perspective"},
+                  {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}},
+                  {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}}};
+             writeJson(file, d);
+         },
+         "cameras[0].orthographic: must not be defined when type is \"perspective\""},
         {"GLB whose JSON has the wrong types",
          [](auto&, auto& file) {
              json d = validTriangle();

@@ -602,6 +602,12 @@ private:
     void camera(const Json& camera, const std::string& where) const {
         name(camera, where);
         string(camera, "type", where, true, {"perspective", "orthographic"});
+        // glTF 2.0 (5.11): each projection MUST NOT be defined when the other is; a camera with both would
+        // be rendered with the one its type names, and the other dropped without a word.
+        const std::string type = camera["type"].get<std::string>();
+        const char* other = type == "perspective" ? "orthographic" : "perspective";
+        if (camera.contains(other))
+            fail(member(where, other), "must not be defined when type is \"" + type + "\"");
         if (camera["type"] == "perspective") {
             const Json& p = requiredObject(camera, "perspective", where);
             const std::string at = member(where, "perspective");
