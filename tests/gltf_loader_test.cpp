@@ -667,7 +667,9 @@ TEST(GltfLoader, MirroredCameraKeepsItsAxes) {
 }
 
 // A camera under a node scaled to nothing (a collapsed rig: valid glTF) is refused only when it is chosen.
-TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosen) {
+// Nodes 1 and 3 share camera 0 and only node 3 is singular: the refusal names the node, which the cameras[]
+// index alone ("camera 0") did not tell apart from the usable one.
+TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosenNamingItsNode) {
     const std::filesystem::path file = test::temporaryFolder() / "collapsed.gltf";
     test::writeText(file, R"({
         "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
@@ -685,7 +687,8 @@ TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosen) {
         selectCamera(scene, 1, 1.0);
         ADD_FAILURE() << "the collapsed camera was chosen";
     } catch (const SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find("camera 0: its node transform is singular"), std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("camera 0 at node 3: its node transform is singular"),
+                  std::string::npos)
             << e.what();
     }
 }

@@ -8,7 +8,8 @@
 
 namespace vkrt {
 
-void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, const std::string& nodeName) {
+void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, int nodeIndex,
+               const std::string& nodeName) {
     if (cameraIndex >= static_cast<int>(context.model.cameras.size())) {
         context.fail("node '" + nodeName + "' refers to camera " + std::to_string(cameraIndex) +
                      ", which does not exist");
@@ -50,7 +51,9 @@ void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, c
     // A node scaled to nothing (a collapsed group) is valid glTF: its camera is refused only if chosen.
     const double check = glm::dot(camera.forward + camera.right + camera.up, glm::dvec3(1.0));
     if (!std::isfinite(check) || glm::length(glm::cross(camera.forward, camera.right)) < 0.5) {
-        camera.unusable = context.path + ": " + where + ": its node transform is singular";
+        // Several nodes may hold one camera and only one of them be singular: the node says which.
+        camera.unusable = context.path + ": " + where + " at " + describe("node", nodeIndex, nodeName) +
+                          ": its node transform is singular";
     }
     context.scene.cameras.push_back(camera);
 }

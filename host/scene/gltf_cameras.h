@@ -9,7 +9,9 @@
 
 namespace vkrt {
 
-// Appends camera `cameraIndex` placed by `world`; named after the camera, else its node, else its index.
-void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, const std::string& nodeName);
+// Appends camera `cameraIndex` placed by `world`, the transform of node `nodeIndex`; named after the camera,
+// else its node, else its index.
+void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, int nodeIndex,
+               const std::string& nodeName);
 
 }  // namespace vkrt

@@ -292,7 +292,7 @@ GltfConverter::Poses GltfConverter::place(int nodeIndex, const Poses& parents) {
         }
     }
     // Place its camera, light and sphere.
-    if (node.camera >= 0) addCamera(context_, node.camera, world, node.name);
+    if (node.camera >= 0) addCamera(context_, node.camera, world, nodeIndex, node.name);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) addLight(context_, light->second, world, where);
     auto sphere = node.extensions.find("VKRT_sphere");
