@@ -693,6 +693,38 @@ TEST(GltfLoader, CameraWithASingularTransformIsRefusedOnlyWhenChosenNamingItsNod
     }
 }
 
+// A camera under nested scales whose product is 1e-190 (five of 1e-38, each within single precision) is
+// valid and not singular: it has the axes it has unscaled. Normalising its axes, whose squared lengths
+// (1e-380) underflow double precision, refused it as singular.
+TEST(GltfLoader, CameraUnderATinyButValidScaleKeepsItsAxes) {
+    const auto folder = test::temporaryFolder();
+    auto load = [&](const char* scale) {
+        const std::filesystem::path file = folder / "tiny.gltf";
+        std::string nodes;
+        for (int level = 1; level <= 5; ++level) {
+            nodes += std::string(R"({"scale": )") + scale + R"(, "children": [)" + std::to_string(level + 1) +
+                     "]},";
+        }
+        test::writeText(file, std::string(R"({
+            "asset": {"version": "2.0"}, "extensionsUsed": ["VKRT_sphere"], "scene": 0,
+            "scenes": [{"nodes": [0, 1]}],
+            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],
+            "nodes": [
+                {"extensions": {"VKRT_sphere": {"radius": 0.5}}},
+                )") + nodes + R"(
+                {"translation": [0, 0, 3], "rotation": [0.1, 0.38, 0.2, 0.8975522], "camera": 0}
+            ]})");
+        return selectCamera(loadGltf(file.string()), 0, 1.0);
+    };
+    const Camera unscaled = load("[1, 1, 1]");
+    const Camera tiny = load("[1e-38, 1e-38, 1e-38]");
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(tiny.forward[k], unscaled.forward[k], 1e-12) << k;
+        EXPECT_NEAR(tiny.right[k], unscaled.right[k], 1e-12) << k;
+        EXPECT_NEAR(tiny.up[k], unscaled.up[k], 1e-12) << k;
+    }
+}
+
 // A primitive without POSITION is valid glTF and is not rendered (2.0 3.7.2.1): the rest of the file is.
 TEST(GltfLoader, PrimitiveWithoutPositionsIsLeftOutWithAWarning) {
     const std::filesystem::path file = test::temporaryFolder() / "no-positions.gltf";

@@ -1,5 +1,6 @@
 #include "scene/gltf_cameras.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tiny_gltf.h>
@@ -7,6 +8,18 @@
 #include "scene/gltf_extensions.h"
 
 namespace vkrt {
+namespace {
+
+// An axis of the node's transform made unit length, divided by its largest component first: under nested
+// scales of product 1e-190 (valid glTF) its squared length underflowed to 0, normalize gave infinities and
+// the camera was refused as singular. A zero axis still gives NaN (0 / 0), which the singularity check
+// catches.
+glm::dvec3 normalizeAxis(const glm::dvec3& axis) {
+    const double largest = std::max({std::abs(axis.x), std::abs(axis.y), std::abs(axis.z)});
+    return glm::normalize(axis / largest);
+}
+
+}  // namespace
 
 void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, int nodeIndex,
                const std::string& nodeName) {
@@ -42,12 +55,12 @@ void addCamera(GltfContext& context, int cameraIndex, const glm::dmat4& world, i
     // camera is mirrored with what it sees, and the image stays as it was.
     const glm::dmat3 linear(world);
     camera.position = glm::dvec3(world[3]);
-    camera.forward = glm::normalize(linear * glm::dvec3(0.0, 0.0, -1.0));
+    camera.forward = normalizeAxis(linear * glm::dvec3(0.0, 0.0, -1.0));
     const glm::dvec3 right = linear * glm::dvec3(1.0, 0.0, 0.0);
-    camera.right = glm::normalize(right - glm::dot(right, camera.forward) * camera.forward);
+    camera.right = normalizeAxis(right - glm::dot(right, camera.forward) * camera.forward);
     const glm::dvec3 up = linear * glm::dvec3(0.0, 1.0, 0.0);
-    camera.up = glm::normalize(up - glm::dot(up, camera.forward) * camera.forward -
-                               glm::dot(up, camera.right) * camera.right);
+    camera.up = normalizeAxis(up - glm::dot(up, camera.forward) * camera.forward -
+                              glm::dot(up, camera.right) * camera.right);
     // A node scaled to nothing (a collapsed group) is valid glTF: its camera is refused only if chosen.
     const double check = glm::dot(camera.forward + camera.right + camera.up, glm::dvec3(1.0));
     if (!std::isfinite(check) || glm::length(glm::cross(camera.forward, camera.right)) < 0.5) {
