@@ -8,6 +8,7 @@
 #define VKRT_AREA_LIGHT_H
 
 #include "optics.h"
+#include "random.h"
 #include "shading_language.h"
 #include "shape_geometry.h"
 #include "sphere_geometry.h"
@@ -35,6 +36,12 @@ VKRT_FN real lightPower(real3 emission, real area) { return area * max(luminance
 #define VKRT_UNIFORM_LIGHT_SHARE 0.1
 VKRT_FN real lightPickProbability(real power, real totalPower, uint count) {
     return (1.0 - VKRT_UNIFORM_LIGHT_SHARE) * (power / totalPower) + VKRT_UNIFORM_LIGHT_SHARE / real(count);
+}
+
+// The 48-bit number, as its high and low 24 bits, with which a light sample reads the table: two random numbers,
+// each a whole number of steps of 2^-24 (random.h), the first the high half.
+VKRT_FN uvec2 lightPickSteps(real pick, real pickFine) {
+    return uvec2(uint(pick * real(VKRT_RANDOM_STEPS)), uint(pickFine * real(VKRT_RANDOM_STEPS)));
 }
 
 // Half the cross product's length; where its square nears float's denormals, taken over its largest component:

@@ -68,12 +68,12 @@ bool device_hasAreaLights() { return params.areaLightCount > 0u; }
 // The light that (pick, pickFine), 24 bits each, picks as one 48-bit number (the first whose cumulative steps
 // exceed it, by binary search: host/scene/light_table.h), and a point on it.
 LightPoint device_sampleAreaLight(float pick, float pickFine, float u, float v, vec3 from) {
-    const uint high = uint(pick * float(VKRT_RANDOM_STEPS)), low = uint(pickFine * float(VKRT_RANDOM_STEPS));
+    const uvec2 drawn = lightPickSteps(pick, pickFine);
     uint lo = 0u, hi = params.areaLightCount - 1u;
     while (lo < hi) {
         const uint mid = (lo + hi) / 2u;
         const uvec2 steps = gpuAreaLightSteps(mid);
-        if (steps.x > high || (steps.x == high && steps.y > low)) hi = mid;
+        if (steps.x > drawn.x || (steps.x == drawn.x && steps.y > drawn.y)) hi = mid;
         else lo = mid + 1u;
     }
     const GpuAreaLight light = gpuAreaLightAt(lo);

@@ -5,7 +5,6 @@
 
 #include "bvh/bvh_traversal.h"
 #include "cpu/closest_hit.h"
-#include "random.h"
 #include "shape_light.h"
 
 namespace vkrt {
@@ -64,10 +63,8 @@ glm::dvec4 CpuShadingDevice::vertexColor(uint32_t primitive, glm::dvec2 hitUv) c
 shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double pickFine, double u, double v,
                                                       const glm::dvec3& from) const {
     const LightTable& lights = data_.lights;
-    // The two 24-bit numbers as one of 48 bits (light_table.h).
-    const uint64_t high = static_cast<uint64_t>(pick * VKRT_RANDOM_STEPS);
-    const uint64_t low = static_cast<uint64_t>(pickFine * VKRT_RANDOM_STEPS);
-    const size_t i = lights.find(high << 24 | low);
+    const glm::uvec2 drawn = shading::lightPickSteps(pick, pickFine);
+    const size_t i = lights.find(uint64_t(drawn.x) << 24 | drawn.y);
     const uint32_t primitive = lights.primitives[i];
     if (lights.shapes[i] != kNoPrimitive) {
         const Solid& solid = data_.scene.solidOf(primitive);
