@@ -25,13 +25,18 @@ struct Interrupted {
     int exitCode = -1;
 };
 
+// A background job of a shell without job control (`sh -c "... &"`, as these tests run vkrt) starts with
+// SIGINT ignored, and vkrt leaves it so (SigintIgnoredAtTheStartStaysIgnored); a test that sends SIGINT to
+// one starts it with the default action, as an interactive shell's job has.
+const std::string kSigintHeard = "env --default-signal=INT ";
+
 // Starts vkrt in the background, sends `signals` (e.g. "INT", or "INT INT") `after` seconds, `gap` seconds
 // apart, and waits for it.
 Interrupted interrupt(const std::string& arguments, const std::string& signals, double gap = 0.05,
                       double after = 3.0) {
-    const std::string script = "VKRT_VALIDATE=1 '" + std::string(VKRT_BINARY) + "' " + arguments +
-                               " & pid=$!; sleep " + std::to_string(after) + "; for s in " + signals +
-                               "; do kill -$s $pid; sleep " + std::to_string(gap) +
+    const std::string script = kSigintHeard + "VKRT_VALIDATE=1 '" + std::string(VKRT_BINARY) + "' " +
+                               arguments + " & pid=$!; sleep " + std::to_string(after) + "; for s in " +
+                               signals + "; do kill -$s $pid; sleep " + std::to_string(gap) +
                                "; done; wait $pid; echo \"exit=$?\"";
     Interrupted result;
     result.command = test::runCommand("bash -c '" + [&] {
@@ -131,6 +136,21 @@ TEST(Interrupt, SighupIgnoredAtTheStartStaysIgnored) {
     EXPECT_TRUE(std::filesystem::exists(image)) << run.output;
 }
 
+// In a script's background job (a shell without job control), where Ctrl-C is ignored so that it ends the
+// script's foreground command alone, vkrt leaves it ignored: the render goes on until the SIGTERM after it.
+// vkrt stopped, writing the samples done, where the script went on expecting the whole render.
+TEST(Interrupt, SigintIgnoredAtTheStartStaysIgnored) {
+    const auto folder = test::temporaryFolder();
+    const auto image = folder / "kept.exr";
+    const test::CommandResult run = test::runCommand(
+        "trap '' INT; '" + std::string(VKRT_BINARY) + "' " + scene() +
+        " --device cpu --width 64 --height 64 --spp 1000000 --out '" + image.string() +
+        "' 2>&1 & pid=$!; sleep 2; kill -INT $pid; sleep 1; kill -TERM $pid; wait $pid; echo \"exit=$?\"");
+    EXPECT_NE(run.output.find("exit=143"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
+    EXPECT_TRUE(std::filesystem::exists(image)) << run.output;
+}
+
 // The first SIGINT stops a 4096 x 4096 render, whose image then takes seconds to average and write; the
 // second, 0.3 s later, ends vkrt there and then, leaving no file, not even the temporary one. The first comes
 // 6 s in: the first pass takes 1 to 2 s on 2 cores, and more than 3 s on a machine busy with other work.
@@ -223,10 +243,11 @@ TEST(Interrupt, StopBeforeEveryPixelHasASampleWritesNothing) {
     const auto folder = test::temporaryFolder();
     const auto image = folder / "old.pfm";
     test::writeText(image, "an earlier render");
-    const test::CommandResult run = test::runCommand(
-        "VKRT_SHADER_CACHE='" + (folder / "cache").string() + "' '" + std::string(VKRT_BINARY) + "' " +
-        scene() + " --device gpu --width 1024 --height 1024 --spp 1000000 --out '" + image.string() +
-        "' 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+    const test::CommandResult run =
+        test::runCommand(kSigintHeard + "VKRT_SHADER_CACHE='" + (folder / "cache").string() + "' '" +
+                         std::string(VKRT_BINARY) + "' " + scene() +
+                         " --device gpu --width 1024 --height 1024 --spp 1000000 --out '" + image.string() +
+                         "' 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\"");
     EXPECT_NE(run.output.find("exit=130"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("vkrt: interrupted before every pixel had a sample; nothing written"),
               std::string::npos)

@@ -89,16 +89,17 @@ void handleStopSignals() {
     action.sa_sigaction = onStopSignal;
     action.sa_flags = SA_SIGINFO | SA_RESTART;  // as std::signal's, with the sender
     sigemptyset(&action.sa_mask);               // none interrupts another's handler on its thread
-    sigaddset(&action.sa_mask, SIGINT);
-    sigaddset(&action.sa_mask, SIGTERM);
-    sigaddset(&action.sa_mask, SIGHUP);
-    sigaction(SIGINT, &action, nullptr);
-    sigaction(SIGTERM, &action, nullptr);
-    // A hang-up (the terminal closed, an ssh session lost) ended vkrt at once, a temporary file left half
-    // written, where SIGTERM keeps the samples done. Under nohup it stays ignored, as nohup asked.
-    struct sigaction hangUp {};
-    if (sigaction(SIGHUP, nullptr, &hangUp) == 0 && hangUp.sa_handler != SIG_IGN)
-        sigaction(SIGHUP, &action, nullptr);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, signal);
+    // A signal ignored when vkrt starts stays ignored, as the one who started it asked: under nohup a
+    // hang-up, and in a background job of a script (a shell without job control) Ctrl-C, which the terminal
+    // sends to the script's every process, and which stopped the job's render where the script went on with
+    // it. A hang-up heard (the terminal closed, an ssh session lost) ended vkrt at once, a temporary file
+    // left half written, where SIGTERM keeps the samples done.
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction before {};
+        if (sigaction(signal, nullptr, &before) == 0 && before.sa_handler != SIG_IGN)
+            sigaction(signal, &action, nullptr);
+    }
 }
 
 void renderBegins() {

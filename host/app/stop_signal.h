@@ -8,7 +8,8 @@
 
 namespace vkrt {
 
-// Installs the handler of the three signals (SIGHUP's only where it is not ignored, as under nohup).
+// Installs the handler of the three signals, each only where it is not ignored when vkrt starts (SIGHUP under
+// nohup, SIGINT in a background job of a script).
 void handleStopSignals();
 
 // Called where a render begins: a signal that came while loading now stops the render, not the process.
