@@ -17,7 +17,9 @@
 #include "scene/scene_error.h"
 #include "scene/shading_inputs.h"
 #include "shape_geometry.h"
+#include "support/gltf_document.h"
 #include "support/render_both.h"
+#include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
@@ -202,6 +204,66 @@ TEST(ReferenceRenderer, SquareAreaLightIrradianceMatchesClosedForm) {
     const double standardError = std::sqrt((sumSquares / samples - mean * mean) / samples);
     EXPECT_NEAR(mean, expected, 4.0 * standardError + 1e-9) << "standard error " << standardError;
     EXPECT_LT(standardError, 0.01 * expected);  // the test is sharp enough to mean something
+}
+
+// A lamp reaching 1e9 units (the triangle (-S, 1, -S), (S, 1, -S), (S, 1, S), radiance 4, both sides
+// emitting) over a Lambertian floor 1e3 across (albedo 0.5, index 1), the corners in one accessor as a file
+// would give them: the floor under the lamp's long edge sees half a sky of 4, so it reads 0.5 * 4 / 2 = 1.
+// Re-centred about a corner of the floor, the lamp's corners were rounded by 24 to float and the edge moved
+// 34 units: the floor read 2 (a whole sky), and a camera looking up at the edge saw only lamp.
+TEST(ReferenceRenderer, FloorUnderTheEdgeOfAFarReachingLampSeesHalfItsSky) {
+    constexpr float S = 1e9f;
+    const std::vector<float> corners = {-S,    1, -S,    S,    1, -S,    S,    1, S,  // the lamp
+                                        -1e3f, 0, -1e3f, 1e3f, 0, -1e3f, 1e3f, 0, 1e3f, -1e3f, 0, 1e3f};
+    test::GltfDocument d;
+    const int positions = d.positions(corners);
+    const int lampIndices = d.unsignedShorts({0, 1, 2}, "SCALAR");
+    const int floorIndices = d.unsignedShorts({3, 5, 4, 3, 6, 5}, "SCALAR");
+    d.json["meshes"] = {
+        {{"primitives",
+          {{{"attributes", {{"POSITION", positions}}}, {"indices", lampIndices}, {"material", 0}}}}},
+        {{"primitives",
+          {{{"attributes", {{"POSITION", positions}}}, {"indices", floorIndices}, {"material", 1}}}}}};
+    d.json["materials"] = {
+        {{"emissiveFactor", {1, 1, 1}},
+         {"doubleSided", true},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}}},
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}}},
+         {"extensions", {{"KHR_materials_ior", {{"ior", 1.0}}}}}}};
+    d.json["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_ior"};
+    d.node({{"mesh", 0}});
+    d.node({{"mesh", 1}});
+    const auto file = test::temporaryFolder() / "far-lamp.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.triangles.size(), 3u);
+    // Every corner where the file puts it, exactly (the lamp is triangle 0: the first node's).
+    const Triangle& lamp = scene.triangles[0];
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 stored(k == 0 ? lamp.v0 : k == 1 ? lamp.v1 : lamp.v2);
+        for (int axis = 0; axis < 3; ++axis)
+            EXPECT_EQ(stored[axis] + scene.origin[axis], static_cast<double>(corners[3 * k + axis]))
+                << "corner " << k << " axis " << axis;
+    }
+    const FlatBvh bvh = bvhFor(scene);
+    RenderSettings settings = quietSettings();
+    const ReferenceRenderer renderer(scene, bvh, frameBounds(scene.bounds, 1.0), settings);
+    constexpr int samples = 4000;
+    double sum = 0.0, sumSquares = 0.0;
+    for (int s = 0; s < samples; ++s) {
+        RayCounters counters;
+        const double L = renderer
+                             .radiance({glm::dvec3(0.0, 0.5, 0.0) - scene.origin, {0.0, -1.0, 0.0}}, 17,
+                                       static_cast<uint32_t>(s), counters)
+                             .x;
+        sum += L;
+        sumSquares += L * L;
+    }
+    const double mean = sum / samples;
+    const double standardError = std::sqrt((sumSquares / samples - mean * mean) / samples);
+    EXPECT_NEAR(mean, 1.0, 4.0 * standardError + 1e-6) << "standard error " << standardError;
+    EXPECT_LT(standardError, 0.01);
 }
 
 TEST(ReferenceRenderer, SphereLightIrradianceMatchesClosedForm) {

@@ -83,10 +83,13 @@ void checkNodeGraph(const GltfContext& context, const std::vector<int>& roots) {
 namespace {
 
 // A part of the scene as approximateCenter sees it: a mesh primitive, a sphere or a shape, as the world box
-// around it and the point that stands for it (a box's centre, or the median of a primitive's vertices).
+// around it, the point that stands for it (a box's centre, or the median of a primitive's vertices) and the
+// half-size of its core (a box's half-size, or its vertices' median distance from that median on the axis
+// where that is largest: a few far vertices do not make it large).
 struct Part {
     glm::dvec3 centre;
     glm::dvec3 low, high;
+    double core = 0.0;
     double size() const { return 0.5 * std::max({high.x - low.x, high.y - low.y, high.z - low.z}); }
 };
 
@@ -136,6 +139,10 @@ std::optional<Part> primitivePart(const GltfContext& context, int positionAccess
     }
     if (points.empty()) return std::nullopt;
     Part part{medianOf(points, true), points[0], points[0]};
+    std::vector<glm::dvec3> deviations;
+    for (const glm::dvec3& p : points) deviations.push_back(glm::abs(p - part.centre));
+    const glm::dvec3 spread = medianOf(deviations, true);
+    part.core = std::max({spread.x, spread.y, spread.z});
     const tinygltf::Accessor& accessor = context.model.accessors[static_cast<size_t>(positionAccessor)];
     if (accessor.minValues.size() == 3 && accessor.maxValues.size() == 3) {
         // The bounds are the stored integers of a normalized accessor (KHR_mesh_quantization).
@@ -160,7 +167,10 @@ Part placed(const Part& part, const glm::dmat4& world) {
     const glm::dvec3 middle = 0.5 * (part.low + part.high);
     const glm::dvec3 half = worldHalfSize(world, 0.5 * glm::abs(part.high - part.low));
     const glm::dvec3 centre = glm::dvec3(world * glm::dvec4(middle, 1.0));
-    return {glm::dvec3(world * glm::dvec4(part.centre, 1.0)), centre - half, centre + half};
+    double stretch = 0.0;  // the most the map lengthens a vector
+    for (int column = 0; column < 3; ++column) stretch += glm::length(glm::dvec3(world[column]));
+    return {glm::dvec3(world * glm::dvec4(part.centre, 1.0)), centre - half, centre + half,
+            stretch * part.core};
 }
 
 }  // namespace
@@ -193,7 +203,8 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
     std::vector<Part> parts;
     auto add = [&](const Part& part) {
         const glm::dvec3 sum = part.centre + part.low + part.high;
-        if (std::isfinite(sum.x + sum.y + sum.z) && std::isfinite(part.size())) parts.push_back(part);
+        if (std::isfinite(sum.x + sum.y + sum.z) && std::isfinite(part.size()) && std::isfinite(part.core))
+            parts.push_back(part);
     };
     // Depth first with a stack of its own: a hierarchy can be deeper than the call stack.
     std::vector<std::pair<int, glm::dmat4>> pending;
@@ -223,10 +234,10 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
         if (auto sphere = node.extensions.find("VKRT_sphere"); sphere != node.extensions.end()) {
             const tinygltf::Value& radius = sphere->second.Get("radius");
             const double r = radius.IsNumber() ? std::abs(radius.GetNumberAsDouble()) : 0.0;
-            add(placed({glm::dvec3(0.0), glm::dvec3(-r), glm::dvec3(r)}, world));
+            add(placed({glm::dvec3(0.0), glm::dvec3(-r), glm::dvec3(r), r}, world));
         }
         if (node.extensions.count("VKRT_shape"))
-            add(placed({glm::dvec3(0.0), glm::dvec3(-1.0), glm::dvec3(1.0)}, world));
+            add(placed({glm::dvec3(0.0), glm::dvec3(-1.0), glm::dvec3(1.0), 1.0}, world));
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             pending.emplace_back(*child, world);
     }
@@ -249,6 +260,29 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
                                                        : glm::clamp(typicalMedian, part.low, part.high));
     }
     glm::dvec3 centre = medianOf(representatives);
+    // On each axis, the centre on a grid of a power of two: at most float's spacing at the scene's farthest
+    // coordinate there, and at most about a quarter of the typical part's core, so that the parts stay as
+    // near the origin as they were. A float coordinate is a whole number of its own spacing, so moving one
+    // whose spacing is the grid's or finer by the centre is exact wherever the result lies no farther out
+    // than it did: the file's vertices keep their positions. Off the grid, a triangle reaching 1e9 beside a
+    // floor of 1e3, re-centred about a corner of the floor, had its corners rounded by up to 32 and its edge
+    // over the camera moved, and the double-precision reference rendered another scene.
+    std::vector<double> cores(parts.size());
+    for (size_t i = 0; i < parts.size(); ++i) cores[i] = parts[i].core;
+    const auto typicalCore = cores.begin() + static_cast<std::ptrdiff_t>((cores.size() - 1) / 2);
+    std::nth_element(cores.begin(), typicalCore, cores.end());
+    if (*typicalCore > 0.0) {
+        for (int axis = 0; axis < 3; ++axis) {
+            double farthest = 0.0;
+            for (const Part& part : parts)
+                farthest = std::max({farthest, std::abs(part.low[axis]), std::abs(part.high[axis])});
+            int exponent =
+                0;  // of the coarsest spacing allowed: float's at 2^22 typical cores or at farthest
+            std::frexp(std::min(farthest, 0x1p22 * *typicalCore), &exponent);
+            const double spacing = std::ldexp(1.0, exponent - std::numeric_limits<float>::digits);
+            if (spacing > 0.0) centre[axis] = std::round(centre[axis] / spacing) * spacing;
+        }
+    }
     // Every part's box stays within float's range about the centre (a triangle with corners near float's
     // range, about one of them, would reach past it), where it can.
     constexpr double kRoom = 0.999 * std::numeric_limits<float>::max();
