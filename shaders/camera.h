@@ -26,6 +26,7 @@ struct CameraFrame {
     real xmag, ymag;     // orthographic: half the view's width and height
     real lensRadius;     // thin lens (perspective only); 0 is a pinhole
     real focusDistance;  // distance of the plane in focus, along `forward`
+    real sceneRadius;    // thin lens: a radius about `position` that holds the whole scene
     real width, height;  // of the image, in pixels
 };
 
@@ -98,6 +99,20 @@ VKRT_FN CameraRay cameraRay(VKRT_IN(CameraFrame) camera, real filmX, real filmY,
                         ? normalize(toFocal - lensOffset / camera.focusDistance)
                         : normalize(toFocal * (camera.focusDistance / camera.lensRadius) -
                                     lensOffset / camera.lensRadius);
+    // A lens far wider than the scene (up to 1e6 times its reach, render_policy.cpp): a ray from its rim, its
+    // origin and aim rounded to float there, landed epsilon times the lens radius off, pixels away on the GPU (a
+    // plane in focus, which every lens ray meets where the pinhole's does, came out up to 0.56 off at 2.5e5 times
+    // its distance). Such a ray starts instead where it comes within the scene's radius of the pinhole, which
+    // skips nothing of the scene: at C - R d, C its point nearest the pinhole, taken from the nearer of the lens
+    // point and the focal point (so that C rounds as the scene's own points do). The lens point lies `along`
+    // from C on the ray.
+    const real along = dot(lensOffset, ray.direction);
+    if (along < -camera.sceneRadius) {
+        const real3 focal = toFocal * camera.focusDistance;
+        const real3 point = camera.focusDistance * length(toFocal) < length(lensOffset) ? focal : lensOffset;
+        const real3 nearest = point - dot(point, ray.direction) * ray.direction;
+        ray.origin = camera.position + (nearest - camera.sceneRadius * ray.direction);
+    }
 #endif
     return ray;
 }

@@ -319,7 +319,7 @@ struct GpuCamera {
     float ymag;           // orthographic: half the view's height
     float lensRadius;     // thin lens; 0: a pinhole
     float focusDistance;  // along forward
-    uint unused0;
+    float sceneRadius;    // thin lens: a radius about `position` that holds the whole scene (camera.h)
     uint unused1;
 };
 

@@ -115,6 +115,7 @@ CameraFrame cameraFrame() {
     camera.ymag = c.ymag;
     camera.lensRadius = c.lensRadius;
     camera.focusDistance = c.focusDistance;
+    camera.sceneRadius = c.sceneRadius;
     camera.width = float(params.width);
     camera.height = float(params.height);
     return camera;

@@ -493,7 +493,7 @@ TEST_F(Gpu, OnlyScenesWithAnEnvironmentGetItsCodeAndBuffers) {
     const GpuSceneData without = packScene(scene, bvh);
     EXPECT_FALSE(without.features.environment);
     EXPECT_TRUE(without.environmentTexels.empty() && without.environmentRows.empty());
-    EXPECT_EQ(makeSceneParams(without, camera, RenderSettings{}).environmentWidth, 0u);
+    EXPECT_EQ(makeSceneParams(without, camera, scene.bounds, RenderSettings{}).environmentWidth, 0u);
     scene.environment = mapOf(8, 4, [](int x, int) { return glm::vec3(float(x)); });
     const GpuSceneData with = packScene(scene, bvh);
     EXPECT_TRUE(with.features.environment);

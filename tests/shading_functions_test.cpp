@@ -247,6 +247,12 @@ std::vector<FunctionCase> makeCases() {
         cases.push_back(makeCase(VKRT_CASE_CAMERA, 0, {1, 2, 10, 0.4f}, {0, 0, -1, 0.2f}, {1, 0, 0, focus},
                                  {0, 1, 0, 3.0f}, {63.5f, 20, 0.1f, 0.9f}));
     }
+    // A lens far wider than the scene's radius (100 in shading_cases.h), whose rays start nearer, focused
+    // near and far.
+    for (float focus : {8.0f, 1e30f}) {
+        cases.push_back(makeCase(VKRT_CASE_CAMERA, 0, {1, 2, 10, 0.4f}, {0, 0, -1, 1e5f}, {1, 0, 0, focus},
+                                 {0, 1, 0, 3.0f}, {63.5f, 20, 0.1f, 0.9f}));
+    }
     for (uint32_t filter : {0u, 1u, 2u}) {
         for (glm::vec2 u :
              {glm::vec2(0, 0), glm::vec2(0.25f, 0.75f), glm::vec2(0.5f, 0.5f), glm::vec2(0.999f, 0.01f)}) {

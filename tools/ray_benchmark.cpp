@@ -99,7 +99,7 @@ Scene sphereOverGround(size_t triangleTarget) {
 // The pinhole ray through a pixel's centre (shaders/camera.h, as both renderers make it).
 gpu::GpuRay cameraRay(const Camera& camera, int x, int y, int width, int height) {
     const shading::CameraRay ray =
-        shading::cameraRay(cameraFrame(camera, width, height), x + 0.5, y + 0.5, 0.5, 0.5);
+        shading::cameraRay(cameraFrame(camera, Aabb{}, width, height), x + 0.5, y + 0.5, 0.5, 0.5);
     return {glm::vec3(ray.origin), 0.0f, glm::vec3(ray.direction), 1e30f};
 }
 

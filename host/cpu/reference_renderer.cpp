@@ -28,7 +28,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, con
       bvh_(bvh),
       settings_(settings),
       shadingScene_(scene, bvh),
-      camera_(cameraFrame(camera, settings.width, settings.height)) {
+      camera_(cameraFrame(camera, scene.bounds, settings.width, settings.height)) {
     shadingScene_.volumesBlockShadows = settings.integrator == Integrator::Path;
 }
 

@@ -136,7 +136,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
 
     sceneBuffers_ = written.get();
     report_.sceneWriteMs = sceneWriteMs;
-    gpu::SceneParams params = makeSceneParams(data_, camera, settings);
+    gpu::SceneParams params = makeSceneParams(data_, camera, scene.bounds, settings);
     sceneBuffers_->fillAddresses(params);
     accumulation_ = GpuBuffer(context, report_.memory.tileRows * width * kAccumulationBytesPerPixel);
     accumulation_.fillZero();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 #include "camera.h"
@@ -422,6 +423,14 @@ static_assert(VKRT_BINDING_PRIMITIVES == VKRT_BINDING_NODES + 1 &&
               VKRT_BINDING_MOTION == VKRT_BINDING_NODES + 16 &&
               VKRT_BINDING_SHEEN_TABLE == VKRT_BINDING_NODES + 20);
 
+// The float nearest `value` from above (infinity beyond float's range).
+float roundedUp(double value) {
+    const float rounded = static_cast<float>(value);
+    return static_cast<double>(rounded) < value
+               ? std::nextafter(rounded, std::numeric_limits<float>::infinity())
+               : rounded;
+}
+
 }  // namespace
 
 SceneAccess chooseSceneAccess(const VulkanContext& context, const GpuSceneData& data, SceneAccess wanted) {
@@ -479,10 +488,10 @@ std::vector<BindingKind> GpuSceneBuffers::bindingKinds(SceneAccess access) {
     return kinds;
 }
 
-gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
+gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera, const Aabb& sceneBounds,
                                  const RenderSettings& settings) {
     gpu::SceneParams p{};
-    const shading::CameraFrame frame = cameraFrame(camera, settings.width, settings.height);
+    const shading::CameraFrame frame = cameraFrame(camera, sceneBounds, settings.width, settings.height);
     p.camera.position = glm::vec3(frame.position);
     p.camera.projection = frame.projection;
     p.camera.forward = glm::vec3(frame.forward);
@@ -493,6 +502,7 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.camera.ymag = static_cast<float>(frame.ymag);
     p.camera.lensRadius = static_cast<float>(frame.lensRadius);
     p.camera.focusDistance = static_cast<float>(frame.focusDistance);
+    p.camera.sceneRadius = roundedUp(frame.sceneRadius);
     p.ambient = glm::vec3(settings.ambient);
     p.minThroughput = static_cast<float>(settings.minThroughput);
     p.background = glm::vec3(settings.background);

@@ -78,7 +78,7 @@ void checkGpuReach(const Scene& scene, const glm::dvec3* eye);
 MemoryNeed sceneBufferNeed(const GpuSceneData& data);
 
 // The fixed per-render parameters, scene buffer addresses not yet filled in.
-gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
+gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera, const Aabb& sceneBounds,
                                  const RenderSettings& settings);
 
 // How kernels read the scene's arrays (shaders/scene_arrays.glsl), from the most widely possible to the

@@ -114,7 +114,7 @@ shading::PunctualLightParams punctualLightParams(const PunctualLight& light) {
     return p;
 }
 
-shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
+shading::CameraFrame cameraFrame(const Camera& camera, const Aabb& sceneBounds, int width, int height) {
     shading::CameraFrame frame;
     frame.projection = camera.projection == Projection::Orthographic ? VKRT_PROJECTION_ORTHOGRAPHIC
                                                                      : VKRT_PROJECTION_PERSPECTIVE;
@@ -127,6 +127,19 @@ shading::CameraFrame cameraFrame(const Camera& camera, int width, int height) {
     frame.ymag = camera.ymag;
     frame.lensRadius = camera.aperture;
     frame.focusDistance = camera.focusDistance;
+    // The farthest corner of the bounds, a part in a million further (the GPU's float of it rounds down by
+    // less).
+    frame.sceneRadius = std::numeric_limits<double>::infinity();
+    if (!sceneBounds.empty()) {
+        double farthest = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 at((corner & 1) ? sceneBounds.max.x : sceneBounds.min.x,
+                                (corner & 2) ? sceneBounds.max.y : sceneBounds.min.y,
+                                (corner & 4) ? sceneBounds.max.z : sceneBounds.min.z);
+            farthest = std::max(farthest, glm::length(at - camera.position));
+        }
+        frame.sceneRadius = farthest * (1.0 + 1e-6);
+    }
     frame.width = width;
     frame.height = height;
     return frame;

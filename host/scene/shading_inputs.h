@@ -22,8 +22,9 @@ shading::SurfaceMaterial surfaceMaterial(const Material& material, const std::ve
 
 shading::PunctualLightParams punctualLightParams(const PunctualLight& light);
 
-// The camera as shaders/camera.h reads it, for an image of width x height pixels.
-shading::CameraFrame cameraFrame(const Camera& camera, int width, int height);
+// The camera as shaders/camera.h reads it, for an image of width x height pixels, in a scene within
+// `sceneBounds` (a thin lens far wider than them starts its rays nearer; none when the box is empty).
+shading::CameraFrame cameraFrame(const Camera& camera, const Aabb& sceneBounds, int width, int height);
 
 // Every texture's RGBA8 texels in one array (red in the lowest byte, rows top to bottom), each texture
 // described by where its texels start, its size and its sampler (shaders/texture_sampling.h). Textures that

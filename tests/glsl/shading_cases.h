@@ -237,6 +237,7 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         camera.ymag = 0.75 * d.w;
         camera.width = 64.0;
         camera.height = 48.0;
+        camera.sceneRadius = 100.0;  // a lens wider than that starts its rays nearer
         const CameraRay ray = cameraRay(camera, e.x, e.y, e.z, e.w);
         r0 = real4(ray.origin.x, ray.origin.y, ray.origin.z, 0.0);
         r1 = real4(ray.direction.x, ray.direction.y, ray.direction.z, 0.0);
