@@ -60,6 +60,23 @@ PunctualLightParams device_punctualLight(uint i) {
     p.coneScale = light.coneScale;
     return p;
 }
+
+#ifdef VKRT_HAS_PUNCTUAL_LIGHT_TABLE
+// The punctual light that (pick, pickFine), 24 bits each, picks as one 48-bit number (the first whose
+// cumulative steps exceed it, by binary search: host/scene/light_table.h), and its pick probability.
+uint device_pickPunctualLight(float pick, float pickFine, out float probability) {
+    const uvec2 drawn = lightPickSteps(pick, pickFine);
+    uint lo = 0u, hi = params.punctualLightCount - 1u;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const uvec2 steps = gpuLightSteps(mid);
+        if (steps.x > drawn.x || (steps.x == drawn.x && steps.y > drawn.y)) hi = mid;
+        else lo = mid + 1u;
+    }
+    probability = gpuLightAt(lo).pick;
+    return lo;
+}
+#endif
 #endif
 
 #ifdef VKRT_HAS_AREA_LIGHTS

@@ -10,6 +10,13 @@
 #define VKRT_LIGHT_SPOT 1u
 #define VKRT_LIGHT_DIRECTIONAL 2u
 
+// Up to this many punctual lights, every shading point takes light from each (one shadow ray apiece, Whitted's
+// hard shadows). Beyond it each of the `lightSamples` light samples picks one, nine tenths by power and a tenth
+// uniformly (area_light.h lightPickProbability), from the table host/scene/light_table.h builds: a scene of
+// 10,000 point lights took 10,000 shadow rays at every hit, and ran out of lavapipe's loop budget (its pixels
+// left out, or darkened where nothing counted the cut).
+#define VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO 64u
+
 VKRT_SHADING_BEGIN
 
 struct PunctualLightParams {

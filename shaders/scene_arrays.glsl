@@ -71,8 +71,13 @@ GpuPunctualLight gpuLightAt(uint i) {
     const uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1);
     const uvec4 c = texelFetch(lightTexels, t + 2), d = texelFetch(lightTexels, t + 3);
     return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                            uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), d.y, d.z, d.w);
+                            uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), d.y, d.z,
+                            uintBitsToFloat(d.w));
 }
+
+// The cumulative steps of punctual light `i` (GpuPunctualLight's cdfHigh and cdfLow): the table's binary search
+// reads only those.
+uvec2 gpuLightSteps(uint i) { return texelFetch(lightTexels, int(4u * i + 3u)).yz; }
 
 GpuAreaLight gpuAreaLightAt(uint i) {
     const uvec4 a = texelFetch(areaLightTexels, int(2u * i)), b = texelFetch(areaLightTexels, int(2u * i + 1u));
@@ -194,6 +199,7 @@ layout(std430, binding = VKRT_BINDING_PRIMITIVES) readonly buffer BoundPrimitive
 #ifndef VKRT_TEXEL_SCENE
 #define gpuMaterialAt(i) params.materials.materials[i]
 #define gpuLightAt(i) params.lights.lights[i]
+#define gpuLightSteps(i) uvec2(params.lights.lights[i].cdfHigh, params.lights.lights[i].cdfLow)
 #define gpuAreaLightAt(i) params.areaLights.areaLights[i]
 #define gpuAreaLightSteps(i) uvec2(params.areaLights.areaLights[i].cdfHigh, params.areaLights.areaLights[i].cdfLow)
 #define gpuShadingAt(i) params.shading.shading[i]

@@ -434,7 +434,8 @@ VKRT_FN bool environmentQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context,
 }
 #endif
 
-// Light from the punctual lights (hard shadows), `lightSamples` samples of the area lights, each of one emissive
+// Light from the punctual lights (hard shadows: from each, or, beyond VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO of them,
+// from `lightSamples` picked by power), `lightSamples` samples of the area lights, each of one emissive
 // primitive chosen by power, and `lightSamples` directions of the environment, reflected towards the viewer by
 // `surface`; `node` is the ray-tree node whose random dimensions the light samples use, `media` the volumes the
 // viewer's side is in. `lobeSampled`: the glossy lobe is also traced; `untracedSampled`: so are the other lobes
@@ -450,8 +451,13 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
                           bool untracedSampled, bool lobeThroughGlass) {
     if (!reflectsLights(surface)) return real3(0.0);  // no shadow rays from mirrors and smooth glass
     uint punctualQueries = 0u, areaQueries = 0u, environmentQueries = 0u;
+    bool punctualPicked = false;  // each punctual query picks a light from the table
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
     punctualQueries = VKRT_DEVICE(punctualLightCount)();
+#ifdef VKRT_HAS_PUNCTUAL_LIGHT_TABLE
+    punctualPicked = punctualQueries > VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO;
+    if (punctualPicked) punctualQueries = context.lightSamples;
+#endif
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
     if (VKRT_DEVICE(hasAreaLights)()) areaQueries = context.lightSamples;
@@ -468,7 +474,24 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         LightQuery query;
         bool lit = false;
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
-        if (q < punctualQueries) lit = punctualQuery(VKRT_DEVICE_ARG frame, q, query);
+        if (q < punctualQueries) {
+            uint light = q;
+            real share = 1.0;  // of the light's irradiance this query carries: one over its expected queries
+#ifdef VKRT_HAS_PUNCTUAL_LIGHT_TABLE
+            if (punctualPicked) {
+                // Two more numbers of the area lights' pick pair (which reads its first two).
+                const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LIGHT(q, VKRT_DIM_LIGHT_PICK));
+                real probability = 0.0;
+                light = VKRT_DEVICE(pickPunctualLight)(
+                    real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 2u)),
+                    real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 3u)),
+                    probability);
+                share = probability * real(context.lightSamples);
+            }
+#endif
+            lit = punctualQuery(VKRT_DEVICE_ARG frame, light, query);
+            query.divisor = share;
+        }
 #endif
 #ifdef VKRT_HAS_AREA_LIGHTS
         if (q >= punctualQueries && q < areaEnd) {

@@ -89,6 +89,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_THIN_TRANSMISSION
 #define VKRT_HAS_ABSORPTION
 #define VKRT_HAS_PUNCTUAL_LIGHTS
+#define VKRT_HAS_PUNCTUAL_LIGHT_TABLE  // used where the scene has more than VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO
 #define VKRT_HAS_AREA_LIGHTS
 #define VKRT_HAS_SPHERES
 #define VKRT_HAS_SHAPES

@@ -288,9 +288,11 @@ struct GpuPunctualLight {
     vec3 intensity;  // colour * intensity
     float cosOuter;  // cos(outer cone angle)
     float coneScale;  // 1 / max(0.001, cos(inner) - cos(outer))
-    uint unused0;
-    uint unused1;
-    uint unused2;
+    // Beyond VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO lights (punctual_light.h), the cumulative steps of 2^-48 up to and
+    // including this light in two 24-bit halves (host/scene/light_table.h) and its pick probability; else 0.
+    uint cdfHigh;
+    uint cdfLow;
+    float pick;
 };
 
 // One emissive primitive: its index, the cumulative steps of 2^-48 up to and including it in two 24-bit halves

@@ -18,6 +18,7 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
         if (lights.shapes[i] != kNoPrimitive) shapePick[lights.shapes[i]] = lights.pick[i];
     }
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
+    punctualTable = buildPunctualLightTable(scene);
     if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
     // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
     if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.hasSheen(); }))
@@ -87,6 +88,13 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double pickFi
                                                          lights.solidAngleTriangles, u, v);
     p.material = t.material;
     return p;
+}
+
+uint32_t CpuShadingDevice::pickPunctualLight(double pick, double pickFine, double& probability) const {
+    const glm::uvec2 drawn = shading::lightPickSteps(pick, pickFine);
+    const size_t i = data_.punctualTable.find(uint64_t(drawn.x) << 24 | drawn.y);
+    probability = data_.punctualTable.pick[i];
+    return static_cast<uint32_t>(i);
 }
 
 void CpuShadingDevice::shapeMaps(uint32_t shape, shading::AffineRows& toObject,

@@ -28,6 +28,7 @@ struct CpuShadingScene {
     std::vector<shading::SurfaceMaterial> materials;
     std::vector<gpu::GpuTextureBinding> bindings;  // the materials' texture slots
     std::vector<shading::PunctualLightParams> punctualLights;
+    PunctualLightTable punctualTable;  // with more than VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO
     PackedTextures textures;
     LightTable lights;
     std::vector<double> shapePick;  // each shape's probability of being picked as a light (0: not a light)
@@ -59,6 +60,8 @@ class CpuShadingDevice {
 
     uint32_t punctualLightCount() const { return static_cast<uint32_t>(data_.punctualLights.size()); }
     shading::PunctualLightParams punctualLight(uint32_t i) const { return data_.punctualLights[i]; }
+    // The punctual light that (pick, pickFine) picks from the table, and its pick probability.
+    uint32_t pickPunctualLight(double pick, double pickFine, double& probability) const;
 
     bool hasAreaLights() const { return !data_.lights.empty(); }
     shading::LightPoint sampleAreaLight(double pick, double pickFine, double u, double v,

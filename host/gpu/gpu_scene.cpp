@@ -263,6 +263,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         data.textureBindings.clear();  // no material reads one
     }
 
+    const PunctualLightTable punctualTable = buildPunctualLightTable(scene);
     for (const PunctualLight& light : scene.lights) {
         const shading::PunctualLightParams p = punctualLightParams(light);
         gpu::GpuPunctualLight g{};
@@ -273,6 +274,12 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         g.intensity = glm::vec3(p.intensity);
         g.cosOuter = static_cast<float>(p.cosOuter);
         g.coneScale = static_cast<float>(p.coneScale);
+        if (!punctualTable.empty()) {  // the cumulative steps of 2^-48 as two 24-bit halves
+            const size_t i = data.lights.size();
+            g.cdfHigh = static_cast<uint32_t>(punctualTable.steps[i] >> 24);
+            g.cdfLow = static_cast<uint32_t>(punctualTable.steps[i] & 0xffffffu);
+            g.pick = static_cast<float>(punctualTable.pick[i]);
+        }
         data.lights.push_back(g);
     }
 

@@ -6,6 +6,7 @@
 
 #include "media.h"
 #include "microfacet.h"
+#include "punctual_light.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
 
@@ -26,6 +27,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::thinTransmission, "thin_transmission", "VKRT_HAS_THIN_TRANSMISSION"},
     {&SceneFeatures::absorption, "absorption", "VKRT_HAS_ABSORPTION"},
     {&SceneFeatures::punctualLights, "punctual_lights", "VKRT_HAS_PUNCTUAL_LIGHTS"},
+    {&SceneFeatures::punctualLightTable, "punctual_light_table", "VKRT_HAS_PUNCTUAL_LIGHT_TABLE"},
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
     {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
     {&SceneFeatures::shapes, "shapes", "VKRT_HAS_SHAPES"},
@@ -194,6 +196,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.roughRefraction |= transmits && refractsRoughly(material);
     }
     features.punctualLights = !scene.lights.empty();
+    features.punctualLightTable = scene.lights.size() > VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO;
     features.areaLights =
         !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();

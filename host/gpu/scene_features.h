@@ -17,6 +17,7 @@ struct SceneFeatures {
     bool thinTransmission = false;  // a transmissive material is thin-walled (no volume)
     bool absorption = false;     // light fades inside such a volume (a finite attenuation distance)
     bool punctualLights = false;
+    bool punctualLightTable = false;  // more than VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO: light samples pick them
     bool areaLights = false;    // emissive triangles, spheres or shapes
     bool spheres = false;       // analytic spheres (VKRT_sphere)
     bool shapes = false;        // analytic shapes and CSG (VKRT_shape, VKRT_csg)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "area_light.h"
+#include "punctual_light.h"
 #include "scene/sampling_grid.h"
 #include "shared.h"
 
@@ -32,6 +33,35 @@ std::vector<uint32_t> solidOfShapes(const Scene& scene) {
     return solid;
 }
 
+namespace {
+
+// Each light's pick probability (lightPickProbability) of `power`, as cumulative steps on the 2^-48 grid, and
+// as the probability those steps state.
+void pickTable(const std::vector<double>& power, std::vector<uint64_t>& steps, std::vector<double>& pick,
+               double& totalPower) {
+    totalPower = 0.0;
+    for (double p : power) totalPower += p;
+    const uint32_t count = static_cast<uint32_t>(power.size());
+    std::vector<double> probability(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        probability[i] = totalPower > 0.0 ? shading::lightPickProbability(power[i], totalPower, count)
+                                          : 1.0 / count;  // lights of no power: uniformly
+    }
+    steps = gridCdf(probability, LightTable::kLightSteps);
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint64_t own = steps[i] - (i > 0 ? steps[i - 1] : 0);
+        pick.push_back(static_cast<double>(own) / static_cast<double>(LightTable::kLightSteps));
+    }
+}
+
+// The first entry whose cumulative steps exceed `u`.
+size_t findStep(const std::vector<uint64_t>& steps, uint64_t u) {
+    const size_t i = std::upper_bound(steps.begin(), steps.end(), u) - steps.begin();
+    return std::min(i, steps.size() - 1);
+}
+
+}  // namespace
+
 LightTable buildLightTable(const Scene& scene) {
     LightTable table;
     std::vector<double> power, area;
@@ -52,17 +82,8 @@ LightTable buildLightTable(const Scene& scene) {
     const std::vector<uint32_t> solids = solidOfShapes(scene);
     for (uint32_t shape : scene.emissiveShapes)
         add(solids[shape], shape, shapeArea(scene, shape), scene.shapes[shape].material);
-    for (double p : power) table.totalPower += p;
-    const uint32_t count = static_cast<uint32_t>(power.size());
-    std::vector<double> probability(count);
-    for (uint32_t i = 0; i < count; ++i)
-        probability[i] = shading::lightPickProbability(power[i], table.totalPower, count);
-    table.steps = gridCdf(probability, LightTable::kLightSteps);
-    for (uint32_t i = 0; i < count; ++i) {
-        const uint64_t own = table.steps[i] - (i > 0 ? table.steps[i - 1] : 0);
-        table.pick.push_back(static_cast<double>(own) / static_cast<double>(LightTable::kLightSteps));
-        table.pdfArea.push_back(table.pick[i] / area[i]);
-    }
+    pickTable(power, table.steps, table.pick, table.totalPower);
+    for (size_t i = 0; i < area.size(); ++i) table.pdfArea.push_back(table.pick[i] / area[i]);
     table.solidAngleTriangles = samplesTrianglesBySolidAngle(scene);
     return table;
 }
@@ -81,8 +102,33 @@ bool samplesTrianglesBySolidAngle(const Scene& scene) {
 }
 
 size_t LightTable::find(uint64_t u) const {
-    const size_t i = std::upper_bound(steps.begin(), steps.end(), u) - steps.begin();
-    return std::min(i, steps.size() - 1);
+    return findStep(steps, u);
+}
+
+PunctualLightTable buildPunctualLightTable(const Scene& scene) {
+    PunctualLightTable table;
+    if (scene.lights.size() <= VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO) return table;
+    const double radius =
+        scene.bounds.empty() ? 1.0
+                             : 0.5 * glm::length(glm::dvec3(scene.bounds.max) - glm::dvec3(scene.bounds.min));
+    std::vector<double> power;
+    for (const PunctualLight& light : scene.lights) {
+        const double intensity =
+            shading::luminance(glm::dvec3(light.color) * static_cast<double>(light.intensity));
+        double spread = 4.0 * M_PI;  // the solid angle a point light shines into
+        if (light.type == LightType::Spot)
+            spread = 2.0 * M_PI * (1.0 - std::cos(static_cast<double>(light.outerConeAngle)));
+        if (light.type == LightType::Directional) spread = M_PI * radius * radius;
+        const double p = intensity * spread;
+        power.push_back(std::isfinite(p) && p > 0.0 ? p : 0.0);
+    }
+    double total = 0.0;
+    pickTable(power, table.steps, table.pick, total);
+    return table;
+}
+
+size_t PunctualLightTable::find(uint64_t u) const {
+    return findStep(steps, u);
 }
 
 }  // namespace vkrt

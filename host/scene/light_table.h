@@ -38,6 +38,23 @@ struct LightTable {
 
 LightTable buildLightTable(const Scene& scene);
 
+// The table by which both renderers pick a punctual light where a scene has more than
+// VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO (shaders/punctual_light.h), on the same grid and with the same shares as
+// LightTable's: nine tenths by power (the luminance of its intensity times the solid angle it shines into, 4
+// pi for a point light and 2 pi (1 - cos(outer angle)) for a spot; a directional light's irradiance times the
+// scene's cross-section, pi r^2 for the sphere around its bounds) and a tenth uniformly. Empty for fewer
+// lights.
+struct PunctualLightTable {
+    std::vector<uint64_t>
+        steps;                 // the cumulative steps up to and including each light, ending at kLightSteps
+    std::vector<double> pick;  // each light's probability of being picked
+
+    bool empty() const { return steps.empty(); }
+    size_t find(uint64_t u) const;  // as LightTable::find
+};
+
+PunctualLightTable buildPunctualLightTable(const Scene& scene);
+
 // Whether some emissive triangle is large beside the scene (LightTable::solidAngleTriangles).
 bool samplesTrianglesBySolidAngle(const Scene& scene);
 
