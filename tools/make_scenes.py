@@ -17,6 +17,9 @@ VKRT_sphere extension of docs/vkrt_sphere.md) over a red and yellow checkerboard
 lights.gltf: one each of KHR_lights_punctual's point, spot and directional lights over a floor with a few
 objects.
 
+many-lights.gltf: 144 coloured point lights in two rings around and over three spheres (more than 64 punctual
+lights: each light sample picks one by power), and a dim directional light.
+
 glossy.gltf: glossy reflection and transmission: a row of metal spheres and a row of glass spheres with
 roughness 0, 0.1, 0.25, 0.5 and 0.8 (GGX), lit by two small emissive spheres (area lights), so the
 highlights show multiple importance sampling at work.
@@ -222,6 +225,41 @@ def lights():
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.5, -1.0, -0.3]),
            extensions={"KHR_lights_punctual": {"light": sun}})
     g.write(os.path.join(OUTPUT, "lights.gltf"))
+
+
+def many_lights():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.7, 0.7, 0.7))
+    matte = g.material("matte", base_color=(0.8, 0.8, 0.8))
+    plastic = g.material("plastic", base_color=(0.6, 0.6, 0.7), roughness=0.4)
+    metal = g.material("metal", base_color=(0.9, 0.8, 0.6), metallic=1.0, roughness=0.3)
+    floor = quad([[-6.0, 0.0, -6.0], [6.0, 0.0, -6.0], [6.0, 0.0, 6.0], [-6.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    primitives = [(floor[0], None, floor[1], floor_material)]
+    for x, material in ((-2.2, matte), (0.0, metal), (2.2, plastic)):
+        s = uv_sphere([x, 0.6, 0.0], 0.6, 24, 48)
+        primitives.append((s[0], s[1], s[2], material))
+    g.node("scene", mesh=g.mesh("many lights", primitives))
+    eye, target = [0.0, 4.0, 8.0], [0.0, 0.5, 0.0]
+    camera = g.perspective_camera("many-lights-camera", math.radians(45.0))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    # 144 coloured point lights: a ring of 96 dim bulbs just above the floor around the spheres, their hues going
+    # round, and a ring of 48 bright ones over them (more than 64 punctual lights: each light sample picks one).
+    def hue_color(hue):
+        return [round(0.1 + 0.9 * max(0.0, min(1.0, abs(((6.0 * hue + shift) % 6.0) - 3.0) - 1.0)), 4)
+                for shift in (0.0, 4.0, 2.0)]
+    rings = [(96, 3.4, 0.25, 0.06), (48, 2.0, 2.6, 0.5)]
+    for ring, (count, radius, height, intensity) in enumerate(rings):
+        for i in range(count):
+            angle = 2.0 * math.pi * (i + 0.5 * ring) / count
+            light = g.light({"type": "point", "name": f"bulb {ring}.{i}", "color": hue_color(i / count),
+                             "intensity": intensity})
+            g.node(f"bulb {ring}.{i}", translation=[round(radius * math.cos(angle), 5), height,
+                                                   round(radius * math.sin(angle), 5)],
+                   extensions={"KHR_lights_punctual": {"light": light}})
+    sun = g.light({"type": "directional", "name": "moon", "color": [0.6, 0.7, 1.0], "intensity": 0.05})
+    g.node("moon", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.3, -1.0, -0.4]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    g.write(os.path.join(OUTPUT, "many-lights.gltf"))
 
 
 def dof():
@@ -775,6 +813,7 @@ if __name__ == "__main__":
     cornell()
     whitted()
     lights()
+    many_lights()
     dof()
     glossy()
     motion_blur()

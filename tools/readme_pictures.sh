@@ -23,6 +23,7 @@ vkrt --scene scenes/cornell.gltf --width 512 --spp 64 --integrator whitted --out
 
 vkrt --scene scenes/whitted.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/whitted-cpu.png"
 vkrt --scene scenes/lights.gltf --width 512 --spp 256 --out "$out/lights-cpu.png"
+vkrt --scene scenes/many-lights.gltf --width 512 --spp 256 --light-samples 4 --out "$out/many-lights-cpu.png"
 vkrt --scene scenes/dof.gltf --width 512 --spp 256 --out "$out/dof-cpu.png"
 vkrt --scene scenes/glossy.gltf --width 512 --spp 256 --light-samples 2 --out "$out/glossy-cpu.png"
 vkrt --scene scenes/motion-blur.gltf --width 512 --spp 256 --out "$out/motion-blur-cpu.png"
