@@ -360,8 +360,8 @@ TEST(Mpi, InterruptKeepsTheSamplesDone) {
     const std::string job = mpirun() + " -np 2 " + vkrt() + " " +
                             render("cpu", folder / "kept.pfm", 1000000) + " --stats '" +
                             (folder / "kept.json").string() + "'";
-    const test::CommandResult run =
-        test::runCommand("bash -c \"" + job + " & pid=\\$!; sleep 3; kill -INT \\$pid; wait \\$pid\"");
+    const test::CommandResult run = test::runCommand("bash -c \"env --default-signal=INT " + job +
+                                                     " & pid=\\$!; sleep 3; kill -INT \\$pid; wait \\$pid\"");
     EXPECT_NE(run.output.find("interrupted: wrote"), std::string::npos) << run.output;
     ASSERT_TRUE(std::filesystem::exists(folder / "kept.pfm")) << run.output;
     const nlohmann::json s = readJson(folder / "kept.json");

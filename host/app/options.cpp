@@ -17,6 +17,7 @@
 #include "common/atomic_file.h"
 #include "common/file_names.h"
 #include "image/image_io.h"
+#include "punctual_light.h"
 #include "random.h"
 #include "shared.h"
 
@@ -202,9 +203,12 @@ struct CommandLine {
             ->check(CLI::Range(0, kMaxPathDepth))
             ->default_str(std::to_string(kDefaultPathDepth) + " for paths, " +
                           std::to_string(kDefaultWhittedDepth) + " for Whitted");
-        app.add_option(
-               "--light-samples", s.lightSamples,
-               "area-light samples per shading point (1-" + std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
+        app.add_option("--light-samples", s.lightSamples,
+                       "area-light and environment samples per shading point, and punctual lights picked "
+                       "where a scene "
+                       "has more than " +
+                           std::to_string(VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO) + " (1-" +
+                           std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
             ->type_name("N")
             ->transform(kInteger)
             ->check(CLI::Range(1, static_cast<int>(VKRT_MAX_LIGHT_SAMPLES)))

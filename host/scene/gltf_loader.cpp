@@ -526,18 +526,46 @@ void checkGlbVersion(std::string_view file, const std::string& path) {
                          "; vkrt reads GLB version 2 (glTF 2.0)");
 }
 
+// The bytes of JSON text `json` outside its strings of more than 256 bytes.
+uint64_t structuralJsonBytes(std::string_view json) {
+    constexpr size_t kLongString = 256;
+    uint64_t inLongStrings = 0;
+    for (size_t i = 0; i < json.size(); ++i) {
+        if (json[i] != '"') continue;
+        size_t end = i + 1;
+        while (end < json.size() && json[end] != '"') end += json[end] == '\\' ? 2 : 1;
+        if (end - i > kLongString) inLongStrings += std::min(end, json.size()) - i;
+        i = end;
+    }
+    return json.size() - inLongStrings;
+}
+
 // tinygltf's model of the file at `path` (its images decoded through `imageDecoding`; the files it refers to
 // and read listed in `files`). The file's bytes and its JSON are let go on return, before the model is
 // converted.
 tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, ImageDecoding& imageDecoding,
                           std::vector<std::string>& files) {
-    const std::string file = readSceneFile(path);
+    std::string file = readSceneFile(path);
 
     // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
     // and range (tinygltf skips what has the wrong type). JSON that does not parse is left to tinygltf to
     // describe.
     const bool binary = file.compare(0, 4, "glTF") == 0;
     if (binary) checkGlbVersion(file, path);
+    // Parsing the JSON's structure takes about 20 times its text (a document of 100,000 lights' nodes, 28 MB,
+    // peaked at 583 MB: vkrt's parse for its checks, then tinygltf's and its model), before anything else is
+    // counted; long strings (a buffer's or an image's base64 data) are held once or twice as they are. Up to
+    // 16 MiB the parse is part of the process's own footprint (vkrt alone takes about 12), which no estimate
+    // counts either.
+    constexpr uint64_t kParseBytesPerJsonByte = 21, kUncountedParseBytes = uint64_t(16) << 20;
+    const uint64_t jsonBytes = structuralJsonBytes(gltfJsonText(file, binary).value_or(std::string_view()));
+    if (jsonBytes > kUncountedParseBytes / kParseBytesPerJsonByte &&
+        jsonBytes > options.maxSceneBytes / kParseBytesPerJsonByte) {
+        throw MemoryError(
+            path + ": parsing its " + formatBytes(jsonBytes) + " of JSON structure takes about " +
+            formatBytes(jsonBytes * kParseBytesPerJsonByte) + " of host memory, and " +
+            formatBytes(options.maxSceneBytes) + " is available (" + options.memorySource + ")");
+    }
     nlohmann::json document = readGltfJson(file, binary);
     bool rewritten = false;
     if (!document.is_discarded()) {
@@ -564,6 +592,10 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
     const std::string changed = !rewritten ? std::string()
                                 : binary   ? replaceGlbJson(file, document.dump(), path)
                                            : document.dump();
+    // Only tinygltf's own parse of the JSON from here: the document, and the file where it was rewritten, are
+    // let go first (three copies of a JSON of 100,000 nodes, each 13 to 14 times its text, took 0.8 GB).
+    nlohmann::json().swap(document);
+    if (rewritten) std::string().swap(file);
     const std::string& bytes = rewritten ? changed : file;
     const bool ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning,
                                                          reinterpret_cast<const unsigned char*>(bytes.data()),

@@ -167,7 +167,7 @@ Part placed(const Part& part, const glm::dmat4& world) {
     const glm::dvec3 middle = 0.5 * (part.low + part.high);
     const glm::dvec3 half = worldHalfSize(world, 0.5 * glm::abs(part.high - part.low));
     const glm::dvec3 centre = glm::dvec3(world * glm::dvec4(middle, 1.0));
-    double stretch = 0.0;  // the most the map lengthens a vector
+    double stretch = 0.0;  // at least the most the map lengthens a vector (at most 3 times it)
     for (int column = 0; column < 3; ++column) stretch += glm::length(glm::dvec3(world[column]));
     return {glm::dvec3(world * glm::dvec4(part.centre, 1.0)), centre - half, centre + half,
             stretch * part.core};

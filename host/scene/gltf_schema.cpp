@@ -681,18 +681,21 @@ private:
 
 }  // namespace
 
+std::optional<std::string_view> gltfJsonText(std::string_view file, bool binary) {
+    if (!binary) return file;
+    // GLB: a 12-byte header, then the JSON chunk: its length (little-endian) and type, then the text.
+    if (file.size() < 20) return std::nullopt;
+    uint32_t length = 0;
+    for (int i = 0; i < 4; ++i)
+        length |= static_cast<uint32_t>(static_cast<unsigned char>(file[12 + i])) << (8 * i);
+    if (file.compare(16, 4, "JSON") != 0 || length > file.size() - 20) return std::nullopt;
+    return file.substr(20, length);
+}
+
 nlohmann::json readGltfJson(std::string_view file, bool binary) {
-    std::string_view text = file;
-    if (binary) {
-        // GLB: a 12-byte header, then the JSON chunk: its length (little-endian) and type, then the text.
-        if (text.size() < 20) return Json(Json::value_t::discarded);
-        uint32_t length = 0;
-        for (int i = 0; i < 4; ++i)
-            length |= static_cast<uint32_t>(static_cast<unsigned char>(text[12 + i])) << (8 * i);
-        if (text.compare(16, 4, "JSON") != 0 || length > text.size() - 20) return Json(Json::value_t::discarded);
-        text = text.substr(20, length);
-    }
-    return Json::parse(text, nullptr, false);
+    const std::optional<std::string_view> text = gltfJsonText(file, binary);
+    if (!text) return Json(Json::value_t::discarded);
+    return Json::parse(*text, nullptr, false);
 }
 
 std::string glbFile(const std::string& json, const std::string& bin) {

@@ -3,12 +3,16 @@
 // here for its JSON type and range; unknown properties stay allowed.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
 namespace vkrt {
+
+// The JSON text of a .gltf file's bytes, or a .glb's JSON chunk; none where a .glb has no readable one.
+std::optional<std::string_view> gltfJsonText(std::string_view file, bool binary);
 
 // The JSON of a .gltf file's bytes, or of a .glb's JSON chunk; a discarded value when there is none to parse
 // (the loader then lets tinygltf say what is wrong).
