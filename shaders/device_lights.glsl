@@ -45,6 +45,28 @@ vec4 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint ex
     return shadowTransmittance(Ray(origin, direction), tMax, excludeA, excludeB, vkrtWalksComplete);
 }
 
+// Light tables (host/scene/light_table.h): the cumulative steps of entry `i` of the punctual lights' table or of
+// the area lights', and the first entry of `count` whose steps exceed the 48-bit number that (pick, pickFine),
+// 24 bits each, make (by binary search). The table is a constant at each call, so each inlined search reads one.
+uvec2 lightTableSteps(bool punctual, uint i) {
+#ifdef VKRT_HAS_PUNCTUAL_LIGHT_TABLE
+    if (punctual) return gpuLightSteps(i);
+#endif
+    return gpuAreaLightSteps(i);
+}
+
+uint findInLightTable(bool punctual, uint count, float pick, float pickFine) {
+    const uvec2 drawn = lightPickSteps(pick, pickFine);
+    uint lo = 0u, hi = count - 1u;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const uvec2 steps = lightTableSteps(punctual, mid);
+        if (steps.x > drawn.x || (steps.x == drawn.x && steps.y > drawn.y)) hi = mid;
+        else lo = mid + 1u;
+    }
+    return lo;
+}
+
 #ifdef VKRT_HAS_PUNCTUAL_LIGHTS
 uint device_punctualLightCount() { return params.punctualLightCount; }
 
@@ -62,19 +84,11 @@ PunctualLightParams device_punctualLight(uint i) {
 }
 
 #ifdef VKRT_HAS_PUNCTUAL_LIGHT_TABLE
-// The punctual light that (pick, pickFine), 24 bits each, picks as one 48-bit number (the first whose
-// cumulative steps exceed it, by binary search: host/scene/light_table.h), and its pick probability.
+// The punctual light that (pick, pickFine) picks from the table, and its pick probability.
 uint device_pickPunctualLight(float pick, float pickFine, out float probability) {
-    const uvec2 drawn = lightPickSteps(pick, pickFine);
-    uint lo = 0u, hi = params.punctualLightCount - 1u;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const uvec2 steps = gpuLightSteps(mid);
-        if (steps.x > drawn.x || (steps.x == drawn.x && steps.y > drawn.y)) hi = mid;
-        else lo = mid + 1u;
-    }
-    probability = gpuLightAt(lo).pick;
-    return lo;
+    const uint light = findInLightTable(true, params.punctualLightCount, pick, pickFine);
+    probability = gpuLightAt(light).pick;
+    return light;
 }
 #endif
 #endif
@@ -82,18 +96,9 @@ uint device_pickPunctualLight(float pick, float pickFine, out float probability)
 #ifdef VKRT_HAS_AREA_LIGHTS
 bool device_hasAreaLights() { return params.areaLightCount > 0u; }
 
-// The light that (pick, pickFine), 24 bits each, picks as one 48-bit number (the first whose cumulative steps
-// exceed it, by binary search: host/scene/light_table.h), and a point on it.
+// The light that (pick, pickFine) picks from the table, and a point on it.
 LightPoint device_sampleAreaLight(float pick, float pickFine, float u, float v, vec3 from) {
-    const uvec2 drawn = lightPickSteps(pick, pickFine);
-    uint lo = 0u, hi = params.areaLightCount - 1u;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const uvec2 steps = gpuAreaLightSteps(mid);
-        if (steps.x > drawn.x || (steps.x == drawn.x && steps.y > drawn.y)) hi = mid;
-        else lo = mid + 1u;
-    }
-    const GpuAreaLight light = gpuAreaLightAt(lo);
+    const GpuAreaLight light = gpuAreaLightAt(findInLightTable(false, params.areaLightCount, pick, pickFine));
     const GpuPrimitive emitter = primitiveAt(light.primitive);
 #ifdef VKRT_HAS_SHAPES
     if (light.shape != VKRT_NO_PRIMITIVE) {

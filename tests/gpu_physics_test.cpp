@@ -498,6 +498,48 @@ TEST(LightTable, PicksAreExactOnTheGridOfTwoRandomNumbers) {
     }
 }
 
+// An orthographic camera at `position` looking straight down (-Y), -Z up the image, seeing a square of
+// half-side `half`.
+Camera orthographicDown(glm::dvec3 position, double half) {
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = position;
+    camera.forward = {0.0, -1.0, 0.0};
+    camera.up = {0.0, 0.0, -1.0};
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.xmag = camera.ymag = half;
+    return camera;
+}
+
+// `scene` seen by `camera` with both integrators on both devices (`base`'s size, samples and depth; no
+// ambient or background light): each image's mean green within `tolerance` of `expected`, every sample
+// finite, and at most `shadowRaysPerSample` shadow rays a sample on the CPU.
+void expectMeanGreen(const VulkanContext& context, const Scene& scene, const Camera& camera,
+                     RenderSettings base, double expected, double tolerance,
+                     double shadowRaysPerSample = 1e30) {
+    for (Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        RenderSettings settings = base;
+        settings.integrator = integrator;
+        settings.ambient = glm::dvec3(0.0);
+        settings.background = glm::dvec3(0.0);
+        const test::RenderPair pair =
+            test::renderGpuAndCpu(context, scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+        const double samples =
+            static_cast<double>(settings.width) * settings.height * settings.samplesPerPixel;
+        EXPECT_LE(static_cast<double>(pair.cpu.rays.shadow), shadowRaysPerSample * samples);
+        for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
+            const std::string which =
+                std::string(integratorName(integrator)) + (result == &pair.gpu ? ", gpu" : ", cpu");
+            double sum = 0.0;
+            for (const glm::vec3& p : result->image.pixels) sum += p.y;
+            const double mean = sum / static_cast<double>(result->image.pixels.size());
+            std::printf("%s: mean %.6f (closed form %.6f)\n", which.c_str(), mean, expected);
+            EXPECT_NEAR(mean, expected, tolerance * expected) << which;
+            EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
+        }
+    }
+}
+
 // Up to VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO punctual lights, every shading point takes light from each (no
 // table); beyond, each light sample picks one from a table on the same grid and with the same shares as the
 // lamps'.
@@ -537,13 +579,7 @@ TEST_F(Gpu, DimLampBesideOneFarBrighterLightsTheFloor) {
     const LightTable lights = buildLightTable(scene);
     ASSERT_EQ(lights.primitives.size(), 2u);
     // A patch of the floor 0.01 across, 0.3 from the lamp's foot, seen from straight above.
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.3, 2.0, 0.0};
-    camera.forward = {0.0, -1.0, 0.0};
-    camera.up = {0.0, 0.0, -1.0};
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.xmag = camera.ymag = 0.005;
+    const Camera camera = orthographicDown({0.3, 2.0, 0.0}, 0.005);
     const int size = 32;
     double expected = 0.0;
     for (int y = 0; y < size; ++y) {
@@ -554,25 +590,10 @@ TEST_F(Gpu, DimLampBesideOneFarBrighterLightsTheFloor) {
             expected += albedo * (r / d) * (r / d) * (h / d) / (size * size);
         }
     }
-    for (Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
-        RenderSettings settings;
-        settings.integrator = integrator;
-        settings.width = settings.height = size;
-        settings.samplesPerPixel = 256;
-        settings.ambient = glm::dvec3(0.0);
-        settings.background = glm::dvec3(0.0);
-        const test::RenderPair pair =
-            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
-        for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
-            const std::string which =
-                std::string(integratorName(integrator)) + (result == &pair.gpu ? ", gpu" : ", cpu");
-            double sum = 0.0;
-            for (const glm::vec3& p : result->image.pixels) sum += p.y;
-            const double mean = sum / static_cast<double>(result->image.pixels.size());
-            std::printf("%s: floor %.6f (closed form %.6f)\n", which.c_str(), mean, expected);
-            EXPECT_NEAR(mean, expected, 0.04 * expected) << which;
-        }
-    }
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.samplesPerPixel = 256;
+    expectMeanGreen(context(), scene, camera, settings, expected, 0.04);
 }
 
 // A floor under 200 point lights (more than VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO) of intensities from 1e-3 to 1e3
@@ -612,13 +633,7 @@ TEST_F(Gpu, ManyPunctualLightsArePickedByPowerAndLightTheFloorAsTheirSum) {
     EXPECT_EQ(table.steps.back(), LightTable::kLightSteps);
     EXPECT_EQ(table.find(table.steps[6]), 7u);
     // A patch of the floor 0.02 across at the origin, seen from straight above.
-    Camera camera;
-    camera.projection = Projection::Orthographic;
-    camera.position = {0.0, 3.0, 0.0};
-    camera.forward = {0.0, -1.0, 0.0};
-    camera.up = {0.0, 0.0, -1.0};
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.xmag = camera.ymag = 0.01;
+    const Camera camera = orthographicDown({0.0, 3.0, 0.0}, 0.01);
     const int size = 16;
     const shading::PunctualLightParams spot = punctualLightParams(scene.lights[7]);
     double expected = 0.0;  // the green channel's closed form, averaged over the pixels' centres
@@ -634,28 +649,11 @@ TEST_F(Gpu, ManyPunctualLightsArePickedByPowerAndLightTheFloorAsTheirSum) {
         }
     }
     ASSERT_GT(shading::arriveFrom(spot, glm::dvec3(0.0)).irradiance.y, 0.0) << "the spot lights the patch";
-    for (Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
-        RenderSettings settings;
-        settings.integrator = integrator;
-        settings.width = settings.height = size;
-        settings.samplesPerPixel = 256;
-        settings.maxDepth = 0;  // the lights' direct light alone
-        settings.ambient = glm::dvec3(0.0);
-        settings.background = glm::dvec3(0.0);
-        const test::RenderPair pair =
-            test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
-        EXPECT_LT(pair.cpu.rays.shadow, 2u * size * size * settings.samplesPerPixel) << "one light a sample";
-        for (const RenderResult* result : {&pair.gpu, &pair.cpu}) {
-            const std::string which =
-                std::string(integratorName(integrator)) + (result == &pair.gpu ? ", gpu" : ", cpu");
-            double sum = 0.0;
-            for (const glm::vec3& p : result->image.pixels) sum += p.y;
-            const double mean = sum / static_cast<double>(result->image.pixels.size());
-            std::printf("%s: floor %.5f (closed form %.5f)\n", which.c_str(), mean, expected);
-            EXPECT_NEAR(mean, expected, 0.02 * expected) << which;
-            EXPECT_EQ(result->rays.nonFiniteSamples, 0u) << which;
-        }
-    }
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.samplesPerPixel = 256;
+    settings.maxDepth = 0;  // the lights' direct light alone
+    expectMeanGreen(context(), scene, camera, settings, expected, 0.02, 1.0);  // a light a sample, not 200
 }
 
 // An emitting sphere (radiance 1) against black: the image's mean times the film's area is the sphere's
