@@ -104,7 +104,7 @@ VKRT_FN CameraRay cameraRay(VKRT_IN(CameraFrame) camera, real filmX, real filmY,
     // plane in focus, which every lens ray meets where the pinhole's does, came out up to 0.56 off at 2.5e5 times
     // its distance). Such a ray starts instead where it comes within the scene's radius of the pinhole, which
     // skips nothing of the scene: at C - R d, C its point nearest the pinhole, taken from the nearer of the lens
-    // point and the focal point). The lens point lies `along` from C on the ray. C's rounding, about epsilon
+    // point and the focal point. The lens point lies `along` from C on the ray. C's rounding, about epsilon
     // times that point's distance, is added to R: a focus 1e5 and a lens 1e11 times the scene's radius started
     // the ray 0.85% of R inside it in float.
     const real along = dot(lensOffset, ray.direction);

@@ -205,8 +205,7 @@ struct CommandLine {
                           std::to_string(kDefaultWhittedDepth) + " for Whitted");
         app.add_option("--light-samples", s.lightSamples,
                        "area-light and environment samples per shading point, and punctual lights picked "
-                       "where a scene "
-                       "has more than " +
+                       "where a scene has more than " +
                            std::to_string(VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO) + " (1-" +
                            std::to_string(VKRT_MAX_LIGHT_SAMPLES) + ")")
             ->type_name("N")

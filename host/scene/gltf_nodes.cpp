@@ -167,8 +167,9 @@ Part placed(const Part& part, const glm::dmat4& world) {
     const glm::dvec3 middle = 0.5 * (part.low + part.high);
     const glm::dvec3 half = worldHalfSize(world, 0.5 * glm::abs(part.high - part.low));
     const glm::dvec3 centre = glm::dvec3(world * glm::dvec4(middle, 1.0));
-    double stretch = 0.0;  // at least the most the map lengthens a vector (at most 3 times it)
-    for (int column = 0; column < 3; ++column) stretch += glm::length(glm::dvec3(world[column]));
+    double stretch = 0.0;  // the longest of its axes mapped: the factor of a uniform scale
+    for (int column = 0; column < 3; ++column)
+        stretch = std::max(stretch, glm::length(glm::dvec3(world[column])));
     return {glm::dvec3(world * glm::dvec4(part.centre, 1.0)), centre - half, centre + half,
             stretch * part.core};
 }
@@ -276,8 +277,8 @@ glm::dvec3 approximateCenter(const GltfContext& context, const std::vector<int>&
             double farthest = 0.0;
             for (const Part& part : parts)
                 farthest = std::max({farthest, std::abs(part.low[axis]), std::abs(part.high[axis])});
-            int exponent =
-                0;  // of the coarsest spacing allowed: float's at 2^22 typical cores or at farthest
+            // The coarsest spacing allowed: float's at 2^22 typical cores, or at the farthest coordinate.
+            int exponent = 0;
             std::frexp(std::min(farthest, 0x1p22 * *typicalCore), &exponent);
             const double spacing = std::ldexp(1.0, exponent - std::numeric_limits<float>::digits);
             if (spacing > 0.0) centre[axis] = std::round(centre[axis] / spacing) * spacing;

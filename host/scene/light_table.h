@@ -45,9 +45,10 @@ LightTable buildLightTable(const Scene& scene);
 // scene's cross-section, pi r^2 for the sphere around its bounds) and a tenth uniformly. Empty for fewer
 // lights.
 struct PunctualLightTable {
-    std::vector<uint64_t>
-        steps;                 // the cumulative steps up to and including each light, ending at kLightSteps
-    std::vector<double> pick;  // each light's probability of being picked
+    // The cumulative steps up to and including each light, ending at kLightSteps, and the probability of
+    // each.
+    std::vector<uint64_t> steps;
+    std::vector<double> pick;
 
     bool empty() const { return steps.empty(); }
     size_t find(uint64_t u) const;  // as LightTable::find
