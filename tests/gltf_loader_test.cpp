@@ -215,6 +215,46 @@ TEST(GltfLoader, TexturesNoSlotReadsAreNotDecodedOrPacked) {
     EXPECT_EQ(packedTextureBytes(scene), (4u + 1u) * 4u);
 }
 
+// Only the materials the rendered scene places are read: the textures of a material no node uses, and of one
+// placed only in another scene, are not decoded or packed, and an image of theirs that does not decode fails
+// nothing (a 1024 x 1024 texture of an unused material took 5.6 MB of GPU memory, and a missing one failed
+// the load). Every material keeps its index; one placed through a child node's VKRT_shape is read.
+TEST(GltfLoader, MaterialsNoPlacedSurfaceUsesAreNotRead) {
+    const auto baseColour = [](int texture) {
+        return nlohmann::json{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}}}}}};
+    };
+    const std::filesystem::path file = texturedSphereFile(
+        "unplaced", {baseColour(0), baseColour(1), baseColour(2), baseColour(3)},
+        {{{"source", 0}}, {{"source", 1}}, {{"source", 2}}, {{"source", 3}}},
+        {{"placed.png", 2}, {"unused.png", 64}, {"data:image/png;base64,AAAA", 0}, {"child.png", 4}},
+        nlohmann::json::array({"VKRT_shape"}));
+    nlohmann::json document = nlohmann::json::parse(test::readText(file));
+    document["nodes"][0]["children"] = {1};
+    document["nodes"].push_back({{"extensions", {{"VKRT_shape", {{"shape", "box"}, {"material", 3}}}}}});
+    document["nodes"].push_back({{"extensions", {{"VKRT_sphere", {{"radius", 1}, {"material", 2}}}}}});
+    document["scenes"].push_back({{"nodes", {2}}});
+    test::writeText(file, document.dump());
+
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.materials.size(), 4u);
+    ASSERT_EQ(scene.textures.size(), 2u);
+    EXPECT_EQ(scene.textures[scene.materials[0].baseColorTexture.texture].width, 2);
+    EXPECT_EQ(scene.textures[scene.materials[3].baseColorTexture.texture].width, 4);
+    EXPECT_FALSE(scene.materials[1].baseColorTexture.used());
+    EXPECT_FALSE(scene.materials[2].baseColorTexture.used());
+    EXPECT_EQ(packedTextureBytes(scene), (4u + 1u + 16u + 4u + 1u) * 4u);
+
+    // The other scene chosen, its sphere's material is read, and its image fails as it should.
+    document["scene"] = 1;
+    test::writeText(file, document.dump());
+    try {
+        loadGltf(file.string());
+        FAIL() << "the undecodable image of a placed material was accepted";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("material 2"), std::string::npos) << e.what();
+    }
+}
+
 // Textures that show one image share its decoded texels and, where they read it in one colour space, its
 // packed texels: each texture was given its own RGBA copy and mipmaps (41 textures of one 2048 x 2048 PNG in
 // a 32 KB file took 711 MB). Four base colour textures of one 64 x 64 image, each with its own sampler, and a
@@ -235,6 +275,10 @@ TEST(GltfLoader, TexturesOfOneImageShareTheirTexels) {
                             {{"wrapS", 33071}, {"wrapT", 33071}},
                             {{"magFilter", 9728}, {"minFilter", 9728}},
                             {{"wrapS", 33648}}};
+    for (int i = 1; i < 4; ++i) {  // each material placed, so read
+        document["nodes"].push_back({{"extensions", {{"VKRT_sphere", {{"radius", 1}, {"material", i}}}}}});
+        document["scenes"][0]["nodes"].push_back(i);
+    }
     test::writeText(file, document.dump());
     const Scene scene = loadGltf(file.string());
     const size_t copy = (64u * 64u + mipmapChainTexels(64, 64)) * 4u;

@@ -377,6 +377,7 @@ TEST_F(Gpu, LargeBuffersOfACpuDeviceAreOnHugePages) {
     if (context().properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
         GTEST_SKIP() << "a GPU's own memory";
     if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
+    if (!test::hugePagesGivenNow()) GTEST_SKIP() << "the kernel gives no huge pages now";
     constexpr size_t kBytes = size_t{64} << 20;
     uintptr_t where = 0;
     const GpuBuffer buffer(context(), kBytes, [&](void* mapped) {

@@ -307,6 +307,7 @@ TEST(MemoryCli, HeapIsOnHugePages) {
     GTEST_SKIP() << "the sanitizer's allocator stands in front of glibc's";
 #endif
     if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
+    if (!test::hugePagesGivenNow()) GTEST_SKIP() << "the kernel gives no huge pages now";
     const auto folder = test::temporaryFolder();
     const auto json = folder / "stats.json";
     const test::CommandResult r =
@@ -326,9 +327,11 @@ TEST(HugePageHeap, ThreadsAllocateFromTheHeapOnHugePages) {
 #endif
     if (!test::hugePagesOnRequest()) GTEST_SKIP() << "transparent huge pages are not given on request";
     constexpr size_t kBytes = size_t{16} << 20;  // below the 32 MiB from which blocks are mapped on their own
+    constexpr int kNoHugePagesNow = 77;
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
+        if (!test::hugePagesGivenNow()) _exit(kNoHugePagesNow);
         useHugePageHeap();
         char* block = nullptr;
         std::thread([&] {
@@ -344,6 +347,7 @@ TEST(HugePageHeap, ThreadsAllocateFromTheHeapOnHugePages) {
     int status = 0;
     ASSERT_EQ(waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFEXITED(status));
+    if (WEXITSTATUS(status) == kNoHugePagesNow) GTEST_SKIP() << "the kernel gives no huge pages now";
     EXPECT_EQ(WEXITSTATUS(status), 0)
         << "the thread's block is not on huge pages (see the child's line above)";
 }

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <map>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,10 @@ struct GltfContext {
     Scene scene;
     int defaultMaterial = -1;  // index of glTF's default material in scene.materials, once one needs it
     std::map<int, std::string> imageFailures;  // why images did not decode, by index (loadGltfImage)
+    // The materials the scene's nodes place (placedMaterials), every one when nullopt: only their textures
+    // are decoded and read.
+    std::optional<std::set<int>> placedMaterials;
+    bool readTextures = true;  // false while a material no node places is read: its texture slots stay empty
 };
 
 // "kind index ('name')", the way messages name a glTF object.

@@ -13,12 +13,12 @@
 
 namespace vkrt {
 
-std::set<int> shownImages(const nlohmann::json& document) {
+std::set<int> shownImages(const nlohmann::json& document, const std::optional<std::set<int>>& materials) {
     std::set<int> shown;
     if (!document.is_object() || !document.contains("textures") || !document["textures"].is_array())
         return shown;
     const nlohmann::json& textures = document["textures"];
-    for (const int index : texturesReadByMaterials(document)) {
+    for (const int index : texturesReadByMaterials(document, materials)) {
         if (index < 0 || static_cast<size_t>(index) >= textures.size()) continue;
         const nlohmann::json& texture = textures[static_cast<size_t>(index)];
         if (!texture.is_object()) continue;

@@ -33,8 +33,8 @@ struct ImageDecoding {
 };
 
 // The images that the textures a material slot vkrt reads names show (imageSource of each), read from a glTF
-// document's JSON: a texture no such slot names is not decoded.
-std::set<int> shownImages(const nlohmann::json& document);
+// document's JSON for `materials` (every material when nullopt): a texture no such slot names is not decoded.
+std::set<int> shownImages(const nlohmann::json& document, const std::optional<std::set<int>>& materials);
 
 // tinygltf's image loader (TinyGLTF::SetImageLoader): WebP data by libwebp, as 8-bit RGBA, anything else by
 // tinygltf's own loader. The size an image would take decoded is read from its header first and counted

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <new>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -29,6 +30,7 @@
 #include "scene/gltf_primitives.h"
 #include "scene/gltf_schema.h"
 #include "scene/gltf_solids.h"
+#include "scene/gltf_texture_slots.h"
 #include "scene/gltf_transforms.h"
 #include "scene/scene_builder.h"
 
@@ -66,12 +68,13 @@ int chooseAnimation(GltfContext& context, const std::string& request) {
 class GltfConverter {
   public:
     GltfConverter(const tinygltf::Model& model, std::string path, const LoadOptions& options,
-                  ImageFailures imageFailures, uint64_t imageBytes)
+                  ImageFailures imageFailures, uint64_t imageBytes, std::optional<std::set<int>> placed)
         : context_(model, std::move(path)),
           options_(options),
           selectedAnimation_(chooseAnimation(context_, options.animation)),
           meshes_(context_) {
         context_.imageFailures = std::move(imageFailures);
+        context_.placedMaterials = std::move(placed);
         otherBytes_ = imageBytes;  // the decoded images share the memory with the triangles
     }
 
@@ -82,6 +85,8 @@ class GltfConverter {
     using Poses = std::vector<glm::dmat4>;
 
     void chooseShutter();
+    // Fails where a surface uses a material that placedMaterials, which chose the materials read, missed.
+    void checkPlacedMaterialsWereRead() const;
     // Places the tree under `root` in the world, below `parents`.
     void walk(int root, const Poses& parents);
     // Places one node's mesh, camera, light, sphere and solid; returns its poses, its children's parents.
@@ -166,6 +171,7 @@ Scene GltfConverter::convert() {
     meshes_.setReserve([this](uint64_t bytes, const std::string& what) { reserveBytes(bytes, what); });
     meshes_.setDecodingCheck([this](uint64_t bytes, const std::string& what) { checkDecoding(bytes, what); });
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
+    checkPlacedMaterialsWereRead();
 
     meshes_.warnAboutSkipped();
     if (scene.triangles.empty() && scene.spheres.empty() && scene.solids.empty())
@@ -173,6 +179,22 @@ Scene GltfConverter::convert() {
 
     finalizeScene(scene);
     return std::move(scene);
+}
+
+void GltfConverter::checkPlacedMaterialsWereRead() const {
+    if (!context_.placedMaterials) return;
+    const Scene& scene = context_.scene;
+    std::vector<bool> read(scene.materials.size(), true);  // glTF's default material is read when used
+    for (size_t i = 0; i < context_.model.materials.size(); ++i)
+        read[i] = context_.placedMaterials->count(static_cast<int>(i)) != 0;
+    const auto check = [&](uint32_t material) {
+        if (material < read.size() && !read[material])
+            context_.fail(describe("material", static_cast<int>(material), scene.materials[material].name) +
+                          " is placed but was not read (vkrt's walk of the file's nodes missed it)");
+    };
+    for (const Triangle& triangle : scene.triangles) check(triangle.material);
+    for (const Sphere& sphere : scene.spheres) check(sphere.material);
+    for (const Shape& shape : scene.shapes) check(shape.material);
 }
 
 // The shutter interval: the caller's, else the scene's extras {"shutter": [open, close]} (seconds of the
@@ -541,10 +563,10 @@ uint64_t structuralJsonBytes(std::string_view json) {
 }
 
 // tinygltf's model of the file at `path` (its images decoded through `imageDecoding`; the files it refers to
-// and read listed in `files`). The file's bytes and its JSON are let go on return, before the model is
-// converted.
+// and read listed in `files`; the materials its scene places in `placed`, nullopt when unknown). The file's
+// bytes and its JSON are let go on return, before the model is converted.
 tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, ImageDecoding& imageDecoding,
-                          std::vector<std::string>& files) {
+                          std::vector<std::string>& files, std::optional<std::set<int>>& placed) {
     std::string file = readSceneFile(path);
 
     // The JSON first: a required extension vkrt lacks, then every property vkrt reads, checked for its type
@@ -578,7 +600,11 @@ tinygltf::Model parseGltf(const std::string& path, const LoadOptions& options, I
     }
 
     tinygltf::TinyGLTF reader;
-    if (!document.is_discarded()) imageDecoding.shown = shownImages(document);
+    if (!document.is_discarded()) {
+        // Only the textures of materials the scene places are decoded (a material no node uses is not read).
+        placed = placedMaterials(document);
+        imageDecoding.shown = shownImages(document, placed);
+    }
     imageDecoding.maxBytes = options.maxSceneBytes;
     imageDecoding.memorySource = options.memorySource;
     reader.SetImageLoader(loadGltfImage, &imageDecoding);
@@ -621,12 +647,13 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
     try {
         ImageDecoding imageDecoding;
         std::vector<std::string> files;
-        tinygltf::Model model = parseGltf(path, options, imageDecoding, files);
+        std::optional<std::set<int>> placed;
+        tinygltf::Model model = parseGltf(path, options, imageDecoding, files, placed);
         decompressMeshes(model, path,
                          options.maxSceneBytes - std::min(options.maxSceneBytes, imageDecoding.decodedBytes),
                          options.memorySource);
         GltfConverter converter(model, path, options, std::move(imageDecoding.failures),
-                                imageDecoding.decodedBytes);
+                                imageDecoding.decodedBytes, std::move(placed));
         Scene scene = converter.convert();
         scene.files = std::move(files);
         return scene;

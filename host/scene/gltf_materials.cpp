@@ -158,6 +158,10 @@ void convertMaterials(GltfContext& context) {
         const std::string where = describe("material", static_cast<int>(i), m.name);
         Material material;
         material.name = m.name;
+        // A material no node places is checked as the others are, but its texture slots are left empty: their
+        // images were not decoded (a file's unused materials took their images' memory on both devices).
+        context.readTextures =
+            !context.placedMaterials || context.placedMaterials->count(static_cast<int>(i)) != 0;
         // Core metallic-roughness factors and the base colour texture.
         const auto& pbr = m.pbrMetallicRoughness;
         if (pbr.baseColorFactor.size() != 4 || !allFinite(pbr.baseColorFactor)) {
@@ -225,6 +229,7 @@ void convertMaterials(GltfContext& context) {
         readAlpha(context, m, where, material);
         context.scene.materials.push_back(material);
     }
+    context.readTextures = true;
 }
 
 uint32_t defaultMaterial(GltfContext& context) {

@@ -1,5 +1,6 @@
 #include "scene/gltf_texture_slots.h"
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -10,7 +11,8 @@
 namespace vkrt {
 namespace {
 
-// The glTF texture a material slot refers to (-1 for none); a texture whose image is missing fails here.
+// The glTF texture a material slot refers to (-1 for none, and for every slot of a material no node places);
+// a texture whose image is missing fails here.
 int textureIndex(const GltfContext& context, int gltfTexture, const std::string& where) {
     const tinygltf::Model& model = context.model;
     if (gltfTexture < 0) return -1;
@@ -22,6 +24,7 @@ int textureIndex(const GltfContext& context, int gltfTexture, const std::string&
         context.fail(where + " uses texture " + std::to_string(gltfTexture) +
                      ", which has no image vkrt reads");
     }
+    if (!context.readTextures) return -1;  // a material no node places: its image was not decoded
     if (!holdsPixels(model.images[source])) {
         const auto failure = context.imageFailures.find(source);
         context.fail(where + " uses texture " + std::to_string(gltfTexture) + " but " +
@@ -53,7 +56,88 @@ void warnAboutTexCoord(GltfContext& context, TextureSlot& slot, const std::strin
 
 }  // namespace
 
-std::set<int> texturesReadByMaterials(const nlohmann::json& document) {
+std::optional<std::set<int>> placedMaterials(const nlohmann::json& document) {
+    const auto array = [](const nlohmann::json& parent, const char* key) -> const nlohmann::json* {
+        return parent.is_object() && parent.contains(key) && parent[key].is_array() ? &parent[key] : nullptr;
+    };
+    const auto indexIn = [](const nlohmann::json& parent, const char* key,
+                            size_t count) -> std::optional<size_t> {
+        if (!parent.is_object() || !parent.contains(key) || !parent[key].is_number_integer())
+            return std::nullopt;
+        const int64_t index = parent[key].get<int64_t>();
+        if (index < 0 || static_cast<uint64_t>(index) >= count) return std::nullopt;
+        return static_cast<size_t>(index);
+    };
+    static const nlohmann::json kNone = nlohmann::json::array();
+    const nlohmann::json* nodes = array(document, "nodes");
+    if (nodes == nullptr) nodes = &kNone;
+    const nlohmann::json* meshes = array(document, "meshes");
+    if (meshes == nullptr) meshes = &kNone;
+    const size_t materialCount = array(document, "materials") ? document["materials"].size() : 0;
+
+    // The roots as sceneRoots chooses them: the default scene's (else the first scene's), or with no scene
+    // every node that is nobody's child.
+    std::vector<size_t> pending;
+    const auto addNodes = [&](const nlohmann::json& list) {
+        for (const nlohmann::json& node : list) {
+            if (!node.is_number_integer() || node.get<int64_t>() < 0 || node.get<uint64_t>() >= nodes->size())
+                return false;
+            pending.push_back(node.get<size_t>());
+        }
+        return true;
+    };
+    if (const nlohmann::json* scenes = array(document, "scenes"); scenes != nullptr && !scenes->empty()) {
+        const std::optional<size_t> chosen = document.contains("scene")
+                                                 ? indexIn(document, "scene", scenes->size())
+                                                 : std::optional<size_t>(0);
+        if (!chosen) return std::nullopt;
+        if (const nlohmann::json* roots = array((*scenes)[*chosen], "nodes"); roots && !addNodes(*roots))
+            return std::nullopt;
+    } else {
+        std::vector<bool> isChild(nodes->size(), false);
+        for (const nlohmann::json& node : *nodes) {
+            if (const nlohmann::json* children = array(node, "children")) {
+                for (const nlohmann::json& child : *children)
+                    if (child.is_number_integer() && child.get<int64_t>() >= 0 &&
+                        child.get<uint64_t>() < nodes->size())
+                        isChild[child.get<size_t>()] = true;
+            }
+        }
+        for (size_t i = 0; i < nodes->size(); ++i)
+            if (!isChild[i]) pending.push_back(i);
+    }
+
+    // Every node below them, once (a cycle is the converter's to refuse).
+    std::set<int> placed;
+    std::vector<bool> visited(nodes->size(), false);
+    while (!pending.empty()) {
+        const size_t nodeIndex = pending.back();
+        pending.pop_back();
+        if (visited[nodeIndex]) continue;
+        visited[nodeIndex] = true;
+        const nlohmann::json& node = (*nodes)[nodeIndex];
+        if (const nlohmann::json* children = array(node, "children"); children && !addNodes(*children))
+            return std::nullopt;
+        if (const std::optional<size_t> mesh = indexIn(node, "mesh", meshes->size())) {
+            if (const nlohmann::json* primitives = array((*meshes)[*mesh], "primitives")) {
+                for (const nlohmann::json& primitive : *primitives)
+                    if (const auto material = indexIn(primitive, "material", materialCount))
+                        placed.insert(static_cast<int>(*material));
+            }
+        }
+        if (node.is_object() && node.contains("extensions") && node["extensions"].is_object()) {
+            for (const char* extension : {"VKRT_sphere", "VKRT_shape"}) {
+                if (!node["extensions"].contains(extension)) continue;
+                if (const auto material = indexIn(node["extensions"][extension], "material", materialCount))
+                    placed.insert(static_cast<int>(*material));
+            }
+        }
+    }
+    return placed;
+}
+
+std::set<int> texturesReadByMaterials(const nlohmann::json& document,
+                                      const std::optional<std::set<int>>& materials) {
     // The slots convertMaterials and the readers of gltf_material_extensions.h read: an image this leaves out
     // is not decoded, and a slot that reads it fails.
     static const std::pair<const char*, std::vector<const char*>> kExtensionSlots[] = {
@@ -71,8 +155,10 @@ std::set<int> texturesReadByMaterials(const nlohmann::json& document) {
     };
     if (!document.is_object() || !document.contains("materials") || !document["materials"].is_array())
         return read;
-    for (const nlohmann::json& material : document["materials"]) {
-        if (!material.is_object()) continue;
+    const nlohmann::json& list = document["materials"];
+    for (size_t i = 0; i < list.size(); ++i) {
+        const nlohmann::json& material = list[i];
+        if (!material.is_object() || (materials && materials->count(static_cast<int>(i)) == 0)) continue;
         if (material.contains("pbrMetallicRoughness")) {
             add(material["pbrMetallicRoughness"], "baseColorTexture");
             add(material["pbrMetallicRoughness"], "metallicRoughnessTexture");
