@@ -346,17 +346,21 @@ VKRT_FN real coatPick(VKRT_IN(SurfaceResponse) s) {
 }
 
 // The dielectric part's reflectance at a microfacet seen at cosine cosH, eta relative across the interface:
-// the exact Fresnel term, scaled by KHR_materials_specular's factor and tinted by its colour at normal
-// incidence, the tint fading to none at grazing (the extension tints f0 and leaves f90 white). Beyond the
-// critical angle inside a volume it is 1, neither scaled nor tinted: no light can pass there, and what the
-// layer did not reflect was lost (a clear cube of specularFactor 0 in a white furnace showed 0.71, some
-// pixels black).
+// the exact Fresnel term, tinted and scaled as KHR_materials_specular says. The extension tints f0 (to
+// min(f0 cs, 1)) and leaves f90 white on Schlick's curve, so the tint moves the reflectance by
+// (min(f0 cs, 1) - f0) (1 - (1 - cos)^5); that shift is added to the exact term, which it leaves exact where
+// the tint is white. (Scaling the whole term by a tint that faded as (1 - cos)^5 made a tint of 2 reflect 1.6
+// times the extension's reflectance at 60 degrees.) Beyond the critical angle inside a volume it is 1,
+// neither scaled nor tinted: no light can pass there, and what the layer did not reflect was lost (a clear
+// cube of specularFactor 0 in a white furnace showed 0.71, some pixels black).
 VKRT_FN real3 dielectricReflectance(VKRT_IN(SurfaceResponse) s, real cosH, real eta) {
     if (totallyReflects(cosH, eta)) return real3(1.0);
     real3 reflectance = real3(fresnelDielectric(cosH, eta));
     if (s.specularTint != real3(1.0)) {  // most materials: white, and no fifth power to take
-        const real grazing = pow(1.0 - clamp(cosH, 0.0, 1.0), 5.0);
-        reflectance = min(reflectance * mix(s.specularTint, real3(1.0), grazing), real3(1.0));
+        const real f0 = dielectricF0(eta);
+        const real weight = 1.0 - pow(1.0 - clamp(cosH, 0.0, 1.0), 5.0);
+        reflectance = clamp(reflectance + (min(f0 * s.specularTint, real3(1.0)) - f0) * weight, real3(0.0),
+                            real3(1.0));
     }
     return reflectance * s.specularWeight;
 }

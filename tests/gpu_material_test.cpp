@@ -619,6 +619,44 @@ TEST_F(GpuMaterials, SpecularColorTintsTheReflectanceAtNormalIncidence) {
     }
 }
 
+TEST_F(GpuMaterials, SpecularColorTintsAtAnAngleAsTheExtensionsCurveDoes) {
+    // A smooth black dielectric seen 60 degrees from its normal reflects the background (1; what a camera
+    // ray's mirror images show) by its Fresnel term. KHR_materials_specular tints f0 = 0.04 by the colour and
+    // leaves f90 white on Schlick's curve, so the tint adds f0 (colour - 1) (1 - 0.5^5) to the exact term of
+    // the untinted channel, and a tint whose f0 would pass 1 stops at 1: a tint of 2 reflected 0.176 where
+    // the extension's curve gives 0.128 with the exact term (0.109 with Schlick's), one of 0.25 0.024 where
+    // it gives 0.060.
+    Scene scene;
+    Material material;
+    material.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    material.metallic = 0.0f;
+    material.roughness = 0.0f;
+    material.specularColor = glm::vec3(2.0f, 1.0f, 0.25f);
+    scene.materials.push_back(material);
+    test::addUnitSquare(scene, 0);
+    finalizeScene(scene);
+    const double sin60 = std::sqrt(0.75);
+    Camera camera = squareCamera();
+    camera.forward = {0.0, -sin60, -0.5};
+    camera.up = {0.0, 0.5, -sin60};
+    camera.position = glm::dvec3(0.5, 0.5, 0.0) - 2.0 * camera.forward;
+    camera.xmag = camera.ymag = 0.2;
+    RenderSettings settings = ambientOnly(8);
+    settings.background = glm::dvec3(1.0);
+    const auto [gpu, cpu] =
+        test::renderGpuAndCpu(context(), scene, bvhFor(scene), camera, settings, test::shaderCacheDir());
+    // The exact term at cosine 0.5 into index 1.5: cosT = sqrt(1 - 0.75 / 2.25).
+    const double cosT = std::sqrt(1.0 - 0.75 / 2.25);
+    const double rs = (0.5 - 1.5 * cosT) / (0.5 + 1.5 * cosT), rp = (0.75 - cosT) / (0.75 + cosT);
+    const double exact = 0.5 * (rs * rs + rp * rp), shift = 0.04 * (1.0 - std::pow(0.5, 5.0));
+    for (const Image* image : {&gpu.image, &cpu.image}) {
+        const glm::vec3 pixel = image->at(4, 4);
+        EXPECT_NEAR(pixel.x, exact + shift, 1e-5);
+        EXPECT_NEAR(pixel.y, exact, 1e-5);
+        EXPECT_NEAR(pixel.z, exact - 0.75 * shift, 1e-5);
+    }
+}
+
 TEST_F(GpuMaterials, SpecularColorDoesNotTintTransmittedLight) {
     // Thin-walled smooth glass head-on, KHR_materials_specular 0.5 in red: it reflects F = 0.5 x 0.04 x (1,
     // 0, 0) of the background (0.25) and passes 1 - max(F) = 0.98 of it in every channel (the spec's
