@@ -407,6 +407,46 @@ TEST(GltfLoader, TangentFramesFollowTextureCoordinatesAndNodes) {
     EXPECT_EQ(mirrored, 2);
 }
 
+TEST(GltfLoader, DerivedTangentFramesSplitAtAMirroredSeam) {
+    // Two squares side by side facing +z, sharing the seam's two vertices (x = 1), the right one's texture
+    // mirrored across it (u = 2 - x; v down both): each triangle's frame is its own half's, at the seam too:
+    // tangent +x and w 1 on the left, -x and -1 on the right, the bitangent up (+y) on both. Averaged over
+    // the seam's vertices, the two tangents cancelled there and left what rounding gave.
+    test::GltfDocument d;
+    const int positions = d.positions({0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0});
+    const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
+    const int uvs = d.floats({0, 1, 1, 1, 0, 1, 0, 0, 1, 0, 0, 0}, "VEC2");
+    const int indices = d.unsignedShorts({0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4}, "SCALAR");
+    d.json["images"] = {{{"uri",
+                          "data:image/png;base64,"
+                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
+                          "BJRU5ErkJggg=="}}};
+    d.json["textures"] = {{{"source", 0}}};
+    d.json["materials"] = {{{"normalTexture", {{"index", 0}}}}};
+    d.json["meshes"] = {
+        {{"primitives",
+          {{{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
+            {"indices", indices},
+            {"material", 0}}}}}};
+    d.node({{"mesh", 0}});
+    const std::filesystem::path file = test::temporaryFolder() / "seam.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.tangents.size(), 4u);
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const Triangle& t = scene.triangles[i];
+        const bool left = (t.v0.x + t.v1.x + t.v2.x) / 3.0f + scene.origin.x < 1.0f;
+        SCOPED_TRACE(left ? "left" : "right");
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4 frame = scene.tangents[i][k];
+            EXPECT_LT(glm::length(glm::vec3(frame) - glm::vec3(left ? 1.0f : -1.0f, 0.0f, 0.0f)), 1e-6f);
+            EXPECT_EQ(frame.w, left ? 1.0f : -1.0f);
+            const glm::vec3 bitangent = frame.w * glm::cross(scene.shading[i].normal[k], glm::vec3(frame));
+            EXPECT_LT(glm::length(bitangent - glm::vec3(0.0f, 1.0f, 0.0f)), 1e-6f);
+        }
+    }
+}
+
 TEST(GltfLoader, DerivedTangentFramesFollowTheNormalTexturesTransform) {
     // Three squares facing +z whose u grows along +x and v down them (glTF's v grows down the image), each
     // with a normal texture and derived tangents: as they are, turned by 90 degrees by KHR_texture_transform
@@ -471,7 +511,10 @@ TEST(TangentFrames, MirroredTextureCoordinatesFlipTheHandedness) {
             uvs.push_back(direction * positions[3 * v]);
             uvs.push_back(1.0f - positions[3 * v + 1]);
         }
-        const std::vector<float> tangents = vertexTangents(positions, normals, uvs, faces);
+        const VertexTangents derived = vertexTangents(positions, normals, uvs, faces);
+        EXPECT_EQ(derived.mirroredFaces, std::vector<bool>(2, direction < 0.0f));
+        const std::vector<float>& tangents = direction > 0.0f ? derived.frames : derived.mirroredFrames;
+        EXPECT_EQ(derived.frames, derived.mirroredFrames);  // one kind of face: both frames are its
         for (size_t v = 0; v < 4; ++v) {
             EXPECT_NEAR(tangents[4 * v], direction, 1e-6f);
             EXPECT_NEAR(tangents[4 * v + 1], 0.0f, 1e-6f);
@@ -479,7 +522,9 @@ TEST(TangentFrames, MirroredTextureCoordinatesFlipTheHandedness) {
         }
     }
     const std::vector<float> flat(8, 0.5f);
-    for (float t : vertexTangents(positions, normals, flat, faces)) EXPECT_EQ(t, 0.0f);
+    const VertexTangents none = vertexTangents(positions, normals, flat, faces);
+    for (float t : none.frames) EXPECT_EQ(t, 0.0f);
+    for (float t : none.mirroredFrames) EXPECT_EQ(t, 0.0f);
     EXPECT_EQ(faceTangent({glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)},
                           {glm::dvec2(0, 1), glm::dvec2(1, 1), glm::dvec2(0, 0)}, glm::dvec3(0, 0, 1)),
               glm::vec4(1, 0, 0, 1));

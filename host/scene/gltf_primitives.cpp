@@ -343,8 +343,8 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     // mirrored by the transform showed its ridges as valleys, and one turned by it was lit from the side.
     const std::array<glm::vec2, 2> rows = normalTexture.linearRows();
     // The tangents kept, beside the mapped coordinates and the two sums per vertex that derive them.
-    holdWhileDecoding(4.0 * sizeof(float) * vertexCount,
-                      static_cast<double>(2 * sizeof(float) + 2 * sizeof(glm::dvec3)) * vertexCount,
+    holdWhileDecoding(8.0 * sizeof(float) * vertexCount + decoded.faces.size() / 8.0,
+                      static_cast<double>(2 * sizeof(float) + 4 * sizeof(glm::dvec3)) * vertexCount,
                       where + " derived tangents");
     std::vector<float> mapped(uvs.size());
     for (size_t i = 0; i + 1 < uvs.size(); i += 2) {
@@ -352,7 +352,10 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
         mapped[i] = glm::dot(rows[0], uv);
         mapped[i + 1] = glm::dot(rows[1], uv);
     }
-    decoded.tangents = vertexTangents(decoded.positions, decoded.normals, mapped, decoded.faces);
+    VertexTangents derived = vertexTangents(decoded.positions, decoded.normals, mapped, decoded.faces);
+    decoded.tangents = std::move(derived.frames);
+    decoded.mirroredTangents = std::move(derived.mirroredFrames);
+    decoded.mirroredFaces = std::move(derived.mirroredFaces);
 }
 
 std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
@@ -412,6 +415,7 @@ void MeshInstancer::keepUsedVertices(DecodedPrimitive& decoded) {
     keepVertices(decoded.colors, 4, used);
     keepVertices(decoded.uvs1, 2, used);
     keepVertices(decoded.tangents, 4, used);
+    keepVertices(decoded.mirroredTangents, 4, used);
     for (MorphTarget& target : decoded.targets) {
         keepVertices(target.positions, 3, used);
         keepVertices(target.normals, 3, used);
@@ -535,7 +539,8 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
     const glm::dmat3 rigidNormalMatrix = glm::transpose(glm::inverse(rigidLinear));
     const size_t firstTriangle = context_.scene.triangles.size();
     std::vector<std::array<uint32_t, 3>> kept;  // the faces placed, as wound, for their later poses
-    for (auto face : primitive.faces) {
+    for (size_t faceIndex = 0; faceIndex < primitive.faces.size(); ++faceIndex) {
+        std::array<uint32_t, 3> face = primitive.faces[faceIndex];
         std::array<glm::dmat3, 3> linear{rigidLinear, rigidLinear, rigidLinear};
         std::array<glm::dmat3, 3> normalMatrix{rigidNormalMatrix, rigidNormalMatrix, rigidNormalMatrix};
         double determinant = glm::determinant(rigidLinear);
@@ -599,15 +604,19 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
             if (primitive.tangents.empty()) {
                 frame = flatTangents(primitive, triangle, face, geometric);
             } else {
+                // Derived frames: the one of the face's own kind (the image mirrored on it or not).
+                const std::vector<float>& frames =
+                    !primitive.mirroredFaces.empty() && primitive.mirroredFaces[faceIndex]
+                        ? primitive.mirroredTangents
+                        : primitive.tangents;
                 for (int k = 0; k < 3; ++k) {
                     const uint32_t v = face[k];
-                    const glm::dvec3 t = linear[k] * morphed(primitive.tangents, 4, primitive.targets,
+                    const glm::dvec3 t = linear[k] * morphed(frames, 4, primitive.targets,
                                                              &MorphTarget::tangents, opening.weights, v);
                     const double length = glm::length(t);
                     if (!(length > 0.0) || !std::isfinite(length))
                         continue;  // zero: no frame, no perturbation
-                    const double w =
-                        (primitive.tangents[4 * v + 3] < 0.0f ? -1.0 : 1.0) * (mirrored ? -1.0 : 1.0);
+                    const double w = (frames[4 * v + 3] < 0.0f ? -1.0 : 1.0) * (mirrored ? -1.0 : 1.0);
                     frame[k] = glm::vec4(glm::dvec4(t / length, w));
                 }
             }

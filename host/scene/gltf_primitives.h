@@ -41,6 +41,8 @@ struct DecodedPrimitive {
     std::vector<float> uvs1;                     // TEXCOORD_1, 2 per vertex, or empty
     bool normalMapped = false;                   // its material has a normal texture
     std::vector<float> tangents;                 // normal-mapped with normals: 4 per vertex (tangent_frames.h)
+    std::vector<float> mirroredTangents;         // derived: the frames of the faces mirroredFaces marks
+    std::vector<bool> mirroredFaces;             // derived: per face, whether it shows the image mirrored
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
     std::vector<MorphTarget> targets;  // morph targets, in the order of the mesh's weights

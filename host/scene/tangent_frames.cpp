@@ -9,6 +9,9 @@ namespace {
 struct TriangleDerivatives {
     glm::dvec3 dpdu{0.0}, dpdv{0.0};
     bool valid = false;
+    // The image is mirrored on the triangle: its (u, v) turn counter-clockwise, a positive area in the uv
+    // plane (glTF's v grows down the image, so an unmirrored triangle's turn clockwise).
+    bool mirrored = false;
 };
 
 // dP/du and dP/dv of a triangle from its edges and the matching texture coordinate differences.
@@ -20,6 +23,7 @@ TriangleDerivatives derivatives(const std::array<glm::dvec3, 3>& p, const std::a
     if (!(std::abs(determinant) > 0.0) || !std::isfinite(determinant)) return result;
     result.dpdu = (e1 * d2.y - e2 * d1.y) / determinant;
     result.dpdv = (e2 * d1.x - e1 * d2.x) / determinant;
+    result.mirrored = determinant > 0.0;
     result.valid = std::isfinite(result.dpdu.x + result.dpdu.y + result.dpdu.z + result.dpdv.x + result.dpdv.y +
                                  result.dpdv.z);
     return result;
@@ -43,12 +47,16 @@ glm::dvec3 vec3At(const std::vector<float>& v, uint32_t i) {
 
 }  // namespace
 
-std::vector<float> vertexTangents(const std::vector<float>& positions, const std::vector<float>& normals,
-                                  const std::vector<float>& uvs,
-                                  const std::vector<std::array<uint32_t, 3>>& faces) {
+VertexTangents vertexTangents(const std::vector<float>& positions, const std::vector<float>& normals,
+                              const std::vector<float>& uvs,
+                              const std::vector<std::array<uint32_t, 3>>& faces) {
     const size_t vertexCount = positions.size() / 3;
-    std::vector<glm::dvec3> dpdu(vertexCount, glm::dvec3(0.0)), dpdv(vertexCount, glm::dvec3(0.0));
-    for (const std::array<uint32_t, 3>& face : faces) {
+    // The sums over each vertex's faces, then over its mirrored ones.
+    std::vector<glm::dvec3> dpdu(2 * vertexCount, glm::dvec3(0.0)), dpdv(2 * vertexCount, glm::dvec3(0.0));
+    VertexTangents result;
+    result.mirroredFaces.assign(faces.size(), false);
+    for (size_t f = 0; f < faces.size(); ++f) {
+        const std::array<uint32_t, 3>& face = faces[f];
         std::array<glm::dvec3, 3> p;
         std::array<glm::dvec2, 3> uv;
         for (int k = 0; k < 3; ++k) {
@@ -57,6 +65,8 @@ std::vector<float> vertexTangents(const std::vector<float>& positions, const std
         }
         const TriangleDerivatives d = derivatives(p, uv);
         if (!d.valid) continue;
+        result.mirroredFaces[f] = d.mirrored;
+        const size_t sums = d.mirrored ? vertexCount : 0;
         // Each corner gets the triangle's derivatives weighted by its angle, so a vertex's frame does not
         // depend on how finely the faces around it are split.
         for (int k = 0; k < 3; ++k) {
@@ -64,19 +74,27 @@ std::vector<float> vertexTangents(const std::vector<float>& positions, const std
             const double la = glm::length(a), lb = glm::length(b);
             if (!(la > 0.0 && lb > 0.0)) continue;
             const double angle = std::acos(std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0));
-            dpdu[face[k]] += angle * d.dpdu;
-            dpdv[face[k]] += angle * d.dpdv;
+            dpdu[sums + face[k]] += angle * d.dpdu;
+            dpdv[sums + face[k]] += angle * d.dpdv;
         }
     }
-    std::vector<float> tangents(4 * vertexCount, 0.0f);
+    result.frames.assign(4 * vertexCount, 0.0f);
+    result.mirroredFrames.assign(4 * vertexCount, 0.0f);
     for (size_t v = 0; v < vertexCount; ++v) {
         const glm::dvec3 n = vec3At(normals, static_cast<uint32_t>(v));
         const double length = glm::length(n);
         if (!(length > 0.0)) continue;
-        const glm::vec4 frame = orthogonalFrame(n / length, dpdu[v], dpdv[v]);
-        for (int c = 0; c < 4; ++c) tangents[4 * v + c] = frame[c];
+        glm::vec4 frame = orthogonalFrame(n / length, dpdu[v], dpdv[v]);
+        glm::vec4 mirrored = orthogonalFrame(n / length, dpdu[vertexCount + v], dpdv[vertexCount + v]);
+        // A face with no direction of its own (its texture coordinates collapsed) takes whichever there is.
+        if (frame == glm::vec4(0.0f)) frame = mirrored;
+        if (mirrored == glm::vec4(0.0f)) mirrored = frame;
+        for (int c = 0; c < 4; ++c) {
+            result.frames[4 * v + c] = frame[c];
+            result.mirroredFrames[4 * v + c] = mirrored[c];
+        }
     }
-    return tangents;
+    return result;
 }
 
 glm::vec4 faceTangent(const std::array<glm::dvec3, 3>& corners, const std::array<glm::dvec2, 3>& uvs,
