@@ -8,8 +8,9 @@
 
 #include "shading_language.h"
 
-// The directional albedo table: E at SIZE x SIZE points, cos(view) = i / (SIZE - 1) along rows, sheen
-// roughness = j / (SIZE - 1) down columns (entry j * SIZE + i), interpolated bilinearly.
+// The directional albedo table: E at SIZE x SIZE points, cos(view) = (i / (SIZE - 1))^2 along rows (the
+// entries close where E falls steeply, within a few degrees of grazing), sheen roughness = j / (SIZE - 1)
+// down columns (entry j * SIZE + i), interpolated bilinearly in sqrt(cos(view)) and roughness.
 #define VKRT_SHEEN_TABLE_SIZE 32
 // Rougher than this the distribution is sharper than the table resolves (and than the extension's
 // references show): the roughness is clamped to it.
@@ -85,7 +86,7 @@ VKRT_FN real sheenAlbedoIntegral(real cosView, real roughness, int steps) {
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real sheenAlbedo(VKRT_DEVICE_PARAM real cosView, real roughness) {
     const real last = real(VKRT_SHEEN_TABLE_SIZE - 1);
-    const real x = clamp(cosView, 0.0, 1.0) * last, y = clamp(roughness, 0.0, 1.0) * last;
+    const real x = sqrt(clamp(cosView, 0.0, 1.0)) * last, y = clamp(roughness, 0.0, 1.0) * last;
     const int i = min(int(x), VKRT_SHEEN_TABLE_SIZE - 2), j = min(int(y), VKRT_SHEEN_TABLE_SIZE - 2);
     const real fx = x - real(i), fy = y - real(j);
     const uint row = uint(j * VKRT_SHEEN_TABLE_SIZE + i);

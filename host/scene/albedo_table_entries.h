@@ -38,17 +38,17 @@ inline float ggxDielectricAlbedoEntry(size_t e) {
     return static_cast<float>(shading::ggxAlbedoIntegral(cosView, roughness, eta, 24));
 }
 
-// Entry e of the sheen's table: E(cosView, roughness), cosView varying fastest; 64 x 64 midpoint cells (over
-// half the circle of azimuths). Interpolating the entries is within 3% of the integral
+// Entry e of the sheen's table: E(cosView, roughness), sqrt(cosView) varying fastest; 64 x 64 midpoint cells
+// (over half the circle of azimuths). Interpolating the entries is within 3% of the integral
 // (tests/gpu_surface_test.cpp checks a point between entries against a finer integration). The fitted
-// shadowing overestimates the albedo of the smoothest sheen seen at exactly grazing angles (E reaches 1.6 at
-// cos 0): E is clamped to 1, so the layers below never get a negative weight. From cos 2/31 on the integral
-// stays below 1 unclamped.
+// shadowing overestimates the albedo of the smoothest sheen seen at grazing angles (E reaches 1.6 at cos 0),
+// and the entries keep it: addSheen (surface_response.h) divides such a lobe by E. From cos 2/31 on the
+// integral stays below 1.
 inline float sheenAlbedoEntry(size_t e) {
     constexpr int kSize = VKRT_SHEEN_TABLE_SIZE;
+    const double root = static_cast<double>(e % kSize) / (kSize - 1);  // sqrt(cos(view))
     return static_cast<float>(
-        std::min(1.0, shading::sheenAlbedoIntegral(static_cast<double>(e % kSize) / (kSize - 1),
-                                                   static_cast<double>(e / kSize) / (kSize - 1), 64)));
+        shading::sheenAlbedoIntegral(root * root, static_cast<double>(e / kSize) / (kSize - 1), 64));
 }
 
 // The tables as built (generated/albedo_tables.cpp).
