@@ -22,13 +22,14 @@
 #define VKRT_GGX_ALBEDO_SIZE 32
 // The dielectric table: E_eta at COS x ROUGHNESS x ETA points, entry (k * ROUGHNESS + j) * COS + i, with cos
 // and roughness as in the conductor table and eta at coordinate k / (ETA - 1) (ggxDielectricEtaCoordinate):
-// from 1/3 to 3 (clamped beyond), both ways across an interface alike, closest together around eta = 1, where
-// E_eta changes fastest (total internal reflection sets in just below it), with eta = 1 on the middle entry.
+// every index from 0 to infinity (the ends: 1e-6 and 1e6, where all light is reflected), both ways across an
+// interface alike, closest together around eta = 1, where E_eta changes fastest (total internal reflection
+// sets in just below it), with eta = 1 on the middle entry.
 // Interpolated trilinearly; its hemispherical averages (what a furnace shows) are within 0.5% of the integral
 // (tests/gpu_energy_test.cpp checks points between entries).
 #define VKRT_GGX_DIELECTRIC_COS_SIZE 16
 #define VKRT_GGX_DIELECTRIC_ROUGHNESS_SIZE 16
-#define VKRT_GGX_DIELECTRIC_ETA_SIZE 25
+#define VKRT_GGX_DIELECTRIC_ETA_SIZE 33
 
 VKRT_SHADING_BEGIN
 
@@ -76,19 +77,22 @@ VKRT_FN real ggxAlbedoCosCoordinate(real cosView) { return sqrt(clamp(cosView, 0
 VKRT_FN real ggxAlbedoCosAt(real x) { return x * x; }
 
 // The dielectric table's coordinate in [0, 1] for relative index eta: with s = (eta - 1) / (eta + 1), from
-// -1/2 (eta = 1/3) to 1/2 (eta = 3), 1/2 + sign(s) sqrt(2 |s|) / 2, which puts entries closest together
-// around eta = 1.
+// -1 (eta = 0) to 1 (eta = infinity), 1/2 + sign(s) sqrt(|s|) / 2, which puts entries closest together
+// around eta = 1. (Clamped to indices 1/3 to 3, the table under-compensated beyond them: a rough glass sphere
+// of index 10 in a white furnace kept 0.74 of the light, one of infinite index, which reflects everything
+// like a white metal, 0.48.)
 VKRT_FN real ggxDielectricEtaCoordinate(real eta) {
-    const real s = clamp((eta - 1.0) / (eta + 1.0), -0.5, 0.5);
-    const real u = sqrt(2.0 * abs(s));
+    const real s = clamp((eta - 1.0) / (eta + 1.0), -1.0, 1.0);
+    const real u = sqrt(abs(s));
     return 0.5 + 0.5 * (s < 0.0 ? -u : u);
 }
 
-// The relative index at the dielectric table's coordinate x (ggxDielectricEtaCoordinate's inverse).
+// The relative index at the dielectric table's coordinate x (ggxDielectricEtaCoordinate's inverse), from 1e-6
+// to 1e6 at the ends.
 VKRT_FN real ggxDielectricEtaAt(real x) {
     const real u = 2.0 * x - 1.0;
-    const real s = 0.5 * u * abs(u);
-    return (1.0 + s) / (1.0 - s);
+    const real s = u * abs(u);
+    return clamp((1.0 + s) / max(1.0 - s, 1e-12), 1e-6, 1e6);
 }
 
 #ifdef VKRT_HAS_ROUGH_SPECULAR

@@ -199,6 +199,21 @@ TEST_F(Gpu, WhiteFurnaceGlassKeepsItsEnergyWithCompensation) {
         });
 }
 
+TEST_F(Gpu, WhiteFurnaceGlassOfInfiniteIndexReflectsLikeAWhiteMetal) {
+    // KHR_materials_ior's 0 (an infinite index; the loader's 1e6) on rough glass: all light is reflected at
+    // the first surface, as by a white metal, and the compensation must be the one for that index (the
+    // dielectric table's last entries). With the table ending at index 3, the sphere kept 0.48 of the light
+    // at roughness 1 and 0.97 at 0.4.
+    for (const float roughness : {0.4f, 1.0f}) {
+        Material material = furnaceMaterial(Surface::Glass, roughness);
+        material.ior = 1e6f;
+        const FurnaceEnergy energy = furnaceEnergy(context(), material, true);
+        for (const DiskMean* mean : {&energy.gpu, &energy.cpu}) {
+            EXPECT_NEAR(mean->mean, 1.0, 0.005) << "roughness " << roughness;
+        }
+    }
+}
+
 TEST_F(Gpu, WhiteFurnaceCoatOverWhiteKeepsItsEnergyWithCompensation) {
     // A clear coat over a white Lambertian base lets 1 - F(mu) of the base through (its Fresnel term at the
     // viewer, as KHR_materials_clearcoat layers it) and reflects F(mu) E(mu): single scattering loses
