@@ -329,6 +329,7 @@ TEST(GltfLoader, ThicknessTextureIsCheckedAndNotRead) {
 TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {
     // One tangent frame a vertex, from the texture coordinates the base's normal texture reads: a clearcoat
     // normal texture on the other set is mapped with it, and the loader says so; on the same set, nothing.
+    // The sphere's normal texture is not transformed, so it says nothing of that.
     for (const int coatSet : {0, 1}) {
         SCOPED_TRACE(coatSet);
         const std::filesystem::path file = test::temporaryFolder() / "coat.gltf";
@@ -355,6 +356,43 @@ TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {
                 << scene.warnings[0];
         }
     }
+}
+
+TEST(GltfLoader, NormalTexturesTurnedWhereNoFrameFollowsAreWarnedAbout) {
+    // A clearcoat normal texture turned otherwise than the base's is mapped with the base's frame, and a
+    // sphere's turned normal texture with the sphere's own: the loader says so. A uniform scale and an offset
+    // move no frame, and say nothing.
+    const auto load = [](const std::string& baseTransform, const std::string& coatTransform) {
+        const std::filesystem::path file = test::temporaryFolder() / "turned-coat.gltf";
+        test::writeText(file, R"({
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_materials_clearcoat", "KHR_texture_transform", "VKRT_sphere"],
+            "scene": 0, "scenes": [{"nodes": [0]}],
+            "images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg=="}],
+            "textures": [{"source": 0}],
+            "materials": [{"normalTexture": {"index": 0, "extensions": {"KHR_texture_transform": )" +
+                                  baseTransform + R"(}},
+                "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
+                    "clearcoatNormalTexture": {"index": 0, "extensions": {"KHR_texture_transform": )" +
+                                  coatTransform + R"(}}}}}],
+            "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]
+        })");
+        return loadGltf(file.string()).warnings;
+    };
+    EXPECT_TRUE(load(R"({"scale": [2, 2], "offset": [0.5, 0]})", "{}").empty());
+    const std::vector<std::string> coat = load("{}", R"({"rotation": 0.9})");
+    ASSERT_EQ(coat.size(), 1u);
+    EXPECT_NE(coat[0].find("material 0: KHR_texture_transform turns, mirrors or stretches the normal texture "
+                           "and the clearcoat normal texture differently"),
+              std::string::npos)
+        << coat[0];
+    const std::vector<std::string> both = load(R"({"scale": [-1, 1]})", R"({"scale": [-1, 1]})");
+    ASSERT_EQ(both.size(), 1u);
+    EXPECT_NE(
+        both[0].find("material 0: KHR_texture_transform turns, mirrors or stretches its normal texture, "
+                     "which VKRT_sphere and VKRT_shape surfaces do not follow"),
+        std::string::npos)
+        << both[0];
 }
 
 TEST(GltfLoader, VertexColorsFollowTheirTriangles) {

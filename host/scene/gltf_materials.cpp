@@ -217,14 +217,20 @@ void convertMaterials(GltfContext& context) {
         if (!std::isfinite(m.normalTexture.scale)) context.fail(where + ": normal texture scale is not finite");
         material.normalScale = normalScaleOf(m.normalTexture.scale);
         // One tangent frame a vertex (Material::tangentFrameSlot): the coat's normal texture is mapped with
-        // the base's texture coordinates' frame.
-        if (material.normalTexture.used() && material.clearcoatNormalTexture.used() &&
-            material.normalTexture.texCoord != material.clearcoatNormalTexture.texCoord) {
-            context.warn(where + ": the normal texture reads TEXCOORD_" +
-                         std::to_string(material.normalTexture.texCoord) +
-                         " and the clearcoat normal texture TEXCOORD_" +
-                         std::to_string(material.clearcoatNormalTexture.texCoord) +
-                         "; vkrt maps both with the tangent frame of the first");
+        // the base's texture coordinates' frame, as the Khronos sample viewer maps it.
+        if (material.normalTexture.used() && material.clearcoatNormalTexture.used()) {
+            if (material.normalTexture.texCoord != material.clearcoatNormalTexture.texCoord) {
+                context.warn(where + ": the normal texture reads TEXCOORD_" +
+                             std::to_string(material.normalTexture.texCoord) +
+                             " and the clearcoat normal texture TEXCOORD_" +
+                             std::to_string(material.clearcoatNormalTexture.texCoord) +
+                             "; vkrt maps both with the tangent frame of the first");
+            } else if (!material.clearcoatNormalTexture.turnsAs(material.normalTexture)) {
+                context.warn(where +
+                             ": KHR_texture_transform turns, mirrors or stretches the normal texture and the "
+                             "clearcoat normal texture differently; vkrt maps both with the tangent frame of "
+                             "the first");
+            }
         }
         readAlpha(context, m, where, material);
         context.scene.materials.push_back(material);

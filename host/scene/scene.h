@@ -148,6 +148,17 @@ struct TextureSlot {
         const float c = std::cos(rotation), s = std::sin(rotation);
         return {glm::vec2(c * scale.x, s * scale.y), glm::vec2(-s * scale.x, c * scale.y)};
     }
+    // Whether the transform turns directions as `other`'s does, up to a positive uniform scale (which leaves
+    // a tangent frame as it is; an offset moves no direction).
+    bool turnsAs(const TextureSlot& other) const {
+        const std::array<glm::vec2, 2> a = linearRows(), b = other.linearRows();
+        const float na = std::sqrt(glm::dot(a[0], a[0]) + glm::dot(a[1], a[1]));
+        const float nb = std::sqrt(glm::dot(b[0], b[0]) + glm::dot(b[1], b[1]));
+        if (!(na > 0.0f) || !(nb > 0.0f)) return na == nb;
+        for (int r = 0; r < 2; ++r)
+            if (glm::length(a[r] / na - b[r] / nb) > 1e-5f) return false;
+        return true;
+    }
 };
 
 // glTF metallic-roughness material with the transmission, ior, volume and emissive-strength extensions.
