@@ -880,10 +880,13 @@ VKRT_FN bool continuePath(VKRT_IN(ShadingContext) context, VKRT_IN(RayState) ray
     const real u = stratified(context, vkrtNodeDimension(ray.node, VKRT_DIM_PATH_BRANCH), 0u) * total;
     real probability;
     real index = shaded.indexHere;  // of the medium the next ray is in
-    if (u < scatter) {
+    // Only a continuation of positive weight is taken: u can round up to its weight's end where the weights
+    // are subnormal (a smooth sheen's lobe over a black base, 1e-320 in double precision), and the reflection
+    // the next test then took did not exist (its ray unset, its probability 0: the CPU's sample NaN).
+    if (u < scatter || (scatter > 0.0 && reflect + transmit <= 0.0)) {
         next = shaded.scattered;
         probability = scatter / total;
-    } else if (u < scatter + reflect || transmit <= 0.0) {
+    } else if ((u < scatter + reflect || transmit <= 0.0) && reflect > 0.0) {
         next = shaded.reflection;
         probability = reflect / total;
     } else {
