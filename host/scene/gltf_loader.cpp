@@ -85,7 +85,7 @@ class GltfConverter {
     using Poses = std::vector<glm::dmat4>;
 
     void chooseShutter();
-    // Fails where a surface uses a material that placedMaterials, which chose the materials read, missed.
+    // Fails where a surface uses a material that placedMaterials, which chose the textures read, missed.
     void checkPlacedMaterialsWereRead() const;
     // Warns where a sphere's or shape's normal texture is turned, mirrored or stretched by its transform.
     void warnAboutTurnedNormalTexturesOnShapes();
@@ -193,7 +193,8 @@ void GltfConverter::checkPlacedMaterialsWereRead() const {
     const auto check = [&](uint32_t material) {
         if (material < read.size() && !read[material])
             context_.fail(describe("material", static_cast<int>(material), scene.materials[material].name) +
-                          " is placed but was not read (vkrt's walk of the file's nodes missed it)");
+                          " is placed but its textures were not read (vkrt's walk of the file's nodes missed "
+                          "it)");
     };
     for (const Triangle& triangle : scene.triangles) check(triangle.material);
     for (const Sphere& sphere : scene.spheres) check(sphere.material);
