@@ -215,11 +215,12 @@ TEST(GltfLoader, TexturesNoSlotReadsAreNotDecodedOrPacked) {
     EXPECT_EQ(packedTextureBytes(scene), (4u + 1u) * 4u);
 }
 
-// Only the materials the rendered scene places are read: the textures of a material no node uses, and of one
-// placed only in another scene, are not decoded or packed, and an image of theirs that does not decode fails
-// nothing (a 1024 x 1024 texture of an unused material took 5.6 MB of GPU memory, and a missing one failed
-// the load). Every material keeps its index; one placed through a child node's VKRT_shape is read.
-TEST(GltfLoader, MaterialsNoPlacedSurfaceUsesAreNotRead) {
+// Only the materials the rendered scene places have their textures read: the textures of a material no node
+// uses, and of one placed only in another scene, are not decoded or packed, and an image of theirs that does
+// not decode fails nothing (a 1024 x 1024 texture of an unused material took 5.6 MB of GPU memory, and a
+// missing one failed the load). Every material keeps its index; one placed through a child node's VKRT_shape
+// has its texture.
+TEST(GltfLoader, TexturesOfMaterialsNoPlacedSurfaceUsesAreNotRead) {
     const auto baseColour = [](int texture) {
         return nlohmann::json{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}}}}}};
     };
