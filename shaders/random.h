@@ -46,6 +46,10 @@ using uint = uint32_t;
 // The traced specular lobe's microfacet normal (after the light samples' 48 dimensions).
 #define VKRT_DIM_LOBE_U 48u
 #define VKRT_DIM_LOBE_V 49u
+// Whether a rough refracting dielectric keeps the microfacet normal it drew (shade_hit.h's compensatedMicroNormal):
+// the pair's two numbers for the first two tries, hashed ones for later tries (vkrtLayered), whose normals take
+// hashed numbers at VKRT_DIM_LOBE_U too.
+#define VKRT_DIM_LOBE_ACCEPT 54u
 // The path integrator's continuation through the untraced lobes (a cosine-distributed direction), and its
 // choice of continuation (axis 0) and Russian roulette (axis 1).
 #define VKRT_DIM_SCATTER_U 50u

@@ -219,14 +219,77 @@ VKRT_FN bool passesThrough(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
 // A GGX microfacet normal of width `alpha` about `normal` visible from `toViewer` (Heitz 2018), drawn with the
 // stratified pair at `dimension`.
-VKRT_FN real3 visibleMicroNormal(VKRT_IN(ShadingContext) context, uint dimension, real3 normal, real3 toViewer,
-                                 real alpha) {
+VKRT_FN real3 visibleMicroNormalAt(real3 normal, real3 toViewer, real alpha, real u1, real u2) {
     real3 tangent, bitangent;
     orthonormalBasis(normal, tangent, bitangent);
     const real3 m = sampleGgxVisibleNormal(real3(dot(toViewer, tangent), dot(toViewer, bitangent), dot(normal, toViewer)),
-                                           alpha, stratified(context, dimension, 0u), stratified(context, dimension, 1u));
+                                           alpha, u1, u2);
     return normalize(m.x * tangent + m.y * bitangent + m.z * normal);
 }
+
+VKRT_FN real3 visibleMicroNormal(VKRT_IN(ShadingContext) context, uint dimension, real3 normal, real3 toViewer,
+                                 real alpha) {
+    return visibleMicroNormalAt(normal, toViewer, alpha, stratified(context, dimension, 0u),
+                                stratified(context, dimension, 1u));
+}
+
+#if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
+// The most visible normals compensatedMicroNormal draws for one scattering.
+#define VKRT_COMPENSATION_TRIES 8u
+
+// What a rough refracting interface sends on through the visible normal m, with the exact Fresnel term F at
+// relative index eta: F G2 / G1 where the reflection leaves above the surface, plus (1 - F) G2 / G1 where the
+// refraction leaves below; between 0 and 1. Its mean over visible normals is the dielectric table's E_eta (the
+// integrand of ggxAlbedoIntegral), here with the geometric normal's checks that the traced rays make too.
+VKRT_FN real refractingLobeShare(real3 normal, real3 geometricNormal, real3 toViewer, real3 m, real alpha,
+                                 real eta) {
+    const real cosOut = dot(normal, toViewer);
+    const real fresnel = fresnelDielectric(max(0.0, dot(m, toViewer)), eta);
+    const real3 reflected = reflectAbout(toViewer, m);
+    const real cosReflected = dot(normal, reflected);
+    real share = 0.0;
+    if (cosReflected > 0.0 && dot(geometricNormal, reflected) > 0.0) {
+        share += fresnel * ggxG2(cosOut, cosReflected, alpha);
+    }
+    real3 refracted;
+    if (fresnel < 1.0 && refractThrough(toViewer, m, eta, refracted)) {
+        const real cosRefracted = dot(normal, refracted);
+        if (cosRefracted < 0.0 && dot(geometricNormal, refracted) < 0.0) {
+            share += (1.0 - fresnel) * ggxG2(cosOut, -cosRefracted, alpha);
+        }
+    }
+    return share / ggxG1(cosOut, alpha);
+}
+
+// A rough refracting dielectric's visible normal with its energy compensation drawn rather than weighed.
+// Weighing both continuations of a visible normal by 1 / E_eta (Turquin 2019) gives each scattering a weight
+// of up to 1 / E_eta (3.3 inside glass of index 3 at roughness 1, where E_eta is 0.3) for a mean of 1, and the
+// weights multiply along the chains of internal reflections inside dense glass: a white furnace showed
+// single pixels of 20 to 170. Here a visible normal m is kept with probability a(m) = refractingLobeShare, whose
+// mean is E_eta, so that kept normals are distributed as the energy the lobe scatters; up to
+// VKRT_COMPENSATION_TRIES are drawn (the first with the lobe's stratified pair, the others hashed from it).
+// `scale`, by which the kept normal's continuations are weighed besides 1 / E_eta (lobeAlbedo, the table's), is
+// E_eta / (a(m) (1 - (1 - E_eta)^N)) (N the tries): the same expectation, each scattering's weight now at most
+// 1 / (1 - (1 - E_eta)^N) (1.06 at E_eta 0.3); 0 where no normal was kept, which ends the continuations.
+VKRT_FN real3 compensatedMicroNormal(VKRT_IN(ShadingContext) context, uint node, real3 normal, real3 geometricNormal,
+                                     real3 toViewer, real alpha, real eta, real lobeAlbedo, VKRT_OUT(real) scale) {
+    const uint dimension = vkrtNodeDimension(node, VKRT_DIM_LOBE_U);
+    const uint acceptDimension = vkrtNodeDimension(node, VKRT_DIM_LOBE_ACCEPT);
+    scale = 0.0;
+    real3 m = normal;
+    for (uint k = 0u; k < VKRT_COMPENSATION_TRIES; ++k) {
+        const real u1 = real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 2u * k));
+        const real u2 = real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, dimension, 2u * k + 1u));
+        m = visibleMicroNormalAt(normal, toViewer, alpha, u1, u2);
+        const real share = refractingLobeShare(normal, geometricNormal, toViewer, m, alpha, eta);
+        if (real(vkrtLayered(context.stream, context.pairRoot, context.sampleIndex, acceptDimension, k)) < share) {
+            scale = lobeAlbedo / (share * (1.0 - pow(1.0 - lobeAlbedo, real(VKRT_COMPENSATION_TRIES))));
+            break;
+        }
+    }
+    return m;
+}
+#endif
 
 // The index of refraction of the innermost volume, 1 (air) outside every volume.
 VKRT_DEVICE_TEMPLATE
@@ -743,10 +806,21 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
 
     // The microfacet normal both branches share: the shading normal for a mirror, else a visible normal.
     const real cosOut = dot(normal, toViewer);
-    const real3 microNormal = tracedAsMirror(surface.mirror)
-                                  ? normal
-                                  : visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U),
-                                                       normal, toViewer, surface.alpha);
+    // `lobeScale` weighs the base's continuations through a microfacet normal drawn with its compensation.
+    real lobeScale = 1.0;
+    real3 microNormal = normal;
+    if (!tracedAsMirror(surface.mirror)) {
+        microNormal = visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U), normal, toViewer,
+                                         surface.alpha);
+#if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
+        // A compensated rough refracting dielectric (not thin, no metal in it: the metal's reflection does not
+        // follow the dielectric's share) draws its compensation.
+        if (volume && eta != 1.0 && surface.transmissionCompensation > 1.0 && surface.metallic == 0.0) {
+            microNormal = compensatedMicroNormal(context, ray.node, normal, geometricNormal, toViewer, surface.alpha,
+                                                 eta, 1.0 / surface.transmissionCompensation, lobeScale);
+        }
+#endif
+    }
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
     // Reflection: Fresnel (energy compensated), times G2 / G1 for a sampled visible normal (Heitz 2018,
@@ -757,7 +831,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     if (!tracedAsMirror(surface.mirror)) {
         const real cosIn = dot(normal, reflected);
         const bool above = cosIn > 0.0 && dot(geometricNormal, reflected) > 0.0;
-        reflectWeight *= above ? ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
+        reflectWeight *= above ? lobeScale * ggxG2(cosOut, cosIn, surface.alpha) / ggxG1(cosOut, surface.alpha) : 0.0;
         reflectPdf = ggxReflectionPdf(cosOut, normal, microNormal, surface.alpha);
     }
 #ifdef VKRT_HAS_SHEEN
@@ -830,7 +904,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
         const real cosIn = dot(normal, direction);
         passes = cosIn < 0.0 && dot(geometricNormal, direction) < 0.0;
         if (passes) {
-            transmitWeight *= surface.transmissionCompensation * ggxG2(cosOut, -cosIn, surface.alpha) /
+            transmitWeight *= lobeScale * surface.transmissionCompensation * ggxG2(cosOut, -cosIn, surface.alpha) /
                               ggxG1(cosOut, surface.alpha);
         }
     }
