@@ -486,6 +486,47 @@ TEST(GltfLoader, DerivedTangentFramesSplitAtAMirroredSeam) {
     }
 }
 
+TEST(GltfLoader, DerivedTangentFramesFollowAMorphTargetsTurn) {
+    // A square facing +z, u growing along +x, with a normal texture and no TANGENT, which one morph target at
+    // weight 1 turns 90 degrees about +y (its positions and normals displaced: +x goes to -z, +z to +x). The
+    // frames are derived from the mesh as the target leaves it: tangent -z, the bitangent still up. From the
+    // unmorphed mesh the tangent stayed +x, and the normal texture was lit as if the square had not turned.
+    test::GltfDocument d;
+    const int positions = d.positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+    const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
+    const int uvs = d.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2");
+    const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
+    const int turnedPositions = d.positions({0, 0, 0, -1, 0, -1, -1, 0, -1, 0, 0, 0});
+    const int turnedNormals = d.floats({1, 0, -1, 1, 0, -1, 1, 0, -1, 1, 0, -1}, "VEC3");
+    d.json["images"] = {{{"uri",
+                          "data:image/png;base64,"
+                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
+                          "BJRU5ErkJggg=="}}};
+    d.json["textures"] = {{{"source", 0}}};
+    d.json["materials"] = {{{"normalTexture", {{"index", 0}}}}};
+    d.json["meshes"] = {
+        {{"primitives",
+          {{{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
+            {"targets", {{{"POSITION", turnedPositions}, {"NORMAL", turnedNormals}}}},
+            {"indices", indices},
+            {"material", 0}}}},
+         {"weights", {1.0}}}};
+    d.node({{"mesh", 0}});
+    const std::filesystem::path file = test::temporaryFolder() / "morphed-tangents.gltf";
+    d.write(file);
+    const Scene scene = loadGltf(file.string());
+    ASSERT_EQ(scene.tangents.size(), 2u);
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4 frame = scene.tangents[i][k];
+            EXPECT_LT(glm::length(glm::vec3(frame) - glm::vec3(0.0f, 0.0f, -1.0f)), 1e-6f) << i << " " << k;
+            EXPECT_LT(glm::length(scene.shading[i].normal[k] - glm::vec3(1.0f, 0.0f, 0.0f)), 1e-6f);
+            const glm::vec3 bitangent = frame.w * glm::cross(scene.shading[i].normal[k], glm::vec3(frame));
+            EXPECT_LT(glm::length(bitangent - glm::vec3(0.0f, 1.0f, 0.0f)), 1e-6f);
+        }
+    }
+}
+
 TEST(GltfLoader, DerivedTangentFramesFollowTheNormalTexturesTransform) {
     // Three squares facing +z whose u grows along +x and v down them (glTF's v grows down the image), each
     // with a normal texture and derived tangents: as they are, turned by 90 degrees by KHR_texture_transform

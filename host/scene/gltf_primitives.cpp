@@ -179,6 +179,10 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     }
     decodeTangents(primitive, decoded);
     decodeDeformation(meshIndex, primitive, decoded);
+    const bool reshaped =
+        std::any_of(decoded.targets.begin(), decoded.targets.end(),
+                    [](const MorphTarget& t) { return !t.positions.empty() || !t.normals.empty(); });
+    if (!reshaped) decoded.tangentUvs = {};
     keepUsedVertices(decoded);
     // The vertices' other attributes are at most three per triangle, whose memory is counted; their morph
     // targets and skin influences, any number per vertex, are counted for the rest of the load.
@@ -342,10 +346,10 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     // is the image's, whatever writes the mapping. Taken from the mesh's coordinates alone, a normal map
     // mirrored by the transform showed its ridges as valleys, and one turned by it was lit from the side.
     const std::array<glm::vec2, 2> rows = normalTexture.linearRows();
-    // The tangents kept, beside the mapped coordinates and the two sums per vertex that derive them.
-    holdWhileDecoding(8.0 * sizeof(float) * vertexCount + decoded.faces.size() / 8.0,
-                      static_cast<double>(2 * sizeof(float) + 4 * sizeof(glm::dvec3)) * vertexCount,
-                      where + " derived tangents");
+    // The tangents and mapped coordinates kept (the latter where targets morph the mesh), beside the two sums
+    // per vertex that derive them.
+    holdWhileDecoding(10.0 * sizeof(float) * vertexCount + decoded.faces.size() / 8.0,
+                      static_cast<double>(4 * sizeof(glm::dvec3)) * vertexCount, where + " derived tangents");
     std::vector<float> mapped(uvs.size());
     for (size_t i = 0; i + 1 < uvs.size(); i += 2) {
         const glm::vec2 uv(uvs[i], uvs[i + 1]);
@@ -356,6 +360,7 @@ void MeshInstancer::decodeTangents(const tinygltf::Primitive& primitive, Decoded
     decoded.tangents = std::move(derived.frames);
     decoded.mirroredTangents = std::move(derived.mirroredFrames);
     decoded.mirroredFaces = std::move(derived.mirroredFaces);
+    decoded.tangentUvs = std::move(mapped);  // dropped again unless morph targets move the mesh (decode)
 }
 
 std::array<glm::vec4, 3> MeshInstancer::flatTangents(const DecodedPrimitive& primitive, const Triangle& triangle,
@@ -416,6 +421,7 @@ void MeshInstancer::keepUsedVertices(DecodedPrimitive& decoded) {
     keepVertices(decoded.uvs1, 2, used);
     keepVertices(decoded.tangents, 4, used);
     keepVertices(decoded.mirroredTangents, 4, used);
+    keepVertices(decoded.tangentUvs, 2, used);
     for (MorphTarget& target : decoded.targets) {
         keepVertices(target.positions, 3, used);
         keepVertices(target.normals, 3, used);
@@ -440,6 +446,18 @@ glm::dvec3 morphed(const std::vector<float>& base, int stride, const std::vector
         value += weights[t] * glm::dvec3(delta[3 * v], delta[3 * v + 1], delta[3 * v + 2]);
     }
     return value;
+}
+
+// Every vertex's `attribute` (3 floats per vertex) with the morph targets' displacements at `weights`.
+std::vector<float> morphedAll(const std::vector<float>& base, const std::vector<MorphTarget>& targets,
+                              std::vector<float> MorphTarget::*attribute,
+                              const std::vector<double>& weights) {
+    std::vector<float> result(base.size());
+    for (size_t v = 0; v < base.size() / 3; ++v) {
+        const glm::dvec3 value = morphed(base, 3, targets, attribute, weights, static_cast<uint32_t>(v));
+        for (int c = 0; c < 3; ++c) result[3 * v + c] = static_cast<float>(value[c]);
+    }
+    return result;
 }
 
 // Whether every corner coordinate is finite (each on its own: their float sum overflowed for finite corners
@@ -533,6 +551,24 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
     };
     placeVertices(opening, true);
 
+    // Frames derived from the texture coordinates come from the mesh as its targets morph it at the opening
+    // (glTF 2.0 section 3.7.2.1 derives tangents from the positions and normals the primitive has): the rest
+    // pose's frames left a normal texture facing as the unmorphed mesh faced (a quad turned 90 degrees by its
+    // target was lit as if unturned).
+    const bool rederived = morphs && !primitive.tangentUvs.empty();
+    VertexTangents morphedFrames;
+    if (rederived) {
+        morphedFrames =
+            vertexTangents(morphedAll(positions, primitive.targets, &MorphTarget::positions, opening.weights),
+                           morphedAll(normals, primitive.targets, &MorphTarget::normals, opening.weights),
+                           primitive.tangentUvs, primitive.faces);
+    }
+    const std::vector<float>& tangentFrames = rederived ? morphedFrames.frames : primitive.tangents;
+    const std::vector<float>& mirroredFrames =
+        rederived ? morphedFrames.mirroredFrames : primitive.mirroredTangents;
+    const std::vector<bool>& mirroredFaces =
+        rederived ? morphedFrames.mirroredFaces : primitive.mirroredFaces;
+
     // At the opening, the maps of the vertices' directions: one for a rigid placement, one per corner when
     // skinned. Mirroring reverses the winding.
     const glm::dmat3 rigidLinear(opening.world);
@@ -606,13 +642,14 @@ void MeshInstancer::place(const DecodedPrimitive& primitive, const std::vector<I
             } else {
                 // Derived frames: the one of the face's own kind (the image mirrored on it or not).
                 const std::vector<float>& frames =
-                    !primitive.mirroredFaces.empty() && primitive.mirroredFaces[faceIndex]
-                        ? primitive.mirroredTangents
-                        : primitive.tangents;
+                    !mirroredFaces.empty() && mirroredFaces[faceIndex] ? mirroredFrames : tangentFrames;
                 for (int k = 0; k < 3; ++k) {
                     const uint32_t v = face[k];
-                    const glm::dvec3 t = linear[k] * morphed(frames, 4, primitive.targets,
-                                                             &MorphTarget::tangents, opening.weights, v);
+                    const glm::dvec3 t =
+                        linear[k] * (rederived
+                                         ? glm::dvec3(frames[4 * v], frames[4 * v + 1], frames[4 * v + 2])
+                                         : morphed(frames, 4, primitive.targets, &MorphTarget::tangents,
+                                                   opening.weights, v));
                     const double length = glm::length(t);
                     if (!(length > 0.0) || !std::isfinite(length))
                         continue;  // zero: no frame, no perturbation

@@ -43,6 +43,9 @@ struct DecodedPrimitive {
     std::vector<float> tangents;                 // normal-mapped with normals: 4 per vertex (tangent_frames.h)
     std::vector<float> mirroredTangents;         // derived: the frames of the faces mirroredFaces marks
     std::vector<bool> mirroredFaces;             // derived: per face, whether it shows the image mirrored
+    // Derived, where morph targets move the positions or normals the frames come from: the normal texture's
+    // coordinates through its transform, 2 per vertex, to derive the frames again from the morphed mesh.
+    std::vector<float> tangentUvs;
     std::vector<std::array<uint32_t, 3>> faces;  // vertex indices, counter-clockwise
     uint32_t material = 0;
     std::vector<MorphTarget> targets;  // morph targets, in the order of the mesh's weights
