@@ -327,6 +327,30 @@ TEST(GltfLoader, ThicknessTextureIsCheckedAndNotRead) {
                  SceneError);
 }
 
+TEST(GltfLoader, AttenuationDistanceBelowFloatsRangeAbsorbsAll) {
+    // 1e-50 is positive, and rounds to 0 in single precision: it absorbs as float's smallest distance does
+    // (all light over any path). It was refused as "attenuationDistance must be positive". 0 and negative
+    // ones are.
+    for (const char* distance : {"1e-50", "0", "-1"}) {
+        SCOPED_TRACE(distance);
+        const std::filesystem::path file = test::temporaryFolder() / "tiny-distance.gltf";
+        test::writeText(file, std::string(R"({
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume", "VKRT_sphere"],
+            "scene": 0, "scenes": [{"nodes": [0]}],
+            "materials": [{"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
+                "KHR_materials_volume": {"thicknessFactor": 1, "attenuationDistance": )") +
+                                  distance + R"(}}}],
+            "nodes": [{"extensions": {"VKRT_sphere": {"radius": 1, "material": 0}}}]})");
+        if (std::string(distance) == "1e-50") {
+            const Scene scene = loadGltf(file.string());
+            EXPECT_EQ(scene.materials[0].attenuationDistance, std::numeric_limits<float>::denorm_min());
+        } else {
+            EXPECT_THROW(loadGltf(file.string()), SceneError);
+        }
+    }
+}
+
 TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {
     // One tangent frame a vertex, from the texture coordinates the base's normal texture reads: a clearcoat
     // normal texture on the other set is mapped with it, and the loader says so; on the same set, nothing.

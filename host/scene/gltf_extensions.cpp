@@ -81,10 +81,13 @@ float readMaterialExtensions(const GltfContext& context, const tinygltf::Extensi
         } else if (name == "KHR_materials_volume") {
             material.thickness = static_cast<float>(
                 std::max(0.0, jsonNumber(context, value, "thicknessFactor", 0.0, extWhere)));
-            material.attenuationDistance = static_cast<float>(jsonNumber(
-                context, value, "attenuationDistance", std::numeric_limits<double>::infinity(), extWhere));
-            if (!(material.attenuationDistance > 0.0f))
-                context.fail(extWhere + ": attenuationDistance must be positive");
+            const double distance = jsonNumber(context, value, "attenuationDistance",
+                                               std::numeric_limits<double>::infinity(), extWhere);
+            if (!(distance > 0.0)) context.fail(extWhere + ": attenuationDistance must be positive");
+            // A distance below float's smallest absorbs all light over any path, as that smallest does (1e-50
+            // rounded to 0 and was refused as not positive).
+            material.attenuationDistance =
+                std::max(static_cast<float>(distance), std::numeric_limits<float>::denorm_min());
             material.attenuationColor =
                 jsonVector3(context, value, "attenuationColor", glm::vec3(1.0f), extWhere);
         }
