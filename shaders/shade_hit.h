@@ -313,6 +313,23 @@ VKRT_FN real3 absorptionAlong(VKRT_DEVICE_PARAM uvec2 media, real distance) {
     return real3(1.0);
 }
 
+// The media beyond a hole (passesThrough) that a ray going along `direction` passes at `hit`. A transmissive
+// volume's surface with holes bounds its medium all the same: alpha takes its interface away (no reflection,
+// no refraction), not the medium, so the ray enters or leaves the volume there as through its surface. (Left
+// as they were, a ray that left a volume through a hole was still taken to be inside it, and what it met beyond
+// was absorbed as if at the end of an infinite path: black.)
+VKRT_DEVICE_TEMPLATE
+VKRT_FN uvec2 mediaBeyondHole(VKRT_DEVICE_PARAM uvec2 media, VKRT_IN(HitPoint) hit, real3 direction) {
+#ifdef VKRT_HAS_VOLUMES
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
+    if (material.volume && material.transmission > 0.0) {
+        return dot(hit.geometricNormal, direction) < 0.0 ? mediaEntered(media, hit.material)
+                                                         : mediaExited(media, hit.material);
+    }
+#endif
+    return media;
+}
+
 // Orients a hit towards the ray that found it (shadeHit's first step).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {

@@ -202,26 +202,33 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
     return p;
 }
 
-// The nearest surface along `ray` that is there at its hit: the holes of alpha-tested and blended surfaces
+// The nearest surface along `ray` that is there at its hit, and in `absorbed` what the volumes on the way absorb
+// up to it (or along the whole ray where it meets nothing). The holes of alpha-tested and blended surfaces
 // (passesThrough) are passed, each skipped by searching on beyond its distance (a sphere is met again only at
-// its far side). One traversal call site, so the walk is inlined once.
-bool traceVisible(RayState ray, ShadingContext context, out Hit hit, out HitPoint point) {
+// its far side); a hole in a volume's surface moves `ray` into or out of its medium (mediaBeyondHole). One
+// traversal call site, so the walk is inlined once.
+bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed) {
     const ShearedRay sheared = shearRay(Ray(ray.origin, ray.direction));
 #ifdef VKRT_HAS_ALPHA
     uint exclude = ray.exclude;
     float tMin = 0.0;
+    absorbed = vec3(1.0);
     for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
         VKRT_COUNT_ITERATION();
         point = hitPointOf(ray, hit);
+        absorbed *= absorptionAlong(ray.media, hit.t - tMin);
         if (!passesThrough(context, ray, layer, point)) return true;
+        ray.media = mediaBeyondHole(ray.media, point, ray.direction);
         exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
         tMin = hit.t;
     }
+    absorbed *= absorptionAlong(ray.media, VKRT_INFINITY);
     return false;
 #else
-    if (!traceClosest(sheared, ray.exclude, 0.0, VKRT_INFINITY, hit, vkrtWalksComplete)) return false;
-    point = hitPointOf(ray, hit);
-    return true;
+    const bool found = traceClosest(sheared, ray.exclude, 0.0, VKRT_INFINITY, hit, vkrtWalksComplete);
+    absorbed = absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
+    if (found) point = hitPointOf(ray, hit);
+    return found;
 #endif
 }
 
@@ -275,8 +282,9 @@ vec3 tracePath(RayState ray, ShadingContext context, inout uint secondaryRays) {
         VKRT_COUNT_ITERATION();
         Hit hit;
         HitPoint point;
-        const bool found = traceVisible(ray, context, hit, point);
-        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
+        vec3 absorbed;
+        const bool found = traceVisible(ray, context, hit, point, absorbed);
+        const vec3 weight = ray.throughput * absorbed;
         if (!found) {
             radiance += weight * escapedRadiance(context, ray);
             break;
@@ -328,8 +336,9 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
         }
         Hit hit;
         HitPoint point;
-        const bool found = traceVisible(ray, context, hit, point);
-        const vec3 weight = ray.throughput * absorptionAlong(ray.media, found ? hit.t : VKRT_INFINITY);
+        vec3 absorbed;
+        const bool found = traceVisible(ray, context, hit, point, absorbed);
+        const vec3 weight = ray.throughput * absorbed;
         bool queued = false;  // `ray` holds the tree's next ray, not yet traced
         if (!found) {
             radiance += weight * escapedRadiance(context, ray);

@@ -131,32 +131,36 @@ shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit
 }
 
 bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
-                                   const shading::RayState& ray, double time, SurfaceHit& hit,
-                                   shading::HitPoint& point) const {
-    // The holes of alpha-tested and blended surfaces are passed, each skipped by searching on beyond its distance
-    // (a sphere is met again only at its far side).
+                                   shading::RayState& ray, double time, SurfaceHit& hit,
+                                   shading::HitPoint& point, glm::dvec3& absorbed) const {
+    // The holes of alpha-tested and blended surfaces are passed, each skipped by searching on beyond its
+    // distance (a sphere is met again only at its far side); a hole in a volume's surface moves the ray into
+    // or out of its medium.
     const Ray line{ray.origin, ray.direction};
     uint32_t exclude = ray.exclude;
     double tMin = 0.0;
+    absorbed = glm::dvec3(1.0);
     for (uint32_t layer = 0;
          closestHitBeyond(scene_, bvh_, line, tMin, std::numeric_limits<double>::infinity(), exclude, hit, time);
          ++layer) {
         point = hitPointOf(line, hit, time);
+        absorbed *= shading::absorptionAlong(device, ray.media, hit.t - tMin);
         if (!shading::passesThrough(device, context, ray, layer, point)) return true;
+        ray.media = shading::mediaBeyondHole(device, ray.media, point, ray.direction);
         exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
         tMin = hit.t;
     }
+    absorbed *= shading::absorptionAlong(device, ray.media, std::numeric_limits<double>::infinity());
     return false;
 }
 
-glm::dvec3 ReferenceRenderer::radiance(const shading::RayState& ray, const shading::ShadingContext& context,
+glm::dvec3 ReferenceRenderer::radiance(shading::RayState ray, const shading::ShadingContext& context,
                                        double time, RayCounters& counters) const {
     const CpuShadingDevice device(shadingScene_, time, counters);
     SurfaceHit hit;
     shading::HitPoint point;
-    const bool found = visibleHit(device, context, ray, time, hit, point);
-    const glm::dvec3 absorbed =
-        shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
+    glm::dvec3 absorbed;
+    const bool found = visibleHit(device, context, ray, time, hit, point, absorbed);
     if (!found) return absorbed * shading::escapedRadiance(device, context, ray);
 
     // The shared shading step; its continuation rays are traced by recursion.
@@ -180,10 +184,9 @@ glm::dvec3 ReferenceRenderer::pathRadiance(shading::RayState ray, const shading:
     for (;;) {
         SurfaceHit hit;
         shading::HitPoint point;
-        const bool found = visibleHit(device, context, ray, time, hit, point);
-        const glm::dvec3 weight =
-            ray.throughput *
-            shading::absorptionAlong(device, ray.media, found ? hit.t : std::numeric_limits<double>::infinity());
+        glm::dvec3 absorbed;
+        const bool found = visibleHit(device, context, ray, time, hit, point, absorbed);
+        const glm::dvec3 weight = ray.throughput * absorbed;
         if (!found) return sum + weight * shading::escapedRadiance(device, context, ray);
         const shading::ShadedHit shaded = shading::shadeHit(device, context, ray, point, weight);
         sum += weight * shaded.radiance;

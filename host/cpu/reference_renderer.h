@@ -59,14 +59,17 @@ class ReferenceRenderer {
                              double checkpointEveryMs, const StopCondition& stop) const;
     shading::ShadingContext shadingContext(uint32_t pixel, uint32_t sample) const;
     shading::HitPoint hitPointOf(const Ray& ray, const SurfaceHit& hit, double time) const;
-    // The nearest surface along `ray` that is there (alpha), as the GPU's traceVisible finds it.
+    // The nearest surface along `ray` that is there (alpha), and what the volumes on the way absorb up to it,
+    // as the GPU's traceVisible finds them; the holes passed in volumes' surfaces move `ray` into or out of
+    // them.
     bool visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
-                    const shading::RayState& ray, double time, SurfaceHit& hit, shading::HitPoint& point) const;
+                    shading::RayState& ray, double time, SurfaceHit& hit, shading::HitPoint& point,
+                    glm::dvec3& absorbed) const;
     // The path integrator: radiance arriving along a path's first ray, one ray per bounce, in a loop.
     glm::dvec3 pathRadiance(shading::RayState ray, const shading::ShadingContext& context, double time,
                             RayCounters& counters) const;
     // Whitted: radiance arriving along one ray of the tree, seen at shutter time `time`, by recursion.
-    glm::dvec3 radiance(const shading::RayState& ray, const shading::ShadingContext& context, double time,
+    glm::dvec3 radiance(shading::RayState ray, const shading::ShadingContext& context, double time,
                         RayCounters& counters) const;
 
     const Scene& scene_;
