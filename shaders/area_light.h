@@ -23,6 +23,10 @@ struct LightPoint {
     real3 normal;  // the emitting (front, outward) side
     real2 uv;      // barycentric weights of v1 and v2 (triangles) or texture coordinates (spheres)
     real pdfArea;  // per unit area, the choice of the light included
+    // A sphere's point seen through the sphere's near side (sampleSphereLight, seeThrough): the texture
+    // coordinates where the shadow ray crosses that side, whose holes it passes (the ray skips the sphere).
+    bool behindNearSide;
+    real2 nearSideUv;
 };
 
 // A light's power, by which light sampling picks it: luminance times area (at the shutter's opening).
@@ -247,6 +251,8 @@ VKRT_FN LightPoint sampleTriangleLight(uint primitive, real3 v0, real3 v1, real3
     LightPoint p;
     p.primitive = primitive;
     p.material = 0u;  // the device's to fill in
+    p.behindNearSide = false;
+    p.nearSideUv = real2(0.0);
     p.normal = planeNormal(v0, v1, v2);
 #ifdef VKRT_HAS_SOLID_ANGLE_TRIANGLES
     if (bySolidAngle) {
@@ -285,22 +291,29 @@ VKRT_FN real triangleLightSolidAnglePdf(real3 v0, real3 v1, real3 v2, real pick,
 // robustness: a shading point on the sphere itself (an emitter seen from inside) rounds to either side of it,
 // and the cone's sampler then drew every point next to the shading point (light leaked inside a one-sided
 // sphere, a double-sided one came out 10% dark). sphereLightSolidAnglePdf decides alike.
-VKRT_FN bool sphereSampledByArea(real radius, real distance2) {
-    return distance2 <= radius * radius * (1.0 + 2e-4);
+// A sphere that can be seen through (`seeThrough`: double-sided, with holes) is sampled by area from everywhere:
+// the inside of its far half, seen through the holes of the near half, lights points outside too, and the cone
+// holds the near half alone (a translucent double-sided lamp lit a floor as 0.5 of its opaque self where 0.75 is
+// right).
+VKRT_FN bool sphereSampledByArea(real radius, real distance2, bool seeThrough) {
+    return seeThrough || distance2 <= radius * radius * (1.0 + 2e-4);
 }
 
 // A point of a sphere picked with probability `pick`, uniform in the cone of directions it subtends from
-// `from` (pbrt-v4, Sphere::Sample), or uniform by area from inside or on its surface (sphereSampledByArea).
-VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, real pick, real3 from, real u,
-                                     real v) {
+// `from` (pbrt-v4, Sphere::Sample), or uniform by area from inside or on its surface, or where it can be seen
+// through (sphereSampledByArea).
+VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, real pick, real3 from,
+                                     bool seeThrough, real u, real v) {
     LightPoint p;
     p.primitive = primitive;
     p.material = 0u;  // the device's to fill in
+    p.behindNearSide = false;
+    p.nearSideUv = real2(0.0);
     const real3 toCenter = center - from;
     const real distance2 = dot(toCenter, toCenter);
     const real phi = 2.0 * VKRT_PI * v;
     real oneMinusCosMax = 0.0;
-    if (sphereSampledByArea(radius, distance2)) {
+    if (sphereSampledByArea(radius, distance2, seeThrough)) {
         const real z = 1.0 - 2.0 * u, ring = sqrt(max(0.0, 1.0 - z * z));
         p.normal = real3(ring * cos(phi), ring * sin(phi), z);
         p.pdfArea = pick / (4.0 * VKRT_PI * radius * radius);
@@ -322,9 +335,19 @@ VKRT_FN LightPoint sampleSphereLight(uint primitive, real3 center, real radius, 
     }
     p.position = center + radius * p.normal;
     p.uv = sphereUv(p.normal);
+    const real3 offset = p.position - from;
+    if (seeThrough && !sphereSampledByArea(radius, distance2, false) && dot(p.normal, offset) > 0.0) {
+        // From outside (beyond the shell where a point on the sphere itself may round to), a point facing away
+        // lies behind the near side: the line from `from` crosses it first, at t_near = 2 (c - o).d - t_far
+        // along the unit direction d (the roots' sum), at near d - (c - o) from the centre.
+        const real far = length(offset);
+        const real3 d = offset / far;
+        const real near = 2.0 * dot(toCenter, d) - far;
+        p.behindNearSide = true;
+        p.nearSideUv = sphereUv(normalize(near * d - toCenter));
+    }
     if (oneMinusCosMax > 0.0) {
         // The cone's solid-angle density 1 / (2 pi (1 - cos theta_max)), per unit area at the point.
-        const real3 offset = p.position - from;
         const real d2 = dot(offset, offset);
         const real cosLight = max(0.0, -dot(p.normal, offset) / sqrt(d2));
         p.pdfArea = pick * cosLight / (2.0 * VKRT_PI * oneMinusCosMax * d2);
@@ -340,12 +363,12 @@ VKRT_FN real solidAnglePdfFromArea(real pdfArea, real distance2, real cosLight) 
 
 // The density per unit solid angle with which sampleSphereLight, seen from `from`, picks a point at squared
 // distance `distance2` and cosine `cosLight` on a sphere picked with probability `pick`.
-VKRT_FN real sphereLightSolidAnglePdf(real3 center, real radius, real pick, real3 from, real distance2,
-                                      real cosLight) {
+VKRT_FN real sphereLightSolidAnglePdf(real3 center, real radius, real pick, real3 from, bool seeThrough,
+                                      real distance2, real cosLight) {
     if (!(cosLight > 0.0)) return 0.0;
     const real3 toCenter = center - from;
     const real centerDistance2 = dot(toCenter, toCenter);
-    if (!sphereSampledByArea(radius, centerDistance2))
+    if (!sphereSampledByArea(radius, centerDistance2, seeThrough))
         return pick / (2.0 * VKRT_PI * coneOneMinusCos(radius, centerDistance2));
     return pick / (4.0 * VKRT_PI * radius * radius) * distance2 / cosLight;
 }

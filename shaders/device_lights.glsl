@@ -111,7 +111,8 @@ LightPoint device_sampleAreaLight(float pick, float pickFine, float u, float v, 
     LightPoint p;
 #ifdef VKRT_HAS_SPHERES
     if (emitter.kind == VKRT_PRIMITIVE_SPHERE) {
-        p = sampleSphereLight(light.primitive, emitter.v0, emitter.v1.x, light.pick, from, u, v);
+        p = sampleSphereLight(light.primitive, emitter.v0, emitter.v1.x, light.pick, from,
+                              sphereSeenThrough(device_material(emitter.material)), u, v);
         p.material = emitter.material;
         return p;
     }
@@ -144,7 +145,9 @@ float device_lightSolidAnglePdf(uint primitive, uint shape, vec3 from, vec3 poin
     if (opened.kind == VKRT_PRIMITIVE_SPHERE) {
         const float pick = lightPickProbability(lightPower(emission, 4.0 * VKRT_PI * opened.v1.x * opened.v1.x),
                                                 params.areaLightPower, params.areaLightCount);
-        return sphereLightSolidAnglePdf(now.v0, now.v1.x, pick, from, dot(offset, offset), cosLight);
+        return sphereLightSolidAnglePdf(now.v0, now.v1.x, pick, from,
+                                        sphereSeenThrough(device_material(opened.material)), dot(offset, offset),
+                                        cosLight);
     }
 #endif
     const float openArea = triangleArea(opened.v0, opened.v1, opened.v2);

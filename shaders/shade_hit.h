@@ -475,6 +475,10 @@ VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, u
         cosLight / (distance2 * light.pdfArea);
 #ifdef VKRT_HAS_ALPHA
     query.irradiance *= coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.uv, 0.0);  // an emitter's holes
+    // A sphere's inside seen through its near side (which the shadow ray skips): through that side's holes.
+    if (light.behindNearSide) {
+        query.irradiance *= 1.0 - coverageAt(VKRT_DEVICE_ARG emitter, light.primitive, light.nearSideUv, 0.0);
+    }
 #endif
 #ifdef VKRT_HAS_CLEARCOAT
     query.irradiance *= coatedEmission(emitter.clearcoat, abs(dot(light.normal, toLight)));

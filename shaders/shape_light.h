@@ -77,6 +77,8 @@ VKRT_FN LightPoint sampleShapeLight(VKRT_DEVICE_PARAM uint primitive, VKRT_IN(So
     LightPoint p;
     p.primitive = primitive;
     p.material = VKRT_DEVICE(shapeMaterial)(shape);
+    p.behindNearSide = false;  // a solid's own faces shadow it (its shadow rays do not skip it)
+    p.nearSideUv = real2(0.0);
     p.position = affinePoint(toWorld, local);
     const real3 outward = normalize(affineTransposedVector(toObject, shapeNormal(type, face, local)));
     const real reach = VKRT_CSG_TIE * shapeSize(toWorld) + VKRT_CSG_PLACEMENT_TIE * shapeOffset(toWorld);

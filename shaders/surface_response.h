@@ -201,6 +201,12 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
     return s;
 }
 
+// Whether a sphere light of `material` can be seen through: double-sided, with holes (alpha), so that the inside
+// of its far half lights points outside (area_light.h's sphereSampledByArea).
+VKRT_FN bool sphereSeenThrough(VKRT_IN(SurfaceMaterial) material) {
+    return material.doubleSided && material.alphaMode != VKRT_ALPHA_OPAQUE;
+}
+
 // The coverage alone at a hit (sampleMaterial's, reading only what alpha depends on).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN real coverageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv,

@@ -260,6 +260,41 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
     }
 }
 
+TEST_F(GpuSurfaces, TranslucentDoubleSidedSphereLampLightsThroughItsHoles) {
+    // A lamp sphere beside the unit square (out of the camera's view), double-sided, of alpha 0.5 (BLEND):
+    // along every line through it the near side covers half, and the inside of the far side half of the rest
+    // seen through the near side's holes, so it lights the square as 0.75 of the opaque lamp does, by light
+    // samples alone (Whitted, no bounce) and by paths (one bounce, weighed against light samples). Light
+    // samples drew from the cone of the near half alone, and the square got 0.5 of the opaque lamp's light
+    // from Whitted.
+    const auto squareMean = [&](bool translucent, Integrator integrator) {
+        Scene scene;
+        Material lamp = lambertian(0.0f);
+        lamp.emission = glm::vec3(4.0f);
+        lamp.doubleSided = true;
+        if (translucent) {
+            lamp.alphaMode = AlphaMode::Blend;
+            lamp.baseColor.a = 0.5f;
+        }
+        scene.materials.push_back(lamp);
+        scene.spheres.push_back({glm::vec3(0.5f, -0.6f, 0.8f), 0.4f, 0});
+        RenderSettings settings = litOnly(16);
+        settings.integrator = integrator;
+        settings.maxDepth = integrator == Integrator::Path ? 1 : 0;
+        settings.samplesPerPixel = 64;
+        const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lambertian(1.0f), settings);
+        return std::pair{meanRed(gpu.image), meanRed(cpu.image)};
+    };
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+        const auto [opaqueGpu, opaqueCpu] = squareMean(false, integrator);
+        const auto [translucentGpu, translucentCpu] = squareMean(true, integrator);
+        EXPECT_GT(opaqueGpu, 0.01);
+        EXPECT_NEAR(translucentGpu / opaqueGpu, 0.75, 0.01);
+        EXPECT_NEAR(translucentCpu / opaqueCpu, 0.75, 0.01);
+    }
+}
+
 TEST_F(GpuSurfaces, BlackBlendQuadBeforeAnEmitterLetsThroughOneMinusAlpha) {
     // A black quad of alpha 0.25 (BLEND) in front of an emitter of radiance 1, nothing else: camera rays pass
     // it with probability 0.75, so the image converges to 0.75; a MASK cut-out (alpha below the cutoff) shows

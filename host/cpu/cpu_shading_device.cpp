@@ -75,8 +75,9 @@ shading::LightPoint CpuShadingDevice::sampleAreaLight(double pick, double pickFi
     }
     if (data_.scene.isSphere(primitive)) {
         const Sphere sphere = data_.scene.sphereAt(primitive, time_);
-        shading::LightPoint p = shading::sampleSphereLight(primitive, glm::dvec3(sphere.center),
-                                                           sphere.radius, lights.pick[i], from, u, v);
+        shading::LightPoint p =
+            shading::sampleSphereLight(primitive, glm::dvec3(sphere.center), sphere.radius, lights.pick[i],
+                                       from, shading::sphereSeenThrough(material(sphere.material)), u, v);
         p.material = sphere.material;
         return p;
     }
@@ -119,6 +120,7 @@ double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, 
     if (scene.isSphere(primitive)) {
         const Sphere sphere = scene.sphereAt(primitive, time_);
         return shading::sphereLightSolidAnglePdf(glm::dvec3(sphere.center), sphere.radius, pick, from,
+                                                 shading::sphereSeenThrough(material(sphere.material)),
                                                  distance2, cosLight);
     }
     const Triangle t = scene.triangleAt(primitive, time_);

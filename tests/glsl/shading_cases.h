@@ -186,12 +186,13 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
                    triangleLightSolidAnglePdf(xyz(a), xyz(b), xyz(c), b.w, pdfArea, from, true, distance2,
                                               cosLight));
     } else if (fc.function == VKRT_CASE_SPHERE_LIGHT) {
-        const LightPoint p = sampleSphereLight(7u, xyz(a), a.w, b.w, xyz(b), c.x, c.y);
+        const LightPoint p = sampleSphereLight(7u, xyz(a), a.w, b.w, xyz(b), false, c.x, c.y);
         const real3 offset = p.position - xyz(b);
         const real distance2 = dot(offset, offset);
         const real cosLight = -dot(p.normal, offset) / sqrt(distance2);
         r0 = real4(p.position.x, p.position.y, p.position.z, p.pdfArea);
-        r1 = real4(p.normal.x, p.uv.x, p.uv.y, sphereLightSolidAnglePdf(xyz(a), a.w, b.w, xyz(b), distance2, cosLight));
+        r1 = real4(p.normal.x, p.uv.x, p.uv.y,
+                   sphereLightSolidAnglePdf(xyz(a), a.w, b.w, xyz(b), false, distance2, cosLight));
     } else if (fc.function == VKRT_CASE_SPHERE) {
         real t0, t1;
         const bool hit = sphereRoots(xyz(a), a.w, xyz(b), xyz(c), t0, t1);
