@@ -831,16 +831,20 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     real lobeScale = 1.0;
     real3 microNormal = normal;
     if (!tracedAsMirror(surface.mirror)) {
-        microNormal = visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U), normal, toViewer,
-                                         surface.alpha);
+        bool drawn = false;
 #if defined(VKRT_HAS_VOLUMES) && defined(VKRT_HAS_ROUGH_REFRACTION)
         // A compensated rough refracting dielectric (not thin, no metal in it: the metal's reflection does not
         // follow the dielectric's share) draws its compensation.
         if (volume && eta != 1.0 && surface.transmissionCompensation > 1.0 && surface.metallic == 0.0) {
             microNormal = compensatedMicroNormal(context, ray.node, normal, geometricNormal, toViewer, surface.alpha,
                                                  eta, 1.0 / surface.transmissionCompensation, lobeScale);
+            drawn = true;
         }
 #endif
+        if (!drawn) {
+            microNormal = visibleMicroNormal(context, vkrtNodeDimension(ray.node, VKRT_DIM_LOBE_U), normal,
+                                             toViewer, surface.alpha);
+        }
     }
     const real cosMicro = max(0.0, dot(microNormal, toViewer));
 
