@@ -470,6 +470,15 @@ TEST(GltfLoader, TangentFramesFollowTextureCoordinatesAndNodes) {
     EXPECT_EQ(mirrored, 2);
 }
 
+// Texture 0 of `d`: an image of one texel (a flat normal, read as any other colour).
+void addOneTexelTexture(test::GltfDocument& d) {
+    d.json["images"] = {{{"uri",
+                          "data:image/png;base64,"
+                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
+                          "BJRU5ErkJggg=="}}};
+    d.json["textures"] = {{{"source", 0}}};
+}
+
 TEST(GltfLoader, DerivedTangentFramesSplitAtAMirroredSeam) {
     // Two squares side by side facing +z, sharing the seam's two vertices (x = 1), the right one's texture
     // mirrored across it (u = 2 - x; v down both): each triangle's frame is its own half's, at the seam too:
@@ -480,11 +489,7 @@ TEST(GltfLoader, DerivedTangentFramesSplitAtAMirroredSeam) {
     const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
     const int uvs = d.floats({0, 1, 1, 1, 0, 1, 0, 0, 1, 0, 0, 0}, "VEC2");
     const int indices = d.unsignedShorts({0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4}, "SCALAR");
-    d.json["images"] = {{{"uri",
-                          "data:image/png;base64,"
-                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
-                          "BJRU5ErkJggg=="}}};
-    d.json["textures"] = {{{"source", 0}}};
+    addOneTexelTexture(d);
     d.json["materials"] = {{{"normalTexture", {{"index", 0}}}}};
     d.json["meshes"] = {
         {{"primitives",
@@ -522,11 +527,7 @@ TEST(GltfLoader, DerivedTangentFramesFollowAMorphTargetsTurn) {
     const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
     const int turnedPositions = d.positions({0, 0, 0, -1, 0, -1, -1, 0, -1, 0, 0, 0});
     const int turnedNormals = d.floats({1, 0, -1, 1, 0, -1, 1, 0, -1, 1, 0, -1}, "VEC3");
-    d.json["images"] = {{{"uri",
-                          "data:image/png;base64,"
-                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
-                          "BJRU5ErkJggg=="}}};
-    d.json["textures"] = {{{"source", 0}}};
+    addOneTexelTexture(d);
     d.json["materials"] = {{{"normalTexture", {{"index", 0}}}}};
     d.json["meshes"] = {
         {{"primitives",
@@ -564,12 +565,7 @@ TEST(GltfLoader, DerivedTangentFramesFollowTheNormalTexturesTransform) {
     const int normals = d.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
     const int uvs = d.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2");
     const int indices = d.unsignedShorts({0, 1, 2, 0, 2, 3}, "SCALAR");
-    d.json["images"] = {{{"uri",
-                          "data:image/"
-                          "png;base64,"
-                          "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAA"
-                          "BJRU5ErkJggg=="}}};
-    d.json["textures"] = {{{"source", 0}}};
+    addOneTexelTexture(d);
     d.json["extensionsUsed"] = {"KHR_texture_transform"};
     const nlohmann::json transforms[] = {
         nlohmann::json::object(), {{"rotation", M_PI / 2}}, {{"scale", {-1, 1}}}};
