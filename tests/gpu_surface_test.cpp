@@ -222,7 +222,7 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
     // camera. Alpha takes the interface away at its holes, not the medium: every ray crosses the medium along
     // its chord 2 sqrt(1 - r^2) and brings 0.5^chord back, through the surface or through its holes. A ray
     // that entered through the surface and left through a hole was taken to be inside still, and came back
-    // black: the centre showed 3/4 of 0.25.
+    // black, and one that entered through a hole was never inside: the centre showed 0.58 where 0.25 is due.
     Scene scene;
     Material liquid = lambertian(1.0f);
     liquid.transmission = 1.0f;
