@@ -40,10 +40,19 @@ vec3 device_offsetOrigin(vec3 position, float errorScale, vec3 normal) {
 // Shadow rays to a point on a light stop short of it (shared.h's VKRT_SHADOW_RAY_SHORTENING).
 float device_shadowRayLength(float distance) { return distance * (1.0 - float(VKRT_SHADOW_RAY_SHORTENING)); }
 
-vec4 device_shadowTransmittance(vec3 origin, vec3 direction, float tMax, uint excludeA, uint excludeB) {
+vec4 device_shadowTransmittance(vec3 origin, vec3 direction, float tMin, float tMax, uint excludeA, uint excludeB) {
     ++vkrtShadowRays;
-    return shadowTransmittance(Ray(origin, direction), tMax, excludeA, excludeB, vkrtWalksComplete);
+    return shadowTransmittance(Ray(origin, direction), tMin, tMax, excludeA, excludeB, vkrtWalksComplete);
 }
+
+#ifdef VKRT_HAS_VOLUME_HOLES
+// Some volume's surface has holes (Scene::volumesHaveHoles, also where every feature is compiled in): the path
+// kernel's shadow rays meet surfaces in order (shade_hit.h's lightSampleShadow), walked by trace.comp, which
+// finds the hit points.
+bool device_hasVolumeHoles() { return vkrtVolumesBlockShadows && params.volumeHoles != 0u; }
+bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint light, inout uvec2 media,
+                               inout vec4 passage, inout vec3 absorbed, inout float tMin, inout uint exclude);
+#endif
 
 // Light tables (host/scene/light_table.h): the cumulative steps of entry `i` of the punctual lights' table or of
 // the area lights', and the first entry of `count` whose steps exceed the 48-bit number that (pick, pickFine),

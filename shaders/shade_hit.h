@@ -372,17 +372,6 @@ VKRT_FN real cosinePdf(real3 normal, real3 toLight) {
     return max(dot(normal, toLight), 0.0) / VKRT_PI;
 }
 
-// What reaches a shading point along a shadow ray of length `distance` that `visible` of the light passes:
-// for paths, whose shadow rays stop at transmissive surfaces and so never leave the volume they start in
-// (`media`), less what that volume absorbs on the way.
-VKRT_DEVICE_TEMPLATE
-VKRT_FN real3 shadowed(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uvec2 media, real3 visible, real distance) {
-#ifdef VKRT_HAS_VOLUMES
-    if (context.paths) return visible * absorptionAlong(VKRT_DEVICE_ARG media, distance);
-#endif
-    return visible;
-}
-
 // One light sample of directLight: the shadow ray to trace, and what the light brings along it if nothing is
 // in the way.
 struct LightQuery {
@@ -396,6 +385,51 @@ struct LightQuery {
     real weight;            // the power heuristic against the traced glossy lobe, else 1
     real untracedWeight;    // the same against the untraced lobes' continuation (paths), else 1
 };
+
+// One surface that a path's shadow ray meets, taken in order from the ray's origin (the devices'
+// shadowThroughHoles): what the media before it absorb over `segment` into `absorbed`, what passes the surface
+// (shadowPassage: a volume's surface stops the ray but for its holes) into `passage`; `media` then holds the
+// media beyond it, which a hole in a volume's surface enters or leaves (mediaBeyondHole).
+VKRT_DEVICE_TEMPLATE
+VKRT_FN void crossInOrder(VKRT_DEVICE_PARAM VKRT_IN(HitPoint) hit, real3 direction, real segment,
+                          VKRT_INOUT(uvec2) media, VKRT_INOUT(real4) passage, VKRT_INOUT(real3) absorbed) {
+    absorbed *= absorptionAlong(VKRT_DEVICE_ARG media, segment);
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
+    passage *= shadowPassage(sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, 0.0), material.volume);
+    media = mediaBeyondHole(VKRT_DEVICE_ARG media, hit, direction);
+}
+
+// What of a light passes along a light sample's shadow ray from `origin` (shadowTransmittance's passage), and
+// in `absorbed` what the volumes on the way absorb over `query.distance`, the way to the light (paths; Whitted's
+// shadow rays pass transmissive surfaces, tinted, and are not absorbed). A path's shadow ray stops at a
+// volume's surface, so it stays in the media it starts in (`media`), unless the surface has holes: a hole
+// takes away the interface, not the medium, and a shadow ray through it enters or leaves the volume. Where a
+// scene has such holes, the devices walk a path's shadow ray surface by surface, in order, over its first
+// VKRT_MAX_ALPHA_LAYERS surfaces (shadowThroughHoles), and leave the rest, if any, to the walk that takes
+// surfaces in any order, in the media the ray is in by then; elsewhere that walk takes them all.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 lightSampleShadow(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, real3 origin, uint exclude,
+                                VKRT_IN(LightQuery) query, uvec2 media, VKRT_OUT(real3) absorbed) {
+    absorbed = real3(1.0);
+    real4 passage = real4(1.0);
+    real tMin = 0.0;          // the surfaces before it are crossed
+    uint skipped = exclude;   // and so is this one, at tMin
+    bool rest = true;         // surfaces may lie beyond tMin
+#ifdef VKRT_HAS_VOLUME_HOLES
+    if (context.paths && VKRT_DEVICE(hasVolumeHoles)()) {
+        rest = VKRT_DEVICE(shadowThroughHoles)(origin, query.shadowDirection, query.shadowLength, query.lightPrimitive,
+                                               media, passage, absorbed, tMin, skipped);
+    }
+#endif
+    if (rest) {
+        passage *= VKRT_DEVICE(shadowTransmittance)(origin, query.shadowDirection, tMin, query.shadowLength, skipped,
+                                                    query.lightPrimitive);
+    }
+#ifdef VKRT_HAS_VOLUMES
+    if (context.paths) absorbed *= absorptionAlong(VKRT_DEVICE_ARG media, query.distance - tMin);
+#endif
+    return passage;
+}
 
 // A light sample's weights by the power heuristic against the lobes that also reach the light by the rays they
 // trace: the glossy lobe (`lobeSampled`) and, for paths, the untraced lobes' cosine-distributed continuation
@@ -590,16 +624,15 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
         }
 #endif
         if (!lit) continue;
+        real3 absorbed;
         const real4 passage =
-            VKRT_DEVICE(shadowTransmittance)(frame.viewerSide, query.shadowDirection, query.shadowLength,
-                                             frame.excludeOnViewerSide, query.lightPrimitive);
+            lightSampleShadow(VKRT_DEVICE_ARG context, frame.viewerSide, frame.excludeOnViewerSide, query, media, absorbed);
         // Paths see an area light or the environment through holes alone (shadowPassage): their own bounces bring
         // the light that transmissive surfaces let through. No path finds a punctual light, so its light sample
         // passes thin-walled transmissive surfaces, tinted (a window under the sun cast a black shadow); a
         // volume's boundary stops it (shadowTint).
         const bool pathsThroughHoles = context.paths && q >= punctualQueries;
-        const real3 visible =
-            shadowed(VKRT_DEVICE_ARG context, media, pathsThroughHoles ? real3(passage.w) : real3(passage), query.distance);
+        const real3 visible = absorbed * (pathsThroughHoles ? real3(passage.w) : real3(passage));
         // Whitted's traced lobes see an area light or the environment through holes alone where their own rays
         // find those through glass (lobeThroughGlass). No ray finds a punctual light, so its light sample lights
         // them through glass too, as every light's does where the lobe's rays end at the glass or are not traced.

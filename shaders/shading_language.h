@@ -99,6 +99,7 @@ inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
 #define VKRT_HAS_TEXCOORD1
 #define VKRT_HAS_NORMAL_MAPS
 #define VKRT_HAS_ALPHA
+#define VKRT_HAS_VOLUME_HOLES  // and the device says whether the scene has them (hasVolumeHoles)
 #define VKRT_HAS_UNLIT
 #define VKRT_HAS_MIPMAPS
 #define VKRT_HAS_CLEARCOAT

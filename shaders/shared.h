@@ -470,6 +470,7 @@ struct SceneParams {
     VKRT_ADDRESS(ShapeBuffer, shapes);  // with VKRT_HAS_SHAPES: the solids' shapes
     VKRT_ADDRESS(SolidBuffer, solids);
     VKRT_ADDRESS(ShapePoseBuffer, shapePoses);  // motion blur: poses 1..motionSegments of every shape
+    uint volumeHoles;  // 1: a volume's surface has holes (Scene::volumesHaveHoles; shade_hit.h's lightSampleShadow)
 };
 
 // Per dispatch: which samples of which rows.
@@ -528,7 +529,8 @@ static_assert(offsetof(SceneParams, sheenTable) == 312);
 static_assert(offsetof(SceneParams, ggxDielectricAlbedoTable) == 328);
 static_assert(offsetof(SceneParams, energyCompensation) == 336);
 static_assert(offsetof(SceneParams, shapes) == 344 && offsetof(SceneParams, shapePoses) == 360);
-static_assert(sizeof(SceneParams) == 368);
+static_assert(offsetof(SceneParams, volumeHoles) == 368);
+static_assert(sizeof(SceneParams) == 376);  // the last uint and 4 bytes of padding to the 8-byte alignment
 static_assert(sizeof(GpuEnvironmentTexel) == 16 && offsetof(GpuEnvironmentTexel, columnCdf) == 12);
 static_assert(sizeof(GpuVertexColors) == 48 && sizeof(GpuTexCoords1) == 32);
 static_assert(sizeof(PassConstants) == 20);

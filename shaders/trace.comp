@@ -220,7 +220,7 @@ bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out H
         if (!passesThrough(context, ray, layer, point)) return true;
         ray.media = mediaBeyondHole(ray.media, point, ray.direction);
         exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
-        tMin = hit.t;
+        tMin = searchBeyond(hit);
     }
     absorbed *= absorptionAlong(ray.media, VKRT_INFINITY);
     return false;
@@ -231,6 +231,40 @@ bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out H
     return found;
 #endif
 }
+
+#ifdef VKRT_HAS_VOLUME_HOLES
+// A path's shadow ray from `origin` to tMax where volumes' surfaces have holes (shade_hit.h's lightSampleShadow):
+// its first VKRT_MAX_ALPHA_LAYERS surfaces met one by one, nearest first, as traceVisible meets them, each
+// crossed by crossInOrder (what passes into `passage`, what the media before it absorb into `absorbed`, and
+// `media` moved into or out of a volume at a hole in its surface); `tMin` and `exclude` say where the next
+// search starts. The light's primitive is skipped throughout. True where surfaces may lie beyond the last one
+// (the rest are left to the walk in any order); false where none do or the light is blocked.
+bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint light, inout uvec2 media,
+                               inout vec4 passage, inout vec3 absorbed, inout float tMin, inout uint exclude) {
+    const ShearedRay sheared = shearRay(Ray(origin, direction));
+    RayState ray;  // what hitPointOf reads
+    ray.origin = origin;
+    ray.direction = direction;
+    Hit hit;
+    for (uint layer = 0u; layer < VKRT_MAX_ALPHA_LAYERS; ++layer) {
+        VKRT_COUNT_ITERATION();
+        if (!traceClosestSkipping(sheared, exclude, light, tMin, tMax, hit, vkrtWalksComplete)) {
+            ++vkrtShadowRays;
+            return false;
+        }
+        const HitPoint point = hitPointOf(ray, hit);
+        crossInOrder(point, direction, hit.t - tMin, media, passage, absorbed);
+        tMin = searchBeyond(hit);
+        exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
+        if (!(maxComponent(passage.xyz) > 0.0)) {
+            ++vkrtShadowRays;
+            passage = vec4(0.0);
+            return false;
+        }
+    }
+    return true;  // counted by the walk that takes the rest
+}
+#endif
 
 // One finished sample into the pixel's Kahan-compensated sum (rgb and the finite-sample count). A sample whose
 // BVH walk was cut short (traverse.glsl), of an invocation that has run llvmpipe's loop budget, that is not

@@ -13,12 +13,44 @@
 #include "ties.h"
 #include "solids.glsl"
 
+// Walks that go on past a hit (the holes of alpha: trace.comp's traceVisible) need, for a solid's crossing, where
+// its tie group ends (shape_geometry.h's csgCrossing): coincident faces of its shapes are crossed together, and
+// a search from the crossing's own distance met the other shape's face just beyond it as a second crossing.
+#if defined(VKRT_HAS_SHAPES) && defined(VKRT_HAS_ALPHA)
+#define VKRT_HIT_GROUP_END
+#endif
+
 struct Hit {
     float t;
-    float u, v;  // barycentric weights of v1 and v2
+    float u, v;  // barycentric weights of v1 and v2; solids: the scene's shape and face * 2 + flip
     uint primitive;
     uint sceneIndex;  // the primitive's index in the scene, which breaks ties (kept to spare a reload)
+#ifdef VKRT_HIT_GROUP_END
+    float groupEnd;  // a solid's crossing: the end of its tie group; else t
+#endif
 };
+
+Hit hitOf(float t, float u, float v, uint primitive, uint sceneIndex, float groupEnd) {
+    Hit hit;
+    hit.t = t;
+    hit.u = u;
+    hit.v = v;
+    hit.primitive = primitive;
+    hit.sceneIndex = sceneIndex;
+#ifdef VKRT_HIT_GROUP_END
+    hit.groupEnd = groupEnd;
+#endif
+    return hit;
+}
+
+// Where a search for what lies beyond `hit` starts: past a solid's crossing, beyond its tie group.
+float searchBeyond(Hit hit) {
+#ifdef VKRT_HIT_GROUP_END
+    return hit.groupEnd;
+#else
+    return hit.t;
+#endif
+}
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
 // touches (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
@@ -119,13 +151,13 @@ bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout ve
 // A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip); in SHADOW
 // mode, every crossing in (tMin, tMax) filters `transmittance` instead (true once opaque).
 bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limit, const int mode, out float t,
-                out float u, out float v, inout vec4 transmittance) {
+                out float u, out float v, out float groupEnd, inout vec4 transmittance) {
     float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
     uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
     solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
     const float originScale = maxAbs(r.origin);
     CsgCrossing crossing;
-    t = u = v = 0.0;
+    t = u = v = groupEnd = 0.0;
     if (mode == VKRT_TRACE_SHADOW) {
         float after = tMin;
         for (uint k = 0u; k < 2u * VKRT_CSG_MAX_SHAPES; ++k) {
@@ -149,6 +181,7 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
         return false;
     }
     t = crossing.t;
+    groupEnd = crossing.groupEnd;
     u = float(solid.firstShape + crossing.shape);
     v = float(crossing.face * 2u + (crossing.flip ? 1u : 0u));
     return true;
@@ -204,12 +237,12 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     if (index == excludeA || index == excludeB) return false;
     const GpuPrimitive primitive = primitiveAt(index);
 #endif
-    float t, u = 0.0, v = 0.0;
+    float t, u = 0.0, v = 0.0, groupEnd = 0.0;  // a solid's crossing sets its tie group's end, at least t
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
         const bool found = visitSolid(r, index, solidOf(primitive), tMin,
                                       mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(nearest, tMax, originScale, mode), mode, t, u, v,
-                                      transmittance);
+                                      groupEnd, transmittance);
         if (mode == VKRT_TRACE_SHADOW || !found) return found;
     } else
 #endif
@@ -227,14 +260,14 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
-        hit = Hit(t, u, v, index, primitive.sceneIndex);
+        hit = hitOf(t, u, v, index, primitive.sceneIndex, t);
         return true;
     }
     if (mode == VKRT_TRACE_CLOSEST) {
         // ties.h's rule; a walk that lost a candidate runs again (`lost`).
         if (takesClosestHit(t, primitive.sceneIndex, hit.primitive != VKRT_NO_PRIMITIVE, hit.t, hit.sceneIndex,
                             originScale, nearest, lost)) {
-            hit = Hit(t, u, v, index, primitive.sceneIndex);
+            hit = hitOf(t, u, v, index, primitive.sceneIndex, max(groupEnd, t));
         }
         return false;
     }
@@ -258,7 +291,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
                  inout vec4 transmittance, out bool complete) {
-    hit = Hit(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE);
+    hit = hitOf(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMax);
     complete = true;
     if (params.primitiveCount == 0u) return false;
     // Closest-hit walks: the nearest hit's distance, which ties are judged against, and whether a candidate
@@ -346,12 +379,17 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     return false;
 }
 
-bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
+bool traceClosestSkipping(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, out Hit hit,
+                          inout bool complete) {
     vec4 unused = vec4(1.0);
     bool walked;
-    const bool found = traverseBvh(r, exclude, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
+    const bool found = traverseBvh(r, excludeA, excludeB, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
     complete = complete && walked;
     return found;
+}
+
+bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
+    return traceClosestSkipping(r, exclude, VKRT_NO_PRIMITIVE, tMin, tMax, hit, complete);
 }
 
 bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool complete) {
@@ -362,14 +400,14 @@ bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool comp
     return found;
 }
 
-// Fraction of light passing from the ray's origin to tMax: 0 behind an opaque surface, the product of the
+// Fraction of light passing from tMin to tMax along the ray: 0 behind an opaque surface, the product of the
 // transmission tints of transmissive ones (shadow rays do not refract) in xyz, and of their holes in w
 // (surface_response.h's shadowPassage).
-vec4 shadowTransmittance(Ray ray, float tMax, uint excludeA, uint excludeB, inout bool complete) {
+vec4 shadowTransmittance(Ray ray, float tMin, float tMax, uint excludeA, uint excludeB, inout bool complete) {
     vec4 transmittance = vec4(1.0);
     Hit unused;
     bool walked;
-    traverseBvh(shearRay(ray), excludeA, excludeB, 0.0, tMax, VKRT_TRACE_SHADOW, unused, transmittance, walked);
+    traverseBvh(shearRay(ray), excludeA, excludeB, tMin, tMax, VKRT_TRACE_SHADOW, unused, transmittance, walked);
     complete = complete && walked;
     return transmittance;
 }

@@ -260,6 +260,106 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
     }
 }
 
+TEST_F(GpuSurfaces, PathsShadowRaysEnterAndLeaveVolumesThroughHoles) {
+    // The unit square (albedo 1) under a sun from straight above, seen from above by an orthographic camera,
+    // with two spheres of radius 0.2 whose surfaces are all holes (MASK, alpha 0) around an absorbing medium
+    // of index 1 (0.5 per unit): A's centre on the square, B's above it. The camera ray and the shadow ray
+    // cross the same medium, so the square shows 0.5^(2 z) under A (z the height of A's top above the point)
+    // and 0.5^(4 h) under B (2 h its chord). A path's shadow ray through holes stayed in the medium it
+    // started in: under A it was absorbed all the way to the sun (black), under B not at all (0.5^(2 h)).
+    Scene scene;
+    Material medium = lambertian(1.0f);
+    medium.transmission = 1.0f;
+    medium.thickness = 1.0f;
+    medium.ior = 1.0f;
+    medium.attenuationColor = glm::vec3(0.5f);
+    medium.attenuationDistance = 1.0f;
+    medium.baseColor.a = 0.0f;
+    medium.alphaMode = AlphaMode::Mask;
+    scene.materials.push_back(medium);
+    const double radius = 0.2;
+    const glm::dvec3 a(0.3, 0.5, 0.0), b(0.7, 0.5, 0.5);
+    scene.spheres.push_back({glm::vec3(a), float(radius), 0});
+    scene.spheres.push_back({glm::vec3(b), float(radius), 0});
+    scene.lights.push_back(sunFrom({0.0, 0.0, 1.0}, float(M_PI)));  // radiance 1 from an unshadowed square
+    RenderSettings settings = litOnly(32);
+    settings.integrator = Integrator::Path;
+    settings.samplesPerPixel = 16;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lambertian(1.0f), settings);
+    ASSERT_TRUE(detectFeatures(scene).volumeHoles);
+    const auto expected = [&](int x, int y) {  // the pixel's mean, by the midpoint rule
+        double sum = 0.0;
+        for (int i = 0; i < 64; ++i) {
+            for (int j = 0; j < 64; ++j) {
+                const glm::dvec2 p((x + (i + 0.5) / 64.0) / 32.0, 1.0 - (y + (j + 0.5) / 64.0) / 32.0);
+                const auto half = [&](const glm::dvec3& c) {  // half the vertical chord through c at p
+                    const glm::dvec2 d = p - glm::dvec2(c);
+                    return std::sqrt(std::max(radius * radius - glm::dot(d, d), 0.0));
+                };
+                sum += std::pow(0.5, 2.0 * half(a) + 4.0 * half(b)) / (64.0 * 64.0);
+            }
+        }
+        return sum;
+    };
+    for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
+        SCOPED_TRACE(device);
+        for (const int x : {0, 9, 22}) EXPECT_NEAR(image->at(x, 16).x, expected(x, 16), 2e-3) << x;
+    }
+    EXPECT_NEAR(expected(9, 16), std::pow(0.5, 0.4), 0.01);   // under A's top
+    EXPECT_NEAR(expected(22, 16), std::pow(0.5, 0.8), 0.01);  // under B's centre
+}
+
+TEST_F(GpuSurfaces, PathsShadowRaysPassMoreThanSixtyFourHoles) {
+    // The unit square (albedo 1) under a sun of illuminance pi from straight above: radiance 1. Between the
+    // camera and the sun, 65 planes that are holes throughout (MASK, alpha 0). Where a volume's surface has
+    // holes somewhere in the scene (here a small absorbing sphere far aside), a path's shadow ray meets its
+    // first 64 surfaces in order and leaves the rest to the walk that takes them in any order; elsewhere that
+    // walk takes them all, also in the shader with every feature compiled in. A shadow ray that met more than
+    // 64 in order was taken to be blocked: black, in the holed scene and in every scene under the
+    // all-features shader.
+    for (const bool volumeWithHoles : {false, true}) {
+        SCOPED_TRACE(volumeWithHoles ? "a volume with holes" : "no volume with holes");
+        Scene scene;
+        Material hole = lambertian(1.0f);
+        hole.baseColor.a = 0.0f;
+        hole.alphaMode = AlphaMode::Mask;
+        scene.materials.push_back(hole);
+        for (int i = 0; i < 65; ++i) {
+            const float z = 1.1f + 0.01f * float(i);
+            addFlatQuad(scene, {-1.0f, -1.0f, z}, {2.0f, -1.0f, z}, {2.0f, 2.0f, z}, {-1.0f, 2.0f, z}, 0);
+        }
+        if (volumeWithHoles) {
+            Material medium = hole;
+            medium.transmission = 1.0f;
+            medium.thickness = 1.0f;
+            medium.attenuationColor = glm::vec3(0.5f);
+            medium.attenuationDistance = 1.0f;
+            scene.materials.push_back(medium);
+            scene.spheres.push_back({glm::vec3(5.0f, 5.0f, 0.5f), 0.1f, 1});
+        }
+        scene.lights.push_back(sunFrom({0.0, 0.0, 1.0}, float(M_PI)));
+        scene.materials.push_back(lambertian(1.0f));
+        test::addUnitSquare(scene, static_cast<uint32_t>(scene.materials.size()) - 1);
+        finalizeScene(scene);
+        EXPECT_EQ(detectFeatures(scene).volumeHoles, volumeWithHoles);
+        const FlatBvh bvh = test::bvhFor(scene);
+        RenderSettings settings = litOnly(8);
+        settings.integrator = Integrator::Path;
+        settings.maxDepth = 0;
+        GpuRenderOptions everyFeature;
+        everyFeature.shaderCacheDir = test::shaderCacheDir();
+        everyFeature.allFeatures = true;
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, test::squareCamera(), settings,
+                                                      test::shaderCacheDir());
+        const Image all = renderGpu(scene, bvh, test::squareCamera(), settings, everyFeature).image;
+        for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"},
+                                            std::pair{&all, "GPU, every feature"}}) {
+            SCOPED_TRACE(device);
+            EXPECT_NEAR(meanRed(*image), 1.0, 1e-4);
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, TranslucentDoubleSidedSphereLampLightsThroughItsHoles) {
     // A lamp sphere beside the unit square (out of the camera's view), double-sided, of alpha 0.5 (BLEND):
     // along every line through it the near side covers half, and the inside of the far side half of the rest

@@ -1546,6 +1546,48 @@ TEST_F(ShapeGpu, ACutFlushWithAFaceFarFromTheMiddleStaysOpen) {
     }
 }
 
+TEST_F(ShapeGpu, RaysThroughHolesCrossCoincidentFacesOnce) {
+    // The intersection of a box of half-size 1 and a wider one whose top face is meant to coincide with it (z
+    // from -0.4 to 1, placed by a translation and a scale that round differently), black and of alpha 0.5
+    // (BLEND), against a background of 1, seen from an oblique direction: each ray crosses the solid's
+    // surface twice, and passes each crossing with probability 0.5, so the image converges to 0.25. A ray
+    // that passed a hole searched on from its own shape's face, met the other shape's face just beyond it as
+    // a crossing of its own, and passed the top twice: 0.2375 on average.
+    Material black = test::lambertian(0.0f);
+    black.baseColor.a = 0.5f;
+    black.alphaMode = AlphaMode::Blend;
+    Scene scene;
+    scene.materials.push_back(black);
+    addSolid(
+        scene,
+        {makeShape(VKRT_SHAPE_BOX, 0, trs({0.0, 0.0, 0.0}, 0.0, {0, 0, 1}, {1.0, 1.0, 1.0})),
+         makeShape(VKRT_SHAPE_BOX, 0, trs({0.0, 0.0, 0.30000000000000004}, 0.0, {0, 0, 1}, {1.5, 1.5, 0.7}))},
+        truthTable(2, [](uint32_t s) { return bit(s, 0) && bit(s, 1); }));
+    finalizeScene(scene);
+    const FlatBvh bvh = bvhFor(scene);
+    Camera camera;
+    camera.projection = Projection::Orthographic;
+    camera.position = {1.4, -0.4, 4.8};
+    camera.forward = glm::normalize(-camera.position);
+    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.xmag = camera.ymag = 0.5;  // every ray enters through the top
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+        RenderSettings settings = emissionAlone(32, 64);
+        settings.background = glm::dvec3(1.0);
+        settings.integrator = integrator;
+        const Image gpu = renderGpu(scene, bvh, camera, settings).image;
+        const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+        for (const Image* image : {&gpu, &cpu}) {
+            double sum = 0.0;
+            for (const glm::vec3& p : image->pixels) sum += p.x;
+            EXPECT_NEAR(sum / static_cast<double>(image->pixels.size()), 0.25, 0.002)
+                << (image == &gpu ? "gpu" : "cpu");
+        }
+    }
+}
+
 TEST_F(ShapeGpu, ThinWallsFarFromTheMiddleStayWhole) {
     // A hollow box (half-size 0.5 minus 0.45: walls 0.05 thick) seen along -x from 3 units away, 1e5 from
     // the scene's middle: every pixel sees its front wall. A tie of 2^-18 of the coordinates' magnitude (0.38

@@ -26,36 +26,47 @@ struct SurfaceHit {
     // Triangles: barycentric weights of v1 and v2; spheres: unused; solids: the shape and face crossed
     // (encodeCrossing).
     double u = 0.0, v = 0.0;
+    // Where a search for what lies beyond starts: a solid's crossing is crossed with the coincident faces of
+    // its other shapes, up to its tie group's end (shape_geometry.h's csgCrossing); else t.
+    double groupEnd = 0.0;
 };
 
-// The nearest hit on one primitive, where it is at shutter time `time`, in (tMin, tMax).
+// The nearest hit on one primitive, where it is at shutter time `time`, in (tMin, tMax), and where a search
+// beyond it starts (SurfaceHit::groupEnd).
 inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const RayT<double>& ray, double tMin,
-                               double tMax, TriangleHit& hit, double time = 0.0) {
+                               double tMax, TriangleHit& hit, double time, double& groupEnd) {
     if (scene.isSolid(primitive)) {
         SolidIntervals intervals =
             solidIntervals(scene, scene.solidOf(primitive), ray.origin, ray.direction, time);
         shading::CsgCrossing crossing;
         if (!solidCrossing(intervals, tMin, tMax, crossing)) return false;
         hit.t = crossing.t;
+        groupEnd = crossing.groupEnd;
         encodeCrossing(scene.solidOf(primitive), crossing, hit.u, hit.v);
         return true;
     }
+    bool found;
     if (!scene.isSphere(primitive)) {
-        return intersectTriangle(scene.triangleAt(primitive, time), ray.origin, ray.direction, tMin, tMax,
-                                 hit);
+        found =
+            intersectTriangle(scene.triangleAt(primitive, time), ray.origin, ray.direction, tMin, tMax, hit);
+    } else {
+        hit.u = hit.v = 0.0;
+        const Sphere sphere = scene.sphereAt(primitive, time);
+        found = shading::intersectSphere(glm::dvec3(sphere.center), sphere.radius, ray.origin, ray.direction,
+                                         tMin, tMax, hit.t);
     }
-    hit.u = hit.v = 0.0;
-    const Sphere sphere = scene.sphereAt(primitive, time);
-    return shading::intersectSphere(glm::dvec3(sphere.center), sphere.radius, ray.origin, ray.direction, tMin,
-                                    tMax, hit.t);
+    groupEnd = hit.t;
+    return found;
 }
 
-// The closest hit in (tMin, tMax) other than primitive `exclude`, with the scene at shutter time `time`;
-// false on a miss. Ties are won by the smallest primitive index within a tie's width of the nearest hit
+// The closest hit in (tMin, tMax) other than primitives `exclude` and `alsoExclude`, with the scene at
+// shutter time `time`; false on a miss. Solids are never skipped (a CSG object need not be convex), as on the
+// GPU (traverse.glsl). Ties are won by the smallest primitive index within a tie's width of the nearest hit
 // (ties.h, the GPU's rule too), whatever order the walk meets them in: a walk that lost a candidate runs once
 // more.
 inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
-                             double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0) {
+                             double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0,
+                             uint32_t alsoExclude = kNoPrimitive) {
     const double originScale =
         std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)});
     double nearest = tMax, searchLimit = tMax;
@@ -63,11 +74,12 @@ inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<
     auto walk = [&] {
         traverseBvh(bvh, ray, tMin, searchLimit, [&](uint32_t prim, double& limit) {
             TriangleHit candidate;
-            if (prim == exclude || !intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time))
-                return false;
+            double groupEnd;
+            if ((prim == exclude || prim == alsoExclude) && !scene.isSolid(prim)) return false;
+            if (!intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time, groupEnd)) return false;
             if (shading::takesClosestHit(candidate.t, prim, found, hit.t, hit.primitive, originScale, nearest,
                                          lost))
-                hit = {prim, candidate.t, candidate.u, candidate.v};
+                hit = {prim, candidate.t, candidate.u, candidate.v, groupEnd};
             found = true;
             // Keep looking a tie's width beyond the nearest hit, where a tie can still win.
             limit = std::min(limit, nearest + shading::tieWidth(nearest, originScale));

@@ -9,6 +9,14 @@
 
 namespace vkrt {
 
+namespace {
+
+glm::dvec3 geometricNormalOf(const Triangle& t) {
+    return shading::planeNormal(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
+}
+
+}  // namespace
+
 CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
     for (const Material& m : scene.materials)
@@ -18,6 +26,7 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
         if (lights.shapes[i] != kNoPrimitive) shapePick[lights.shapes[i]] = lights.pick[i];
     }
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
+    volumeHoles = scene.volumesHaveHoles();
     punctualTable = buildPunctualLightTable(scene);
     if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
     // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
@@ -129,8 +138,105 @@ double CpuShadingDevice::lightSolidAnglePdf(uint32_t primitive, uint32_t shape, 
                                                from, data_.lights.solidAngleTriangles, distance2, cosLight);
 }
 
+shading::HitPoint CpuShadingDevice::hitPointOf(const RayT<double>& ray, const SurfaceHit& hit) const {
+    const Scene& scene = data_.scene;
+    shading::HitPoint p;
+    p.primitive = hit.primitive;
+    p.material = scene.materialOf(hit.primitive);
+    p.sphere = scene.isSphere(hit.primitive);
+    p.shape = VKRT_NO_PRIMITIVE;
+    p.face = 0;
+    p.uv = {hit.u, hit.v};
+    p.tangent = glm::dvec4(0.0);
+    // The point along the ray. Its error scale, which sizes the new rays' offset (cpu_shading_device.h), is
+    // the GPU's (trace.comp's hitPointOf): the smaller of the magnitudes of the ray's numbers and of the
+    // surface's, from which the GPU computes the point, so that both renderers offset new rays alike.
+    p.position = ray.origin + hit.t * ray.direction;
+    const double rayScale = shading::maxAbs(ray.origin) + hit.t;
+    p.errorScale = rayScale;
+    if (scene.isSolid(hit.primitive)) {
+        // The crossed shape and face (encodeCrossing); the point projected onto the face.
+        p.shape = static_cast<uint32_t>(hit.u);
+        const uint32_t code = static_cast<uint32_t>(hit.v);
+        p.face = code / 2u;
+        const Shape& shape = scene.shapes[p.shape];
+        glm::dmat4 toWorld, toObject;
+        scene.shapeAt(p.shape, time_, toWorld, toObject);
+        const shading::ShapePoint s =
+            shading::shapePoint(shape.type, code / 2u, (code & 1u) != 0u, shading::affineRows(toObject),
+                                ray.origin, ray.direction, hit.t);
+        p.material = shape.material;
+        p.position = glm::dvec3(toWorld * glm::dvec4(s.local, 1.0));
+        p.errorScale = std::min(rayScale + shading::maxAbs(glm::dvec3(toWorld[3])),
+                                shading::shapeScale(shading::affineRows(toWorld)));
+        p.geometricNormal = p.normal = s.normal;
+        p.uv = s.uv;
+        p.tangent =
+            shading::shapeTangent(shape.type, code / 2u, s.local, shading::affineRows(toWorld), s.normal);
+        return p;
+    }
+    if (p.sphere) {
+        // Project the point onto the sphere, which removes the error of the distance (RTG ch. 7).
+        const Sphere sphere = scene.sphereAt(hit.primitive, time_);
+        const glm::dvec3 center(sphere.center);
+        p.geometricNormal = p.normal = glm::normalize(p.position - center);
+        p.position = center + static_cast<double>(sphere.radius) * p.normal;
+        p.errorScale = std::min(rayScale, shading::maxAbs(center) + sphere.radius);
+        p.uv = shading::sphereUv(p.normal);
+        p.tangent = shading::sphereTangent(p.normal);
+        return p;
+    }
+    const TriangleShading& shading = scene.shading[hit.primitive];
+    const Triangle& opened = scene.triangles[hit.primitive];  // at the shutter's opening
+    const Triangle now = scene.triangleAt(hit.primitive, time_);
+    p.geometricNormal = geometricNormalOf(now);
+    p.errorScale =
+        std::min(rayScale, std::max({shading::maxAbs(glm::dvec3(now.v0)), shading::maxAbs(glm::dvec3(now.v1)),
+                                     shading::maxAbs(glm::dvec3(now.v2))}));
+    p.normal =
+        glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
+                                            glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
+    // A moving triangle turns its vertex normals and tangents (given at the shutter's opening) with its face.
+    const auto turned = [&](const glm::dvec3& v) {
+        return shading::turnWithFace(v, glm::dvec3(opened.v1 - opened.v0), geometricNormalOf(opened),
+                                     glm::dvec3(now.v1 - now.v0), p.geometricNormal, 1e-12);
+    };
+    if (time_ > 0.0) p.normal = turned(p.normal);
+    if (!scene.tangents.empty()) {
+        const std::array<glm::vec4, 3>& t = scene.tangents[hit.primitive];
+        p.tangent = shading::barycentric(glm::dvec4(t[0]), glm::dvec4(t[1]), glm::dvec4(t[2]),
+                                         glm::dvec2(hit.u, hit.v));
+        if (time_ > 0.0) p.tangent = glm::dvec4(turned(glm::dvec3(p.tangent)), p.tangent.w);
+    }
+    return p;
+}
+
+bool CpuShadingDevice::shadowThroughHoles(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
+                                          uint32_t light, glm::uvec2& media, glm::dvec4& passage,
+                                          glm::dvec3& absorbed, double& tMin, uint32_t& exclude) const {
+    const RayT<double> ray{origin, direction};
+    SurfaceHit hit;
+    for (uint32_t layer = 0; layer < VKRT_MAX_ALPHA_LAYERS; ++layer) {
+        if (!closestHitBeyond(data_.scene, data_.bvh, ray, tMin, tMax, exclude, hit, time_, light)) {
+            ++counters_.shadow;
+            return false;
+        }
+        const shading::HitPoint point = hitPointOf(ray, hit);
+        shading::crossInOrder(*this, point, direction, hit.t - tMin, media, passage, absorbed);
+        tMin = hit.groupEnd;
+        exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
+        if (!(shading::maxComponent(glm::dvec3(passage)) > 0.0)) {
+            ++counters_.shadow;
+            passage = glm::dvec4(0.0);
+            return false;
+        }
+    }
+    return true;  // counted by the walk that takes the rest
+}
+
 glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction,
-                                                 double tMax, uint32_t excludeA, uint32_t excludeB) const {
+                                                 double tMin, double tMax, uint32_t excludeA,
+                                                 uint32_t excludeB) const {
     ++counters_.shadow;
     const Scene& scene = data_.scene;
     const RayT<double> ray{origin, direction};
@@ -142,12 +248,12 @@ glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
         result *= shading::shadowPassage(shading::sampleMaterial(*this, crossed, primitive, hitUv, 0.0),
                                          data_.volumesBlockShadows && crossed.volume);
     };
-    traverseBvh(data_.bvh, ray, 0.0, tMax, [&](uint32_t primitive, double& rayMax) {
+    traverseBvh(data_.bvh, ray, tMin, tMax, [&](uint32_t primitive, double& rayMax) {
         if (scene.isSolid(primitive)) {  // never skipped (shade_hit.h's ShadingFrame)
             SolidIntervals intervals =
                 solidIntervals(scene, scene.solidOf(primitive), origin, direction, time_);
             shading::CsgCrossing crossing;
-            for (double after = 0.0; solidCrossing(intervals, after, rayMax, crossing);
+            for (double after = tMin; solidCrossing(intervals, after, rayMax, crossing);
                  after = crossing.groupEnd) {
                 const uint32_t shape = scene.solidOf(primitive).firstShape + crossing.shape;
                 glm::dmat4 toWorld, toObject;
@@ -168,14 +274,14 @@ glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
             if (!shading::sphereRoots(center, sphere.radius, origin, direction, roots[0], roots[1]))
                 return false;
             for (double t : roots) {
-                if (t > 0.0 && t < rayMax)
+                if (t > tMin && t < rayMax)
                     cross(primitive, sphere.material,
                           shading::sphereUv(glm::normalize(origin + t * direction - center)));
             }
         } else {
             TriangleHit hit;
             const Triangle triangle = scene.triangleAt(primitive, time_);
-            if (!intersectTriangle(triangle, origin, direction, 0.0, rayMax, hit)) return false;
+            if (!intersectTriangle(triangle, origin, direction, tMin, rayMax, hit)) return false;
             cross(primitive, triangle.material, {hit.u, hit.v});
         }
         return shading::maxComponent(glm::dvec3(result)) <= 0.0;  // fully blocked: stop looking

@@ -9,12 +9,13 @@
 
 #include "bvh/flat_bvh.h"
 #include "common/render_settings.h"
+#include "cpu/closest_hit.h"
 #include "scene/environment_map.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
 #include "scene/scene.h"
-#include "scene/sheen_table.h"
 #include "scene/shading_inputs.h"
+#include "scene/sheen_table.h"
 #include "shade_hit.h"
 
 namespace vkrt {
@@ -37,6 +38,7 @@ struct CpuShadingScene {
     const std::vector<float>* ggxAlbedoTable = nullptr;  // with a rough GGX lobe (energy_compensation.h)
     const std::vector<float>* ggxDielectricAlbedoTable = nullptr;  // with a rough refracting one
     bool volumesBlockShadows = false;  // the path integrator's shadow rays (shadowTint)
+    bool volumeHoles = false;          // Scene::volumesHaveHoles: paths' shadow rays meet surfaces in order
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.
@@ -82,11 +84,27 @@ class CpuShadingDevice {
     double environmentRowCdf(uint32_t y) const { return data_.environment.environmentRowCdf(y); }
     double environmentColumnCdf(uint32_t i) const { return data_.environment.environmentColumnCdf(i); }
 
-    // The fraction of light passing from `origin` to distance tMax along `direction`: 0 behind an opaque
-    // surface, the product of the tints of transmissive ones (shadow rays do not refract) in xyz, and of
-    // their holes in w (surface_response.h's shadowPassage).
-    glm::dvec4 shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
-                                   uint32_t excludeA, uint32_t excludeB) const;
+    // The fraction of light passing from distance tMin to tMax along `direction` from `origin`: 0 behind an
+    // opaque surface, the product of the tints of transmissive ones (shadow rays do not refract) in xyz, and
+    // of their holes in w (surface_response.h's shadowPassage).
+    glm::dvec4 shadowTransmittance(const glm::dvec3& origin, const glm::dvec3& direction, double tMin,
+                                   double tMax, uint32_t excludeA, uint32_t excludeB) const;
+
+    // The scene has holes in volumes' surfaces: paths' shadow rays meet surfaces in order (shade_hit.h's
+    // lightSampleShadow).
+    bool hasVolumeHoles() const { return data_.volumeHoles; }
+    // A path's shadow ray where volumes' surfaces have holes: its first VKRT_MAX_ALPHA_LAYERS surfaces from
+    // tMin met one by one, nearest first, each crossed by shade_hit.h's crossInOrder (into `passage`,
+    // `absorbed` and `media`); `tMin` and `exclude` say where the next search starts, and `light` is skipped
+    // throughout. True where surfaces may lie beyond the last one; false where none do or the light is
+    // blocked (the GPU's trace.comp walks the same way).
+    bool shadowThroughHoles(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
+                            uint32_t light, glm::uvec2& media, glm::dvec4& passage, glm::dvec3& absorbed,
+                            double& tMin, uint32_t& exclude) const;
+
+    // Where `ray` met `hit`, at the sample's shutter time: the point and its front side's normals, as the
+    // GPU's trace.comp's hitPointOf finds them.
+    shading::HitPoint hitPointOf(const RayT<double>& ray, const SurfaceHit& hit) const;
 
     // New rays start off the surface, on the side they leave from, by the GPU's relative offset
     // (shared.h's VKRT_RAY_OFFSET_EPSILON), far above the rounding of a double-precision hit point: so both

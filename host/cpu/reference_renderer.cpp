@@ -14,14 +14,6 @@
 #include "random.h"
 
 namespace vkrt {
-namespace {
-
-glm::dvec3 geometricNormalOf(const Triangle& t) {
-    return shading::planeNormal(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2));
-}
-
-}  // namespace
-
 ReferenceRenderer::ReferenceRenderer(const Scene& scene, const FlatBvh& bvh, const Camera& camera,
                                      const RenderSettings& settings)
     : scene_(scene),
@@ -58,78 +50,6 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
     return context;
 }
 
-shading::HitPoint ReferenceRenderer::hitPointOf(const Ray& ray, const SurfaceHit& hit, double time) const {
-    shading::HitPoint p;
-    p.primitive = hit.primitive;
-    p.material = scene_.materialOf(hit.primitive);
-    p.sphere = scene_.isSphere(hit.primitive);
-    p.shape = VKRT_NO_PRIMITIVE;
-    p.face = 0;
-    p.uv = {hit.u, hit.v};
-    p.tangent = glm::dvec4(0.0);
-    // The point along the ray. Its error scale, which sizes the new rays' offset (cpu_shading_device.h), is
-    // the GPU's (trace.comp's hitPointOf): the smaller of the magnitudes of the ray's numbers and of the
-    // surface's, from which the GPU computes the point, so that both renderers offset new rays alike.
-    p.position = ray.origin + hit.t * ray.direction;
-    const double rayScale = shading::maxAbs(ray.origin) + hit.t;
-    p.errorScale = rayScale;
-    if (scene_.isSolid(hit.primitive)) {
-        // The crossed shape and face (encodeCrossing); the point projected onto the face.
-        p.shape = static_cast<uint32_t>(hit.u);
-        const uint32_t code = static_cast<uint32_t>(hit.v);
-        p.face = code / 2u;
-        const Shape& shape = scene_.shapes[p.shape];
-        glm::dmat4 toWorld, toObject;
-        scene_.shapeAt(p.shape, time, toWorld, toObject);
-        const shading::ShapePoint s =
-            shading::shapePoint(shape.type, code / 2u, (code & 1u) != 0u, shading::affineRows(toObject),
-                                ray.origin, ray.direction, hit.t);
-        p.material = shape.material;
-        p.position = glm::dvec3(toWorld * glm::dvec4(s.local, 1.0));
-        p.errorScale = std::min(rayScale + shading::maxAbs(glm::dvec3(toWorld[3])),
-                                shading::shapeScale(shading::affineRows(toWorld)));
-        p.geometricNormal = p.normal = s.normal;
-        p.uv = s.uv;
-        p.tangent =
-            shading::shapeTangent(shape.type, code / 2u, s.local, shading::affineRows(toWorld), s.normal);
-        return p;
-    }
-    if (p.sphere) {
-        // Project the point onto the sphere, which removes the error of the distance (RTG ch. 7).
-        const Sphere sphere = scene_.sphereAt(hit.primitive, time);
-        const glm::dvec3 center(sphere.center);
-        p.geometricNormal = p.normal = glm::normalize(p.position - center);
-        p.position = center + static_cast<double>(sphere.radius) * p.normal;
-        p.errorScale = std::min(rayScale, shading::maxAbs(center) + sphere.radius);
-        p.uv = shading::sphereUv(p.normal);
-        p.tangent = shading::sphereTangent(p.normal);
-        return p;
-    }
-    const TriangleShading& shading = scene_.shading[hit.primitive];
-    const Triangle& opened = scene_.triangles[hit.primitive];  // at the shutter's opening
-    const Triangle now = scene_.triangleAt(hit.primitive, time);
-    p.geometricNormal = geometricNormalOf(now);
-    p.errorScale =
-        std::min(rayScale, std::max({shading::maxAbs(glm::dvec3(now.v0)), shading::maxAbs(glm::dvec3(now.v1)),
-                                     shading::maxAbs(glm::dvec3(now.v2))}));
-    p.normal =
-        glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
-                                            glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
-    // A moving triangle turns its vertex normals and tangents (given at the shutter's opening) with its face.
-    const auto turned = [&](const glm::dvec3& v) {
-        return shading::turnWithFace(v, glm::dvec3(opened.v1 - opened.v0), geometricNormalOf(opened),
-                                     glm::dvec3(now.v1 - now.v0), p.geometricNormal, 1e-12);
-    };
-    if (time > 0.0) p.normal = turned(p.normal);
-    if (!scene_.tangents.empty()) {
-        const std::array<glm::vec4, 3>& t = scene_.tangents[hit.primitive];
-        p.tangent = shading::barycentric(glm::dvec4(t[0]), glm::dvec4(t[1]), glm::dvec4(t[2]),
-                                         glm::dvec2(hit.u, hit.v));
-        if (time > 0.0) p.tangent = glm::dvec4(turned(glm::dvec3(p.tangent)), p.tangent.w);
-    }
-    return p;
-}
-
 bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
                                    shading::RayState& ray, double time, SurfaceHit& hit,
                                    shading::HitPoint& point, glm::dvec3& absorbed) const {
@@ -143,12 +63,12 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
     for (uint32_t layer = 0;
          closestHitBeyond(scene_, bvh_, line, tMin, std::numeric_limits<double>::infinity(), exclude, hit, time);
          ++layer) {
-        point = hitPointOf(line, hit, time);
+        point = device.hitPointOf(line, hit);
         absorbed *= shading::absorptionAlong(device, ray.media, hit.t - tMin);
         if (!shading::passesThrough(device, context, ray, layer, point)) return true;
         ray.media = shading::mediaBeyondHole(device, ray.media, point, ray.direction);
         exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
-        tMin = hit.t;
+        tMin = hit.groupEnd;
     }
     absorbed *= shading::absorptionAlong(device, ray.media, std::numeric_limits<double>::infinity());
     return false;

@@ -58,7 +58,6 @@ class ReferenceRenderer {
                              const ProgressCallback& progress, const CheckpointCallback& checkpoint,
                              double checkpointEveryMs, const StopCondition& stop) const;
     shading::ShadingContext shadingContext(uint32_t pixel, uint32_t sample) const;
-    shading::HitPoint hitPointOf(const Ray& ray, const SurfaceHit& hit, double time) const;
     // The nearest surface along `ray` that is there (alpha), and what the volumes on the way absorb up to it,
     // as the GPU's traceVisible finds them; the holes passed in volumes' surfaces move `ray` into or out of
     // them.

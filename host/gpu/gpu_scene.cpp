@@ -296,6 +296,7 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     if (data.features.shapes) packSolids(scene, lights, data);
     data.areaLightPower = lights.totalPower;
     data.solidAngleTriangles = lights.solidAngleTriangles;
+    data.volumeHoles = scene.volumesHaveHoles();
     if (data.features.environment && scene.environment.present()) {
         const EnvironmentDistribution distribution = EnvironmentDistribution::build(scene.environment);
         for (size_t i = 0; i < scene.environment.radiance.size(); ++i) {
@@ -526,6 +527,7 @@ gpu::SceneParams makeSceneParams(const GpuSceneData& data, const Camera& camera,
     p.multipleImportanceSampling = settings.multipleImportanceSampling ? 1u : 0u;
     p.energyCompensation = settings.energyCompensation ? 1u : 0u;
     p.solidAngleTriangles = data.solidAngleTriangles ? 1u : 0u;
+    p.volumeHoles = data.volumeHoles ? 1u : 0u;
     p.motionSegments = static_cast<uint32_t>(data.motionSegments);
     p.environmentBackdrop = data.environmentBackdrop ? 1u : 0u;
     p.environmentWidth = data.environment.width;

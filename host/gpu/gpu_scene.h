@@ -55,6 +55,7 @@ struct GpuSceneData {
     int motionSegments = 0;
     double areaLightPower = 0.0;  // LightTable::totalPower, for multiple importance sampling
     bool solidAngleTriangles = false;  // LightTable::solidAngleTriangles
+    bool volumeHoles = false;  // Scene::volumesHaveHoles, also under a superset of the scene's features
 };
 
 // Packs what the scene's features need; `features`, when given, replaces the detected set (a superset

@@ -37,6 +37,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::texCoords1, "texcoord1", "VKRT_HAS_TEXCOORD1"},
     {&SceneFeatures::normalMaps, "normal_maps", "VKRT_HAS_NORMAL_MAPS"},
     {&SceneFeatures::alpha, "alpha", "VKRT_HAS_ALPHA"},
+    {&SceneFeatures::volumeHoles, "volume_holes", "VKRT_HAS_VOLUME_HOLES"},
     {&SceneFeatures::unlit, "unlit", "VKRT_HAS_UNLIT"},
     {&SceneFeatures::mipmaps, "mipmaps", "VKRT_HAS_MIPMAPS"},
     {&SceneFeatures::clearcoat, "clearcoat", "VKRT_HAS_CLEARCOAT"},
@@ -183,18 +184,15 @@ SceneFeatures detectFeatures(const Scene& scene) {
         // theirs.
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                (!scene.tangents.empty() || onAnalytic[m]);
-        // COLOR_0's alpha multiplies the base colour's.
-        features.alpha |= material.partlyCovered() ||
-                          (material.alphaMode != AlphaMode::Opaque && !scene.vertexColors.empty());
-        // A metallic-roughness texture can lower a metallic factor of 1: such a material may transmit too.
-        const bool transmits = material.transmission > 0.0f &&
-                               (material.metallic < 1.0f || material.metallicRoughnessTexture.used());
+        features.alpha |= scene.leavesHoles(material);  // COLOR_0's alpha multiplies the base colour's
+        const bool transmits = material.transmits();
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
         features.thinTransmission |= transmits && !material.hasVolume();
         features.absorption |= transmits && material.hasVolume() && absorbs(material);
         features.roughRefraction |= transmits && refractsRoughly(material);
     }
+    features.volumeHoles = scene.volumesHaveHoles();
     features.punctualLights = !scene.lights.empty();
     features.punctualLightTable = scene.lights.size() > VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO;
     features.areaLights =

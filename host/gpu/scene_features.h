@@ -27,6 +27,7 @@ struct SceneFeatures {
     bool texCoords1 = false;    // some texture slot reads TEXCOORD_1, and some mesh has it
     bool normalMaps = false;    // a material has a normal texture, and some triangle a tangent frame
     bool alpha = false;         // a material's alpha (MASK or BLEND) can leave holes
+    bool volumeHoles = false;   // such holes in a volume's surface: paths' shadow rays meet surfaces in order
     bool unlit = false;         // a material is KHR_materials_unlit
     bool clearcoat = false;     // a material has KHR_materials_clearcoat
     bool sheen = false;         // a material has KHR_materials_sheen

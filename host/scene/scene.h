@@ -235,6 +235,10 @@ struct Material {
         return baseColorTexture.used() || baseColor.a < (alphaMode == AlphaMode::Mask ? alphaCutoff : 1.0f);
     }
     bool hasVolume() const { return thickness > 0.0f; }
+    // Transmits light: a metallic-roughness texture can lower a metallic factor of 1.
+    bool transmits() const {
+        return transmission > 0.0f && (metallic < 1.0f || metallicRoughnessTexture.used());
+    }
     // The normal texture whose texture coordinates define the tangent frames (the coat's normal texture follows
     // the same frames).
     const TextureSlot& tangentFrameSlot() const {
@@ -394,6 +398,24 @@ struct Scene {
         const glm::mat4 a = shapePose(shape, segment), b = shapePose(shape, segment + 1);
         toWorld = glm::dmat4(a + s * (b - a));
         toObject = glm::inverse(toWorld);
+    }
+    // Whether material `m` can leave holes: partly covered, or not opaque where COLOR_0's alpha multiplies
+    // its own.
+    bool leavesHoles(const Material& m) const {
+        return m.partlyCovered() || (m.alphaMode != AlphaMode::Opaque && !vertexColors.empty());
+    }
+    // Whether the surface of a volume that some primitive bounds can have holes: paths' shadow rays then meet
+    // surfaces in order, on both devices (shaders/shade_hit.h's lightSampleShadow).
+    bool volumesHaveHoles() const {
+        const auto holed = [&](uint32_t index) {
+            const Material& m = materials[index];
+            return m.transmits() && m.hasVolume() && leavesHoles(m);
+        };
+        return std::any_of(triangles.begin(), triangles.end(),
+                           [&](const Triangle& t) { return holed(t.material); }) ||
+               std::any_of(spheres.begin(), spheres.end(),
+                           [&](const Sphere& s) { return holed(s.material); }) ||
+               std::any_of(shapes.begin(), shapes.end(), [&](const Shape& s) { return holed(s.material); });
     }
     // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
