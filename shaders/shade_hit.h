@@ -330,6 +330,13 @@ VKRT_FN uvec2 mediaBeyondHole(VKRT_DEVICE_PARAM uvec2 media, VKRT_IN(HitPoint) h
     return media;
 }
 
+// The primitive a search beyond `hit` skips (walks past holes): the surface just passed, but never a sphere (met
+// again only at its far side, beyond the search's start) or a solid (whose crossings beyond the start are
+// others of its surface).
+VKRT_FN uint skippedBeyond(VKRT_IN(HitPoint) hit) {
+    return hit.sphere || hit.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : hit.primitive;
+}
+
 // Orients a hit towards the ray that found it (shadeHit's first step).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {
@@ -426,7 +433,8 @@ VKRT_FN real4 lightSampleShadow(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) contex
                                                     query.lightPrimitive);
     }
 #ifdef VKRT_HAS_VOLUMES
-    if (context.paths) absorbed *= absorptionAlong(VKRT_DEVICE_ARG media, query.distance - tMin);
+    // (tMin, a tie group's end, can lie a tie's width beyond a point light.)
+    if (context.paths) absorbed *= absorptionAlong(VKRT_DEVICE_ARG media, max(query.distance - tMin, 0.0));
 #endif
     return passage;
 }
@@ -625,8 +633,8 @@ VKRT_FN real3 directLight(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, uin
 #endif
         if (!lit) continue;
         real3 absorbed;
-        const real4 passage =
-            lightSampleShadow(VKRT_DEVICE_ARG context, frame.viewerSide, frame.excludeOnViewerSide, query, media, absorbed);
+        const real4 passage = lightSampleShadow(VKRT_DEVICE_ARG context, frame.viewerSide, frame.excludeOnViewerSide,
+                                                query, media, absorbed);
         // Paths see an area light or the environment through holes alone (shadowPassage): their own bounces bring
         // the light that transmissive surfaces let through. No path finds a punctual light, so its light sample
         // passes thin-walled transmissive surfaces, tinted (a window under the sun cast a black shadow); a

@@ -204,9 +204,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 
 // The nearest surface along `ray` that is there at its hit, and in `absorbed` what the volumes on the way absorb
 // up to it (or along the whole ray where it meets nothing). The holes of alpha-tested and blended surfaces
-// (passesThrough) are passed, each skipped by searching on beyond its distance (a sphere is met again only at
-// its far side); a hole in a volume's surface moves `ray` into or out of its medium (mediaBeyondHole). One
-// traversal call site, so the walk is inlined once.
+// (passesThrough) are passed, each skipped by searching on beyond it (searchBeyond: beyond its tie group for a
+// solid's crossing; a sphere is met again only at its far side); a hole in a volume's surface moves `ray` into
+// or out of its medium (mediaBeyondHole). One traversal call site, so the walk is inlined once.
 bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed) {
     const ShearedRay sheared = shearRay(Ray(ray.origin, ray.direction));
 #ifdef VKRT_HAS_ALPHA
@@ -219,7 +219,7 @@ bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out H
         absorbed *= absorptionAlong(ray.media, hit.t - tMin);
         if (!passesThrough(context, ray, layer, point)) return true;
         ray.media = mediaBeyondHole(ray.media, point, ray.direction);
-        exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
+        exclude = skippedBeyond(point);
         tMin = searchBeyond(hit);
     }
     absorbed *= absorptionAlong(ray.media, VKRT_INFINITY);
@@ -255,7 +255,7 @@ bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint lig
         const HitPoint point = hitPointOf(ray, hit);
         crossInOrder(point, direction, hit.t - tMin, media, passage, absorbed);
         tMin = searchBeyond(hit);
-        exclude = point.sphere || point.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : point.primitive;
+        exclude = skippedBeyond(point);
         if (!(maxComponent(passage.xyz) > 0.0)) {
             ++vkrtShadowRays;
             passage = vec4(0.0);

@@ -13,10 +13,11 @@
 #include "ties.h"
 #include "solids.glsl"
 
-// Walks that go on past a hit (the holes of alpha: trace.comp's traceVisible) need, for a solid's crossing, where
-// its tie group ends (shape_geometry.h's csgCrossing): coincident faces of its shapes are crossed together, and
-// a search from the crossing's own distance met the other shape's face just beyond it as a second crossing.
-#if defined(VKRT_HAS_SHAPES) && defined(VKRT_HAS_ALPHA)
+// Walks that go on past a hit (the holes of alpha: trace.comp's traceVisible and, for paths' shadow rays through
+// volumes' holes, device_shadowThroughHoles) need, for a solid's crossing, where its tie group ends
+// (shape_geometry.h's csgCrossing): coincident faces of its shapes are crossed together, and a search from the
+// crossing's own distance met the other shape's face just beyond it as a second crossing.
+#if defined(VKRT_HAS_SHAPES) && (defined(VKRT_HAS_ALPHA) || defined(VKRT_HAS_VOLUME_HOLES))
 #define VKRT_HIT_GROUP_END
 #endif
 

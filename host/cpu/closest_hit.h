@@ -1,4 +1,4 @@
-// The nearest primitive (triangle or sphere) along a ray in double precision: the reference renderer's
+// The nearest primitive (triangle, sphere or solid) along a ray in double precision: the reference renderer's
 // visibility query, also the oracle that GPU traversal is tested against.
 #pragma once
 

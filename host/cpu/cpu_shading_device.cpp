@@ -21,6 +21,10 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     : scene(scene), bvh(bvh), textures(packTextures(scene)), lights(buildLightTable(scene)) {
     for (const Material& m : scene.materials)
         materials.push_back(surfaceMaterial(m, scene.textures, bindings));
+    // No surface has holes: every one is opaque, as in the GPU's specialised materials (gpu_scene.cpp).
+    if (!scene.surfacesHaveHoles()) {
+        for (shading::SurfaceMaterial& m : materials) m.alphaMode = VKRT_ALPHA_OPAQUE;
+    }
     shapePick.assign(scene.shapes.size(), 0.0);
     for (size_t i = 0; i < lights.shapes.size(); ++i) {
         if (lights.shapes[i] != kNoPrimitive) shapePick[lights.shapes[i]] = lights.pick[i];
@@ -224,7 +228,7 @@ bool CpuShadingDevice::shadowThroughHoles(const glm::dvec3& origin, const glm::d
         const shading::HitPoint point = hitPointOf(ray, hit);
         shading::crossInOrder(*this, point, direction, hit.t - tMin, media, passage, absorbed);
         tMin = hit.groupEnd;
-        exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
+        exclude = shading::skippedBeyond(point);
         if (!(shading::maxComponent(glm::dvec3(passage)) > 0.0)) {
             ++counters_.shadow;
             passage = glm::dvec4(0.0);

@@ -67,7 +67,7 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
         absorbed *= shading::absorptionAlong(device, ray.media, hit.t - tMin);
         if (!shading::passesThrough(device, context, ray, layer, point)) return true;
         ray.media = shading::mediaBeyondHole(device, ray.media, point, ray.direction);
-        exclude = point.sphere || point.shape != kNoPrimitive ? kNoPrimitive : point.primitive;
+        exclude = shading::skippedBeyond(point);
         tMin = hit.groupEnd;
     }
     absorbed *= shading::absorptionAlong(device, ray.media, std::numeric_limits<double>::infinity());

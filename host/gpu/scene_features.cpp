@@ -184,7 +184,6 @@ SceneFeatures detectFeatures(const Scene& scene) {
         // theirs.
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                (!scene.tangents.empty() || onAnalytic[m]);
-        features.alpha |= scene.leavesHoles(material);  // COLOR_0's alpha multiplies the base colour's
         const bool transmits = material.transmits();
         features.transmission |= transmits;
         features.volumes |= transmits && material.hasVolume();
@@ -192,6 +191,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.absorption |= transmits && material.hasVolume() && absorbs(material);
         features.roughRefraction |= transmits && refractsRoughly(material);
     }
+    features.alpha = scene.surfacesHaveHoles();  // an alpha, or COLOR_0's alpha, below full cover
     features.volumeHoles = scene.volumesHaveHoles();
     features.punctualLights = !scene.lights.empty();
     features.punctualLightTable = scene.lights.size() > VKRT_EVERY_PUNCTUAL_LIGHT_UP_TO;

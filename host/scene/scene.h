@@ -404,18 +404,26 @@ struct Scene {
     bool leavesHoles(const Material& m) const {
         return m.partlyCovered() || (m.alphaMode != AlphaMode::Opaque && !vertexColors.empty());
     }
-    // Whether the surface of a volume that some primitive bounds can have holes: paths' shadow rays then meet
-    // surfaces in order, on both devices (shaders/shade_hit.h's lightSampleShadow).
+    // Whether some primitive's material satisfies `holds`.
+    template <typename Predicate>
+    bool somePlacedMaterial(const Predicate& holds) const {
+        const auto placed = [&](const auto& primitive) { return holds(materials[primitive.material]); };
+        return std::any_of(triangles.begin(), triangles.end(), placed) ||
+               std::any_of(spheres.begin(), spheres.end(), placed) ||
+               std::any_of(shapes.begin(), shapes.end(), placed);
+    }
+    // Whether some surface can have holes. Where none can, both devices take every surface as opaque,
+    // whatever its alphaMode (a BLEND material of alpha 1 is opaque; a double-sided sphere lamp of it is
+    // sampled as an opaque one: area_light.h).
+    bool surfacesHaveHoles() const {
+        return somePlacedMaterial([&](const Material& m) { return leavesHoles(m); });
+    }
+    // Whether the surface of a volume that some primitive bounds can have holes, where a ray passing them
+    // enters or leaves the volume (shaders/shade_hit.h's mediaBeyondHole): paths' shadow rays then meet
+    // surfaces in order, on both devices (lightSampleShadow).
     bool volumesHaveHoles() const {
-        const auto holed = [&](uint32_t index) {
-            const Material& m = materials[index];
-            return m.transmits() && m.hasVolume() && leavesHoles(m);
-        };
-        return std::any_of(triangles.begin(), triangles.end(),
-                           [&](const Triangle& t) { return holed(t.material); }) ||
-               std::any_of(spheres.begin(), spheres.end(),
-                           [&](const Sphere& s) { return holed(s.material); }) ||
-               std::any_of(shapes.begin(), shapes.end(), [&](const Shape& s) { return holed(s.material); });
+        return somePlacedMaterial(
+            [&](const Material& m) { return m.transmission > 0.0f && m.hasVolume() && leavesHoles(m); });
     }
     // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
