@@ -17,7 +17,7 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRT_SANITIZE=ON > "$
     { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target vkrt gltf_loader_test gltf_compression_test bad_input_test deformation_test environment_test \
       reference_renderer_test common_test image_io_test memory_test
-export ASAN_OPTIONS=abort_on_error=1:detect_stack_use_after_return=1 UBSAN_OPTIONS=print_stacktrace=1
+export ASAN_OPTIONS=abort_on_error=1:detect_stack_use_after_return=1:fast_unwind_on_malloc=0 UBSAN_OPTIONS=print_stacktrace=1
 export LSAN_OPTIONS="suppressions=$PWD/tools/lsan.supp:print_suppressions=0"
 ctest --test-dir "$build" -j"$(nproc)" --output-on-failure \
       -R '^(GltfLoader|GltfCompression|Skins|MorphTargets|Deformation|CameraSelection|Mipmaps|TangentFrames|BadInput|Environment|ReferenceRenderer|CornellBox|CheckpointSchedule|ForkJoin|ParallelFor|ImageIo|ImageMetrics|ToneMap|MemoryNeed|HostMemory)\.'
