@@ -296,7 +296,8 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     if (data.features.shapes) packSolids(scene, lights, data);
     data.areaLightPower = lights.totalPower;
     data.solidAngleTriangles = lights.solidAngleTriangles;
-    data.volumeHoles = scene.volumesHaveHoles();
+    // The scene's own answer, also where `features` is a superset (its walk of the primitives done once).
+    data.volumeHoles = features ? scene.volumesHaveHoles() : data.features.volumeHoles;
     if (data.features.environment && scene.environment.present()) {
         const EnvironmentDistribution distribution = EnvironmentDistribution::build(scene.environment);
         for (size_t i = 0; i < scene.environment.radiance.size(); ++i) {
