@@ -50,8 +50,8 @@ vec4 device_shadowTransmittance(vec3 origin, vec3 direction, float tMin, float t
 // kernel's shadow rays meet surfaces in order (shade_hit.h's lightSampleShadow), walked by trace.comp, which
 // finds the hit points.
 bool device_hasVolumeHoles() { return vkrtVolumesBlockShadows && params.volumeHoles != 0u; }
-bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint light, inout uvec2 media,
-                               inout vec4 passage, inout vec3 absorbed, inout float tMin, inout uint exclude);
+bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint exclude, uint light, inout uvec2 media,
+                               inout vec4 passage, inout vec3 absorbed, inout float tMin);
 #endif
 
 // Light tables (host/scene/light_table.h): the cumulative steps of entry `i` of the punctual lights' table or of

@@ -330,13 +330,6 @@ VKRT_FN uvec2 mediaBeyondHole(VKRT_DEVICE_PARAM uvec2 media, VKRT_IN(HitPoint) h
     return media;
 }
 
-// The primitive a search beyond `hit` skips (walks past holes): the surface just passed, but never a sphere (met
-// again only at its far side, beyond the search's start) or a solid (whose crossings beyond the start are
-// others of its surface).
-VKRT_FN uint skippedBeyond(VKRT_IN(HitPoint) hit) {
-    return hit.sphere || hit.shape != VKRT_NO_PRIMITIVE ? VKRT_NO_PRIMITIVE : hit.primitive;
-}
-
 // Orients a hit towards the ray that found it (shadeHit's first step).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {
@@ -419,17 +412,16 @@ VKRT_FN real4 lightSampleShadow(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) contex
                                 VKRT_IN(LightQuery) query, uvec2 media, VKRT_OUT(real3) absorbed) {
     absorbed = real3(1.0);
     real4 passage = real4(1.0);
-    real tMin = 0.0;          // the surfaces before it are crossed
-    uint skipped = exclude;   // and so is this one, at tMin
-    bool rest = true;         // surfaces may lie beyond tMin
+    real tMin = 0.0;   // the surfaces before it are crossed
+    bool rest = true;  // surfaces may lie beyond tMin
 #ifdef VKRT_HAS_VOLUME_HOLES
     if (context.paths && VKRT_DEVICE(hasVolumeHoles)()) {
-        rest = VKRT_DEVICE(shadowThroughHoles)(origin, query.shadowDirection, query.shadowLength, query.lightPrimitive,
-                                               media, passage, absorbed, tMin, skipped);
+        rest = VKRT_DEVICE(shadowThroughHoles)(origin, query.shadowDirection, query.shadowLength, exclude,
+                                               query.lightPrimitive, media, passage, absorbed, tMin);
     }
 #endif
     if (rest) {
-        passage *= VKRT_DEVICE(shadowTransmittance)(origin, query.shadowDirection, tMin, query.shadowLength, skipped,
+        passage *= VKRT_DEVICE(shadowTransmittance)(origin, query.shadowDirection, tMin, query.shadowLength, exclude,
                                                     query.lightPrimitive);
     }
 #ifdef VKRT_HAS_VOLUMES

@@ -29,6 +29,57 @@ VKRT_FN bool takesClosestHit(real t, uint index, bool found, real bestT, uint be
     return !found || dropsBest || index < bestIndex;
 }
 
+// Walks that go on past the hits they meet (the holes of alpha) take them in the order of the rule above: tie
+// groups nearest first, and within a group by scene index. A group is the window a closest-hit walk judged its
+// ties in: from its nearest hit, a tie's width (or to the end of a passed solid crossing's own tie group, where
+// that is farther). Passing hits one at a time by distance alone lost a face coincident with the one just passed
+// wherever rounding put it at or before that one's distance (a double-sided leaf made of two faces), and
+// crossed one twice where it put it beyond. `WalkPast` is where such a walk stands.
+struct WalkPast {
+    real floor;  // hits up to here were passed (the groups before the current one, or where the walk began)
+    real start;  // the current group: its nearest hit,
+    real end;    // its end,
+    uint index;  // and the scene index of the hit of it passed last (hits of this index or below were passed)
+};
+
+// A walk past hits beyond `tMin`, before it has passed any.
+VKRT_FN WalkPast walkPastFrom(real tMin) {
+    WalkPast walk;
+    walk.floor = tMin;
+    walk.start = tMin;
+    walk.end = tMin;
+    walk.index = 0u;
+    return walk;
+}
+
+// Where a search for primitive `index`'s next hit starts (exclusive): past the current group for the hits of it
+// already passed.
+VKRT_FN real searchFloor(VKRT_IN(WalkPast) walk, uint index) {
+    return index <= walk.index ? walk.end : walk.floor;
+}
+
+// The distance a hit at `t` counts as in the closest-hit rule: the current group's hits not yet passed are ties at
+// its start, nearer than any hit beyond it, so the next is the one of least scene index.
+VKRT_FN real rankedDistance(VKRT_IN(WalkPast) walk, real t) {
+    return t <= walk.end ? walk.start : t;
+}
+
+// The walk once it has passed the hit at `t` of scene index `index` (a solid's crossing's tie group ending at
+// `groupEnd`, else t), found by a closest-hit walk whose nearest ranked hit was `nearest`: the next of the
+// current group, or the first of a new group from `nearest`.
+VKRT_FN WalkPast walkPast(VKRT_IN(WalkPast) walk, real t, uint index, real groupEnd, real nearest,
+                          real originScale) {
+    WalkPast next = walk;
+    if (t > walk.end) {
+        next.floor = walk.end;
+        next.start = nearest;
+        next.end = nearest + tieWidth(nearest, originScale);
+    }
+    next.end = max(next.end, groupEnd);
+    next.index = index;
+    return next;
+}
+
 VKRT_SHADING_END
 
 #endif

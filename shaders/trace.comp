@@ -204,23 +204,24 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 
 // The nearest surface along `ray` that is there at its hit, and in `absorbed` what the volumes on the way absorb
 // up to it (or along the whole ray where it meets nothing). The holes of alpha-tested and blended surfaces
-// (passesThrough) are passed, each skipped by searching on beyond it (searchBeyond: beyond its tie group for a
-// solid's crossing; a sphere is met again only at its far side); a hole in a volume's surface moves `ray` into
-// or out of its medium (mediaBeyondHole). One traversal call site, so the walk is inlined once.
+// (passesThrough) are passed, in the closest-hit rule's order (ties.h's WalkPast); a hole in a volume's surface
+// moves `ray` into or out of its medium (mediaBeyondHole). One traversal call site, so the walk is inlined once.
 bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed) {
     const ShearedRay sheared = shearRay(Ray(ray.origin, ray.direction));
 #ifdef VKRT_HAS_ALPHA
-    uint exclude = ray.exclude;
-    float tMin = 0.0;
+    WalkPast past = walkPastFrom(0.0);
+    float travelled = 0.0;
     absorbed = vec3(1.0);
-    for (uint layer = 0u; traceClosest(sheared, exclude, tMin, VKRT_INFINITY, hit, vkrtWalksComplete); ++layer) {
+    for (uint layer = 0u;
+         traceClosestPast(sheared, ray.exclude, VKRT_NO_PRIMITIVE, past, VKRT_INFINITY, hit, vkrtWalksComplete);
+         ++layer) {
         VKRT_COUNT_ITERATION();
         point = hitPointOf(ray, hit);
-        absorbed *= absorptionAlong(ray.media, hit.t - tMin);
+        absorbed *= absorptionAlong(ray.media, max(hit.t - travelled, 0.0));
+        travelled = max(travelled, hit.t);
         if (!passesThrough(context, ray, layer, point)) return true;
         ray.media = mediaBeyondHole(ray.media, point, ray.direction);
-        exclude = skippedBeyond(point);
-        tMin = searchBeyond(hit);
+        past = walkPastHit(past, hit, ray.origin);
     }
     absorbed *= absorptionAlong(ray.media, VKRT_INFINITY);
     return false;
@@ -234,34 +235,36 @@ bool traceVisible(inout RayState ray, ShadingContext context, out Hit hit, out H
 
 #ifdef VKRT_HAS_VOLUME_HOLES
 // A path's shadow ray from `origin` to tMax where volumes' surfaces have holes (shade_hit.h's lightSampleShadow):
-// its first VKRT_MAX_ALPHA_LAYERS surfaces met one by one, nearest first, as traceVisible meets them, each
-// crossed by crossInOrder (what passes into `passage`, what the media before it absorb into `absorbed`, and
-// `media` moved into or out of a volume at a hole in its surface); `tMin` and `exclude` say where the next
-// search starts. The light's primitive is skipped throughout. True where surfaces may lie beyond the last one
-// (the rest are left to the walk in any order); false where none do or the light is blocked.
-bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint light, inout uvec2 media,
-                               inout vec4 passage, inout vec3 absorbed, inout float tMin, inout uint exclude) {
+// its first VKRT_MAX_ALPHA_LAYERS surfaces beyond tMin met one by one, in the closest-hit rule's order, as
+// traceVisible meets them, each crossed by crossInOrder (what passes into `passage`, what the media before it
+// absorb into `absorbed`, and `media` moved into or out of a volume at a hole in its surface). `exclude` and the
+// light's primitive are skipped throughout. True where surfaces may lie beyond those (the rest are left to the
+// walk in any order, from `tMin`); false where none do or the light is blocked.
+bool device_shadowThroughHoles(vec3 origin, vec3 direction, float tMax, uint exclude, uint light, inout uvec2 media,
+                               inout vec4 passage, inout vec3 absorbed, inout float tMin) {
     const ShearedRay sheared = shearRay(Ray(origin, direction));
     RayState ray;  // what hitPointOf reads
     ray.origin = origin;
     ray.direction = direction;
+    WalkPast past = walkPastFrom(tMin);
     Hit hit;
     for (uint layer = 0u; layer < VKRT_MAX_ALPHA_LAYERS; ++layer) {
         VKRT_COUNT_ITERATION();
-        if (!traceClosestSkipping(sheared, exclude, light, tMin, tMax, hit, vkrtWalksComplete)) {
+        if (!traceClosestPast(sheared, exclude, light, past, tMax, hit, vkrtWalksComplete)) {
             ++vkrtShadowRays;
             return false;
         }
         const HitPoint point = hitPointOf(ray, hit);
-        crossInOrder(point, direction, hit.t - tMin, media, passage, absorbed);
-        tMin = searchBeyond(hit);
-        exclude = skippedBeyond(point);
+        crossInOrder(point, direction, max(hit.t - tMin, 0.0), media, passage, absorbed);
+        tMin = max(tMin, hit.t);
+        past = walkPastHit(past, hit, origin);
         if (!(maxComponent(passage.xyz) > 0.0)) {
             ++vkrtShadowRays;
             passage = vec4(0.0);
             return false;
         }
     }
+    tMin = past.end;
     return true;  // counted by the walk that takes the rest
 }
 #endif

@@ -14,11 +14,15 @@
 #include "solids.glsl"
 
 // Walks that go on past a hit (the holes of alpha: trace.comp's traceVisible and, for paths' shadow rays through
-// volumes' holes, device_shadowThroughHoles) need, for a solid's crossing, where its tie group ends
-// (shape_geometry.h's csgCrossing): coincident faces of its shapes are crossed together, and a search from the
-// crossing's own distance met the other shape's face just beyond it as a second crossing.
-#if defined(VKRT_HAS_SHAPES) && (defined(VKRT_HAS_ALPHA) || defined(VKRT_HAS_VOLUME_HOLES))
+// volumes' holes, device_shadowThroughHoles) take hits in the closest-hit rule's order (ties.h's WalkPast): they
+// need the walk's nearest hit, where a new tie group starts, and, for a solid's crossing, where its own tie group
+// ends (shape_geometry.h's csgCrossing): coincident faces of its shapes are crossed together, and a search from
+// the crossing's own distance met the other shape's face just beyond it as a second crossing.
+#if defined(VKRT_HAS_ALPHA) || defined(VKRT_HAS_VOLUME_HOLES)
+#define VKRT_WALKS_PAST_HITS
+#if defined(VKRT_HAS_SHAPES)
 #define VKRT_HIT_GROUP_END
+#endif
 #endif
 
 struct Hit {
@@ -28,6 +32,9 @@ struct Hit {
     uint sceneIndex;  // the primitive's index in the scene, which breaks ties (kept to spare a reload)
 #ifdef VKRT_HIT_GROUP_END
     float groupEnd;  // a solid's crossing: the end of its tie group; else t
+#endif
+#ifdef VKRT_WALKS_PAST_HITS
+    float nearest;  // closest-hit walks: the nearest hit's distance (ranked: ties.h's rankedDistance)
 #endif
 };
 
@@ -41,17 +48,23 @@ Hit hitOf(float t, float u, float v, uint primitive, uint sceneIndex, float grou
 #ifdef VKRT_HIT_GROUP_END
     hit.groupEnd = groupEnd;
 #endif
+#ifdef VKRT_WALKS_PAST_HITS
+    hit.nearest = t;
+#endif
     return hit;
 }
 
-// Where a search for what lies beyond `hit` starts: past a solid's crossing, beyond its tie group.
-float searchBeyond(Hit hit) {
+// The walk past `hit` (ties.h's walkPast), along a ray from `origin`.
+#ifdef VKRT_WALKS_PAST_HITS
+WalkPast walkPastHit(WalkPast past, Hit hit, vec3 origin) {
 #ifdef VKRT_HIT_GROUP_END
-    return hit.groupEnd;
+    const float groupEnd = hit.groupEnd;
 #else
-    return hit.t;
+    const float groupEnd = hit.t;
 #endif
+    return walkPast(past, hit.t, hit.sceneIndex, groupEnd, hit.nearest, maxAbs(origin));
 }
+#endif
 
 // Slab test. The far distance is widened by 1 + 2 gamma(3) so rounding never misses a box the ray
 // touches (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
@@ -119,10 +132,15 @@ uint vkrtLoopPasses = 0u;
 #endif
 
 // How far hits still matter: the nearest hit so far (tMax before the first; any-hit walks keep it there), plus
-// a tie's width for closest-hit walks (a tie just beyond the nearest hit can still win).
-float searchLimit(float nearest, float tMax, float originScale, const int mode) {
+// a tie's width for closest-hit walks (a tie just beyond the nearest hit can still win), and, for walks past
+// hits, the rest of the current tie group.
+float searchLimit(float nearest, float tMax, float originScale, const int mode, WalkPast past) {
     if (mode != VKRT_TRACE_CLOSEST || nearest >= tMax) return nearest;
+#ifdef VKRT_WALKS_PAST_HITS
+    return min(tMax, max(nearest + tieWidth(nearest, originScale), past.end));
+#else
     return min(tMax, nearest + tieWidth(nearest, originScale));
+#endif
 }
 
 // The path integrator's shadow rays stop at a volume's boundary (surface_response.h's shadowTint).
@@ -228,7 +246,7 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
 
 // Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
 // are never excluded (shade_hit.h's ShadingFrame).
-bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
+bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, WalkPast past, float tMax,
                    float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost,
                    inout vec4 transmittance) {
 #ifdef VKRT_HAS_SHAPES
@@ -238,11 +256,16 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     if (index == excludeA || index == excludeB) return false;
     const GpuPrimitive primitive = primitiveAt(index);
 #endif
+#ifdef VKRT_WALKS_PAST_HITS
+    const float tMin = mode == VKRT_TRACE_CLOSEST ? searchFloor(past, primitive.sceneIndex) : past.floor;
+#else
+    const float tMin = past.floor;
+#endif
     float t, u = 0.0, v = 0.0, groupEnd = 0.0;  // a solid's crossing sets its tie group's end, at least t
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
         const bool found = visitSolid(r, index, solidOf(primitive), tMin,
-                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(nearest, tMax, originScale, mode), mode, t, u, v,
+                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(nearest, tMax, originScale, mode, past), mode, t, u, v,
                                       groupEnd, transmittance);
         if (mode == VKRT_TRACE_SHADOW || !found) return found;
     } else
@@ -252,12 +275,12 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     } else
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
-        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(nearest, tMax, originScale, mode), t)) {
+        if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(nearest, tMax, originScale, mode, past), t)) {
             return false;
         }
     } else
 #endif
-    if (!intersectTriangle(r, primitive, tMin, searchLimit(nearest, tMax, originScale, mode), t, u, v)) {
+    if (!intersectTriangle(r, primitive, tMin, searchLimit(nearest, tMax, originScale, mode, past), t, u, v)) {
         return false;
     }
     if (mode == VKRT_TRACE_ANY) {
@@ -266,8 +289,13 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     }
     if (mode == VKRT_TRACE_CLOSEST) {
         // ties.h's rule; a walk that lost a candidate runs again (`lost`).
-        if (takesClosestHit(t, primitive.sceneIndex, hit.primitive != VKRT_NO_PRIMITIVE, hit.t, hit.sceneIndex,
-                            originScale, nearest, lost)) {
+#ifdef VKRT_WALKS_PAST_HITS
+        const float ranked = rankedDistance(past, t), bestRanked = rankedDistance(past, hit.t);
+#else
+        const float ranked = t, bestRanked = hit.t;
+#endif
+        if (takesClosestHit(ranked, primitive.sceneIndex, hit.primitive != VKRT_NO_PRIMITIVE, bestRanked,
+                            hit.sceneIndex, originScale, nearest, lost)) {
             hit = hitOf(t, u, v, index, primitive.sceneIndex, max(groupEnd, t));
         }
         return false;
@@ -275,8 +303,9 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     return false;
 }
 
-// Walks the BVH for hits in (tMin, tMax), skipping primitives excludeA and excludeB. CLOSEST and ANY fill
-// `hit` and return whether there was one; SHADOW multiplies `transmittance` and returns true once it is 0.
+// Walks the BVH for hits in (past.floor, tMax), skipping primitives excludeA and excludeB; closest-hit walks
+// take only hits not yet passed (ties.h's WalkPast). CLOSEST and ANY fill `hit` and return whether there was
+// one; SHADOW multiplies `transmittance` and returns true once it is 0.
 //
 // The tree is 4-wide (shared.h's WideBvhNode). One iteration of the outer loop visits one node: interior
 // nodes by an inner loop, one per iteration (test the four children, enter the nearest, stack the others
@@ -290,8 +319,9 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
 // llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total (each pass of any
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
-bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, const int mode, out Hit hit,
+bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, float tMax, const int mode, out Hit hit,
                  inout vec4 transmittance, out bool complete) {
+    const float tMin = past.floor;
     hit = hitOf(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMax);
     complete = true;
     if (params.primitiveCount == 0u) return false;
@@ -319,7 +349,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             VKRT_COUNT_ITERATION();
             const WideBvhNode node = VKRT_NODE(link);
             const WideGrid grid = wideGrid(node);
-            const float limit = searchLimit(nearest, tMax, originScale, mode);
+            const float limit = searchLimit(nearest, tMax, originScale, mode, past);
             float key0, key1, key2, key3;
             uint link0, link1, link2, link3;
             testChild(node, grid, 0u, node.child0, r, tMin, limit, key0, link0);
@@ -349,7 +379,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
             uint index = first;
             do {
                 VKRT_COUNT_ITERATION();
-                if (visitPrimitive(r, index, excludeA, excludeB, tMin, tMax, originScale, mode, hit, nearest, lost,
+                if (visitPrimitive(r, index, excludeA, excludeB, past, tMax, originScale, mode, hit, nearest, lost,
                                    transmittance)) {
                     complete = true;
                     return true;
@@ -367,12 +397,15 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
                     break;
                 }
                 complete = true;
+#ifdef VKRT_WALKS_PAST_HITS
+                hit.nearest = nearest;
+#endif
                 return mode == VKRT_TRACE_CLOSEST && hit.primitive != VKRT_NO_PRIMITIVE;
             }
             --size;
             float entry;
             VKRT_POP(link, entry);
-            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(nearest, tMax, originScale, mode)) break;
+            if (mode != VKRT_TRACE_CLOSEST || entry <= searchLimit(nearest, tMax, originScale, mode, past)) break;
         }
     }
 #undef VKRT_PUSH
@@ -380,23 +413,25 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, float tMin, float t
     return false;
 }
 
-bool traceClosestSkipping(ShearedRay r, uint excludeA, uint excludeB, float tMin, float tMax, out Hit hit,
-                          inout bool complete) {
+// The closest hit before tMax not yet passed by `past`, skipping primitives excludeA and excludeB.
+bool traceClosestPast(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, float tMax, out Hit hit,
+                      inout bool complete) {
     vec4 unused = vec4(1.0);
     bool walked;
-    const bool found = traverseBvh(r, excludeA, excludeB, tMin, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
+    const bool found = traverseBvh(r, excludeA, excludeB, past, tMax, VKRT_TRACE_CLOSEST, hit, unused, walked);
     complete = complete && walked;
     return found;
 }
 
 bool traceClosest(ShearedRay r, uint exclude, float tMin, float tMax, out Hit hit, inout bool complete) {
-    return traceClosestSkipping(r, exclude, VKRT_NO_PRIMITIVE, tMin, tMax, hit, complete);
+    return traceClosestPast(r, exclude, VKRT_NO_PRIMITIVE, walkPastFrom(tMin), tMax, hit, complete);
 }
 
 bool traceAny(ShearedRay r, float tMin, float tMax, out Hit hit, inout bool complete) {
     vec4 unused = vec4(1.0);
     bool walked;
-    const bool found = traverseBvh(r, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMin, tMax, VKRT_TRACE_ANY, hit, unused, walked);
+    const bool found =
+        traverseBvh(r, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, walkPastFrom(tMin), tMax, VKRT_TRACE_ANY, hit, unused, walked);
     complete = complete && walked;
     return found;
 }
@@ -408,7 +443,8 @@ vec4 shadowTransmittance(Ray ray, float tMin, float tMax, uint excludeA, uint ex
     vec4 transmittance = vec4(1.0);
     Hit unused;
     bool walked;
-    traverseBvh(shearRay(ray), excludeA, excludeB, tMin, tMax, VKRT_TRACE_SHADOW, unused, transmittance, walked);
+    traverseBvh(shearRay(ray), excludeA, excludeB, walkPastFrom(tMin), tMax, VKRT_TRACE_SHADOW, unused, transmittance,
+                walked);
     complete = complete && walked;
     return transmittance;
 }

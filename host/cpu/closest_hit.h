@@ -59,30 +59,36 @@ inline bool intersectPrimitive(const Scene& scene, uint32_t primitive, const Ray
     return found;
 }
 
-// The closest hit in (tMin, tMax) other than primitives `exclude` and `alsoExclude`, with the scene at
-// shutter time `time`; false on a miss. Solids are never skipped (a CSG object need not be convex), as on the
-// GPU (traverse.glsl). Ties are won by the smallest primitive index within a tie's width of the nearest hit
-// (ties.h, the GPU's rule too), whatever order the walk meets them in: a walk that lost a candidate runs once
-// more.
-inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
-                             double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0,
-                             uint32_t alsoExclude = kNoPrimitive) {
+// The closest hit before tMax past where `walk` stands (shading::WalkPast: beyond tMin, before any hit was
+// passed) other than primitives `exclude` and `alsoExclude`, with the scene at shutter time `time`; false on
+// a miss. Solids are never skipped (a CSG object need not be convex), as on the GPU (traverse.glsl). Ties are
+// won by the smallest primitive index within a tie's width of the nearest hit (ties.h, the GPU's rule too),
+// whatever order the walk meets them in: a walk that lost a candidate runs once more. `nearest` is the
+// nearest hit's distance, which starts its tie group (ties.h's walkPast).
+inline bool closestHitPast(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray,
+                           const shading::WalkPast& past, double tMax, uint32_t exclude, SurfaceHit& hit,
+                           double& nearest, double time = 0.0, uint32_t alsoExclude = kNoPrimitive) {
     const double originScale =
         std::max({std::abs(ray.origin.x), std::abs(ray.origin.y), std::abs(ray.origin.z)});
-    double nearest = tMax, searchLimit = tMax;
+    nearest = tMax;
+    double searchLimit = tMax;
     bool found = false, lost = false;
     auto walk = [&] {
-        traverseBvh(bvh, ray, tMin, searchLimit, [&](uint32_t prim, double& limit) {
+        traverseBvh(bvh, ray, past.floor, searchLimit, [&](uint32_t prim, double& limit) {
             TriangleHit candidate;
             double groupEnd;
             if ((prim == exclude || prim == alsoExclude) && !scene.isSolid(prim)) return false;
-            if (!intersectPrimitive(scene, prim, ray, tMin, limit, candidate, time, groupEnd)) return false;
-            if (shading::takesClosestHit(candidate.t, prim, found, hit.t, hit.primitive, originScale, nearest,
-                                         lost))
+            if (!intersectPrimitive(scene, prim, ray, shading::searchFloor(past, prim), limit, candidate,
+                                    time, groupEnd))
+                return false;
+            const double ranked = shading::rankedDistance(past, candidate.t);
+            if (shading::takesClosestHit(ranked, prim, found, shading::rankedDistance(past, hit.t),
+                                         hit.primitive, originScale, nearest, lost))
                 hit = {prim, candidate.t, candidate.u, candidate.v, groupEnd};
             found = true;
-            // Keep looking a tie's width beyond the nearest hit, where a tie can still win.
-            limit = std::min(limit, nearest + shading::tieWidth(nearest, originScale));
+            // Keep looking a tie's width beyond the nearest hit, where a tie can still win, and over the rest
+            // of the current group.
+            limit = std::min(limit, std::max(nearest + shading::tieWidth(nearest, originScale), past.end));
             return false;
         });
     };
@@ -92,6 +98,16 @@ inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<
         walk();
     }
     return found;
+}
+
+// The closest hit in (tMin, tMax) other than primitives `exclude` and `alsoExclude`, with the scene at
+// shutter time `time`; false on a miss (closestHitPast, before any hit was passed).
+inline bool closestHitBeyond(const Scene& scene, const FlatBvh& bvh, const RayT<double>& ray, double tMin,
+                             double tMax, uint32_t exclude, SurfaceHit& hit, double time = 0.0,
+                             uint32_t alsoExclude = kNoPrimitive) {
+    double nearest;
+    return closestHitPast(scene, bvh, ray, shading::walkPastFrom(tMin), tMax, exclude, hit, nearest, time,
+                          alsoExclude);
 }
 
 // The same in (0, tMax).

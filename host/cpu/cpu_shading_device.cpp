@@ -216,25 +216,29 @@ shading::HitPoint CpuShadingDevice::hitPointOf(const RayT<double>& ray, const Su
 }
 
 bool CpuShadingDevice::shadowThroughHoles(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
-                                          uint32_t light, glm::uvec2& media, glm::dvec4& passage,
-                                          glm::dvec3& absorbed, double& tMin, uint32_t& exclude) const {
+                                          uint32_t exclude, uint32_t light, glm::uvec2& media,
+                                          glm::dvec4& passage, glm::dvec3& absorbed, double& tMin) const {
     const RayT<double> ray{origin, direction};
+    const double originScale = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)});
+    shading::WalkPast past = shading::walkPastFrom(tMin);
     SurfaceHit hit;
+    double nearest;
     for (uint32_t layer = 0; layer < VKRT_MAX_ALPHA_LAYERS; ++layer) {
-        if (!closestHitBeyond(data_.scene, data_.bvh, ray, tMin, tMax, exclude, hit, time_, light)) {
+        if (!closestHitPast(data_.scene, data_.bvh, ray, past, tMax, exclude, hit, nearest, time_, light)) {
             ++counters_.shadow;
             return false;
         }
         const shading::HitPoint point = hitPointOf(ray, hit);
-        shading::crossInOrder(*this, point, direction, hit.t - tMin, media, passage, absorbed);
-        tMin = hit.groupEnd;
-        exclude = shading::skippedBeyond(point);
+        shading::crossInOrder(*this, point, direction, std::max(hit.t - tMin, 0.0), media, passage, absorbed);
+        tMin = std::max(tMin, hit.t);
+        past = shading::walkPast(past, hit.t, hit.primitive, hit.groupEnd, nearest, originScale);
         if (!(shading::maxComponent(glm::dvec3(passage)) > 0.0)) {
             ++counters_.shadow;
             passage = glm::dvec4(0.0);
             return false;
         }
     }
+    tMin = past.end;
     return true;  // counted by the walk that takes the rest
 }
 

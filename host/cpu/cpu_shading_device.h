@@ -94,13 +94,13 @@ class CpuShadingDevice {
     // lightSampleShadow).
     bool hasVolumeHoles() const { return data_.volumeHoles; }
     // A path's shadow ray where volumes' surfaces have holes: its first VKRT_MAX_ALPHA_LAYERS surfaces from
-    // tMin met one by one, nearest first, each crossed by shade_hit.h's crossInOrder (into `passage`,
-    // `absorbed` and `media`); `tMin` and `exclude` say where the next search starts, and `light` is skipped
-    // throughout. True where surfaces may lie beyond the last one; false where none do or the light is
-    // blocked (the GPU's trace.comp walks the same way).
+    // tMin met one by one in the closest-hit rule's order (ties.h's WalkPast), each crossed by shade_hit.h's
+    // crossInOrder (into `passage`, `absorbed` and `media`); `exclude` and `light` are skipped throughout.
+    // True where surfaces may lie beyond those, and `tMin` is then where the rest starts; false where none do
+    // or the light is blocked (the GPU's trace.comp walks the same way).
     bool shadowThroughHoles(const glm::dvec3& origin, const glm::dvec3& direction, double tMax,
-                            uint32_t light, glm::uvec2& media, glm::dvec4& passage, glm::dvec3& absorbed,
-                            double& tMin, uint32_t& exclude) const;
+                            uint32_t exclude, uint32_t light, glm::uvec2& media, glm::dvec4& passage,
+                            glm::dvec3& absorbed, double& tMin) const;
 
     // Where `ray` met `hit`, at the sample's shutter time: the point and its front side's normals, as the
     // GPU's trace.comp's hitPointOf finds them.

@@ -53,22 +53,23 @@ shading::ShadingContext ReferenceRenderer::shadingContext(uint32_t pixel, uint32
 bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading::ShadingContext& context,
                                    shading::RayState& ray, double time, SurfaceHit& hit,
                                    shading::HitPoint& point, glm::dvec3& absorbed) const {
-    // The holes of alpha-tested and blended surfaces are passed, each skipped by searching on beyond its
-    // distance (a sphere is met again only at its far side); a hole in a volume's surface moves the ray into
-    // or out of its medium.
+    // The holes of alpha-tested and blended surfaces are passed, in the closest-hit rule's order (ties.h's
+    // WalkPast); a hole in a volume's surface moves the ray into or out of its medium.
     const Ray line{ray.origin, ray.direction};
-    uint32_t exclude = ray.exclude;
-    double tMin = 0.0;
+    const double originScale =
+        std::max({std::abs(line.origin.x), std::abs(line.origin.y), std::abs(line.origin.z)});
+    shading::WalkPast past = shading::walkPastFrom(0.0);
+    double travelled = 0.0, nearest;
     absorbed = glm::dvec3(1.0);
-    for (uint32_t layer = 0;
-         closestHitBeyond(scene_, bvh_, line, tMin, std::numeric_limits<double>::infinity(), exclude, hit, time);
+    for (uint32_t layer = 0; closestHitPast(scene_, bvh_, line, past, std::numeric_limits<double>::infinity(),
+                                            ray.exclude, hit, nearest, time);
          ++layer) {
         point = device.hitPointOf(line, hit);
-        absorbed *= shading::absorptionAlong(device, ray.media, hit.t - tMin);
+        absorbed *= shading::absorptionAlong(device, ray.media, std::max(hit.t - travelled, 0.0));
+        travelled = std::max(travelled, hit.t);
         if (!shading::passesThrough(device, context, ray, layer, point)) return true;
         ray.media = shading::mediaBeyondHole(device, ray.media, point, ray.direction);
-        exclude = shading::skippedBeyond(point);
-        tMin = hit.groupEnd;
+        past = shading::walkPast(past, hit.t, hit.primitive, hit.groupEnd, nearest, originScale);
     }
     absorbed *= shading::absorptionAlong(device, ray.media, std::numeric_limits<double>::infinity());
     return false;
