@@ -321,7 +321,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
 // silently cut short: `complete` turns false and the caller counts the sample as non-finite.
 bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, float tMax, const int mode, out Hit hit,
                  inout vec4 transmittance, out bool complete) {
-    const float tMin = past.floor;
+    const float tMin = past.start;  // boxes: no hit not yet passed lies before the current group's start
     hit = hitOf(tMax, 0.0, 0.0, VKRT_NO_PRIMITIVE, VKRT_NO_PRIMITIVE, tMax);
     complete = true;
     if (params.primitiveCount == 0u) return false;

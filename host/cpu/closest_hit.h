@@ -74,7 +74,8 @@ inline bool closestHitPast(const Scene& scene, const FlatBvh& bvh, const RayT<do
     double searchLimit = tMax;
     bool found = false, lost = false;
     auto walk = [&] {
-        traverseBvh(bvh, ray, past.floor, searchLimit, [&](uint32_t prim, double& limit) {
+        // Boxes: no hit not yet passed lies before the current group's start.
+        traverseBvh(bvh, ray, past.start, searchLimit, [&](uint32_t prim, double& limit) {
             TriangleHit candidate;
             double groupEnd;
             if ((prim == exclude || prim == alsoExclude) && !scene.isSolid(prim)) return false;
