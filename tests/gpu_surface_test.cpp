@@ -269,6 +269,33 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
     }
 }
 
+TEST_F(GpuSurfaces, HolesInAMetallicVolumesSurfaceLetRaysIntoItsMedium) {
+    // A sphere of radius 1 around an absorbing medium (0.5 per unit), its surface a metal (metallic 1, which
+    // transmits nothing, whatever its transmission factor) that is all holes (MASK, alpha 0), against a
+    // background of 1: every ray passes in and out through the holes and brings 0.5^chord back, as through a
+    // holed dielectric. The scene's shader left volumes out, the surface transmitting nothing, and rays
+    // passed the medium on the GPU (1 at the centre), where the CPU absorbed them (0.25).
+    Scene scene;
+    Material metal = absorbingMedium(0.0f, AlphaMode::Mask);
+    metal.metallic = 1.0f;
+    scene.materials.push_back(metal);
+    scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+    finalizeScene(scene);
+    ASSERT_TRUE(detectFeatures(scene).volumes);
+    for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+        RenderSettings settings = litOnly(16);
+        settings.integrator = integrator;
+        settings.background = glm::dvec3(1.0);
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, test::bvhFor(scene),
+                                                      test::sphereCamera(), settings, test::shaderCacheDir());
+        // Pixel (8, 8) spans [0, 1/8]^2 of the film: its chords lie within 1e-2 of 2.
+        for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
+            EXPECT_NEAR(image->at(8, 8).x, 0.25, 2e-3) << device;
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, PathsShadowRaysEnterAndLeaveVolumesThroughHoles) {
     // The unit square (albedo 1) under a sun from straight above, seen from above by an orthographic camera,
     // with two spheres of radius 0.2 whose surfaces are all holes (MASK, alpha 0) around an absorbing medium

@@ -184,11 +184,11 @@ SceneFeatures detectFeatures(const Scene& scene) {
         // theirs.
         features.normalMaps |= (material.normalTexture.used() || material.clearcoatNormalTexture.used()) &&
                                (!scene.tangents.empty() || onAnalytic[m]);
-        const bool transmits = material.transmits();
+        const bool transmits = material.transmits(), medium = scene.boundsMedium(material);
         features.transmission |= transmits;
-        features.volumes |= transmits && material.hasVolume();
+        features.volumes |= medium;
         features.thinTransmission |= transmits && !material.hasVolume();
-        features.absorption |= transmits && material.hasVolume() && absorbs(material);
+        features.absorption |= medium && absorbs(material);
         features.roughRefraction |= transmits && refractsRoughly(material);
     }
     features.alpha = scene.surfacesHaveHoles();  // an alpha, or COLOR_0's alpha, below full cover

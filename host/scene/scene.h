@@ -404,6 +404,12 @@ struct Scene {
     bool leavesHoles(const Material& m) const {
         return m.partlyCovered() || (m.alphaMode != AlphaMode::Opaque && !vertexColors.empty());
     }
+    // Whether a surface of material `m` bounds a medium that rays can be in: a volume that transmits light,
+    // or whose surface's holes let rays in and out (shaders/shade_hit.h's mediaBeyondHole; a metal's too,
+    // which transmits nothing through its surface).
+    bool boundsMedium(const Material& m) const {
+        return m.hasVolume() && m.transmission > 0.0f && (m.transmits() || leavesHoles(m));
+    }
     // Whether some primitive's material satisfies `holds`.
     template <typename Predicate>
     bool somePlacedMaterial(const Predicate& holds) const {
@@ -422,8 +428,7 @@ struct Scene {
     // enters or leaves the volume (shaders/shade_hit.h's mediaBeyondHole): paths' shadow rays then meet
     // surfaces in order, on both devices (lightSampleShadow).
     bool volumesHaveHoles() const {
-        return somePlacedMaterial(
-            [&](const Material& m) { return m.transmission > 0.0f && m.hasVolume() && leavesHoles(m); });
+        return somePlacedMaterial([&](const Material& m) { return boundsMedium(m) && leavesHoles(m); });
     }
     // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
