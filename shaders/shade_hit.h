@@ -330,6 +330,26 @@ VKRT_FN uvec2 mediaBeyondHole(VKRT_DEVICE_PARAM uvec2 media, VKRT_IN(HitPoint) h
     return media;
 }
 
+// The linear part of the texture transform that tangent frames follow, as rows (texturedTangent): that of the
+// base's normal texture, else of the coat's (the host's Material::tangentFrameSlot); the identity without either.
+// Meshes' frames follow it when the scene is loaded; spheres' and shapes' at their hits.
+#ifdef VKRT_HAS_NORMAL_MAPS
+VKRT_DEVICE_TEMPLATE
+VKRT_FN void tangentFrameTurn(VKRT_DEVICE_PARAM uint materialIndex, VKRT_OUT(real2) row0, VKRT_OUT(real2) row1) {
+    VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(materialIndex);
+    const int binding = material.normalTexture >= 0 ? material.normalTexture : material.clearcoatNormalTexture;
+    row0 = real2(1.0, 0.0);
+    row1 = real2(0.0, 1.0);
+#ifdef VKRT_HAS_TEXTURES
+    if (binding >= 0) {
+        VKRT_IN(GpuTextureBinding) b = VKRT_DEVICE(textureBinding)(binding);
+        row0 = real2(real(b.row0.x), real(b.row0.y));
+        row1 = real2(real(b.row1.x), real(b.row1.y));
+    }
+#endif
+}
+#endif
+
 // Orients a hit towards the ray that found it (shadeHit's first step).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN ShadingFrame shadingFrame(VKRT_DEVICE_PARAM VKRT_IN(RayState) ray, VKRT_IN(HitPoint) hit) {

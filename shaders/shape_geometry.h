@@ -260,16 +260,18 @@ VKRT_FN real2 shapeUv(uint type, uint face, real3 p) {
 }
 
 // The tangent frame of shapeUv on face `face` at p (object space) of a shape placed by `toWorld`, as a normal
-// texture reads it (GpuTangents): in xyz a unit vector along which u grows, in w the sign that turns
-// w * cross(normal, tangent) up the texture (the way v falls, as tangent_frames.cpp decides it for meshes), with
-// `normal` the world normal the hit reports. Mirroring maps and reversed normals change w. Zero where u has no
-// direction (a sphere's poles, a cone's apex): the normal then stays.
-VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) toWorld, real3 normal) {
-    // dP/du and dP/dv in object space, each up to a positive factor.
-    real3 dpdu = real3(p.z, 0.0, -p.x);
-    real3 dpdv = real3(0.0, -1.0, 0.0);
+// texture reads it (GpuTangents) under a texture transform's rows (sphere_geometry.h's texturedTangent): in xyz
+// a unit vector along which u' grows, in w the sign that turns w * cross(normal, tangent) up the texture (the
+// way v' falls, as tangent_frames.cpp decides it for meshes), with `normal` the world normal the hit reports.
+// Mirroring maps and reversed normals change w. Zero where u' has no direction (a sphere's poles, a cone's
+// apex): the normal then stays.
+VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) toWorld, real3 normal, real2 row0,
+                           real2 row1) {
+    // dP/du and dP/dv in object space, both to one positive factor (docs/vkrt_shape.md's mapping: round faces'
+    // u is the longitude over 2 pi, v half the height down the side; flat faces' u and v half a coordinate).
+    real3 dpdu, dpdv;
     if (type == VKRT_SHAPE_SPHERE) {
-        dpdv = real3(p.y * p.x, -(p.x * p.x + p.z * p.z), p.y * p.z);
+        sphereDerivatives(p, dpdu, dpdv);
     } else if (type == VKRT_SHAPE_BOX) {
         const int axis = int(face / 2u);
         dpdu = real3(0.0);
@@ -279,19 +281,15 @@ VKRT_FN real4 shapeTangent(uint type, uint face, real3 p, VKRT_IN(AffineRows) to
     } else if (face != VKRT_FACE_SIDE) {
         dpdu = real3(1.0, 0.0, 0.0);
         dpdv = real3(0.0, 0.0, 1.0);
-    } else if (type != VKRT_SHAPE_CYLINDER) {
-        dpdv = real3(p.x, -2.0 * sqrt(p.x * p.x + p.z * p.z), p.z);  // the cone's side narrows towards the apex
+    } else if (type == VKRT_SHAPE_CYLINDER) {
+        dpdu = VKRT_PI * real3(p.z, 0.0, -p.x);
+        dpdv = real3(0.0, -1.0, 0.0);
+    } else {  // the cone's side, of radius rho = v, narrows towards the apex
+        const real rho = sqrt(p.x * p.x + p.z * p.z);
+        dpdu = 2.0 * VKRT_PI * rho * real3(p.z, 0.0, -p.x);
+        dpdv = real3(p.x, -2.0 * rho, p.z);
     }
-    // Divided by its largest component before anything is squared: a shape's scale can be beyond what a square
-    // keeps in single precision.
-    real3 along = affineVector(toWorld, dpdu);
-    const real largest = max(abs(along.x), max(abs(along.y), abs(along.z)));
-    if (!(largest > 0.0)) return real4(0.0);
-    along /= largest;
-    const real3 tangent = along - normal * dot(normal, along);
-    const real size = sqrt(dot(tangent, tangent));
-    if (!(size > 1e-6)) return real4(0.0);
-    return real4(tangent / size, dot(cross(normal, tangent), affineVector(toWorld, dpdv)) > 0.0 ? -1.0 : 1.0);
+    return texturedTangent(normal, affineVector(toWorld, dpdu), affineVector(toWorld, dpdv), row0, row1);
 }
 
 // Whether p (object space) is inside shape `type`.

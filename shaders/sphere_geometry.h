@@ -78,13 +78,49 @@ VKRT_FN real2 sphereUv(real3 n) {
     return real2(u, acos(clamp(n.y, -1.0, 1.0)) / VKRT_PI);
 }
 
-// The tangent frame of sphereUv at outward unit normal n, as a normal texture reads it (GpuTangents): the unit
-// direction in which u grows in xyz, and in w the sign that turns w * cross(n, tangent) up the texture (the way
-// v falls), which is +1 everywhere on the sphere. Zero at the poles, where u has no direction (the normal stays).
-VKRT_FN real4 sphereTangent(real3 n) {
-    const real3 along = real3(n.z, 0.0, -n.x);
-    const real size = sqrt(along.x * along.x + along.z * along.z);
-    return size > 0.0 ? real4(along / size, 1.0) : real4(0.0);
+// The tangent frame a normal texture reads (GpuTangents) on an analytic surface whose dP/du and dP/dv are
+// `dpdu` and `dpdv` (both to one positive factor), under a texture transform whose linear part has rows `row0`
+// and `row1` (KHR_texture_transform takes (u, v) to (row0 . (u, v), row1 . (u, v)) plus its offset): the frame
+// of the transformed coordinates, whose derivatives are [dP/du dP/dv] R^-1, as host/scene/tangent_frames.cpp's
+// orthogonalFrame makes it for meshes. In xyz the unit direction in which u' grows, made orthogonal to the unit
+// `normal`; in w the sign that turns w * cross(normal, tangent) up the texture (the way v' falls). Zero where u'
+// has no direction (the normal then stays), or where the transform collapses the texture.
+VKRT_FN real4 texturedTangent(real3 normal, real3 dpdu, real3 dpdv, real2 row0, real2 row1) {
+    const real determinant = row0.x * row1.y - row0.y * row1.x;
+    // Both derivatives scaled alike before they are combined (a shape's scale can be beyond what a product keeps
+    // in single precision), by |det R| / det R to keep R^-1's orientation.
+    const real largest = max(max(abs(dpdu.x), max(abs(dpdu.y), abs(dpdu.z))),
+                             max(abs(dpdv.x), max(abs(dpdv.y), abs(dpdv.z))));
+    if (!(abs(determinant) > 0.0) || !(largest > 0.0)) return real4(0.0);
+    const real scale = (determinant > 0.0 ? 1.0 : -1.0) / largest;
+    dpdu *= scale;
+    dpdv *= scale;
+    real3 along = row1.y * dpdu - row1.x * dpdv;
+    const real3 down = row0.x * dpdv - row0.y * dpdu;
+    // Divided by its largest component before anything is squared.
+    const real alongLargest = max(abs(along.x), max(abs(along.y), abs(along.z)));
+    if (!(alongLargest > 0.0)) return real4(0.0);
+    along /= alongLargest;
+    const real3 tangent = along - normal * dot(normal, along);
+    const real size = sqrt(dot(tangent, tangent));
+    if (!(size > 1e-6)) return real4(0.0);
+    return real4(tangent / size, dot(cross(normal, tangent), down) > 0.0 ? -1.0 : 1.0);
+}
+
+// dP/du and dP/dv of sphereUv on the unit sphere at p (|p| = 1), to one positive factor: u is the longitude over
+// 2 pi, v the polar angle over pi.
+VKRT_FN void sphereDerivatives(real3 p, VKRT_OUT(real3) dpdu, VKRT_OUT(real3) dpdv) {
+    const real ring = sqrt(p.x * p.x + p.z * p.z);  // the sine of the polar angle
+    dpdu = 2.0 * ring * real3(p.z, 0.0, -p.x);
+    dpdv = real3(p.y * p.x, -(p.x * p.x + p.z * p.z), p.y * p.z);
+}
+
+// The tangent frame of sphereUv at outward unit normal n under a texture transform's rows (texturedTangent).
+// Untransformed, the tangent points east and w is +1 everywhere. Zero at the poles, where u has no direction.
+VKRT_FN real4 sphereTangent(real3 n, real2 row0, real2 row1) {
+    real3 dpdu, dpdv;
+    sphereDerivatives(n, dpdu, dpdv);
+    return texturedTangent(n, dpdu, dpdv, row0, row1);
 }
 
 // 1 - cos(theta_max) of the cone a sphere subtends from a point at squared distance `distance2` from its

@@ -39,7 +39,8 @@ struct WalkPast {
     real floor;  // hits up to here were passed (the groups before the current one, or where the walk began)
     real start;  // the current group: its nearest hit,
     real end;    // its end,
-    uint index;  // and the scene index of the hit of it passed last (hits of this index or below were passed)
+    uint index;  // the scene index of the hit of it passed last (the group's hits of lower index were passed),
+    real after;  // and where that hit's own tie group ends (a solid's crossing), else its distance
 };
 
 // A walk past hits beyond `tMin`, before it has passed any.
@@ -49,13 +50,16 @@ VKRT_FN WalkPast walkPastFrom(real tMin) {
     walk.start = tMin;
     walk.end = tMin;
     walk.index = 0u;
+    walk.after = tMin;
     return walk;
 }
 
-// Where a search for primitive `index`'s next hit starts (exclusive): past the current group for the hits of it
-// already passed.
+// Where a search for primitive `index`'s next hit starts (exclusive): past the current group for the primitives
+// whose hits in it were all passed, past its last hit passed for the primitive of that hit (a sphere or a solid
+// can be met again within the group: a thin one, or one far from the origin, where a tie is wider; its exit was
+// lost, and a ray through a holed volume stayed inside), and where the walk stands for the others.
 VKRT_FN real searchFloor(VKRT_IN(WalkPast) walk, uint index) {
-    return index <= walk.index ? walk.end : walk.floor;
+    return index < walk.index ? walk.end : index == walk.index ? walk.after : walk.floor;
 }
 
 // The distance a hit at `t` counts as in the closest-hit rule: the current group's hits not yet passed are ties at
@@ -77,6 +81,7 @@ VKRT_FN WalkPast walkPast(VKRT_IN(WalkPast) walk, real t, uint index, real group
     }
     next.end = max(next.end, groupEnd);
     next.index = index;
+    next.after = groupEnd;
     return next;
 }
 

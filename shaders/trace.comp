@@ -153,7 +153,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
 #ifdef VKRT_HAS_NORMAL_MAPS
-        p.tangent = shapeTangent(shape.type, code >> 1u, s.local, toWorld, s.normal);
+        vec2 row0, row1;
+        tangentFrameTurn(p.material, row0, row1);
+        p.tangent = shapeTangent(shape.type, code >> 1u, s.local, toWorld, s.normal, row0, row1);
 #endif
         const float rayScale = maxAbs(ray.origin) + hit.t + maxAbs(vec3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w));
         const float scale = shapeScale(toWorld);
@@ -167,7 +169,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.normal = p.geometricNormal;
         p.uv = sphereUv(p.geometricNormal);
 #ifdef VKRT_HAS_NORMAL_MAPS
-        p.tangent = sphereTangent(p.geometricNormal);
+        vec2 row0, row1;
+        tangentFrameTurn(p.material, row0, row1);
+        p.tangent = sphereTangent(p.geometricNormal, row0, row1);
 #endif
     } else
 #endif

@@ -384,9 +384,10 @@ TEST(GltfLoader, CoatNormalTextureOnAnotherTexCoordSetIsWarnedAbout) {
 }
 
 TEST(GltfLoader, NormalTexturesTurnedWhereNoFrameFollowsAreWarnedAbout) {
-    // A clearcoat normal texture turned otherwise than the base's is mapped with the base's frame, and a
-    // sphere's turned normal texture with the sphere's own: the loader says so. A uniform scale and an offset
-    // move no frame, and say nothing.
+    // A clearcoat normal texture turned otherwise than the base's is mapped with the base's frame: the loader
+    // says so. A uniform scale and an offset move no frame, and say nothing; nor does a sphere's normal
+    // texture turned or mirrored alike with its coat's, whose frame follows the transform (it did not, and
+    // was warned about, until 2026-12-07).
     const auto load = [](const std::string& baseTransform, const std::string& coatTransform) {
         const std::filesystem::path file = test::temporaryFolder() / "turned-coat.gltf";
         test::writeText(file, R"({
@@ -411,13 +412,8 @@ TEST(GltfLoader, NormalTexturesTurnedWhereNoFrameFollowsAreWarnedAbout) {
                            "and the clearcoat normal texture differently"),
               std::string::npos)
         << coat[0];
-    const std::vector<std::string> both = load(R"({"scale": [-1, 1]})", R"({"scale": [-1, 1]})");
-    ASSERT_EQ(both.size(), 1u);
-    EXPECT_NE(
-        both[0].find("material 0: KHR_texture_transform turns, mirrors or stretches its normal texture, "
-                     "which VKRT_sphere and VKRT_shape surfaces do not follow"),
-        std::string::npos)
-        << both[0];
+    EXPECT_TRUE(load(R"({"scale": [-1, 1]})", R"({"scale": [-1, 1]})").empty());
+    EXPECT_TRUE(load(R"({"rotation": 0.9})", R"({"rotation": 0.9})").empty());
 }
 
 TEST(GltfLoader, VertexColorsFollowTheirTriangles) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -139,6 +140,77 @@ TEST_F(GpuSurfaces, NormalMapTiltedBy60DegreesHalvesTheRadiance) {
             EXPECT_NEAR(image->at(4, 4).x, flat * cosine, 2e-6);
             EXPECT_NEAR(image->at(4, 4).x / flat, 0.5, 0.01);
         }
+    }
+}
+
+TEST_F(GpuSurfaces, NormalTexturesOnShapesAndSpheresFollowTheirTextureTransform) {
+    // The top face of a box (a VKRT_shape), filling the square camera's view: its u runs along +x and v down
+    // +y's opposite, so the tangent is +x and the bitangent +y. Its normal texture's one texel tilts the
+    // normal by 40 degrees towards the tangent. A KHR_texture_transform that turns the texture a quarter turn
+    // makes the transformed u' run along -y and v' along -x: the tilt points to -y (the bitangent to +x); one
+    // that mirrors u makes it point to -x (the bitangent stays). Under a sun from toLight the face shows
+    // albedo / pi * E * dot(n', toLight). On a VKRT_sphere the mirrored texture tilts the other way, as a
+    // texel tilted the other way does. Spheres' and shapes' frames ignored the transform (a warning said so):
+    // the tilt pointed to +x in every case.
+    const double tilt = 40.0 * M_PI / 180.0;
+    const glm::dvec3 toLight = glm::normalize(glm::dvec3(-0.5, -0.6, 1.0));
+    const double albedo = 0.7, illuminance = 3.0;
+    struct Case {
+        const char* name;
+        float rotation;
+        glm::vec2 scale;
+        glm::dvec3 tangent, bitangent;  // the transformed frame's
+    };
+    for (const Case& c :
+         {Case{"a quarter turn", float(M_PI / 2.0), {1.0f, 1.0f}, {0.0, -1.0, 0.0}, {1.0, 0.0, 0.0}},
+          Case{"mirrored", 0.0f, {-1.0f, 1.0f}, {-1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}}) {
+        SCOPED_TRACE(c.name);
+        const uint32_t texel = normalTexel({std::sin(tilt), 0.0, std::cos(tilt)});
+        Scene scene;
+        scene.textures.push_back(textureOf(1, 1, {texel}));
+        scene.lights.push_back(sunFrom(toLight, static_cast<float>(illuminance)));
+        Material material = lambertian(static_cast<float>(albedo));
+        material.normalTexture.texture = 0;
+        material.normalTexture.rotation = c.rotation;
+        material.normalTexture.scale = c.scale;
+        scene.materials.push_back(material);
+        const glm::dmat4 box = glm::scale(glm::translate(glm::dmat4(1.0), {0.5, 0.5, -0.5}), glm::dvec3(0.5));
+        addSolid(scene, {makeShape(VKRT_SHAPE_BOX, 0, box)}, {2u, 0u, 0u, 0u, 0u, 0u, 0u, 0u});
+        finalizeScene(scene);
+        const auto [gpu, cpu] = test::renderGpuAndCpu(
+            context(), scene, test::bvhFor(scene), test::squareCamera(), litOnly(16), test::shaderCacheDir());
+        const glm::dvec3 t = decodedNormal(texel);
+        const glm::dvec3 mapped =
+            glm::normalize(t.x * c.tangent + t.y * c.bitangent + glm::dvec3(0.0, 0.0, t.z));
+        const double expected = albedo / M_PI * illuminance * glm::dot(mapped, toLight);
+        for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}})
+            EXPECT_NEAR(image->at(8, 8).x, expected, 2e-6) << device;
+    }
+    // The sphere: mirrored, against the texel tilted the other way, unmirrored.
+    std::array<test::RenderPair, 2> spheres;
+    for (const bool mirrored : {false, true}) {
+        Scene scene;
+        scene.textures.push_back(
+            textureOf(1, 1, {normalTexel({(mirrored ? 1.0 : -1.0) * std::sin(tilt), 0.0, std::cos(tilt)})}));
+        scene.lights.push_back(sunFrom(toLight, static_cast<float>(illuminance)));
+        Material material = lambertian(static_cast<float>(albedo));
+        material.normalTexture.texture = 0;
+        if (mirrored) material.normalTexture.scale = {-1.0f, 1.0f};
+        scene.materials.push_back(material);
+        scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
+        finalizeScene(scene);
+        spheres[mirrored] = test::renderGpuAndCpu(context(), scene, test::bvhFor(scene), test::sphereCamera(),
+                                                  litOnly(16), test::shaderCacheDir());
+    }
+    ASSERT_GT(meanRed(spheres[0].cpu.image), 0.05);
+    for (const auto& [device, plain, mirrored] :
+         {std::tuple{"GPU", &spheres[0].gpu.image, &spheres[1].gpu.image},
+          std::tuple{"CPU", &spheres[0].cpu.image, &spheres[1].cpu.image}}) {
+        int apart = 0;
+        for (int y = 0; y < plain->height; ++y)
+            for (int x = 0; x < plain->width; ++x)
+                apart += std::abs(plain->at(x, y).x - mirrored->at(x, y).x) > 1e-5f;
+        EXPECT_EQ(apart, 0) << device;
     }
 }
 
@@ -292,6 +364,34 @@ TEST_F(GpuSurfaces, HolesInAMetallicVolumesSurfaceLetRaysIntoItsMedium) {
         // Pixel (8, 8) spans [0, 1/8]^2 of the film: its chords lie within 1e-2 of 2.
         for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
             EXPECT_NEAR(image->at(8, 8).x, 0.25, 2e-3) << device;
+        }
+    }
+}
+
+TEST_F(GpuSurfaces, RaysThroughHolesLeaveAVolumeThinnerThanATie) {
+    // A box solid 4 x 4 wide and 2 h thick around an absorbing medium (0.5 per unit), its surface all holes
+    // (MASK, alpha 0), against a background of 1: rays pass in and out and bring 0.5^(2 h) back. At h = 3e-6
+    // the sheet is thinner than a tie (2^-20 of the ray's magnitudes): its exit lay in the tie group of its
+    // entry, and a walk that went on past the group met it no more: rays stayed inside and came back black
+    // (found by a review).
+    for (const double half : {0.1, 3e-6}) {
+        SCOPED_TRACE(testing::Message() << "half thickness " << half);
+        Scene scene;
+        scene.materials.push_back(absorbingMedium(0.0f, AlphaMode::Mask));
+        addSolid(scene,
+                 {makeShape(VKRT_SHAPE_BOX, 0, glm::scale(glm::dmat4(1.0), glm::dvec3(2.0, 2.0, half)))},
+                 {2u, 0u, 0u, 0u, 0u, 0u, 0u, 0u});  // inside the one shape
+        finalizeScene(scene);
+        for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+            SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+            RenderSettings settings = litOnly(16);
+            settings.integrator = integrator;
+            settings.background = glm::dvec3(1.0);
+            const auto [gpu, cpu] =
+                test::renderGpuAndCpu(context(), scene, test::bvhFor(scene), test::sphereCamera(), settings,
+                                      test::shaderCacheDir());
+            for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}})
+                EXPECT_NEAR(image->at(8, 8).x, std::pow(0.5, 2.0 * half), 1e-5) << device;
         }
     }
 }
@@ -545,6 +645,30 @@ TEST_F(GpuSurfaces, RaysThroughAHoleMeetTheFaceCoincidentWithIt) {
             }
         }
     }
+}
+
+TEST_F(GpuSurfaces, TwoCoincidentBlendFacesAreEachCrossedOnce) {
+    // Two black faces of alpha 0.5 (BLEND) on one slanted plane, the second turned and divided into triangles
+    // the other way, in front of an emitter of radiance 1: a camera ray passes each with probability 0.5, so
+    // the image converges to 0.25. One face missed gives 0.5; one crossed twice, 0.125.
+    const auto lifted = [](float x, float y) { return glm::vec3(x, y, 0.5f + 0.13f * x + 0.071f * y); };
+    const glm::vec3 a = lifted(-0.5f, -0.5f), b = lifted(1.5f, -0.5f), c = lifted(1.5f, 1.5f),
+                    d = lifted(-0.5f, 1.5f);
+    Scene scene;
+    Material black = lambertian(0.0f);
+    black.baseColor.a = 0.5f;
+    black.alphaMode = AlphaMode::Blend;
+    black.doubleSided = true;
+    scene.materials.push_back(black);
+    addFlatQuad(scene, a, b, c, d, 0);
+    addFlatQuad(scene, b, a, d, c, 0);
+    Material lamp = lambertian(0.0f);
+    lamp.emission = glm::vec3(1.0f);
+    RenderSettings settings = litOnly(16);
+    settings.samplesPerPixel = 64;
+    const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lamp, settings);
+    for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}})
+        EXPECT_NEAR(meanRed(*image), 0.25, 0.01) << device;
 }
 
 TEST_F(GpuSurfaces, ShadowRaysPassAlphaHoles) {

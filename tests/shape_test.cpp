@@ -908,13 +908,24 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
     // tangent perpendicular to the normal, along the tangential part of dP/du, and a bitangent w *
     // cross(normal, tangent) on the side of -dP/dv (up the texture), with dP/du and dP/dv found from
     // differences of shapeUv between nearby points of the face; with the normal reversed too (a CSG
-    // difference's inner faces). A VKRT_sphere's frame (sphereTangent) is the sphere shape's under the
-    // identity.
+    // difference's inner faces). Under a KHR_texture_transform that turns, stretches or mirrors the texture,
+    // the frame is that of the transformed coordinates, [dP/du dP/dv] R^-1: the shapes' frames ignored the
+    // transform, and a turned normal texture was lit from the side. A VKRT_sphere's frame (sphereTangent) is
+    // the sphere shape's under the identity.
     const glm::dmat4 toWorld = shearedMirror();
     const glm::dmat4 toObject = glm::inverse(toWorld);
     const shading::AffineRows toWorldRows = shading::affineRows(toWorld);
     const shading::AffineRows identity = shading::affineRows(glm::dmat4(1.0));
     const glm::dvec3 center(toWorld[3]);
+    struct Turn {
+        const char* name;
+        glm::dvec2 row0, row1;  // (u', v') = (row0 . (u, v), row1 . (u, v))
+    };
+    const double c = std::cos(0.7), s = std::sin(0.7);
+    const Turn turns[] = {{"none", {1.0, 0.0}, {0.0, 1.0}},
+                          {"turned and stretched", {1.3 * c, 0.6 * s}, {-1.3 * s, 0.6 * c}},
+                          {"mirrored", {-1.0, 0.0}, {0.0, 2.0}},
+                          {"turned a quarter", {0.0, 1.0}, {-1.0, 0.0}}};
     for (const uint32_t type : kShapeTypes) {
         SCOPED_TRACE(shapeName(type));
         std::mt19937_64 rng(3000 + type);
@@ -932,21 +943,35 @@ TEST(ShapeGeometry, TangentFramesFollowTheTextureCoordinates) {
             const glm::dvec3 e1 = p1 - p, e2 = p2 - p;
             const glm::dvec3 dpdu(toWorld * glm::dvec4((e1 * d2.y - e2 * d1.y) / determinant, 0.0));
             const glm::dvec3 dpdv(toWorld * glm::dvec4((e2 * d1.x - e1 * d2.x) / determinant, 0.0));
-            for (const bool flip : {false, true}) {
-                const glm::dvec3 normal = flip ? -hit.normal : hit.normal;
-                const glm::dvec4 frame = shading::shapeTangent(type, face, p, toWorldRows, normal);
-                const glm::dvec3 tangent(frame);
-                EXPECT_NEAR(glm::length(tangent), 1.0, 1e-12) << "ray " << i;
-                EXPECT_NEAR(glm::dot(tangent, normal), 0.0, 1e-12) << "ray " << i;
-                EXPECT_GT(glm::dot(tangent, glm::normalize(dpdu - normal * glm::dot(normal, dpdu))),
-                          1.0 - 1e-6)
-                    << "ray " << i;
-                EXPECT_TRUE(frame.w == 1.0 || frame.w == -1.0) << "ray " << i;
-                EXPECT_GT(glm::dot(frame.w * glm::cross(normal, tangent), -dpdv), 0.0) << "ray " << i;
-            }
-            if (type == VKRT_SHAPE_SPHERE) {
-                const glm::dvec4 canonical = shading::shapeTangent(type, face, p, identity, p);
-                EXPECT_LT(glm::length(shading::sphereTangent(p) - canonical), 1e-12) << "ray " << i;
+            for (const Turn& turn : turns) {
+                SCOPED_TRACE(turn.name);
+                // The transformed coordinates' derivatives: columns of R^-1 (glm's matrices are
+                // column-major).
+                const glm::dmat2 inverse =
+                    glm::inverse(glm::dmat2(turn.row0.x, turn.row1.x, turn.row0.y, turn.row1.y));
+                const glm::dvec3 dpduTurned = inverse[0][0] * dpdu + inverse[0][1] * dpdv;
+                const glm::dvec3 dpdvTurned = inverse[1][0] * dpdu + inverse[1][1] * dpdv;
+                for (const bool flip : {false, true}) {
+                    const glm::dvec3 normal = flip ? -hit.normal : hit.normal;
+                    const glm::dvec4 frame =
+                        shading::shapeTangent(type, face, p, toWorldRows, normal, turn.row0, turn.row1);
+                    const glm::dvec3 tangent(frame);
+                    EXPECT_NEAR(glm::length(tangent), 1.0, 1e-12) << "ray " << i;
+                    EXPECT_NEAR(glm::dot(tangent, normal), 0.0, 1e-12) << "ray " << i;
+                    EXPECT_GT(
+                        glm::dot(tangent, glm::normalize(dpduTurned - normal * glm::dot(normal, dpduTurned))),
+                        1.0 - 1e-6)
+                        << "ray " << i;
+                    EXPECT_TRUE(frame.w == 1.0 || frame.w == -1.0) << "ray " << i;
+                    EXPECT_GT(glm::dot(frame.w * glm::cross(normal, tangent), -dpdvTurned), 0.0)
+                        << "ray " << i;
+                }
+                if (type == VKRT_SHAPE_SPHERE) {
+                    const glm::dvec4 canonical =
+                        shading::shapeTangent(type, face, p, identity, p, turn.row0, turn.row1);
+                    EXPECT_LT(glm::length(shading::sphereTangent(p, turn.row0, turn.row1) - canonical), 1e-12)
+                        << "ray " << i;
+                }
             }
             ++checked;
         }

@@ -175,8 +175,10 @@ shading::HitPoint CpuShadingDevice::hitPointOf(const RayT<double>& ray, const Su
                                 shading::shapeScale(shading::affineRows(toWorld)));
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
-        p.tangent =
-            shading::shapeTangent(shape.type, code / 2u, s.local, shading::affineRows(toWorld), s.normal);
+        glm::dvec2 row0, row1;
+        shading::tangentFrameTurn(*this, p.material, row0, row1);
+        p.tangent = shading::shapeTangent(shape.type, code / 2u, s.local, shading::affineRows(toWorld),
+                                          s.normal, row0, row1);
         return p;
     }
     if (p.sphere) {
@@ -187,7 +189,9 @@ shading::HitPoint CpuShadingDevice::hitPointOf(const RayT<double>& ray, const Su
         p.position = center + static_cast<double>(sphere.radius) * p.normal;
         p.errorScale = std::min(rayScale, shading::maxAbs(center) + sphere.radius);
         p.uv = shading::sphereUv(p.normal);
-        p.tangent = shading::sphereTangent(p.normal);
+        glm::dvec2 row0, row1;
+        shading::tangentFrameTurn(*this, p.material, row0, row1);
+        p.tangent = shading::sphereTangent(p.normal, row0, row1);
         return p;
     }
     const TriangleShading& shading = scene.shading[hit.primitive];

@@ -87,8 +87,6 @@ class GltfConverter {
     void chooseShutter();
     // Fails where a surface uses a material that placedMaterials, which chose the textures read, missed.
     void checkPlacedMaterialsWereRead() const;
-    // Warns where a sphere's or shape's normal texture is turned, mirrored or stretched by its transform.
-    void warnAboutTurnedNormalTexturesOnShapes();
     // Places the tree under `root` in the world, below `parents`.
     void walk(int root, const Poses& parents);
     // Places one node's mesh, camera, light, sphere and solid; returns its poses, its children's parents.
@@ -174,8 +172,6 @@ Scene GltfConverter::convert() {
     meshes_.setDecodingCheck([this](uint64_t bytes, const std::string& what) { checkDecoding(bytes, what); });
     for (int root : roots) walk(root, Poses(poseTimes_.size(), recentre_));
     checkPlacedMaterialsWereRead();
-    warnAboutTurnedNormalTexturesOnShapes();
-
     meshes_.warnAboutSkipped();
     if (scene.triangles.empty() && scene.spheres.empty() && scene.solids.empty())
         context_.warn("the scene has no triangles, spheres or shapes");
@@ -199,21 +195,6 @@ void GltfConverter::checkPlacedMaterialsWereRead() const {
     for (const Triangle& triangle : scene.triangles) check(triangle.material);
     for (const Sphere& sphere : scene.spheres) check(sphere.material);
     for (const Shape& shape : scene.shapes) check(shape.material);
-}
-
-void GltfConverter::warnAboutTurnedNormalTexturesOnShapes() {
-    std::set<uint32_t> materials;
-    for (const Sphere& sphere : context_.scene.spheres) materials.insert(sphere.material);
-    for (const Shape& shape : context_.scene.shapes) materials.insert(shape.material);
-    for (const uint32_t index : materials) {
-        const Material& material = context_.scene.materials[index];
-        const TextureSlot& slot = material.tangentFrameSlot();
-        if (slot.used() && !slot.turnsAs(TextureSlot{}))
-            context_.warn(describe("material", static_cast<int>(index), material.name) +
-                          ": KHR_texture_transform turns, mirrors or stretches its normal texture, which "
-                          "VKRT_sphere and VKRT_shape surfaces do not follow (their tangent frames are their "
-                          "own texture coordinates')");
-    }
 }
 
 // The shutter interval: the caller's, else the scene's extras {"shutter": [open, close]} (seconds of the
