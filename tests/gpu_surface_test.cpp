@@ -70,6 +70,21 @@ Material absorbingMedium(float alpha, AlphaMode mode) {
     return medium;
 }
 
+// A surface that is a hole everywhere (MASK, alpha 0).
+Material allHole() {
+    Material hole = test::lambertian(1.0f);
+    hole.baseColor.a = 0.0f;
+    hole.alphaMode = AlphaMode::Mask;
+    return hole;
+}
+
+// The corners, counter-clockwise seen from above, of the square [lo, hi]^2 lifted onto the slanted plane
+// z = height + slope.x x + slope.y y, whose distances along rays round differently on different triangles.
+std::array<glm::vec3, 4> slantedSquare(float lo, float hi, float height, glm::vec2 slope) {
+    const auto lifted = [&](float x, float y) { return glm::vec3(x, y, height + slope.x * x + slope.y * y); };
+    return {lifted(lo, lo), lifted(hi, lo), lifted(hi, hi), lifted(lo, hi)};
+}
+
 RenderSettings litOnly(int size) {
     RenderSettings settings = ambientOnly(size);
     settings.ambient = glm::dvec3(0.0);
@@ -454,10 +469,7 @@ TEST_F(GpuSurfaces, PathsShadowRaysPassMoreThanSixtyFourHoles) {
     for (const bool volumeWithHoles : {false, true}) {
         SCOPED_TRACE(volumeWithHoles ? "a volume with holes" : "no volume with holes");
         Scene scene;
-        Material hole = lambertian(1.0f);
-        hole.baseColor.a = 0.0f;
-        hole.alphaMode = AlphaMode::Mask;
-        scene.materials.push_back(hole);
+        scene.materials.push_back(allHole());
         for (int i = 0; i < 65; ++i) {
             const float z = 1.1f + 0.01f * float(i);
             addFlatQuad(scene, {-1.0f, -1.0f, z}, {2.0f, -1.0f, z}, {2.0f, 2.0f, z}, {-1.0f, 2.0f, z}, 0);
@@ -496,14 +508,9 @@ TEST_F(GpuSurfaces, PathsShadowRaysThroughAHoleMeetTheFaceCoincidentWithIt) {
     // makes paths' shadow rays meet surfaces in order. They pass the hole and are stopped by the second face:
     // the square is black. The walk searched on from the hole's distance and missed the second face wherever
     // rounding put it at or before that distance: the square's mean was 0.83 on the GPU, 0.80 on the CPU.
-    const auto lifted = [](float x, float y) { return glm::vec3(x, y, 1.2f + 0.03f * x + 0.021f * y); };
-    const glm::vec3 a = lifted(-1.0f, -1.0f), b = lifted(2.0f, -1.0f), c = lifted(2.0f, 2.0f),
-                    d = lifted(-1.0f, 2.0f);
+    const auto [a, b, c, d] = slantedSquare(-1.0f, 2.0f, 1.2f, {0.03f, 0.021f});
     Scene scene;
-    Material hole = lambertian(1.0f);
-    hole.baseColor.a = 0.0f;
-    hole.alphaMode = AlphaMode::Mask;
-    scene.materials.push_back(hole);
+    scene.materials.push_back(allHole());
     Material leaf = lambertian(0.0f);
     leaf.doubleSided = true;
     scene.materials.push_back(leaf);
@@ -610,9 +617,7 @@ TEST_F(GpuSurfaces, RaysThroughAHoleMeetTheFaceCoincidentWithIt) {
     // removed as a duplicate when the scene is built). The walk past the hole searched on from the hole's
     // distance, and missed the second face wherever rounding put it at or before that distance: in all 1024
     // pixels on the CPU, and in 1005 to 1019 of them on the GPU.
-    const auto lifted = [](float x, float y) { return glm::vec3(x, y, 0.5f + 0.13f * x + 0.071f * y); };
-    const glm::vec3 a = lifted(-0.5f, -0.5f), b = lifted(1.5f, -0.5f), c = lifted(1.5f, 1.5f),
-                    d = lifted(-0.5f, 1.5f);
+    const auto [a, b, c, d] = slantedSquare(-0.5f, 1.5f, 0.5f, {0.13f, 0.071f});
     struct Face {
         const char* name;
         std::array<glm::vec3, 4> corners;
@@ -623,10 +628,7 @@ TEST_F(GpuSurfaces, RaysThroughAHoleMeetTheFaceCoincidentWithIt) {
             SCOPED_TRACE(testing::Message()
                          << (integrator == Integrator::Path ? "paths, " : "Whitted, ") << face.name);
             Scene scene;
-            Material hole = lambertian(1.0f);
-            hole.baseColor.a = 0.0f;
-            hole.alphaMode = AlphaMode::Mask;
-            scene.materials.push_back(hole);
+            scene.materials.push_back(allHole());
             Material leaf = lambertian(0.6f);
             leaf.doubleSided = true;
             scene.materials.push_back(leaf);
@@ -651,9 +653,7 @@ TEST_F(GpuSurfaces, TwoCoincidentBlendFacesAreEachCrossedOnce) {
     // Two black faces of alpha 0.5 (BLEND) on one slanted plane, the second turned and divided into triangles
     // the other way, in front of an emitter of radiance 1: a camera ray passes each with probability 0.5, so
     // the image converges to 0.25. One face missed gives 0.5; one crossed twice, 0.125.
-    const auto lifted = [](float x, float y) { return glm::vec3(x, y, 0.5f + 0.13f * x + 0.071f * y); };
-    const glm::vec3 a = lifted(-0.5f, -0.5f), b = lifted(1.5f, -0.5f), c = lifted(1.5f, 1.5f),
-                    d = lifted(-0.5f, 1.5f);
+    const auto [a, b, c, d] = slantedSquare(-0.5f, 1.5f, 0.5f, {0.13f, 0.071f});
     Scene scene;
     Material black = lambertian(0.0f);
     black.baseColor.a = 0.5f;
