@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -90,6 +91,23 @@ RenderSettings litOnly(int size) {
     settings.ambient = glm::dvec3(0.0);
     settings.background = glm::dvec3(0.0);
     return settings;
+}
+
+// `scene` seen by the sphere camera (test::sphereCamera) against a background of 1 and lit by nothing else,
+// at 16 samples, with each integrator (paths, then Whitted's), on both devices.
+std::vector<std::pair<const char*, test::RenderPair>> againstWhite(const VulkanContext& context,
+                                                                   const Scene& scene) {
+    std::vector<std::pair<const char*, test::RenderPair>> renders;
+    for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+        RenderSettings settings = litOnly(16);
+        settings.integrator = integrator;
+        settings.background = glm::dvec3(1.0);
+        settings.samplesPerPixel = 16;
+        renders.emplace_back(integrator == Integrator::Path ? "paths" : "Whitted",
+                             test::renderGpuAndCpu(context, scene, test::bvhFor(scene), test::sphereCamera(),
+                                                   settings, test::shaderCacheDir()));
+    }
+    return renders;
 }
 
 using test::meanRed;
@@ -331,14 +349,8 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
     scene.materials.push_back(absorbingMedium(0.5f, AlphaMode::Blend));
     scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
     finalizeScene(scene);
-    for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
-        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
-        RenderSettings settings = litOnly(16);
-        settings.integrator = integrator;
-        settings.background = glm::dvec3(1.0);
-        settings.samplesPerPixel = 16;
-        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, test::bvhFor(scene),
-                                                      test::sphereCamera(), settings, test::shaderCacheDir());
+    for (const auto& [integrator, render] : againstWhite(context(), scene)) {
+        SCOPED_TRACE(integrator);
         for (const int x : {8, 12}) {
             // Pixel (x, 8)'s mean of 0.5^chord over its area (the film spans [-1, 1]), by the midpoint rule.
             double expected = 0.0;
@@ -350,7 +362,7 @@ TEST_F(GpuSurfaces, HolesInAVolumesSurfaceLeaveItsMediumWhole) {
                 }
             }
             // The samples' stratified positions sum the pixel's area to within the 16 samples' resolution.
-            for (const Image* image : {&gpu.image, &cpu.image})
+            for (const Image* image : {&render.gpu.image, &render.cpu.image})
                 EXPECT_NEAR(image->at(x, 8).x, expected, 2e-3) << x;
         }
     }
@@ -369,17 +381,11 @@ TEST_F(GpuSurfaces, HolesInAMetallicVolumesSurfaceLetRaysIntoItsMedium) {
     scene.spheres.push_back({glm::vec3(0.0f), 1.0f, 0});
     finalizeScene(scene);
     ASSERT_TRUE(detectFeatures(scene).volumes);
-    for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
-        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
-        RenderSettings settings = litOnly(16);
-        settings.integrator = integrator;
-        settings.background = glm::dvec3(1.0);
-        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, test::bvhFor(scene),
-                                                      test::sphereCamera(), settings, test::shaderCacheDir());
+    for (const auto& [integrator, render] : againstWhite(context(), scene)) {
+        SCOPED_TRACE(integrator);
         // Pixel (8, 8) spans [0, 1/8]^2 of the film: its chords lie within 1e-2 of 2.
-        for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
-            EXPECT_NEAR(image->at(8, 8).x, 0.25, 2e-3) << device;
-        }
+        EXPECT_NEAR(render.gpu.image.at(8, 8).x, 0.25, 2e-3) << "GPU";
+        EXPECT_NEAR(render.cpu.image.at(8, 8).x, 0.25, 2e-3) << "CPU";
     }
 }
 
@@ -397,16 +403,10 @@ TEST_F(GpuSurfaces, RaysThroughHolesLeaveAVolumeThinnerThanATie) {
                  {makeShape(VKRT_SHAPE_BOX, 0, glm::scale(glm::dmat4(1.0), glm::dvec3(2.0, 2.0, half)))},
                  {2u, 0u, 0u, 0u, 0u, 0u, 0u, 0u});  // inside the one shape
         finalizeScene(scene);
-        for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
-            SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
-            RenderSettings settings = litOnly(16);
-            settings.integrator = integrator;
-            settings.background = glm::dvec3(1.0);
-            const auto [gpu, cpu] =
-                test::renderGpuAndCpu(context(), scene, test::bvhFor(scene), test::sphereCamera(), settings,
-                                      test::shaderCacheDir());
-            for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}})
-                EXPECT_NEAR(image->at(8, 8).x, std::pow(0.5, 2.0 * half), 1e-5) << device;
+        for (const auto& [integrator, render] : againstWhite(context(), scene)) {
+            SCOPED_TRACE(integrator);
+            EXPECT_NEAR(render.gpu.image.at(8, 8).x, std::pow(0.5, 2.0 * half), 1e-5) << "GPU";
+            EXPECT_NEAR(render.cpu.image.at(8, 8).x, std::pow(0.5, 2.0 * half), 1e-5) << "CPU";
         }
     }
 }
