@@ -223,7 +223,7 @@ bool CpuShadingDevice::shadowThroughHoles(const glm::dvec3& origin, const glm::d
                                           uint32_t exclude, uint32_t light, glm::uvec2& media,
                                           glm::dvec4& passage, glm::dvec3& absorbed, double& tMin) const {
     const RayT<double> ray{origin, direction};
-    const double originScale = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)});
+    const double originScale = shading::maxAbs(origin);
     shading::WalkPast past = shading::walkPastFrom(tMin);
     SurfaceHit hit;
     double nearest;

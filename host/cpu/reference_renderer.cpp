@@ -56,8 +56,7 @@ bool ReferenceRenderer::visibleHit(const CpuShadingDevice& device, const shading
     // The holes of alpha-tested and blended surfaces are passed, in the closest-hit rule's order (ties.h's
     // WalkPast); a hole in a volume's surface moves the ray into or out of its medium.
     const Ray line{ray.origin, ray.direction};
-    const double originScale =
-        std::max({std::abs(line.origin.x), std::abs(line.origin.y), std::abs(line.origin.z)});
+    const double originScale = shading::maxAbs(line.origin);
     shading::WalkPast past = shading::walkPastFrom(0.0);
     double travelled = 0.0, nearest;
     absorbed = glm::dvec3(1.0);
