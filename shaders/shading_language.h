@@ -24,6 +24,7 @@
 
 #ifdef __cplusplus
 #include <cmath>
+#include <bit>
 #include <cstdint>
 #include <limits>
 
@@ -61,6 +62,9 @@ using glm::sin;
 using glm::sqrt;
 
 inline constexpr real kInfinity = std::numeric_limits<double>::infinity();
+
+// GLSL's findLSB: the index of the lowest set bit, -1 for none.
+inline int findLSB(uint bits) { return bits == 0u ? -1 : std::countr_zero(bits); }
 
 }  // namespace vkrt::shading
 

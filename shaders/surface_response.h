@@ -145,9 +145,11 @@ VKRT_FN uint materialTextureSlots(VKRT_IN(SurfaceMaterial) m) {
 }
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
-// filtered over `footprint` (sampleBinding). The texture
-// slots are read in a loop around one lookup: every inlined bilinear lookup costs code and registers in the
-// whole kernel (on lavapipe, five separate lookup sites made textured scenes twice as slow).
+// filtered over `footprint` (sampleBinding). The texture slots are read in a loop around one lookup: every
+// inlined bilinear lookup costs code and registers in the whole kernel (on lavapipe, five separate lookup sites
+// made textured scenes twice as slow). The loop visits the material's bound slots only, lowest first: a SIMD
+// group on lavapipe runs a loop's whole body at every pass any of its lanes needs, so a loop over all twelve
+// slots paid twelve lookups wherever a lane had one texture (textures.gltf's GPU time 2.1 times as long).
 VKRT_DEVICE_TEMPLATE
 VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
                                       real2 hitUv, real footprint) {
@@ -159,8 +161,8 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
     alpha *= vertexColor.w;
 #endif
 #ifdef VKRT_HAS_TEXTURES
-    for (int slot = 0; material.textureSlots != 0u && slot < VKRT_MATERIAL_SLOTS; ++slot) {
-        if ((material.textureSlots & (1u << uint(slot))) == 0u) continue;
+    for (uint slots = material.textureSlots; slots != 0u; slots &= slots - 1u) {
+        const int slot = findLSB(slots);
         const int binding = materialTexture(material, slot);
         const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv, footprint);
         if (slot == VKRT_SLOT_BASE_COLOR) {

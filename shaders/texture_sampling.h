@@ -142,13 +142,14 @@ VKRT_FN real4 sampleTexture(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool
         }
     }
 #endif
-    // One lookup site for both levels: every inlined filter costs code and registers in the whole kernel.
+    // One lookup site for both levels: every inlined filter costs code and registers in the whole kernel. The
+    // loop runs once where no level is blended (on lavapipe a SIMD group runs a loop's body for as long as any
+    // of its lanes needs it, and every pass of it whole, so a second level is paid only where one is read).
     real4 result = real4(0.0);
-    for (int k = 0; k < 2; ++k) {
+    const int levels = blend > 0.0 ? 2 : 1;
+    for (int k = 0; k < levels; ++k) {
         const real weight = k == 0 ? 1.0 - blend : blend;
-        if (weight > 0.0) {
-            result += weight * filterLevel(VKRT_DEVICE_ARG textureLevel(texture, level + k), uv, srgb, nearest);
-        }
+        result += weight * filterLevel(VKRT_DEVICE_ARG textureLevel(texture, level + k), uv, srgb, nearest);
     }
     return result;
 }
