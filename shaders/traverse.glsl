@@ -167,36 +167,16 @@ bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout ve
 }
 
 #ifdef VKRT_HAS_SHAPES
-// A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip); in SHADOW
-// mode, every crossing in (tMin, tMax) filters `transmittance` instead (true once opaque).
-bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limit, const int mode, out float t,
-                out float u, out float v, out float groupEnd, inout vec4 transmittance) {
+// A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip).
+bool visitSolid(ShearedRay r, GpuSolid solid, float tMin, float limit, out float t, out float u, out float v,
+                out float groupEnd) {
     float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
     uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
     solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
-    const float originScale = maxAbs(r.origin);
     CsgCrossing crossing;
     t = u = v = groupEnd = 0.0;
-    if (mode == VKRT_TRACE_SHADOW) {
-        float after = tMin;
-        for (uint k = 0u; k < 2u * VKRT_CSG_MAX_SHAPES; ++k) {
-            if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, after,
-                             limit, originScale, crossing)) {
-                break;
-            }
-            const uint shape = solid.firstShape + crossing.shape;
-            AffineRows toObject, toWorld;
-            shapeMaps(shape, toObject, toWorld);
-            const GpuShape s = gpuShapeAt(shape);
-            const ShapePoint p = shapePoint(s.type, crossing.face, crossing.flip, toObject, r.origin, r.direction,
-                                            crossing.t);
-            if (crossSurface(index, s.material, p.uv.x, p.uv.y, transmittance)) return true;
-            after = crossing.groupEnd;
-        }
-        return false;
-    }
     if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, tMin, limit,
-                     originScale, crossing)) {
+                     maxAbs(r.origin), crossing)) {
         return false;
     }
     t = crossing.t;
@@ -207,18 +187,31 @@ bool visitSolid(ShearedRay r, uint index, GpuSolid solid, float tMin, float limi
 }
 #endif
 
-// A shadow ray's crossings of a triangle or sphere in (tMin, tMax), nearest first (a sphere is crossed up to
-// twice): each filters `transmittance`; true once it is opaque. One call of crossSurface serves them all, in a
-// loop of one pass a crossing: on lavapipe every call site runs, masked, at every pass of the leaf loop whether
-// or not a lane crosses there (issue 13).
+// A shadow ray's crossings of a primitive in (tMin, tMax), nearest first (a triangle is crossed once, a sphere up
+// to twice, a solid at each crossing csgCrossing finds): each filters `transmittance`; true once it is opaque.
+// One call of crossSurface serves every kind, in a loop of one pass a crossing: on lavapipe every call site runs,
+// masked, at every pass of the leaf loop whether or not a lane crosses there (issue 13: a second site for solids
+// took a quarter of surfaces.gltf's render time).
 bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin, float tMax,
                     inout vec4 transmittance) {
     float t0 = 0.0, t1 = 0.0, u = 0.0, v = 0.0;
     uint crossings = 0u;
     bool sphere = false;
+#ifdef VKRT_HAS_SHAPES
+    const bool solid = isSolid(primitive);
+    GpuSolid operands;
+    float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
+    uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
+    float after = tMin;  // a solid's crossings are found one by one, each beyond the last one's tie group
+    if (solid) {
+        operands = solidOf(primitive);
+        solidIntervals(operands, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
+        crossings = 2u * VKRT_CSG_MAX_SHAPES;  // at most; the loop ends at the last
+    } else
+#endif
 #ifdef VKRT_HAS_SPHERES
-    sphere = primitive.kind == VKRT_PRIMITIVE_SPHERE;
-    if (sphere) {
+    if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
+        sphere = true;
         float near, far;
         if (sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, near, far)) {
             const bool nearIn = near > tMin && near < tMax, farIn = far > tMin && far < tMax;
@@ -236,10 +229,27 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
     do {
         VKRT_COUNT_ITERATION();
         vec2 uv = vec2(u, v);
+        uint material = primitive.material;
+#ifdef VKRT_HAS_SHAPES
+        if (solid) {
+            CsgCrossing crossing;
+            if (!csgCrossing(tIn, tOut, faceIn, faceOut, operands.shapeCount, operands.tableLow, operands.tableHigh,
+                             after, tMax, maxAbs(r.origin), crossing)) {
+                return false;
+            }
+            const uint shape = operands.firstShape + crossing.shape;
+            AffineRows toObject, toWorld;
+            shapeMaps(shape, toObject, toWorld);
+            const GpuShape s = gpuShapeAt(shape);
+            uv = shapePoint(s.type, crossing.face, crossing.flip, toObject, r.origin, r.direction, crossing.t).uv;
+            material = s.material;
+            after = crossing.groupEnd;
+        }
+#endif
 #ifdef VKRT_HAS_SPHERES
         if (sphere) uv = sphereUv(normalize(r.origin + (k == 0u ? t0 : t1) * r.direction - primitive.v0));
 #endif
-        if (crossSurface(index, primitive.material, uv.x, uv.y, transmittance)) return true;
+        if (crossSurface(index, material, uv.x, uv.y, transmittance)) return true;
     } while (++k < crossings);
     return false;
 }
@@ -262,17 +272,15 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
     const float tMin = past.floor;
 #endif
     float t, u = 0.0, v = 0.0, groupEnd = 0.0;  // a solid's crossing sets its tie group's end, at least t
+    if (mode == VKRT_TRACE_SHADOW) return crossPrimitive(r, index, primitive, tMin, tMax, transmittance);
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
-        const bool found = visitSolid(r, index, solidOf(primitive), tMin,
-                                      mode == VKRT_TRACE_SHADOW ? tMax : searchLimit(nearest, tMax, originScale, mode, past), mode, t, u, v,
-                                      groupEnd, transmittance);
-        if (mode == VKRT_TRACE_SHADOW || !found) return found;
+        if (!visitSolid(r, solidOf(primitive), tMin, searchLimit(nearest, tMax, originScale, mode, past), t, u, v,
+                        groupEnd)) {
+            return false;
+        }
     } else
 #endif
-    if (mode == VKRT_TRACE_SHADOW) {
-        return crossPrimitive(r, index, primitive, tMin, tMax, transmittance);
-    } else
 #ifdef VKRT_HAS_SPHERES
     if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
         if (!intersectSphere(primitive.v0, primitive.v1.x, r.origin, r.direction, tMin, searchLimit(nearest, tMax, originScale, mode, past), t)) {
