@@ -415,7 +415,7 @@ VKRT_FN void crossInOrder(VKRT_DEVICE_PARAM VKRT_IN(HitPoint) hit, real3 directi
                           VKRT_INOUT(uvec2) media, VKRT_INOUT(real4) passage, VKRT_INOUT(real3) absorbed) {
     absorbed *= absorptionAlong(VKRT_DEVICE_ARG media, segment);
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
-    passage *= shadowPassage(sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, 0.0), material.volume);
+    passage *= shadowPassageAt(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, material.volume);
     media = mediaBeyondHole(VKRT_DEVICE_ARG media, hit, direction);
 }
 
@@ -727,7 +727,13 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
     result.indexBeyond = 1.0;
     VKRT_IN(SurfaceMaterial) material = VKRT_DEVICE(material)(hit.material);
     const real footprint = textureFootprint(VKRT_DEVICE_ARG ray, hit);
-    const MaterialSample inputs = sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint);
+    // The emission at the finest level where light samples weigh the ray or the surface has holes: light samples
+    // read level 0, and so do a MASK's cut-outs and an emitter's coverage (passesThrough), so that a mip-averaged
+    // emission would count the light of the holes' texels (a checkered, cut-out lamp over a glossy floor came out
+    // 15% dark at 32 x 32, 21% with BLEND).
+    const real emissionFootprint = ray.arrivalPdf > 0.0 || material.alphaMode != VKRT_ALPHA_OPAQUE ? 0.0 : footprint;
+    const MaterialSample inputs =
+        sampleMaterial(VKRT_DEVICE_ARG material, hit.primitive, hit.uv, footprint, emissionFootprint);
 #ifdef VKRT_HAS_UNLIT
     if (material.unlit) {  // KHR_materials_unlit: the base colour, from either side, and nothing else
         result.radiance = inputs.albedo;
@@ -772,14 +778,7 @@ VKRT_FN ShadedHit shadeHit(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, VK
             }
         }
 #endif
-        // The emission at the finest level where light samples weigh the ray or the surface has holes: light
-        // samples read level 0, and so do a MASK's cut-outs and an emitter's coverage (passesThrough), so that a
-        // mip-averaged emission would count the light of the holes' texels (a checkered, cut-out lamp over a glossy
-        // floor came out 15% dark at 32 x 32, 21% with BLEND).
-        const real emissionFootprint =
-            ray.arrivalPdf > 0.0 || material.alphaMode != VKRT_ALPHA_OPAQUE ? 0.0 : footprint;
-        real3 emitted = textured(VKRT_DEVICE_ARG material.emission, material.emissiveTexture, hit.primitive, hit.uv,
-                                 emissionFootprint);
+        real3 emitted = inputs.emission;
 #ifdef VKRT_HAS_CLEARCOAT
         emitted *= coatedEmission(material.clearcoat, abs(dot(geometricNormal, ray.direction)));
 #endif

@@ -76,6 +76,7 @@ struct MaterialSample {
     real3 coatTangentNormal;
     real3 sheenColor;     // KHR_materials_sheen's colour and roughness
     real sheenRoughness;
+    real3 emission;       // the emissive factor, times the emissive texture where sampleMaterial reads it
 };
 
 // How much of a point a surface whose base colour has alpha `alpha` there covers.
@@ -102,6 +103,7 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
     s.coatTangentNormal = real3(0.0, 0.0, 1.0);
     s.sheenColor = material.sheenColor;
     s.sheenRoughness = material.sheenRoughness;
+    s.emission = material.emission;
     return s;
 }
 
@@ -118,7 +120,11 @@ VKRT_FN MaterialSample untexturedSample(VKRT_IN(SurfaceMaterial) material, real3
 #define VKRT_SLOT_CLEARCOAT_NORMAL 9
 #define VKRT_SLOT_SHEEN_COLOR 10
 #define VKRT_SLOT_SHEEN_ROUGHNESS 11
-#define VKRT_MATERIAL_SLOTS 12
+#define VKRT_SLOT_EMISSIVE 12
+#define VKRT_MATERIAL_SLOTS 13
+// The slots shadowPassage depends on: base colour (the tint and alpha), metallic and transmission.
+#define VKRT_SHADOW_SLOTS \
+    ((1u << VKRT_SLOT_BASE_COLOR) | (1u << VKRT_SLOT_METALLIC_ROUGHNESS) | (1u << VKRT_SLOT_TRANSMISSION))
 
 VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_BASE_COLOR) return m.baseColorTexture;
@@ -132,7 +138,8 @@ VKRT_FN int materialTexture(VKRT_IN(SurfaceMaterial) m, int slot) {
     if (slot == VKRT_SLOT_CLEARCOAT_ROUGHNESS) return m.clearcoatRoughnessTexture;
     if (slot == VKRT_SLOT_CLEARCOAT_NORMAL) return m.clearcoatNormalTexture;
     if (slot == VKRT_SLOT_SHEEN_COLOR) return m.sheenColorTexture;
-    return m.sheenRoughnessTexture;
+    if (slot == VKRT_SLOT_SHEEN_ROUGHNESS) return m.sheenRoughnessTexture;
+    return m.emissiveTexture;
 }
 
 // Which of the material's slots have a texture binding, one bit per slot: sampleMaterial visits only those.
@@ -144,15 +151,16 @@ VKRT_FN uint materialTextureSlots(VKRT_IN(SurfaceMaterial) m) {
     return slots;
 }
 
-// The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures
-// filtered over `footprint` (sampleBinding). The texture slots are read in a loop around one lookup: every
+// The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures of
+// the slots `slots` (bits, as textureSlots) filtered over `footprint`, the emissive one over `emissionFootprint`
+// (sampleBinding); the others are left at their factors. The texture slots are read in a loop around one lookup: every
 // inlined bilinear lookup costs code and registers in the whole kernel (on lavapipe, five separate lookup sites
 // made textured scenes twice as slow). The loop visits the material's bound slots only, lowest first: a SIMD
 // group on lavapipe runs a loop's whole body at every pass any of its lanes needs, so a loop over all twelve
 // slots paid twelve lookups wherever a lane had one texture (textures.gltf's GPU time 2.1 times as long).
 VKRT_DEVICE_TEMPLATE
-VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
-                                      real2 hitUv, real footprint) {
+VKRT_FN MaterialSample sampleSlots(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv,
+                                   real footprint, real emissionFootprint, uint slots) {
     MaterialSample s = untexturedSample(material, material.baseColor);
     real alpha = material.alpha;
 #ifdef VKRT_HAS_VERTEX_COLORS
@@ -161,10 +169,11 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
     alpha *= vertexColor.w;
 #endif
 #ifdef VKRT_HAS_TEXTURES
-    for (uint slots = material.textureSlots; slots != 0u; slots &= slots - 1u) {
+    for (; slots != 0u; slots &= slots - 1u) {
         const int slot = findLSB(slots);
         const int binding = materialTexture(material, slot);
-        const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv, footprint);
+        const real4 texel = sampleBinding(VKRT_DEVICE_ARG binding, primitive, hitUv,
+                                          slot == VKRT_SLOT_EMISSIVE ? emissionFootprint : footprint);
         if (slot == VKRT_SLOT_BASE_COLOR) {
             s.albedo *= real3(texel.x, texel.y, texel.z);
             alpha *= texel.w;
@@ -187,6 +196,8 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
             s.sheenColor *= real3(texel.x, texel.y, texel.z);
         } else if (slot == VKRT_SLOT_SHEEN_ROUGHNESS) {
             s.sheenRoughness *= texel.w;
+        } else if (slot == VKRT_SLOT_EMISSIVE) {
+            s.emission *= real3(texel.x, texel.y, texel.z);
         } else {
             // glTF: (2 texel - 1) * (scale, scale, 1), normalised where the frame is applied.
             const real scale = slot == VKRT_SLOT_NORMAL ? material.normalScale : material.clearcoatNormalScale;
@@ -201,6 +212,15 @@ VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial)
 #endif
     s.coverage = coverageOf(material, alpha);
     return s;
+}
+
+// The material's inputs at a hit (sampleSlots): every texture it has, the emissive one only where it emits.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN MaterialSample sampleMaterial(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive,
+                                      real2 hitUv, real footprint, real emissionFootprint) {
+    uint slots = material.textureSlots;
+    if (!(maxComponent(material.emission) > 0.0)) slots &= ~(1u << uint(VKRT_SLOT_EMISSIVE));
+    return sampleSlots(VKRT_DEVICE_ARG material, primitive, hitUv, footprint, emissionFootprint, slots);
 }
 
 // Whether a sphere light of `material` can be seen through: double-sided, with holes (alpha), so that the inside
@@ -394,6 +414,16 @@ VKRT_FN real3 shadowTint(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks
 // light sample too, a glossy surface behind glass counted that light twice.
 VKRT_FN real4 shadowPassage(VKRT_IN(MaterialSample) inputs, bool transmissionBlocks) {
     return real4(shadowTint(inputs, transmissionBlocks), 1.0 - inputs.coverage);
+}
+
+// What of a shadow ray passes a surface of `material` at a hit (shadowPassage), its textures read at the finest
+// level, and only those the passage depends on.
+VKRT_DEVICE_TEMPLATE
+VKRT_FN real4 shadowPassageAt(VKRT_DEVICE_PARAM VKRT_IN(SurfaceMaterial) material, uint primitive, real2 hitUv,
+                              bool transmissionBlocks) {
+    return shadowPassage(
+        sampleSlots(VKRT_DEVICE_ARG material, primitive, hitUv, 0.0, 0.0, material.textureSlots & VKRT_SHADOW_SLOTS),
+        transmissionBlocks);
 }
 
 // Fresnel reflectance at a microfacet seen at cosine cosH; eta relative across the interface.

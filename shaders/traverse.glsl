@@ -158,8 +158,7 @@ bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout ve
 #if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS)) || \
     (defined(VKRT_PATHS) && defined(VKRT_HAS_THIN_TRANSMISSION) && defined(VKRT_HAS_PUNCTUAL_LIGHTS))
     const SurfaceMaterial material = device_material(materialIndex);
-    transmittance *= shadowPassage(sampleMaterial(material, primitive, vec2(u, v), 0.0),
-                                   vkrtVolumesBlockShadows && material.volume);
+    transmittance *= shadowPassageAt(material, primitive, vec2(u, v), vkrtVolumesBlockShadows && material.volume);
     if (maxComponent(transmittance.xyz) > 0.0) return false;
 #endif
     transmittance = vec4(0.0);  // opaque

@@ -257,8 +257,8 @@ glm::dvec4 CpuShadingDevice::shadowTransmittance(const glm::dvec3& origin, const
     // more often).
     auto cross = [&](uint32_t primitive, uint32_t material, glm::dvec2 hitUv) {
         const shading::SurfaceMaterial& crossed = data_.materials[material];
-        result *= shading::shadowPassage(shading::sampleMaterial(*this, crossed, primitive, hitUv, 0.0),
-                                         data_.volumesBlockShadows && crossed.volume);
+        result *= shading::shadowPassageAt(*this, crossed, primitive, hitUv,
+                                           data_.volumesBlockShadows && crossed.volume);
     };
     traverseBvh(data_.bvh, ray, tMin, tMax, [&](uint32_t primitive, double& rayMax) {
         if (scene.isSolid(primitive)) {  // never skipped (shade_hit.h's ShadingFrame)
