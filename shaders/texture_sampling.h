@@ -33,17 +33,20 @@ using gpu::GpuTexture;
 using gpu::GpuTextureBinding;
 #endif
 
-// i modulo n > 0, in [0, n), with both operands of % non-negative (GLSL leaves % of negatives undefined).
-VKRT_FN int positiveModulo(int i, int n) { return i >= 0 ? i % n : n - 1 - ((-1 - i) % n); }
+// i modulo n > 0, in [0, n), with both operands of % non-negative (GLSL leaves % of negatives undefined). One
+// division: a SIMD machine without a vector divide (lavapipe's x86) divides lane by lane.
+VKRT_FN int positiveModulo(int i, int n) {
+    const int r = (i >= 0 ? i : -1 - i) % n;
+    return i >= 0 ? r : n - 1 - r;
+}
 
-// Texel coordinate i of a row or column of `size` texels, wrapped.
+// Texel coordinate i of a row or column of `size` texels, wrapped. Repeat and mirrored repeat share one
+// modulo (on lavapipe every branch runs, and each modulo is eight divisions).
 VKRT_FN uint wrapTexel(int i, int size, uint mode) {
+    const bool mirror = mode == VKRT_WRAP_MIRROR;
+    const int m = positiveModulo(i, mirror ? 2 * size : size);
     if (mode == VKRT_WRAP_CLAMP) return uint(clamp(i, 0, size - 1));
-    if (mode == VKRT_WRAP_MIRROR) {
-        const int m = positiveModulo(i, 2 * size);
-        return uint(m < size ? m : 2 * size - 1 - m);
-    }
-    return uint(positiveModulo(i, size));
+    return uint(mirror && m >= size ? 2 * size - 1 - m : m);
 }
 
 VKRT_FN real srgbToLinear(real encoded) {
@@ -109,9 +112,10 @@ VKRT_DEVICE_TEMPLATE
 VKRT_FN real4 filterLevel(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool srgb, bool nearest) {
     const real x = nearTexture(uv.x, texture.flags & 3u) * real(texture.width) - 0.5,
                y = nearTexture(uv.y, (texture.flags >> 2u) & 3u) * real(texture.height) - 0.5;
-    if (nearest) return textureTexel(VKRT_DEVICE_ARG texture, int(floor(x + 0.5)), int(floor(y + 0.5)), srgb);
-    const real x0 = floor(x), y0 = floor(y);
-    const real fx = x - x0, fy = y - y0;
+    // The nearest texel is the bilinear sum's first term at weight 1, the others' 0 (exactly that texel): one
+    // set of texel reads serves both filters.
+    const real x0 = nearest ? floor(x + 0.5) : floor(x), y0 = nearest ? floor(y + 0.5) : floor(y);
+    const real fx = nearest ? 0.0 : x - x0, fy = nearest ? 0.0 : y - y0;
     const int ix = int(x0), iy = int(y0);
     return (1.0 - fx) * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix, iy, srgb) +
            fx * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy, srgb) +

@@ -733,6 +733,58 @@ TEST(Mipmaps, EvenLevelsAreTheMeansOfTheirFourTexels) {
     EXPECT_EQ(wrong, 0);
 }
 
+TEST(TextureSampling, WrapModesFollowTheSamplersDefinitions) {
+    // Texel i of a row of n, by repeated steps of a period (repeat: n; mirrored repeat: 2n, its second half
+    // reflected), or clamped to the edge: for every size up to 7 and indices far on both sides.
+    auto stepInto = [](int i, int period) {
+        while (i < 0) i += period;
+        while (i >= period) i -= period;
+        return i;
+    };
+    int wrong = 0;
+    for (int n = 1; n <= 7; ++n) {
+        for (int i = -40; i <= 40; ++i) {
+            const int mirrored = stepInto(i, 2 * n);
+            wrong += shading::wrapTexel(i, n, VKRT_WRAP_REPEAT) != static_cast<uint32_t>(stepInto(i, n));
+            wrong += shading::wrapTexel(i, n, VKRT_WRAP_MIRROR) !=
+                     static_cast<uint32_t>(mirrored < n ? mirrored : 2 * n - 1 - mirrored);
+            wrong +=
+                shading::wrapTexel(i, n, VKRT_WRAP_CLAMP) != static_cast<uint32_t>(std::clamp(i, 0, n - 1));
+        }
+    }
+    EXPECT_EQ(wrong, 0);
+}
+
+TEST(TextureSampling, NearestFilteringReadsTheNearestTexelExactly) {
+    // A 5 x 3 texture of distinct sRGB texels, read nearest at points all over it and beyond (repeat): each
+    // read is the decoded texel whose cell holds the point, to the bit.
+    struct Texels {
+        std::vector<uint32_t> bits;
+        uint32_t texel(uint32_t index) const { return bits[index]; }
+    } device;
+    for (uint32_t i = 0; i < 15; ++i)
+        device.bits.push_back(0x80000000u | (17u * i) | ((250u - 13u * i) << 8));
+    shading::GpuTexture texture{};
+    texture.width = 5;
+    texture.height = 3;
+    texture.flags = VKRT_WRAP_REPEAT | (VKRT_WRAP_REPEAT << 2u) | VKRT_TEXTURE_NEAREST;
+    const double within[] = {0.02, 0.3, 0.7, 0.98};  // where in its cell, near both edges too
+    int wrong = 0;
+    for (int cy = -4; cy < 7; ++cy) {
+        for (int cx = -6; cx < 11; ++cx) {
+            const int column = ((cx % 5) + 5) % 5, row = ((cy % 3) + 3) % 3;
+            const glm::dvec4 expected = shading::decodeTexel(device.bits[row * 5 + column], true);
+            for (double fy : within) {
+                for (double fx : within) {
+                    const glm::dvec2 uv((cx + fx) / 5.0, (cy + fy) / 3.0);
+                    wrong += shading::sampleTexture(device, texture, uv, true, 0.0) != expected;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(wrong, 0);
+}
+
 TEST(GltfLoader, NodeAnimationsPlacePrimitivesAtTheShutterEnds) {
     // scenes/motion-blur.gltf: shutter [0, 0.5] from the scene's extras; a cube sliding +1.5 units/s in x
     // (LINEAR), a cube turning 90 degrees/s about y (LINEAR), a ball jumping up 0.8 at t = 0.25 (STEP).
