@@ -186,16 +186,60 @@ bool visitSolid(ShearedRay r, GpuSolid solid, float tMin, float limit, out float
 }
 #endif
 
-// A shadow ray's crossings of a primitive in (tMin, tMax), nearest first (a triangle is crossed once, a sphere up
-// to twice, a solid at each crossing csgCrossing finds): each filters `transmittance`; true once it is opaque.
-// One call of crossSurface serves every kind, in a loop of one pass a crossing: on lavapipe every call site runs,
-// masked, at every pass of the leaf loop whether or not a lane crosses there (issue 13: a second site for solids
-// took a quarter of surfaces.gltf's render time).
-bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin, float tMax,
-                    inout vec4 transmittance) {
-    float t0 = 0.0, t1 = 0.0, u = 0.0, v = 0.0;
-    uint crossings = 0u;
-    bool sphere = false;
+// A primitive that a shadow ray may cross in (tMin, tMax), found by the walk's leaf loop, and crossed by
+// crossCandidate in the walk's outer loop: a triangle's crossing (t0, u, v) or a sphere's one or two (t0, t1);
+// a solid's crossings are found where it is crossed.
+struct ShadowCandidate {
+    uint index;
+    float t0, t1, u, v;
+    uint crossings;
+};
+
+// Whether a shadow ray may cross primitive `index` in (tMin, tMax), skipping excludeA and excludeB (solids are
+// never skipped: shade_hit.h's ShadingFrame). Triangles and spheres are intersected here, solids where they
+// are crossed.
+bool findsCandidate(ShearedRay r, uint index, uint excludeA, uint excludeB, float tMin, float tMax,
+                    out ShadowCandidate candidate) {
+    candidate.index = index;
+    candidate.t0 = candidate.t1 = candidate.u = candidate.v = 0.0;
+    candidate.crossings = 0u;
+    const GpuPrimitive primitive = primitiveAt(index);
+#ifdef VKRT_HAS_SHAPES
+    if (isSolid(primitive)) return true;
+#endif
+    if (index == excludeA || index == excludeB) return false;
+#ifdef VKRT_HAS_SPHERES
+    if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
+        float near, far;
+        if (sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, near, far)) {
+            const bool nearIn = near > tMin && near < tMax, farIn = far > tMin && far < tMax;
+            candidate.t0 = nearIn ? near : far;
+            candidate.t1 = far;
+            candidate.crossings = (nearIn ? 1u : 0u) + (farIn ? 1u : 0u);
+        }
+        return candidate.crossings > 0u;
+    }
+#endif
+    if (!intersectTriangle(r, primitive, tMin, tMax, candidate.t0, candidate.u, candidate.v)) return false;
+    candidate.crossings = 1u;
+    return true;
+}
+
+// Where crossing a surface is costly (a solid's intervals, a surface's textures), a shadow walk crosses its
+// candidates in its outer loop, once a leaf's candidate is found, not in the leaf loop: on lavapipe a loop's body
+// runs whole, masked, at every pass any lane needs, and crossing at every primitive a leaf holds took half of
+// surfaces.gltf's render time (issue 13). Elsewhere the leaf loop crosses them: the outer loop's pass that each
+// candidate then costs made the Whitted scene's Whitted render, whose shadow rays cross glass, 5% slower.
+#if defined(VKRT_HAS_SHAPES) || defined(VKRT_HAS_TEXTURES)
+#define VKRT_DEFERS_CROSSINGS
+#endif
+
+// A shadow ray's crossings of a candidate in (tMin, tMax), nearest first (a triangle is crossed once, a sphere
+// up to twice, a solid at each crossing csgCrossing finds): each filters `transmittance`; true once it is
+// opaque. One call of crossSurface serves every kind, in a loop of one pass a crossing.
+bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float tMax, inout vec4 transmittance) {
+    const GpuPrimitive primitive = primitiveAt(candidate.index);
+    uint crossings = candidate.crossings;
 #ifdef VKRT_HAS_SHAPES
     const bool solid = isSolid(primitive);
     GpuSolid operands;
@@ -206,28 +250,12 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
         operands = solidOf(primitive);
         solidIntervals(operands, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
         crossings = 2u * VKRT_CSG_MAX_SHAPES;  // at most; the loop ends at the last
-    } else
-#endif
-#ifdef VKRT_HAS_SPHERES
-    if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
-        sphere = true;
-        float near, far;
-        if (sphereRoots(primitive.v0, primitive.v1.x, r.origin, r.direction, near, far)) {
-            const bool nearIn = near > tMin && near < tMax, farIn = far > tMin && far < tMax;
-            t0 = nearIn ? near : far;
-            t1 = far;
-            crossings = (nearIn ? 1u : 0u) + (farIn ? 1u : 0u);
-        }
-    } else
-#endif
-    if (intersectTriangle(r, primitive, tMin, tMax, t0, u, v)) {
-        crossings = 1u;
     }
-    if (crossings == 0u) return false;
+#endif
     uint k = 0u;
     do {
         VKRT_COUNT_ITERATION();
-        vec2 uv = vec2(u, v);
+        vec2 uv = vec2(candidate.u, candidate.v);
         uint material = primitive.material;
 #ifdef VKRT_HAS_SHAPES
         if (solid) {
@@ -246,18 +274,19 @@ bool crossPrimitive(ShearedRay r, uint index, GpuPrimitive primitive, float tMin
         }
 #endif
 #ifdef VKRT_HAS_SPHERES
-        if (sphere) uv = sphereUv(normalize(r.origin + (k == 0u ? t0 : t1) * r.direction - primitive.v0));
+        if (primitive.kind == VKRT_PRIMITIVE_SPHERE) {
+            uv = sphereUv(normalize(r.origin + (k == 0u ? candidate.t0 : candidate.t1) * r.direction - primitive.v0));
+        }
 #endif
-        if (crossSurface(index, material, uv.x, uv.y, transmittance)) return true;
+        if (crossSurface(candidate.index, material, uv.x, uv.y, transmittance)) return true;
     } while (++k < crossings);
     return false;
 }
 
-// Tests one primitive of a leaf; returns true when the walk can stop (any hit, or an opaque shadow). Solids
-// are never excluded (shade_hit.h's ShadingFrame).
+// Tests one primitive of a leaf for a closest-hit or any-hit walk (shadow walks: findsCandidate); returns true
+// when the walk can stop (any hit). Solids are never excluded (shade_hit.h's ShadingFrame).
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, WalkPast past, float tMax,
-                   float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost,
-                   inout vec4 transmittance) {
+                   float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost) {
 #ifdef VKRT_HAS_SHAPES
     const GpuPrimitive primitive = primitiveAt(index);
     if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
@@ -271,7 +300,6 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
     const float tMin = past.floor;
 #endif
     float t, u = 0.0, v = 0.0, groupEnd = 0.0;  // a solid's crossing sets its tie group's end, at least t
-    if (mode == VKRT_TRACE_SHADOW) return crossPrimitive(r, index, primitive, tMin, tMax, transmittance);
 #ifdef VKRT_HAS_SHAPES
     if (isSolid(primitive)) {
         if (!visitSolid(r, solidOf(primitive), tMin, searchLimit(nearest, tMax, originScale, mode, past), t, u, v,
@@ -321,7 +349,10 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
 // child's node or primitives are, so a pop loads nothing. On lavapipe every branch of a loop body runs
 // (masked) whether or not a lane takes it, so separate loops for the separate kinds of work cost less than
 // one body doing all of them (issue 13: 1.75x on 2CylinderEngine's camera rays); four children a node
-// halve the interior iterations and the node bytes read of the binary tree's pairs.
+// halve the interior iterations and the node bytes read of the binary tree's pairs. A shadow walk's leaf loop
+// finds the primitives it may cross (findsCandidate) and crosses them there, or, where crossing is costly
+// (VKRT_DEFERS_CROSSINGS), stops at the first, crosses it in the outer loop, and goes on with the leaf's rest
+// in the next outer pass.
 //
 // llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total (each pass of any
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
@@ -381,18 +412,45 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, floa
         } while ((link >> VKRT_WIDE_COUNT_SHIFT) == 0u);
         // A leaf: test its primitives, one per iteration.
         const uint count = link >> VKRT_WIDE_COUNT_SHIFT;
+        const uint first = link & VKRT_WIDE_INDEX_MASK;
+        uint index = first;
+        bool found = false;  // SHADOW: a candidate to cross, `candidate`; the leaf goes on from `index`
+        ShadowCandidate candidate;
         if (count > 0u) {
-            const uint first = link & VKRT_WIDE_INDEX_MASK;
-            uint index = first;
             do {
                 VKRT_COUNT_ITERATION();
-                if (visitPrimitive(r, index, excludeA, excludeB, past, tMax, originScale, mode, hit, nearest, lost,
-                                   transmittance)) {
+                if (mode == VKRT_TRACE_SHADOW) {
+                    found = findsCandidate(r, index, excludeA, excludeB, past.floor, tMax, candidate);
+#ifdef VKRT_DEFERS_CROSSINGS
+                    if (found) {
+                        ++index;
+                        break;
+                    }
+#else
+                    if (found && crossCandidate(r, candidate, past.floor, tMax, transmittance)) {
+                        complete = true;
+                        return true;
+                    }
+#endif
+                } else if (visitPrimitive(r, index, excludeA, excludeB, past, tMax, originScale, mode, hit, nearest,
+                                          lost)) {
                     complete = true;
                     return true;
                 }
             } while (++index < first + count);
         }
+#ifdef VKRT_DEFERS_CROSSINGS
+        if (mode == VKRT_TRACE_SHADOW && found) {
+            if (crossCandidate(r, candidate, past.floor, tMax, transmittance)) {
+                complete = true;
+                return true;
+            }
+            if (index < first + count) {  // the rest of the leaf in the next pass
+                link = ((first + count - index) << VKRT_WIDE_COUNT_SHIFT) | index;
+                continue;
+            }
+        }
+#endif
         // Pop until an entry the ray enters in front of the closest hit (the others are dropped).
         for (;;) {
             VKRT_COUNT_ITERATION();

@@ -671,6 +671,44 @@ TEST_F(GpuSurfaces, TwoCoincidentBlendFacesAreEachCrossedOnce) {
         EXPECT_NEAR(meanRed(*image), 0.25, 0.01) << device;
 }
 
+TEST_F(GpuSurfaces, ShadowRaysCrossEveryPrimitiveOfALeafPastATexturedHole) {
+    // The unit square (albedo 1) under a sun from straight above, and between them, out of the camera's view,
+    // two coincident quads in one leaf of the tree: one a hole throughout by its texture's alpha (MASK), the
+    // other opaque, in either order. The square is black for both integrators. Where crossing a surface is
+    // costly (here: textures), the GPU's shadow walk crosses a leaf's first candidate in its outer loop and
+    // goes on with the rest of the leaf in the next pass; a walk that dropped the rest saw the sun through
+    // the hole.
+    for (const bool holeFirst : {true, false}) {
+        SCOPED_TRACE(holeFirst ? "hole first" : "opaque first");
+        Scene scene;
+        scene.textures.push_back(textureOf(1, 1, {0x00ffffffu}));
+        Material hole = lambertian(1.0f);
+        hole.alphaMode = AlphaMode::Mask;
+        hole.baseColorTexture.texture = 0;
+        Material opaque = lambertian(0.0f);
+        opaque.doubleSided = true;
+        scene.materials =
+            holeFirst ? std::vector<Material>{hole, opaque} : std::vector<Material>{opaque, hole};
+        // The second divided along the other diagonal (a duplicate triangle would be removed).
+        const glm::vec3 a(-1.0f, -1.0f, 1.2f), b(2.0f, -1.0f, 1.2f), c(2.0f, 2.0f, 1.2f),
+            d(-1.0f, 2.0f, 1.2f);
+        addFlatQuad(scene, a, b, c, d, 0);
+        addFlatQuad(scene, b, c, d, a, 1);
+        scene.lights.push_back(sunFrom({0.0, 0.0, 1.0}, float(M_PI)));
+        for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+            SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+            RenderSettings settings = litOnly(16);
+            settings.integrator = integrator;
+            settings.maxDepth = 0;
+            const auto [gpu, cpu] = test::renderUnitSquare(context(), scene, lambertian(1.0f), settings);
+            for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
+                SCOPED_TRACE(device);
+                EXPECT_EQ(meanRed(*image), 0.0);
+            }
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, ShadowRaysPassAlphaHoles) {
     // A floor (the unit square, albedo 0.5) lit by a sun at 45 degrees; a blocker at height 0.5, out of the
     // camera's view (x from 1.2 to 3), casts its shadow on the floor's strip x > 0.7. The shadowed floor gets
