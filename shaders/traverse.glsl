@@ -284,16 +284,14 @@ bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float t
 }
 
 // Tests one primitive of a leaf for a closest-hit or any-hit walk (shadow walks: findsCandidate); returns true
-// when the walk can stop (any hit). Solids are never excluded (shade_hit.h's ShadingFrame).
+// when the walk can stop (any hit). `solid`: the primitive is a solid, which is never excluded (shade_hit.h's
+// ShadingFrame); the walk's leaf loop visits triangles and spheres, its outer loop solids, so that each
+// inlined copy holds one kind's code.
 bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, WalkPast past, float tMax,
-                   float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost) {
-#ifdef VKRT_HAS_SHAPES
+                   float originScale, const int mode, inout Hit hit, inout float nearest, inout bool lost,
+                   const bool solid) {
+    if (!solid && (index == excludeA || index == excludeB)) return false;
     const GpuPrimitive primitive = primitiveAt(index);
-    if ((index == excludeA || index == excludeB) && !isSolid(primitive)) return false;
-#else
-    if (index == excludeA || index == excludeB) return false;
-    const GpuPrimitive primitive = primitiveAt(index);
-#endif
 #ifdef VKRT_WALKS_PAST_HITS
     const float tMin = mode == VKRT_TRACE_CLOSEST ? searchFloor(past, primitive.sceneIndex) : past.floor;
 #else
@@ -301,7 +299,7 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
 #endif
     float t, u = 0.0, v = 0.0, groupEnd = 0.0;  // a solid's crossing sets its tie group's end, at least t
 #ifdef VKRT_HAS_SHAPES
-    if (isSolid(primitive)) {
+    if (solid) {
         if (!visitSolid(r, solidOf(primitive), tMin, searchLimit(nearest, tMax, originScale, mode, past), t, u, v,
                         groupEnd)) {
             return false;
@@ -352,7 +350,8 @@ bool visitPrimitive(ShearedRay r, uint index, uint excludeA, uint excludeB, Walk
 // halve the interior iterations and the node bytes read of the binary tree's pairs. A shadow walk's leaf loop
 // finds the primitives it may cross (findsCandidate) and crosses them there, or, where crossing is costly
 // (VKRT_DEFERS_CROSSINGS), stops at the first, crosses it in the outer loop, and goes on with the leaf's rest
-// in the next outer pass.
+// in the next outer pass; the other walks' leaf loops likewise stop at a solid, which the outer loop visits
+// (a solid's intervals in the leaf loop cost a sixth of surfaces.gltf's render).
 //
 // llvmpipe (lavapipe) ends all loops of an invocation after 65535 iterations in total (each pass of any
 // loop counts, an inner loop at least once per outer iteration). A walk that runs out is reported, not
@@ -414,7 +413,7 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, floa
         const uint count = link >> VKRT_WIDE_COUNT_SHIFT;
         const uint first = link & VKRT_WIDE_INDEX_MASK;
         uint index = first;
-        bool found = false;  // SHADOW: a candidate to cross, `candidate`; the leaf goes on from `index`
+        bool found = false;  // a candidate for the outer loop, `candidate`; the leaf goes on from `index`
         ShadowCandidate candidate;
         if (count > 0u) {
             do {
@@ -432,16 +431,33 @@ bool traverseBvh(ShearedRay r, uint excludeA, uint excludeB, WalkPast past, floa
                         return true;
                     }
 #endif
-                } else if (visitPrimitive(r, index, excludeA, excludeB, past, tMax, originScale, mode, hit, nearest,
-                                          lost)) {
-                    complete = true;
-                    return true;
+                } else {
+#ifdef VKRT_HAS_SHAPES
+                    if (isSolid(primitiveAt(index))) {  // visited in the outer loop
+                        found = true;
+                        candidate.index = index++;
+                        break;
+                    }
+#endif
+                    if (visitPrimitive(r, index, excludeA, excludeB, past, tMax, originScale, mode, hit, nearest,
+                                       lost, false)) {
+                        complete = true;
+                        return true;
+                    }
                 }
             } while (++index < first + count);
         }
 #ifdef VKRT_DEFERS_CROSSINGS
-        if (mode == VKRT_TRACE_SHADOW && found) {
-            if (crossCandidate(r, candidate, past.floor, tMax, transmittance)) {
+        if (found) {
+#ifdef VKRT_HAS_SHAPES
+            const bool stops = mode == VKRT_TRACE_SHADOW
+                                   ? crossCandidate(r, candidate, past.floor, tMax, transmittance)
+                                   : visitPrimitive(r, candidate.index, excludeA, excludeB, past, tMax, originScale,
+                                                    mode, hit, nearest, lost, true);
+#else
+            const bool stops = crossCandidate(r, candidate, past.floor, tMax, transmittance);  // shadow walks only
+#endif
+            if (stops) {
                 complete = true;
                 return true;
             }

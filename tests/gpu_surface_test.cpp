@@ -649,6 +649,42 @@ TEST_F(GpuSurfaces, RaysThroughAHoleMeetTheFaceCoincidentWithIt) {
     }
 }
 
+TEST_F(GpuSurfaces, RaysMeetEveryPrimitiveOfALeafAfterASolid) {
+    // Two thin boxes of the same width (VKRT_shapes), one just above the other, filling the square camera's
+    // view: the lower (albedo 0.3) comes first in their leaf of the tree, the upper (0.6) after it. Under
+    // ambient light 1 (paths: the background's 0.25 alone) every pixel shows the upper box: 0.6 (0.15). The
+    // GPU's walks visit a leaf's solids in their outer loop and go on with the rest of the leaf in the next
+    // pass; a walk that dropped the rest saw the lower box.
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+        Scene scene;
+        scene.materials.push_back(lambertian(0.3f));
+        scene.materials.push_back(lambertian(0.6f));
+        for (uint32_t box : {0u, 1u}) {
+            const glm::dmat4 map =
+                glm::scale(glm::translate(glm::dmat4(1.0), {0.5, 0.5, box == 0u ? -0.03 : 0.0}),
+                           glm::dvec3(1.0, 1.0, 0.01));
+            addSolid(scene, {makeShape(VKRT_SHAPE_BOX, box, map)}, {2u, 0u, 0u, 0u, 0u, 0u, 0u, 0u});
+        }
+        finalizeScene(scene);
+        const FlatBvh bvh = test::bvhFor(scene);
+        ASSERT_EQ(bvh.primIndices, (std::vector<uint32_t>{0u, 1u}));  // one leaf: the lower box first
+        ASSERT_EQ(bvh.nodes[0].primCount, 2u);
+        RenderSettings settings = ambientOnly(16);
+        settings.integrator = integrator;
+        const auto [gpu, cpu] = test::renderGpuAndCpu(context(), scene, bvh, test::squareCamera(), settings,
+                                                      test::shaderCacheDir());
+        const float expected = integrator == Integrator::Path ? 0.6f * 0.25f : 0.6f;
+        for (const auto& [image, device] : {std::pair{&gpu.image, "GPU"}, std::pair{&cpu.image, "CPU"}}) {
+            int missed = 0;
+            for (int y = 0; y < image->height; ++y)
+                for (int x = 0; x < image->width; ++x)
+                    missed += std::abs(image->at(x, y).x - expected) > 1e-5f;
+            EXPECT_EQ(missed, 0) << device;
+        }
+    }
+}
+
 TEST_F(GpuSurfaces, TwoCoincidentBlendFacesAreEachCrossedOnce) {
     // Two black faces of alpha 0.5 (BLEND) on one slanted plane, the second turned and divided into triangles
     // the other way, in front of an emitter of radiance 1: a camera ray passes each with probability 0.5, so
