@@ -8,7 +8,7 @@
 
 #ifdef VKRT_HAS_SHAPES
 // Shapes, for shape_light.h: their type, material and maps at the sample's shutter time (solids.glsl).
-uint device_shapeType(uint shape) { return gpuShapeAt(shape).type; }
+uint device_shapeType(uint shape) { return shapeTypeAt(shape); }
 uint device_shapeMaterial(uint shape) { return gpuShapeAt(shape).material; }
 void device_shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
     shapeMaps(shape, toObject, toWorld);

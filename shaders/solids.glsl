@@ -16,6 +16,30 @@ GpuSolid solidOf(GpuPrimitive primitive) {
     return gpuSolidAt(primitive.kind >> VKRT_PRIMITIVE_INDEX_SHIFT);
 }
 
+// Shape `shape`'s type (shape_geometry.h's VKRT_SHAPE_*). Where every shape of the scene has one type
+// (VKRT_HAS_SHAPE_<TYPE> alone), that constant: the shared geometry's branches on the type then fold, and the
+// other types' code is left out of the kernel.
+#if defined(VKRT_HAS_SHAPE_SPHERES) && !defined(VKRT_HAS_SHAPE_BOXES) && !defined(VKRT_HAS_SHAPE_CYLINDERS) && \
+    !defined(VKRT_HAS_SHAPE_CONES)
+#define VKRT_SHAPE_TYPE VKRT_SHAPE_SPHERE
+#elif defined(VKRT_HAS_SHAPE_BOXES) && !defined(VKRT_HAS_SHAPE_SPHERES) && !defined(VKRT_HAS_SHAPE_CYLINDERS) && \
+    !defined(VKRT_HAS_SHAPE_CONES)
+#define VKRT_SHAPE_TYPE VKRT_SHAPE_BOX
+#elif defined(VKRT_HAS_SHAPE_CYLINDERS) && !defined(VKRT_HAS_SHAPE_SPHERES) && !defined(VKRT_HAS_SHAPE_BOXES) && \
+    !defined(VKRT_HAS_SHAPE_CONES)
+#define VKRT_SHAPE_TYPE VKRT_SHAPE_CYLINDER
+#elif defined(VKRT_HAS_SHAPE_CONES) && !defined(VKRT_HAS_SHAPE_SPHERES) && !defined(VKRT_HAS_SHAPE_BOXES) && \
+    !defined(VKRT_HAS_SHAPE_CYLINDERS)
+#define VKRT_SHAPE_TYPE VKRT_SHAPE_CONE
+#endif
+uint shapeTypeAt(uint shape) {
+#ifdef VKRT_SHAPE_TYPE
+    return VKRT_SHAPE_TYPE;
+#else
+    return gpuShapeAt(shape).type;
+#endif
+}
+
 // Shape `shape`'s world-to-object and object-to-world maps at the sample's shutter time: with motion, its
 // object-to-world map interpolated between poses (as triangles' corners are) and inverted.
 void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
@@ -55,7 +79,7 @@ void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[V
         shapeMaps(solid.firstShape + i, toObject, toWorld);
         float a, b;
         uint fa, fb;
-        const bool hit = shapeInterval(gpuShapeAt(solid.firstShape + i).type, affinePoint(toObject, origin),
+        const bool hit = shapeInterval(shapeTypeAt(solid.firstShape + i), affinePoint(toObject, origin),
                                        affineVector(toObject, direction), a, b, fa, fb);
         tIn[i] = hit ? a : VKRT_INFINITY;
         tOut[i] = hit ? b : -VKRT_INFINITY;

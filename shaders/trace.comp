@@ -147,7 +147,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         AffineRows toObject, toWorld;
         shapeMaps(p.shape, toObject, toWorld);
         const GpuShape shape = gpuShapeAt(p.shape);
-        const ShapePoint s = shapePoint(shape.type, code >> 1u, (code & 1u) != 0u, toObject, ray.origin, ray.direction,
+        const ShapePoint s = shapePoint(shapeTypeAt(p.shape), code >> 1u, (code & 1u) != 0u, toObject, ray.origin, ray.direction,
                                         hit.t);
         p.material = shape.material;
         p.geometricNormal = p.normal = s.normal;
@@ -155,7 +155,7 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
 #ifdef VKRT_HAS_NORMAL_MAPS
         vec2 row0, row1;
         tangentFrameTurn(p.material, row0, row1);
-        p.tangent = shapeTangent(shape.type, code >> 1u, s.local, toWorld, s.normal, row0, row1);
+        p.tangent = shapeTangent(shapeTypeAt(p.shape), code >> 1u, s.local, toWorld, s.normal, row0, row1);
 #endif
         const float rayScale = maxAbs(ray.origin) + hit.t + maxAbs(vec3(toWorld.row0.w, toWorld.row1.w, toWorld.row2.w));
         const float scale = shapeScale(toWorld);

@@ -268,7 +268,7 @@ bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float t
             AffineRows toObject, toWorld;
             shapeMaps(shape, toObject, toWorld);
             const GpuShape s = gpuShapeAt(shape);
-            uv = shapePoint(s.type, crossing.face, crossing.flip, toObject, r.origin, r.direction, crossing.t).uv;
+            uv = shapePoint(shapeTypeAt(shape), crossing.face, crossing.flip, toObject, r.origin, r.direction, crossing.t).uv;
             material = s.material;
             after = crossing.groupEnd;
         }

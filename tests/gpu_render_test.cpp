@@ -97,7 +97,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 29u);
+    EXPECT_EQ(full.features().defines().size(), 33u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
         // lavapipe the count of loop passes (for llvmpipe's loop budget).
@@ -281,14 +281,14 @@ TEST(ShaderCache, CompilingKeepsTheCacheWithinItsLimitAndReadEntriesLast) {
     EXPECT_FALSE(fs::exists(filler)) << "the cache would be over its limit";
 }
 
-// A scene can turn on any combination of the 29 features, and the committed scenes hold only a few of them.
+// A scene can turn on any combination of the 33 features, and the committed scenes hold only a few of them.
 // So the kernel compiles (glslang, about 30 ms a variant) with every pair of features, each on or off (each
 // feature alone, and each left out of all the others), and with 100 more subsets drawn from a fixed seed; for
 // both integrators, the three ways of reading the scene and the device's other defines in turn. A combination
 // that leaves a name undeclared would otherwise first fail on a user's scene.
 TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
     const std::vector<std::string> all = SceneFeatures::all().defines();
-    ASSERT_EQ(all.size(), 29u);
+    ASSERT_EQ(all.size(), 33u);
     auto subsetOf = [&](uint32_t bits) {
         std::vector<std::string> subset;
         for (size_t f = 0; f < all.size(); ++f) {

@@ -9,6 +9,7 @@
 #include "punctual_light.h"
 #include "scene/ggx_albedo_tables.h"
 #include "scene/light_table.h"
+#include "shape_geometry.h"
 
 namespace vkrt {
 namespace {
@@ -31,6 +32,10 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::areaLights, "area_lights", "VKRT_HAS_AREA_LIGHTS"},
     {&SceneFeatures::spheres, "spheres", "VKRT_HAS_SPHERES"},
     {&SceneFeatures::shapes, "shapes", "VKRT_HAS_SHAPES"},
+    {&SceneFeatures::shapeSpheres, "shape_spheres", "VKRT_HAS_SHAPE_SPHERES"},
+    {&SceneFeatures::shapeBoxes, "shape_boxes", "VKRT_HAS_SHAPE_BOXES"},
+    {&SceneFeatures::shapeCylinders, "shape_cylinders", "VKRT_HAS_SHAPE_CYLINDERS"},
+    {&SceneFeatures::shapeCones, "shape_cones", "VKRT_HAS_SHAPE_CONES"},
     {&SceneFeatures::motion, "motion_blur", "VKRT_HAS_MOTION"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
@@ -155,7 +160,13 @@ SceneFeatures detectFeatures(const Scene& scene) {
     }
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = onAnalytic[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
-    for (const Shape& shape : scene.shapes) used[shape.material] = onAnalytic[shape.material] = true;
+    for (const Shape& shape : scene.shapes) {
+        used[shape.material] = onAnalytic[shape.material] = true;
+        features.shapeSpheres |= shape.type == VKRT_SHAPE_SPHERE;
+        features.shapeBoxes |= shape.type == VKRT_SHAPE_BOX;
+        features.shapeCylinders |= shape.type == VKRT_SHAPE_CYLINDER;
+        features.shapeCones |= shape.type == VKRT_SHAPE_CONE;
+    }
     features.shapes = !scene.solids.empty();
     features.vertexColors = !scene.vertexColors.empty();
     features.motion = scene.moving();

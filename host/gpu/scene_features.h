@@ -21,6 +21,11 @@ struct SceneFeatures {
     bool areaLights = false;    // emissive triangles, spheres or shapes
     bool spheres = false;       // analytic spheres (VKRT_sphere)
     bool shapes = false;        // analytic shapes and CSG (VKRT_shape, VKRT_csg)
+    bool shapeSpheres =
+        false;  // a shape of each type (a kernel whose shapes are of one type folds the others)
+    bool shapeBoxes = false;
+    bool shapeCylinders = false;
+    bool shapeCones = false;
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
     bool vertexColors = false;  // COLOR_0 multiplies base colours
