@@ -146,10 +146,9 @@ HitPoint hitPointOf(RayState ray, Hit hit) {
         p.face = code >> 1u;
         AffineRows toObject, toWorld;
         shapeMaps(p.shape, toObject, toWorld);
-        const GpuShape shape = gpuShapeAt(p.shape);
-        const ShapePoint s = shapePoint(shapeTypeAt(p.shape), code >> 1u, (code & 1u) != 0u, toObject, ray.origin, ray.direction,
-                                        hit.t);
-        p.material = shape.material;
+        const ShapePoint s = shapePoint(shapeTypeAt(p.shape), code >> 1u, (code & 1u) != 0u, toObject, ray.origin,
+                                        ray.direction, hit.t);
+        p.material = gpuShapeAt(p.shape).material;
         p.geometricNormal = p.normal = s.normal;
         p.uv = s.uv;
 #ifdef VKRT_HAS_NORMAL_MAPS

@@ -267,9 +267,9 @@ bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float t
             const uint shape = operands.firstShape + crossing.shape;
             AffineRows toObject, toWorld;
             shapeMaps(shape, toObject, toWorld);
-            const GpuShape s = gpuShapeAt(shape);
-            uv = shapePoint(shapeTypeAt(shape), crossing.face, crossing.flip, toObject, r.origin, r.direction, crossing.t).uv;
-            material = s.material;
+            uv = shapePoint(shapeTypeAt(shape), crossing.face, crossing.flip, toObject, r.origin, r.direction,
+                            crossing.t).uv;
+            material = gpuShapeAt(shape).material;
             after = crossing.groupEnd;
         }
 #endif
