@@ -154,9 +154,12 @@ const bool vkrtVolumesBlockShadows = false;
 // texture coordinates (u, v) (surface_response.h's shadowPassage); true when it is now opaque. The path
 // integrator's shadow rays pass only the holes of alpha-tested and blended surfaces, and, from punctual lights,
 // thin-walled transmissive surfaces; without either every surface stops them, and the material is not read.
-bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec4 transmittance) {
 #if defined(VKRT_HAS_ALPHA) || (defined(VKRT_HAS_TRANSMISSION) && !defined(VKRT_PATHS)) || \
     (defined(VKRT_PATHS) && defined(VKRT_HAS_THIN_TRANSMISSION) && defined(VKRT_HAS_PUNCTUAL_LIGHTS))
+#define VKRT_CROSSING_READS_MATERIALS
+#endif
+bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout vec4 transmittance) {
+#ifdef VKRT_CROSSING_READS_MATERIALS
     const SurfaceMaterial material = device_material(materialIndex);
     transmittance *= shadowPassageAt(material, primitive, vec2(u, v), vkrtVolumesBlockShadows && material.volume);
     if (maxComponent(transmittance.xyz) > 0.0) return false;
@@ -225,12 +228,13 @@ bool findsCandidate(ShearedRay r, uint index, uint excludeA, uint excludeB, floa
     return true;
 }
 
-// Where crossing a surface is costly (a solid's intervals, a surface's textures), a shadow walk crosses its
-// candidates in its outer loop, once a leaf's candidate is found, not in the leaf loop: on lavapipe a loop's body
-// runs whole, masked, at every pass any lane needs, and crossing at every primitive a leaf holds took half of
-// surfaces.gltf's render time (issue 13). Elsewhere the leaf loop crosses them: the outer loop's pass that each
-// candidate then costs made the Whitted scene's Whitted render, whose shadow rays cross glass, 5% slower.
-#if defined(VKRT_HAS_SHAPES) || defined(VKRT_HAS_TEXTURES)
+// Where crossing a surface is costly (a solid's intervals, the textures of a surface whose material crossSurface
+// reads), a shadow walk crosses its candidates in its outer loop, once a leaf's candidate is found, not in the
+// leaf loop: on lavapipe a loop's body runs whole, masked, at every pass any lane needs, and crossing at every
+// primitive a leaf holds took half of surfaces.gltf's render time (issue 13). Elsewhere the leaf loop crosses
+// them: the outer loop's pass that each candidate then costs made the Whitted scene's Whitted render, whose
+// shadow rays cross glass, 5% slower.
+#if defined(VKRT_HAS_SHAPES) || (defined(VKRT_HAS_TEXTURES) && defined(VKRT_CROSSING_READS_MATERIALS))
 #define VKRT_DEFERS_CROSSINGS
 #endif
 
