@@ -153,9 +153,9 @@ VKRT_FN uint materialTextureSlots(VKRT_IN(SurfaceMaterial) m) {
 
 // The material at a hit on `primitive` (hitUv: barycentrics, or a sphere's texture coordinates), its textures of
 // the slots `slots` (bits, as textureSlots) filtered over `footprint`, the emissive one over `emissionFootprint`
-// (sampleBinding); the others are left at their factors. The texture slots are read in a loop around one lookup: every
-// inlined bilinear lookup costs code and registers in the whole kernel (on lavapipe, five separate lookup sites
-// made textured scenes twice as slow). The loop visits the material's bound slots only, lowest first: a SIMD
+// (sampleBinding); the others are left at their factors. The texture slots are read in a loop around one
+// lookup: every inlined bilinear lookup costs code and registers in the whole kernel (on lavapipe, five separate
+// lookup sites made textured scenes twice as slow). The loop visits the material's bound slots only, lowest first: a SIMD
 // group on lavapipe runs a loop's whole body at every pass any of its lanes needs, so a loop over all twelve
 // slots paid twelve lookups wherever a lane had one texture (textures.gltf's GPU time 2.1 times as long).
 VKRT_DEVICE_TEMPLATE

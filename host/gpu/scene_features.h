@@ -21,8 +21,8 @@ struct SceneFeatures {
     bool areaLights = false;    // emissive triangles, spheres or shapes
     bool spheres = false;       // analytic spheres (VKRT_sphere)
     bool shapes = false;        // analytic shapes and CSG (VKRT_shape, VKRT_csg)
-    bool shapeSpheres =
-        false;  // a shape of each type (a kernel whose shapes are of one type folds the others)
+    // A shape of each type (VKRT_shape): a kernel whose shapes are of one type folds the others' code away.
+    bool shapeSpheres = false;
     bool shapeBoxes = false;
     bool shapeCylinders = false;
     bool shapeCones = false;
