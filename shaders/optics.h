@@ -114,12 +114,16 @@ VKRT_FN real3 planeNormal(real3 v0, real3 v1, real3 v2) {
 }
 
 // An orthonormal basis with `n` as its third axis (Duff et al., "Building an Orthonormal Basis, Revisited",
-// JCGT 6(1), 2017). Its two branches give different bases, so they part below a tiny negative threshold rather
-// than at zero: a normal whose z is -0 (the top of a Cornell box block) takes the branch of +0 on every
-// device. Vulkan does not make a shader keep the sign of zero (an optimiser may read `z >= 0 ? 1 : -1` as
-// the sign of z), and on an H200 the paths bouncing off such faces went other ways than the CPU's.
+// JCGT 6(1), 2017). Its two branches give different bases, and a sample drawn in one of them goes elsewhere
+// than in the other, so they part where normals seldom are: at z = 1 - sqrt(2), 114.5 degrees from +z, not at
+// zero. Faces in the plane z = 0 (a Y-up scene's walls) are common, and their normals' z is 0, -0 or a
+// rounding error of either sign, which differs between devices: a skewed wall's face normal, -1.1e-7, against
+// its file's vertex normal, +0, sent the paths bouncing off it in mirrored directions; and Vulkan does not make
+// a shader keep the sign of zero (on an H200 the Cornell box's paths went other ways than the CPU's until -0
+// took the branch of +0).
 VKRT_FN void orthonormalBasis(real3 n, VKRT_OUT(real3) b1, VKRT_OUT(real3) b2) {
-    const real sign = n.z >= -1e-30 ? 1.0 : -1.0;  // the basis is regular for any z above -1
+    // The first branch is regular for any z above -1 (a = -1 / (1 + z)), the second for any below 1.
+    const real sign = n.z >= -0.41421356 ? 1.0 : -1.0;
     const real a = -1.0 / (sign + n.z);
     const real b = n.x * n.y * a;
     b1 = real3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);

@@ -104,6 +104,7 @@ INSTANTIATE_TEST_SUITE_P(
         SceneCase{real("khronos-DamagedHelmet/glTF-Binary/DamagedHelmet.glb"), 48, 48, 2},
         SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
         SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2},
+        SceneCase{real("cornell-box-bevy/CornellBox.glb"), 48, 48, 2},
         SceneCase{real("khronos-Avocado/glTF/Avocado.gltf"), 48, 48, 2},
         SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48, 2}),
     [](const ::testing::TestParamInfo<SceneCase>& info) {

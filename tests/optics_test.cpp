@@ -94,6 +94,39 @@ TEST(Snell, ReflectionMirrorsAboutTheNormal) {
     EXPECT_NEAR(r.z, std::cos(0.3), 1e-15);
 }
 
+// Normals in or next to the plane z = 0 (a Y-up scene's walls), whose z is 0, -0 or a rounding error of
+// either sign that differs between devices, take one branch of the basis: their bases differ by about as much
+// as the normals do. With the branches parting at z = 0, a wall's z of -1.1e-7 (its face normal in float, on
+// the GPU) against +0 (its file's vertex normal, on the CPU) turned the basis by 180 degrees about the
+// normal.
+TEST(OrthonormalBasis, NormalsBesideThePlaneZEqualsZeroShareABasis) {
+    for (const glm::dvec3 wall :
+         {glm::dvec3(1, 0, 0), glm::dvec3(0.6, -0.8, 0), glm::dvec3(-0.999932, 0.011661, 0)}) {
+        glm::dvec3 t0, b0;
+        orthonormalBasis(glm::normalize(wall), t0, b0);
+        for (const double z : {-0.0, 1.1e-7, -1.1e-7, 1e-4, -1e-4}) {
+            glm::dvec3 t, b;
+            orthonormalBasis(glm::normalize(wall + glm::dvec3(0.0, 0.0, z)), t, b);
+            EXPECT_LT(glm::length(t - t0), 1e-3) << "z " << z;
+            EXPECT_LT(glm::length(b - b0), 1e-3) << "z " << z;
+        }
+    }
+}
+
+TEST(OrthonormalBasis, IsOrthonormalAndRightHandedOnEitherSideOfItsSeam) {
+    for (const double z : {1.0, 0.5, 0.0, -0.4142, -0.4143, -0.9, -0.999999, -1.0}) {
+        const double r = std::sqrt(1.0 - z * z);
+        const glm::dvec3 n(0.6 * r, 0.8 * r, z);
+        glm::dvec3 t, b;
+        orthonormalBasis(n, t, b);
+        EXPECT_NEAR(glm::length(t), 1.0, 1e-9) << "z " << z;
+        EXPECT_NEAR(glm::length(b), 1.0, 1e-9) << "z " << z;
+        EXPECT_NEAR(glm::dot(t, b), 0.0, 1e-9) << "z " << z;
+        EXPECT_NEAR(glm::dot(t, n), 0.0, 1e-9) << "z " << z;
+        EXPECT_LT(glm::length(glm::cross(t, b) - n), 1e-9) << "z " << z;
+    }
+}
+
 TEST(GlassSlab, RayLeavesParallelAndShiftedByTheAnalyticAmount) {
     // A slab between z = 0 and z = -d, made of two large triangles per face, traced with the renderer's
     // intersection and refraction code.

@@ -31,6 +31,7 @@ CpuShadingScene::CpuShadingScene(const Scene& scene, const FlatBvh& bvh)
     }
     for (const PunctualLight& light : scene.lights) punctualLights.push_back(punctualLightParams(light));
     volumeHoles = scene.volumesHaveHoles();
+    smoothNormals = scene.smoothNormals();
     punctualTable = buildPunctualLightTable(scene);
     if (scene.environment.present()) environment = EnvironmentTables(scene.environment);
     // The sheen's albedo table is computed here, once, rather than by the first shading point that needs it.
@@ -201,15 +202,18 @@ shading::HitPoint CpuShadingDevice::hitPointOf(const RayT<double>& ray, const Su
     p.errorScale =
         std::min(rayScale, std::max({shading::maxAbs(glm::dvec3(now.v0)), shading::maxAbs(glm::dvec3(now.v1)),
                                      shading::maxAbs(glm::dvec3(now.v2))}));
-    p.normal =
-        glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
-                                            glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
     // A moving triangle turns its vertex normals and tangents (given at the shutter's opening) with its face.
     const auto turned = [&](const glm::dvec3& v) {
         return shading::turnWithFace(v, glm::dvec3(opened.v1 - opened.v0), geometricNormalOf(opened),
                                      glm::dvec3(now.v1 - now.v0), p.geometricNormal, 1e-12);
     };
-    if (time_ > 0.0) p.normal = turned(p.normal);
+    p.normal = p.geometricNormal;  // a scene without smooth normals: its faces' own, as on the GPU
+    if (data_.smoothNormals) {
+        p.normal =
+            glm::normalize(shading::barycentric(glm::dvec3(shading.normal[0]), glm::dvec3(shading.normal[1]),
+                                                glm::dvec3(shading.normal[2]), glm::dvec2(hit.u, hit.v)));
+        if (time_ > 0.0) p.normal = turned(p.normal);
+    }
     if (!scene.tangents.empty()) {
         const std::array<glm::vec4, 3>& t = scene.tangents[hit.primitive];
         p.tangent = shading::barycentric(glm::dvec4(t[0]), glm::dvec4(t[1]), glm::dvec4(t[2]),

@@ -39,6 +39,7 @@ struct CpuShadingScene {
     const std::vector<float>* ggxDielectricAlbedoTable = nullptr;  // with a rough refracting one
     bool volumesBlockShadows = false;  // the path integrator's shadow rays (shadowTint)
     bool volumeHoles = false;          // Scene::volumesHaveHoles: paths' shadow rays meet surfaces in order
+    bool smoothNormals = false;  // Scene::smoothNormals: else every triangle is shaded with its face's normal
 };
 
 // The device for the rays of one sample: the scene at the sample's shutter time, counting shadow rays.

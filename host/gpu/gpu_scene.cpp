@@ -191,6 +191,9 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     // (shared.h).
     std::vector<uint32_t> gpuIndexOf(scene.primitiveCount());
     const bool needShading = data.features.smoothNormals || data.features.textures;
+    // A scene without smooth normals is shaded with its faces' normals, also by a shader that reads vertex
+    // normals (a superset of the scene's features): they are packed as its faces' own.
+    const bool smoothNormals = features ? scene.smoothNormals() : data.features.smoothNormals;
     data.primitives.reserve(bvh.primIndices.size());
     for (uint32_t i = 0; i < bvh.primIndices.size(); ++i) {
         const uint32_t index = bvh.primIndices[i];
@@ -244,8 +247,10 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
         }
         if (needShading) {
             const TriangleShading& s = scene.shading[index];
-            data.shading.push_back({glm::vec4(s.normal[0], s.uv[0].x), glm::vec4(s.normal[1], s.uv[1].x),
-                                    glm::vec4(s.normal[2], s.uv[2].x),
+            const glm::vec3 face(faceNormal(t));
+            const auto normal = [&](int k) { return smoothNormals ? s.normal[k] : face; };
+            data.shading.push_back({glm::vec4(normal(0), s.uv[0].x), glm::vec4(normal(1), s.uv[1].x),
+                                    glm::vec4(normal(2), s.uv[2].x),
                                     glm::vec4(s.uv[0].y, s.uv[1].y, s.uv[2].y, 0.0f)});
         }
     }

@@ -112,19 +112,6 @@ bool hasLargeTriangles(const Scene& scene) {
     return longest > 1024.0f * typical;
 }
 
-// Whether every vertex normal of `t` is its face's normal, to within 1e-4 radians: the rounding of float
-// corners and normals in real files (a Cornell box's are up to 5e-5 off). The test once allowed 1.4e-3, which
-// dropped normals that matter: a finely tessellated curved mirror's, 6e-4 off their faces, rendered faceted.
-bool isFlat(const Triangle& t, const TriangleShading& s) {
-    const glm::dvec3 v0(t.v0), v1(t.v1), v2(t.v2);
-    const glm::dvec3 face = glm::normalize(glm::cross(v1 - v0, v2 - v0));
-    for (const glm::vec3& n : s.normal) {
-        if (!(1.0 - glm::dot(glm::normalize(glm::dvec3(n)), face) < 5e-9))
-            return false;  // cos(1e-4) = 1 - 5e-9
-    }
-    return true;
-}
-
 }  // namespace
 
 SceneFeatures SceneFeatures::all() {
@@ -153,11 +140,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
     SceneFeatures features;
     std::vector<bool> used(scene.materials.size(), false);
     std::vector<bool> onAnalytic(scene.materials.size(), false);  // used by a sphere or a shape
-    for (size_t i = 0; i < scene.triangles.size(); ++i) {
-        used[scene.triangles[i].material] = true;
-        if (!features.smoothNormals && !isFlat(scene.triangles[i], scene.shading[i]))
-            features.smoothNormals = true;
-    }
+    for (const Triangle& triangle : scene.triangles) used[triangle.material] = true;
+    features.smoothNormals = scene.smoothNormals();
     for (const Sphere& sphere : scene.spheres) used[sphere.material] = onAnalytic[sphere.material] = true;
     features.spheres = !scene.spheres.empty();
     for (const Shape& shape : scene.shapes) {

@@ -60,6 +60,12 @@ struct Triangle {
     }
 };
 
+// The unit normal of `t`'s plane (right-handed winding), in double precision.
+inline glm::dvec3 faceNormal(const Triangle& t) {
+    return glm::normalize(
+        glm::cross(glm::dvec3(t.v1) - glm::dvec3(t.v0), glm::dvec3(t.v2) - glm::dvec3(t.v0)));
+}
+
 // An analytic sphere (the VKRT_sphere node extension, docs/vkrt_sphere.md). Spheres share the BVH with
 // the triangles: primitive index triangles.size() + i is sphere i.
 struct Sphere {
@@ -429,6 +435,20 @@ struct Scene {
     // surfaces in order, on both devices (lightSampleShadow).
     bool volumesHaveHoles() const {
         return somePlacedMaterial([&](const Material& m) { return boundsMedium(m) && leavesHoles(m); });
+    }
+    // Whether some triangle's vertex normals turn away from its face by more than 1e-4 radians. The rounding
+    // of float corners and normals in real files stays below that (a Cornell box's are up to 5e-5 off; a
+    // bound of 1.4e-3 once dropped the normals that matter of a finely tessellated curved mirror, 6e-4 off
+    // its faces). Where none does, both devices shade every triangle with its face's normal (the GPU's shader
+    // then leaves the vertex normals out).
+    bool smoothNormals() const {
+        for (size_t i = 0; i < triangles.size(); ++i) {
+            const glm::dvec3 face = faceNormal(triangles[i]);
+            for (const glm::vec3& n : shading[i].normal) {
+                if (!(1.0 - glm::dot(glm::normalize(glm::dvec3(n)), face) < 5e-9)) return true;  // cos(1e-4)
+            }
+        }
+        return false;
     }
     // Bounds over the whole shutter (linear motion between poses stays inside the union of the poses).
     Aabb boundsOf(uint32_t primitive) const {
