@@ -40,13 +40,16 @@ VKRT_FN int positiveModulo(int i, int n) {
     return i >= 0 ? r : n - 1 - r;
 }
 
-// Texel coordinate i of a row or column of `size` texels, wrapped. Repeat and mirrored repeat share one
-// modulo (on lavapipe every branch runs, and each modulo is eight divisions).
-VKRT_FN uint wrapTexel(int i, int size, uint mode) {
+// Texel coordinates i and i + 1 of a row or column of `size` texels, wrapped (a bilinear footprint's two
+// columns or rows). One modulo for both, which repeat and mirrored repeat share: on lavapipe every branch runs,
+// and each modulo is eight divisions.
+VKRT_FN uvec2 wrapTexels(int i, int size, uint mode) {
+    if (mode == VKRT_WRAP_CLAMP) return uvec2(uint(clamp(i, 0, size - 1)), uint(clamp(i + 1, 0, size - 1)));
     const bool mirror = mode == VKRT_WRAP_MIRROR;
-    const int m = positiveModulo(i, mirror ? 2 * size : size);
-    if (mode == VKRT_WRAP_CLAMP) return uint(clamp(i, 0, size - 1));
-    return uint(mirror && m >= size ? 2 * size - 1 - m : m);
+    const int period = mirror ? 2 * size : size;
+    const int m0 = positiveModulo(i, period);
+    const int m1 = m0 + 1 == period ? 0 : m0 + 1;  // (i + 1) modulo the period
+    return uvec2(uint(mirror && m0 >= size ? 2 * size - 1 - m0 : m0), uint(mirror && m1 >= size ? 2 * size - 1 - m1 : m1));
 }
 
 VKRT_FN real srgbToLinear(real encoded) {
@@ -75,13 +78,6 @@ VKRT_FN real2 transformUv(VKRT_IN(GpuTextureBinding) binding, real2 uv) {
 }
 
 #ifdef VKRT_HAS_TEXTURES
-VKRT_DEVICE_TEMPLATE
-VKRT_FN real4 textureTexel(VKRT_DEVICE_PARAM GpuTexture texture, int x, int y, bool srgb) {
-    const uint column = wrapTexel(x, int(texture.width), texture.flags & 3u);
-    const uint row = wrapTexel(y, int(texture.height), (texture.flags >> 2u) & 3u);
-    return decodeTexel(VKRT_DEVICE(texel)(texture.firstTexel + row * texture.width + column), srgb);
-}
-
 // Mipmap level `level` of `texture`, as a texture of its own: each level half the size of the one before
 // (rounded down, at least 1), stored after it.
 VKRT_FN GpuTexture textureLevel(GpuTexture texture, int level) {
@@ -116,11 +112,13 @@ VKRT_FN real4 filterLevel(VKRT_DEVICE_PARAM GpuTexture texture, real2 uv, bool s
     // set of texel reads serves both filters.
     const real x0 = nearest ? floor(x + 0.5) : floor(x), y0 = nearest ? floor(y + 0.5) : floor(y);
     const real fx = nearest ? 0.0 : x - x0, fy = nearest ? 0.0 : y - y0;
-    const int ix = int(x0), iy = int(y0);
-    return (1.0 - fx) * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix, iy, srgb) +
-           fx * (1.0 - fy) * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy, srgb) +
-           (1.0 - fx) * fy * textureTexel(VKRT_DEVICE_ARG texture, ix, iy + 1, srgb) +
-           fx * fy * textureTexel(VKRT_DEVICE_ARG texture, ix + 1, iy + 1, srgb);
+    const uvec2 columns = wrapTexels(int(x0), int(texture.width), texture.flags & 3u);
+    const uvec2 rows = texture.firstTexel + wrapTexels(int(y0), int(texture.height), (texture.flags >> 2u) & 3u) *
+                                                texture.width;
+    return (1.0 - fx) * (1.0 - fy) * decodeTexel(VKRT_DEVICE(texel)(rows.x + columns.x), srgb) +
+           fx * (1.0 - fy) * decodeTexel(VKRT_DEVICE(texel)(rows.x + columns.y), srgb) +
+           (1.0 - fx) * fy * decodeTexel(VKRT_DEVICE(texel)(rows.y + columns.x), srgb) +
+           fx * fy * decodeTexel(VKRT_DEVICE(texel)(rows.y + columns.y), srgb);
 }
 
 // Linear RGBA at `uv` seen with level of detail `lod` (log2 of the texels one sample covers across): at

@@ -741,15 +741,20 @@ TEST(TextureSampling, WrapModesFollowTheSamplersDefinitions) {
         while (i >= period) i -= period;
         return i;
     };
+    // wrapTexels gives texel i and texel i + 1 of a bilinear footprint.
     int wrong = 0;
     for (int n = 1; n <= 7; ++n) {
         for (int i = -40; i <= 40; ++i) {
-            const int mirrored = stepInto(i, 2 * n);
-            wrong += shading::wrapTexel(i, n, VKRT_WRAP_REPEAT) != static_cast<uint32_t>(stepInto(i, n));
-            wrong += shading::wrapTexel(i, n, VKRT_WRAP_MIRROR) !=
-                     static_cast<uint32_t>(mirrored < n ? mirrored : 2 * n - 1 - mirrored);
-            wrong +=
-                shading::wrapTexel(i, n, VKRT_WRAP_CLAMP) != static_cast<uint32_t>(std::clamp(i, 0, n - 1));
+            for (int k = 0; k < 2; ++k) {
+                const int j = i + k;
+                const int mirrored = stepInto(j, 2 * n);
+                wrong +=
+                    shading::wrapTexels(i, n, VKRT_WRAP_REPEAT)[k] != static_cast<uint32_t>(stepInto(j, n));
+                wrong += shading::wrapTexels(i, n, VKRT_WRAP_MIRROR)[k] !=
+                         static_cast<uint32_t>(mirrored < n ? mirrored : 2 * n - 1 - mirrored);
+                wrong += shading::wrapTexels(i, n, VKRT_WRAP_CLAMP)[k] !=
+                         static_cast<uint32_t>(std::clamp(j, 0, n - 1));
+            }
         }
     }
     EXPECT_EQ(wrong, 0);

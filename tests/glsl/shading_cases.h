@@ -223,7 +223,8 @@ VKRT_FN void evaluateCase(VKRT_DEVICE_PARAM FunctionCase fc, VKRT_OUT(real4) r0,
         texture.height = VKRT_CASE_TEXTURE_HEIGHT;
         texture.flags = fc.integer & 31u;
         r0 = sampleTexture(VKRT_DEVICE_ARG texture, real2(a.x, a.y), (fc.integer & 32u) == 0u, 0.0);  // bit 5: linear
-        r1 = real4(srgbToLinear(a.z), real(wrapTexel(int(b.x), int(b.y), uint(b.z))), 0.0, 0.0);
+        const uvec2 wrapped = wrapTexels(int(b.x), int(b.y), uint(b.z));
+        r1 = real4(srgbToLinear(a.z), real(wrapped.x), real(wrapped.y), 0.0);
     } else if (fc.function == VKRT_CASE_CAMERA) {
         CameraFrame camera;
         camera.projection = fc.integer;
