@@ -49,7 +49,8 @@ VKRT_FN uvec2 wrapTexels(int i, int size, uint mode) {
     const int period = mirror ? 2 * size : size;
     const int m0 = positiveModulo(i, period);
     const int m1 = m0 + 1 == period ? 0 : m0 + 1;  // (i + 1) modulo the period
-    return uvec2(uint(mirror && m0 >= size ? 2 * size - 1 - m0 : m0), uint(mirror && m1 >= size ? 2 * size - 1 - m1 : m1));
+    return uvec2(uint(mirror && m0 >= size ? 2 * size - 1 - m0 : m0),
+                 uint(mirror && m1 >= size ? 2 * size - 1 - m1 : m1));
 }
 
 VKRT_FN real srgbToLinear(real encoded) {
