@@ -112,7 +112,7 @@ LightPoint device_sampleAreaLight(float pick, float pickFine, float u, float v, 
 #ifdef VKRT_HAS_SHAPES
     if (light.shape != VKRT_NO_PRIMITIVE) {
         const GpuSolid solid = solidOf(emitter);
-        return sampleShapeLight(light.primitive, SolidOperands(solid.firstShape, solid.shapeCount, solid.tableLow,
+        return sampleShapeLight(light.primitive, SolidOperands(solid.firstShape, shapeCountOf(solid), solid.tableLow,
                                                                solid.tableHigh),
                                 light.shape, light.pick, u, v);
     }

@@ -97,6 +97,7 @@ inline int findLSB(uint bits) { return bits == 0u ? -1 : std::countr_zero(bits);
 #define VKRT_HAS_AREA_LIGHTS
 #define VKRT_HAS_SPHERES
 #define VKRT_HAS_SHAPES
+#define VKRT_HAS_CSG
 #define VKRT_HAS_MOTION
 #define VKRT_HAS_DEPTH_OF_FIELD
 #define VKRT_HAS_VERTEX_COLORS

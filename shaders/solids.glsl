@@ -16,6 +16,16 @@ GpuSolid solidOf(GpuPrimitive primitive) {
     return gpuSolidAt(primitive.kind >> VKRT_PRIMITIVE_INDEX_SHIFT);
 }
 
+// How many shapes `solid` has: 1, a constant, in a kernel for a scene of single shapes (shape_geometry.h's
+// VKRT_SOLID_SHAPES).
+uint shapeCountOf(GpuSolid solid) {
+#if VKRT_SOLID_SHAPES == 1
+    return 1u;
+#else
+    return solid.shapeCount;
+#endif
+}
+
 // Shape `shape`'s type (shape_geometry.h's VKRT_SHAPE_*). Where every shape of the scene has one type
 // (VKRT_HAS_SHAPE_<TYPE> alone), that constant: the shared geometry's branches on the type then fold, and the
 // other types' code is left out of the kernel.
@@ -71,10 +81,10 @@ void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
 // The intervals of the line origin + t direction with each of a solid's shapes (misses as (+inf, -inf)); entries
 // beyond the solid's shapes are left unset. (Each pass of a loop counts against llvmpipe's budget per invocation,
 // traverse.glsl, so the loop runs over the solid's shapes only.)
-void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[VKRT_CSG_MAX_SHAPES],
-                    out float tOut[VKRT_CSG_MAX_SHAPES], out uint faceIn[VKRT_CSG_MAX_SHAPES],
-                    out uint faceOut[VKRT_CSG_MAX_SHAPES]) {
-    for (uint i = 0u; i < solid.shapeCount; ++i) {
+void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[VKRT_SOLID_SHAPES],
+                    out float tOut[VKRT_SOLID_SHAPES], out uint faceIn[VKRT_SOLID_SHAPES],
+                    out uint faceOut[VKRT_SOLID_SHAPES]) {
+    for (uint i = 0u; i < shapeCountOf(solid); ++i) {
         AffineRows toObject, toWorld;
         shapeMaps(solid.firstShape + i, toObject, toWorld);
         float a, b;

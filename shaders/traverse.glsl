@@ -172,12 +172,12 @@ bool crossSurface(uint primitive, uint materialIndex, float u, float v, inout ve
 // A solid's crossing in (tMin, limit), as a hit's t, u (the scene's shape) and v (face * 2 + flip).
 bool visitSolid(ShearedRay r, GpuSolid solid, float tMin, float limit, out float t, out float u, out float v,
                 out float groupEnd) {
-    float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
-    uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
+    float tIn[VKRT_SOLID_SHAPES], tOut[VKRT_SOLID_SHAPES];
+    uint faceIn[VKRT_SOLID_SHAPES], faceOut[VKRT_SOLID_SHAPES];
     solidIntervals(solid, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
     CsgCrossing crossing;
     t = u = v = groupEnd = 0.0;
-    if (!csgCrossing(tIn, tOut, faceIn, faceOut, solid.shapeCount, solid.tableLow, solid.tableHigh, tMin, limit,
+    if (!csgCrossing(tIn, tOut, faceIn, faceOut, shapeCountOf(solid), solid.tableLow, solid.tableHigh, tMin, limit,
                      maxAbs(r.origin), crossing)) {
         return false;
     }
@@ -247,13 +247,13 @@ bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float t
 #ifdef VKRT_HAS_SHAPES
     const bool solid = isSolid(primitive);
     GpuSolid operands;
-    float tIn[VKRT_CSG_MAX_SHAPES], tOut[VKRT_CSG_MAX_SHAPES];
-    uint faceIn[VKRT_CSG_MAX_SHAPES], faceOut[VKRT_CSG_MAX_SHAPES];
+    float tIn[VKRT_SOLID_SHAPES], tOut[VKRT_SOLID_SHAPES];
+    uint faceIn[VKRT_SOLID_SHAPES], faceOut[VKRT_SOLID_SHAPES];
     float after = tMin;  // a solid's crossings are found one by one, each beyond the last one's tie group
     if (solid) {
         operands = solidOf(primitive);
         solidIntervals(operands, r.origin, r.direction, tIn, tOut, faceIn, faceOut);
-        crossings = 2u * VKRT_CSG_MAX_SHAPES;  // at most; the loop ends at the last
+        crossings = 2u * VKRT_SOLID_SHAPES;  // at most; the loop ends at the last
     }
 #endif
     uint k = 0u;
@@ -264,7 +264,7 @@ bool crossCandidate(ShearedRay r, ShadowCandidate candidate, float tMin, float t
 #ifdef VKRT_HAS_SHAPES
         if (solid) {
             CsgCrossing crossing;
-            if (!csgCrossing(tIn, tOut, faceIn, faceOut, operands.shapeCount, operands.tableLow, operands.tableHigh,
+            if (!csgCrossing(tIn, tOut, faceIn, faceOut, shapeCountOf(operands), operands.tableLow, operands.tableHigh,
                              after, tMax, maxAbs(r.origin), crossing)) {
                 return false;
             }

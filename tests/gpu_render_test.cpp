@@ -98,7 +98,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
     EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 33u);
+    EXPECT_EQ(full.features().defines().size(), 34u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
         // lavapipe the count of loop passes (for llvmpipe's loop budget).
@@ -323,29 +323,33 @@ TEST(ShaderCache, CompilingKeepsTheCacheWithinItsLimitAndReadEntriesLast) {
     EXPECT_FALSE(fs::exists(filler)) << "the cache would be over its limit";
 }
 
-// A scene can turn on any combination of the 33 features, and the committed scenes hold only a few of them.
+// A scene can turn on any combination of the 34 features, and the committed scenes hold only a few of them.
 // So the kernel compiles (glslang, about 30 ms a variant) with every pair of features, each on or off (each
 // feature alone, and each left out of all the others), and with 100 more subsets drawn from a fixed seed; for
 // both integrators, the three ways of reading the scene and the device's other defines in turn. A combination
 // that leaves a name undeclared would otherwise first fail on a user's scene.
 TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
     const std::vector<std::string> all = SceneFeatures::all().defines();
-    ASSERT_EQ(all.size(), 33u);
-    auto subsetOf = [&](uint32_t bits) {
+    ASSERT_EQ(all.size(), 34u);
+    // Subsets as 64-bit masks: with 32-bit ones, past 32 features the shifts wrapped (undefined, and on x86
+    // taken modulo 32), and "every feature" was the first alone.
+    ASSERT_LT(all.size(), 64u);
+    auto subsetOf = [&](uint64_t bits) {
         std::vector<std::string> subset;
         for (size_t f = 0; f < all.size(); ++f) {
             if ((bits >> f) & 1u) subset.push_back(all[f]);
         }
         return subset;
     };
-    const uint32_t every = (1u << all.size()) - 1u;
-    std::vector<uint32_t> subsets{0u, every};
+    const uint64_t every = (uint64_t{1} << all.size()) - 1u;
+    std::vector<uint64_t> subsets{0u, every};
     for (size_t f = 0; f < all.size(); ++f) {
-        subsets.push_back(1u << f);
-        subsets.push_back(every & ~(1u << f));
+        subsets.push_back(uint64_t{1} << f);
+        subsets.push_back(every & ~(uint64_t{1} << f));
     }
-    std::mt19937 draw(13);  // the standard fixes mt19937's sequence
-    for (int k = 0; k < 100; ++k) subsets.push_back(static_cast<uint32_t>(draw()) & every);
+    std::mt19937_64 draw(13);  // the standard fixes mt19937_64's sequence
+    for (int k = 0; k < 100; ++k) subsets.push_back(draw() & every);
+    EXPECT_EQ(subsetOf(every), all);
 
     const std::vector<std::vector<std::string>> accesses{{"VKRT_TEXEL_SCENE"}, {"VKRT_BOUND_GEOMETRY"}, {}};
     size_t compiled = 0;

@@ -36,6 +36,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::shapeBoxes, "shape_boxes", "VKRT_HAS_SHAPE_BOXES"},
     {&SceneFeatures::shapeCylinders, "shape_cylinders", "VKRT_HAS_SHAPE_CYLINDERS"},
     {&SceneFeatures::shapeCones, "shape_cones", "VKRT_HAS_SHAPE_CONES"},
+    {&SceneFeatures::csg, "csg", "VKRT_HAS_CSG"},
     {&SceneFeatures::motion, "motion_blur", "VKRT_HAS_MOTION"},
     {&SceneFeatures::depthOfField, "depth_of_field", "VKRT_HAS_DEPTH_OF_FIELD"},
     {&SceneFeatures::vertexColors, "vertex_colors", "VKRT_HAS_VERTEX_COLORS"},
@@ -152,6 +153,8 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.shapeCones |= shape.type == VKRT_SHAPE_CONE;
     }
     features.shapes = !scene.solids.empty();
+    features.csg = std::any_of(scene.solids.begin(), scene.solids.end(),
+                               [](const Solid& solid) { return solid.shapeCount > 1; });
     features.vertexColors = !scene.vertexColors.empty();
     features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {
