@@ -26,8 +26,8 @@ struct SceneFeatures {
     bool shapeBoxes = false;
     bool shapeCylinders = false;
     bool shapeCones = false;
-    bool csg = false;  // a solid of more than one shape (VKRT_csg): else every loop over a solid's shapes
-                       // takes one pass, and the kernel's fold away
+    // A solid of more than one shape (VKRT_csg): else the kernel's loops over a solid's shapes fold away.
+    bool csg = false;
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
     bool vertexColors = false;  // COLOR_0 multiplies base colours
