@@ -21,15 +21,18 @@
 
 // The most shapes in one CSG object (the truth table's 256 bits are two uvec4).
 #define VKRT_CSG_MAX_SHAPES 8
-// The most shapes a solid of this build holds: VKRT_CSG_MAX_SHAPES where some solid is a CSG object of several
-// (VKRT_HAS_CSG; always on the CPU), else 1: a GPU kernel for a scene of single shapes then runs every loop over
-// a solid's shapes and its intervals' ends (csgCrossing's) once, and they fold away. On lavapipe each was a loop
-// that ran whole, masked, at every pass of a walk any lane needed it: surfaces.gltf's GPU time 0.67 to 0.74 of
-// what it was (issue 13).
-#ifdef VKRT_HAS_CSG
-#define VKRT_SOLID_SHAPES VKRT_CSG_MAX_SHAPES
-#else
+// The most shapes a solid of this build holds: where some solid is a CSG object of several (VKRT_HAS_CSG), the
+// most of the scene's solids have (the host's VKRT_SOLID_SHAPES) or VKRT_CSG_MAX_SHAPES (the CPU, the all-features
+// shader); else 1. The loops over a solid's shapes run that many passes, each past the solid's own count doing
+// nothing, so that lavapipe's compiler unrolls them and keeps the shapes' intervals in registers: on lavapipe
+// a loop runs whole, masked, at every pass of a walk that any lane needs (issue 13). A kernel for a scene of
+// single shapes then runs each once, and they fold away (surfaces.gltf's GPU time 0.67 to 0.74 of what it was);
+// one whose solids have up to 3 shapes (csg.gltf), 0.89.
+#ifndef VKRT_HAS_CSG
+#undef VKRT_SOLID_SHAPES
 #define VKRT_SOLID_SHAPES 1
+#elif !defined(VKRT_SOLID_SHAPES)
+#define VKRT_SOLID_SHAPES VKRT_CSG_MAX_SHAPES
 #endif
 // Interval ends within this relative distance of each other are crossed together, so faces that two operands
 // share (coincident faces, touching operands) do not speckle with rounding: 2^-18, 32 float ulps.
@@ -410,7 +413,8 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_SOLID_SHAPES], real tOut[VKRT_SOLID_SHAPE
     crossing.groupEnd = tAfter;
     uint state = 0u;
     uint enteredAhead = 0u, leftAhead = 0u;  // the shapes whose entry, or exit, lies ahead and is not crossed yet
-    for (uint i = 0u; i < count; ++i) {
+    for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {
+        if (i >= count) continue;
         if (tIn[i] <= tAfter && tAfter < tOut[i]) state |= 1u << i;
         if (tIn[i] > tAfter) enteredAhead |= 1u << i;
         if (tOut[i] > tAfter) leftAhead |= 1u << i;
@@ -420,7 +424,8 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_SOLID_SHAPES], real tOut[VKRT_SOLID_SHAPE
     for (uint pass = 0u; pass < 2u * count; ++pass) {
         // The nearest end ahead: a shape's entry comes before its exit.
         real next = VKRT_INFINITY;
-        for (uint i = 0u; i < count; ++i) {
+        for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {
+            if (i >= count) continue;
             if (((enteredAhead >> i) & 1u) != 0u) {
                 next = min(next, tIn[i]);
             } else if (((leftAhead >> i) & 1u) != 0u) {
@@ -430,7 +435,8 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_SOLID_SHAPES], real tOut[VKRT_SOLID_SHAPE
         if (!(next < tLimit)) return false;
         const real groupEnd = next + VKRT_CSG_TIE * abs(next) + VKRT_CSG_PLACEMENT_TIE * originScale;
         uint toggled = 0u;
-        for (uint i = 0u; i < count; ++i) {
+        for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {
+            if (i >= count) continue;
             const uint bit = 1u << i;
             if ((enteredAhead & bit) != 0u) {
                 if (tIn[i] <= groupEnd) {
@@ -448,19 +454,23 @@ VKRT_FN bool csgCrossing(real tIn[VKRT_SOLID_SHAPES], real tOut[VKRT_SOLID_SHAPE
         const bool insideAfter = csgTable(tableLow, tableHigh, after);
         if (insideAfter != inside) {
             uint chosen = count;
-            for (uint i = 0u; i < count; ++i) {
+            for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {
+                if (i >= count) continue;
                 const bool alone = csgTable(tableLow, tableHigh, state ^ (1u << i)) == insideAfter;
                 if (chosen == count && ((toggled >> i) & 1u) != 0u && alone) chosen = i;
             }
             if (chosen == count) {
-                for (uint i = count; i > 0u; --i) {
-                    if (((toggled >> (i - 1u)) & 1u) != 0u) chosen = i - 1u;
+                for (uint i = VKRT_SOLID_SHAPES; i > 0u; --i) {
+                    if (i <= count && ((toggled >> (i - 1u)) & 1u) != 0u) chosen = i - 1u;
                 }
             }
             const bool entersShape = ((after >> chosen) & 1u) != 0u;
             crossing.shape = chosen;
-            crossing.t = entersShape ? tIn[chosen] : tOut[chosen];
-            crossing.face = entersShape ? faceIn[chosen] : faceOut[chosen];
+            for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {  // indexed by constants only
+                if (i != chosen) continue;
+                crossing.t = entersShape ? tIn[i] : tOut[i];
+                crossing.face = entersShape ? faceIn[i] : faceOut[i];
+            }
             crossing.flip = entersShape != insideAfter;
             crossing.groupEnd = end;
             return true;

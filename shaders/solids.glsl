@@ -84,7 +84,8 @@ void shapeMaps(uint shape, out AffineRows toObject, out AffineRows toWorld) {
 void solidIntervals(GpuSolid solid, vec3 origin, vec3 direction, out float tIn[VKRT_SOLID_SHAPES],
                     out float tOut[VKRT_SOLID_SHAPES], out uint faceIn[VKRT_SOLID_SHAPES],
                     out uint faceOut[VKRT_SOLID_SHAPES]) {
-    for (uint i = 0u; i < shapeCountOf(solid); ++i) {
+    for (uint i = 0u; i < VKRT_SOLID_SHAPES; ++i) {  // unrolled (shape_geometry.h)
+        if (i >= shapeCountOf(solid)) continue;
         AffineRows toObject, toWorld;
         shapeMaps(solid.firstShape + i, toObject, toWorld);
         float a, b;

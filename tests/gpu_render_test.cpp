@@ -360,6 +360,8 @@ TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
         if (std::find(defines.begin(), defines.end(), "VKRT_HAS_SPHERES") != defines.end() && row % 4 < 2)
             defines.push_back("VKRT_SPHERE_FLOAT64");
         if (row % 3 != 0) defines.push_back("VKRT_PIXEL_FILTER " + std::to_string(row % 3) + "u");
+        if (std::find(defines.begin(), defines.end(), "VKRT_HAS_CSG") != defines.end() && row % 5 < 3)
+            defines.push_back("VKRT_SOLID_SHAPES " + std::to_string(2 + row % 6));
         for (const bool paths : {false, true}) {
             std::vector<std::string> variant = defines;
             if (paths) variant.push_back("VKRT_PATHS");

@@ -1164,8 +1164,10 @@ void expectSilhouettes(const std::vector<Silhouette>& cases,
         scene.materials.push_back(lampMaterial());
         addSolid(scene, c.shapes, c.inside);
         finalizeScene(scene);
-        // A solid of one shape is rendered by a kernel whose loops over a solid's shapes fold away.
+        // A solid of one shape is rendered by a kernel whose loops over a solid's shapes fold away, one of
+        // several by a kernel whose loops take that many passes.
         EXPECT_EQ(detectFeatures(scene).csg, c.shapes.size() > 1) << c.name;
+        EXPECT_EQ(detectFeatures(scene).solidShapes, c.shapes.size()) << c.name;
         const FlatBvh bvh = bvhFor(scene);
         const Image onGpu = gpu(scene, bvh, camera, settings).image;
         const Image onCpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;

@@ -126,7 +126,14 @@ std::vector<std::string> SceneFeatures::defines() const {
     for (const FeatureName& f : kFeatures) {
         if (this->*f.flag) result.push_back(f.define);
     }
+    for (const std::string& define : solidShapesDefine()) result.push_back(define);
     return result;
+}
+
+std::vector<std::string> SceneFeatures::solidShapesDefine() const {
+    static_assert(VKRT_CSG_MAX_SHAPES == 8, "SceneFeatures::solidShapes' default");
+    if (!csg || solidShapes >= VKRT_CSG_MAX_SHAPES) return {};
+    return {"VKRT_SOLID_SHAPES " + std::to_string(solidShapes)};
 }
 
 std::vector<std::string> SceneFeatures::names() const {
@@ -153,8 +160,10 @@ SceneFeatures detectFeatures(const Scene& scene) {
         features.shapeCones |= shape.type == VKRT_SHAPE_CONE;
     }
     features.shapes = !scene.solids.empty();
-    features.csg = std::any_of(scene.solids.begin(), scene.solids.end(),
-                               [](const Solid& solid) { return solid.shapeCount > 1; });
+    features.solidShapes = 1;
+    for (const Solid& solid : scene.solids)
+        features.solidShapes = std::max(features.solidShapes, solid.shapeCount);
+    features.csg = features.solidShapes > 1;
     features.vertexColors = !scene.vertexColors.empty();
     features.motion = scene.moving();
     for (size_t m = 0; m < scene.materials.size(); ++m) {

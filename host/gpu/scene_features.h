@@ -28,6 +28,10 @@ struct SceneFeatures {
     bool shapeCones = false;
     // A solid of more than one shape (VKRT_csg): else the kernel's loops over a solid's shapes fold away.
     bool csg = false;
+    // The most shapes of one solid, 2 to 8 where there is CSG (the all-features shader's 8,
+    // VKRT_CSG_MAX_SHAPES): a kernel's loops over a solid's shapes run this many passes, each past the
+    // solid's own count doing nothing, so that lavapipe unrolls them.
+    uint32_t solidShapes = 8;
     bool motion = false;        // primitives move during the shutter (motion blur)
     bool depthOfField = false;  // the camera has a lens (set from the camera, not the scene)
     bool vertexColors = false;  // COLOR_0 multiplies base colours
@@ -50,8 +54,10 @@ struct SceneFeatures {
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
     static SceneFeatures all();
 
-    // Shader defines (VKRT_HAS_...), one per feature present.
+    // Shader defines (VKRT_HAS_...), one per feature present, and solidShapesDefine's.
     std::vector<std::string> defines() const;
+    // VKRT_SOLID_SHAPES where there is CSG and its solids have fewer shapes than the most (else none).
+    std::vector<std::string> solidShapesDefine() const;
     // Short names of the features present, for the stats JSON.
     std::vector<std::string> names() const;
 };
