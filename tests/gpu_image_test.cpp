@@ -105,6 +105,13 @@ INSTANTIATE_TEST_SUITE_P(
         SceneCase{real("playcanvas-lights/Lights.glb"), 48, 48, 2},
         SceneCase{real("cornell-box-nvidia/cornellBox.gltf"), 48, 48, 2},
         SceneCase{real("cornell-box-bevy/CornellBox.glb"), 48, 48, 2},
+        SceneCase{real("glass-table-sketchfab/glass-table.glb"), 40, 40, 2},
+        SceneCase{real("khronos-SimpleInstancing/SimpleInstancing.glb"), 40, 40, 2},
+        SceneCase{real("khronos-TransmissionRoughnessTest/TransmissionRoughnessTest.glb"), 48, 32, 2},
+        SceneCase{real("khronos-Suzanne/glTF/Suzanne.gltf"), 40, 40, 2},
+        SceneCase{real("khronos-Cameras/glTF/Cameras.gltf"), 40, 40, 2},
+        SceneCase{real("khronos-BoxTextured/glTF-Binary/BoxTextured.glb"), 40, 40, 2},
+        SceneCase{real("playcanvas-lights/geometry-camera-light.glb"), 40, 40, 2},
         SceneCase{real("khronos-Avocado/glTF/Avocado.gltf"), 48, 48, 2},
         SceneCase{real("khronos-TextureTransformTest/glTF/TextureTransformTest.gltf"), 48, 48, 2}),
     [](const ::testing::TestParamInfo<SceneCase>& info) {
