@@ -102,6 +102,8 @@ class GltfConverter {
     void checkDecoding(uint64_t bytes, const std::string& what) const;
     // Throws MemoryError when `bytes` more for `what` do not fit beside the `held` bytes.
     void refuseUnlessAvailable(double held, uint64_t bytes, const std::string& what) const;
+    // The host memory each placed triangle keeps (chooseTriangleBytes).
+    void chooseTriangleBytes();
     // Where the mesh of node `nodeIndex`, whose world transforms are `poses`, is at each pose time: with its
     // morph targets' weights and, when the node has a skin, its joints' matrices.
     std::vector<InstancePose> meshPoses(int nodeIndex, const Poses& poses, const std::string& where);
@@ -123,6 +125,7 @@ class GltfConverter {
     MeshInstancer meshes_;
     std::vector<double> poseTimes_;  // the shutter's opening, then the end of each motion segment
     uint64_t triangleBound_ = 0;     // the most triangles the meshes placed so far can have
+    uint64_t triangleBytes_ = sizeof(Triangle) + sizeof(TriangleShading);  // chooseTriangleBytes
     uint64_t otherBytes_ = 0;        // host memory beside the triangles: images, skins' joints, deformations
     glm::dmat4 recentre_{1.0};       // the world's translation that puts the scene's centre at the origin
     std::vector<int> parents_;       // each node's parent, -1 for none (filled when first needed)
@@ -167,6 +170,7 @@ Scene GltfConverter::convert() {
     scene.origin = approximateCenter(context_, roots);
     recentre_ = glm::translate(glm::dmat4(1.0), -scene.origin);
     chooseShutter();
+    chooseTriangleBytes();
     markDeformations();
     meshes_.setReserve([this](uint64_t bytes, const std::string& what) { reserveBytes(bytes, what); });
     meshes_.setDecodingCheck([this](uint64_t bytes, const std::string& what) { checkDecoding(bytes, what); });
@@ -239,18 +243,39 @@ void GltfConverter::chooseShutter() {
     }
 }
 
+// Each triangle keeps its corners and material at each pose and its shading (normals, texture coordinates);
+// the scene's tangent frames, vertex colours and second texture coordinates, once a primitive has them, cover
+// every triangle (gltf_primitives.cpp's place), so where a material can map normals, a primitive has COLOR_0,
+// or one has or reads a second set, every triangle is counted with them.
+void GltfConverter::chooseTriangleBytes() {
+    const tinygltf::Model& model = context_.model;
+    bool tangents = false, colors = false, uv1 = false;
+    for (const Material& material : context_.scene.materials) {
+        tangents = tangents || material.tangentFrameSlot().used();
+        for (const TextureSlot* slot : material.textureSlots())
+            uv1 = uv1 || (slot->used() && slot->texCoord == 1);
+    }
+    for (const tinygltf::Mesh& mesh : model.meshes) {
+        for (const tinygltf::Primitive& primitive : mesh.primitives) {
+            colors = colors || primitive.attributes.count("COLOR_0") > 0;
+            uv1 = uv1 || primitive.attributes.count("TEXCOORD_1") > 0;
+        }
+    }
+    triangleBytes_ = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
+    if (tangents) triangleBytes_ += sizeof(std::array<glm::vec4, 3>);
+    if (colors) triangleBytes_ += sizeof(std::array<glm::vec4, 3>);
+    if (uv1) triangleBytes_ += sizeof(std::array<glm::vec2, 3>);
+}
+
 void GltfConverter::reserveTriangles(int meshIndex, uint64_t instances, const std::string& where) {
-    // Each triangle keeps its corners and material at each pose, and its shading (normals, texture
-    // coordinates).
-    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
     const uint64_t limit =
-        (options_.maxSceneBytes - std::min(options_.maxSceneBytes, otherBytes_)) / bytesPerTriangle;
+        (options_.maxSceneBytes - std::min(options_.maxSceneBytes, otherBytes_)) / triangleBytes_;
     const uint64_t bound =
         triangleBound(context_.model, context_.model.meshes[static_cast<size_t>(meshIndex)]);
     if (bound > 0 && instances > (limit - std::min(limit, triangleBound_)) / bound) {
         const double total =
             static_cast<double>(triangleBound_) + static_cast<double>(bound) * static_cast<double>(instances);
-        const double bytes = std::min(total * static_cast<double>(bytesPerTriangle), 1.8e19);
+        const double bytes = std::min(total * static_cast<double>(triangleBytes_), 1.8e19);
         char count[32];
         std::snprintf(count, sizeof count, "%.3g", total);
         throw MemoryError(context_.path + ": " + where + " places mesh " + std::to_string(meshIndex) + " " +
@@ -399,8 +424,7 @@ void GltfConverter::markDeformations() {
 }
 
 void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what, uint64_t passingBytes) {
-    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
-    refuseUnlessAvailable(static_cast<double>(triangleBound_) * static_cast<double>(bytesPerTriangle) +
+    refuseUnlessAvailable(static_cast<double>(triangleBound_) * static_cast<double>(triangleBytes_) +
                               static_cast<double>(otherBytes_),
                           saturatedBytes(static_cast<double>(bytes) + static_cast<double>(passingBytes)),
                           what);
@@ -408,9 +432,8 @@ void GltfConverter::reserveBytes(uint64_t bytes, const std::string& what, uint64
 }
 
 void GltfConverter::checkDecoding(uint64_t bytes, const std::string& what) const {
-    const uint64_t bytesPerTriangle = sizeof(Triangle) * poseTimes_.size() + sizeof(TriangleShading);
     refuseUnlessAvailable(
-        static_cast<double>(context_.scene.triangles.size()) * static_cast<double>(bytesPerTriangle) +
+        static_cast<double>(context_.scene.triangles.size()) * static_cast<double>(triangleBytes_) +
             static_cast<double>(otherBytes_),
         bytes, what);
 }

@@ -185,9 +185,10 @@ DecodedPrimitive MeshInstancer::decode(int meshIndex, size_t primitiveIndex) {
     if (!reshaped) decoded.tangentUvs = {};
     keepUsedVertices(decoded);
     // The vertices' other attributes are at most three per triangle, whose memory is counted; their morph
-    // targets and skin influences, any number per vertex, are counted for the rest of the load.
-    uint64_t deformationBytes =
-        sizeof(uint32_t) * decoded.joints.size() + sizeof(float) * decoded.jointWeights.size();
+    // targets and skin influences, any number per vertex, and the texture coordinates that a morphed mesh's
+    // tangents are derived from again, are counted for the rest of the load.
+    uint64_t deformationBytes = sizeof(uint32_t) * decoded.joints.size() +
+                                sizeof(float) * (decoded.jointWeights.size() + decoded.tangentUvs.size());
     for (const MorphTarget& target : decoded.targets)
         deformationBytes +=
             sizeof(float) * (target.positions.size() + target.normals.size() + target.tangents.size());
