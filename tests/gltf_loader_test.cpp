@@ -1557,8 +1557,8 @@ TEST(GltfLoader, AnimationKeysAreCountedAgainstTheMemoryBeforeTheyAreRead) {
 
 // A grid of 5,000 triangles with a normal texture, COLOR_0 and TEXCOORD_1: each triangle keeps a tangent
 // frame, vertex colours and second texture coordinates beside its corners and shading (Scene's parallel
-// arrays), and the load counts them before placing it. Counted without them (about 110 of the 230 bytes a
-// triangle keeps), the file loaded under --max-memory of half what it took. Morphed, the mesh also keeps its
+// arrays), and the load counts them before placing it. Counted without them (100 of the 220 bytes a triangle
+// keeps), the file loaded under --max-memory of less than half what it took. Morphed, the mesh also keeps its
 // texture coordinates for deriving its tangents again (2 floats a vertex beside the target's 3), counted
 // likewise.
 TEST(GltfLoader, EveryArrayATriangleKeepsIsCountedAgainstTheMemory) {
