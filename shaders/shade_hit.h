@@ -509,6 +509,17 @@ VKRT_FN bool areaLightQuery(VKRT_DEVICE_PARAM VKRT_IN(ShadingContext) context, u
     // A primitive the new rays skip cannot light the point (a triangle its own plane, a sphere its outside); one
     // they do not skip can (a concave CSG lamp its own faces, a double-sided sphere its inside).
     if (light.primitive == frame.excludeOnViewerSide || !(distance > 0.0) || !(light.pdfArea > 0.0)) return false;
+    // Nor can a light in the point's own plane, the point in the light's (its tangent plane at the sample), both
+    // to within a ray's offset (shared.h): the cosines at both ends are 0 but for rounding, whose signs decided on
+    // each device whether a shadow ray was traced (the other triangle of a quad lamp, or of a double-sided
+    // emissive floor, seen from its own surface: a third of a random scene's shadow rays on one device and not
+    // the other; tools/random_scenes.py). One plane alone says nothing: far from the scene's middle the offset
+    // outgrows a lamp's height above a floor, whose samples near the lamp's rim still light it.
+    const real planeTolerance = real(VKRT_RAY_OFFSET_EPSILON) * (maxAbs(point) + distance);
+    if (!(abs(dot(light.normal, offset)) > planeTolerance) &&
+        !(abs(dot(frame.geometricNormal, offset)) > planeTolerance)) {
+        return false;
+    }
     const real3 toLight = offset / distance;
     VKRT_IN(SurfaceMaterial) emitter = VKRT_DEVICE(material)(light.material);
     real cosLight = -dot(light.normal, toLight);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -16,6 +17,7 @@
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
+#include "support/temporary_folder.h"
 #include "support/test_paths.h"
 
 namespace vkrt {
@@ -38,35 +40,39 @@ void PrintTo(const SceneCase& c, std::ostream* out) {
 
 class GpuImage : public Gpu, public ::testing::WithParamInterface<SceneCase> {};
 
-TEST_P(GpuImage, MatchesCpuReference) {
-    const SceneCase& c = GetParam();
-    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal())
-        GTEST_SKIP() << c.path << " is missing: ../shared/scenes-real is not beside the checkout";
-    Scene scene = loadGltf(c.path);
+// Renders the scene in `path` as the command would (its settings, camera and lighting, the neutral
+// environment of scenes without lights included) on the GPU and by the CPU reference with the same seed, and
+// expects the same image and the same rays.
+void expectGpuMatchesCpu(const VulkanContext& context, const std::string& path, int width, int height,
+                         int spp, Integrator integrator) {
+    Scene scene = loadGltf(path);
     const FlatBvh bvh = bvhFor(scene);
-    // The settings, camera and lighting the command would choose (the neutral environment of scenes without
-    // lights included).
     RenderRequest request;
-    request.settings.width = c.width;
-    request.height = c.height;
-    request.settings.samplesPerPixel = c.spp;
+    request.settings.width = width;
+    request.height = height;
+    request.settings.samplesPerPixel = spp;
     request.settings.seed = 7;
     request.settings.background = glm::dvec3(0.2, 0.3, 0.4);
-    request.integrator = c.integrator;
+    request.integrator = integrator;
     addNeutralEnvironment(request, scene);
     const RenderSetup setup = resolveRender(request, scene);
-    const RenderSettings& settings = setup.settings;
-    const Camera& camera = setup.camera;
     const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, camera, settings, test::shaderCacheDir());
+        test::renderGpuAndCpu(context, scene, bvh, setup.camera, setup.settings, test::shaderCacheDir());
     expectMatchesReference(gpu.image, cpu.image,
-                           std::filesystem::path(c.path).stem().string() + "-" + integratorName(c.integrator));
+                           std::filesystem::path(path).stem().string() + "-" + integratorName(integrator));
     EXPECT_EQ(gpu.rays.primary, cpu.rays.primary);
     EXPECT_NEAR(static_cast<double>(gpu.rays.shadow), static_cast<double>(cpu.rays.shadow),
                 0.002 * cpu.rays.shadow + 2);
     EXPECT_NEAR(static_cast<double>(gpu.rays.secondary), static_cast<double>(cpu.rays.secondary),
                 0.002 * cpu.rays.secondary + 2);
     EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
+}
+
+TEST_P(GpuImage, MatchesCpuReference) {
+    const SceneCase& c = GetParam();
+    if (c.path.find("scenes-real") != std::string::npos && !test::haveScenesReal())
+        GTEST_SKIP() << c.path << " is missing: ../shared/scenes-real is not beside the checkout";
+    expectGpuMatchesCpu(context(), c.path, c.width, c.height, c.spp, c.integrator);
 }
 
 std::string own(const char* name) {
@@ -121,6 +127,29 @@ INSTANTIATE_TEST_SUITE_P(
                    name.end());
         return name;
     });
+
+// Scenes drawn at random (tools/random_scenes.py: meshes, spheres, shapes and CSG objects of every material
+// kind, textures with holes, normal maps, vertex colours, punctual lights, now and then a lens or motion),
+// one seed each, paths for odd seeds and Whitted for even ones, 48 x 48 pixels at 4 samples. The first 60
+// seeds found the devices tracing different shadow rays (by up to a third) where a lamp's plane passes
+// through the point lit (shade_hit.h's areaLightQuery); since, all 60 match. Seeds 1 to 80 with either
+// integrator, and 81 to 150 with an environment map, several light samples, a tent or Gaussian filter, no
+// multiple importance sampling or every shader feature, differed in at most 8 of 2,304 pixels by more than 1%
+// (through the command line, 2026-12-07).
+class GpuRandomScene : public Gpu, public ::testing::WithParamInterface<int> {};
+
+TEST_P(GpuRandomScene, MatchesCpuReference) {
+    const int seed = GetParam();
+    const std::filesystem::path file = test::temporaryFolder() / ("random-" + std::to_string(seed) + ".gltf");
+    const std::string command = std::string(VKRT_PYTHON) + " " +
+                                (test::sourceDir() / "tools" / "random_scenes.py").string() + " " +
+                                std::to_string(seed) + " " + file.string();
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    expectGpuMatchesCpu(context(), file.string(), 48, 48, 4,
+                        seed % 2 == 1 ? Integrator::Path : Integrator::Whitted);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, GpuRandomScene, ::testing::Range(1, 17));
 
 TEST_F(Gpu, GlossyLobesWithoutMultipleImportanceSamplingMatchCpuReference) {
     const auto [scene, bvh, camera] = ownScene("glossy.gltf", 1.6);

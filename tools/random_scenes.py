@@ -1,0 +1,247 @@
+#!/usr/bin/env python3
+"""Writes a glTF scene drawn at random from a seed, for rendering on the GPU and by the CPU reference and
+comparing the two (tests/gpu_image_test.cpp's GpuRandomScene): a ground of any material under 2 to 7 objects
+(triangle boxes and spheres with normals, VKRT_sphere spheres, VKRT_shape shapes and VKRT_csg objects of two or
+three shapes), each of one material kind (Lambertian, metal, glass with or without absorption, thin transmission,
+clear coat, sheen, emission, BLEND or MASK coverage, KHR_materials_specular, unlit), rough or smooth, some with
+a checker texture (with holes in its alpha), a normal map or vertex colours; 0 to 3 punctual lights of each kind,
+a perspective camera over it all, now and then with a lens, and now and then an object moving while the shutter
+is open. The same seed writes the same file.
+
+Usage: python3 tools/random_scenes.py SEED OUTPUT.gltf
+"""
+
+import argparse
+import math
+import os
+import random
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gltf_builder import GltfBuilder  # noqa: E402
+
+
+def normalized(v):
+    length = math.sqrt(sum(x * x for x in v))
+    return [x / length for x in v]
+
+
+def box(half):
+    """A box of half-extents `half` about the origin: positions, normals, indices and texture coordinates of
+    its 24 corners (four a face)."""
+    positions, normals, indices, uvs = [], [], [], []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            normal = [0.0, 0.0, 0.0]
+            normal[axis] = sign
+            u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+            first = len(positions)
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                corner = [0.0, 0.0, 0.0]
+                corner[axis] = sign * half[axis]
+                corner[u_axis] = a * half[u_axis]
+                corner[v_axis] = b * half[v_axis]
+                positions.append(corner)
+                normals.append(normal)
+                uvs.append([(a + 1) * 0.5, (b + 1) * 0.5])
+            # Counter-clockwise seen from outside.
+            order = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]
+            indices += [first + i for i in order]
+    return positions, normals, indices, uvs
+
+
+def sphere_mesh(radius, rings=10, segments=16):
+    """A UV sphere of `radius` with smooth normals and texture coordinates."""
+    positions, normals, indices, uvs = [], [], [], []
+    for ring in range(rings + 1):
+        theta = math.pi * ring / rings
+        for segment in range(segments + 1):
+            phi = 2.0 * math.pi * segment / segments
+            n = [math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi)]
+            positions.append([radius * c for c in n])
+            normals.append(n)
+            uvs.append([segment / segments, ring / rings])
+    for ring in range(rings):
+        for segment in range(segments):
+            a = ring * (segments + 1) + segment
+            b = a + segments + 1
+            if ring != 0:
+                indices += [a, a + 1, b]
+            if ring != rings - 1:
+                indices += [a + 1, b + 1, b]
+    return positions, normals, indices, uvs
+
+
+def dome_normals(size, cells):
+    """A normal texture of cells x cells domes, +Y up in the image (as glTF's normal textures have it)."""
+    texels = []
+    for row in range(size):
+        for col in range(size):
+            x = ((col + 0.5) * cells / size) % 1.0 * 2.0 - 1.0
+            y = -(((row + 0.5) * cells / size) % 1.0 * 2.0 - 1.0)
+            r2 = x * x + y * y
+            n = [x / 0.8, y / 0.8, math.sqrt(0.64 - r2) / 0.8] if r2 < 0.64 else [0.0, 0.0, 1.0]
+            texels.append(tuple(round((c + 1.0) * 0.5 * 255.0) for c in n) + (255,))
+    return texels
+
+
+def look_at_rotation(eye, target):
+    """The unit quaternion (x, y, z, w) that turns a glTF camera (looking down -Z, +Y up) at `target`."""
+    forward = normalized([target[i] - eye[i] for i in range(3)])
+    back = [-c for c in forward]
+    right = normalized([-forward[2], 0.0, forward[0]])
+    up = [back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
+          back[0] * right[1] - back[1] * right[0]]
+    m = [[right[0], up[0], back[0]], [right[1], up[1], back[1]], [right[2], up[2], back[2]]]
+    trace = m[0][0] + m[1][1] + m[2][2]
+    if trace > 0.0:
+        s = math.sqrt(trace + 1.0) * 2.0
+        q = [(m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, 0.25 * s]
+    elif m[0][0] > m[1][1] and m[0][0] > m[2][2]:
+        s = math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]) * 2.0
+        q = [0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s]
+    elif m[1][1] > m[2][2]:
+        s = math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]) * 2.0
+        q = [(m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s]
+    else:
+        s = math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]) * 2.0
+        q = [(m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s]
+    return [round(c, 6) for c in normalized(q)]
+
+
+class RandomScene:
+    def __init__(self, seed):
+        self.rng = random.Random(seed)
+        self.g = GltfBuilder("vkrt tools/random_scenes.py, seed %d" % seed)
+        self.checker = None
+        self.domes = None
+
+    def number(self, low, high):
+        return round(self.rng.uniform(low, high), 3)
+
+    def color(self, low=0.05, high=0.95):
+        return [self.number(low, high) for _ in range(3)]
+
+    def rotation(self):
+        return [round(c, 6) for c in normalized([self.rng.uniform(-1.0, 1.0) for _ in range(4)])]
+
+    def checker_info(self):
+        if self.checker is None:
+            rng = self.rng
+            texels = []
+            for y in range(8):
+                for x in range(8):
+                    lit = (x + y) % 2 == 0
+                    alpha = 255 if rng.random() < 0.7 else 0
+                    texels.append((230, 200, 120, alpha) if lit else (40, 60, 200, alpha))
+            self.checker = self.g.texture("checker", 8, 8, texels, nearest=rng.random() < 0.5)
+        scale = [2.0, 2.0] if self.rng.random() < 0.5 else None
+        return self.g.texture_info(self.checker, scale=scale)
+
+    def domes_info(self):
+        if self.domes is None:
+            self.domes = self.g.texture("domes", 32, 32, dome_normals(32, 4))
+        return self.g.texture_info(self.domes)
+
+    def material(self):
+        rng = self.rng
+        kind = rng.choice(["lambertian", "lambertian", "metal", "glass", "thin", "coat", "sheen", "emissive",
+                           "coverage", "specular", "unlit"])
+        fields = dict(name=kind, base_color=self.color(), roughness=rng.choice([0.0, 0.05, 0.3, 0.7, 1.0]))
+        if kind == "metal":
+            fields["metallic"] = 1.0
+        elif kind == "glass":
+            fields.update(transmission=1.0, ior=self.number(1.1, 2.4), thickness=1.0,
+                          base_color=[1.0, 1.0, 1.0] if rng.random() < 0.5 else self.color(0.6, 1.0))
+            if rng.random() < 0.5:
+                fields.update(attenuation_color=self.color(0.3, 0.95), attenuation_distance=self.number(0.2, 3.0))
+        elif kind == "thin":
+            fields.update(transmission=self.number(0.3, 1.0), ior=1.5)
+        elif kind == "coat":
+            fields.update(clearcoat=self.number(0.2, 1.0), clearcoat_roughness=rng.choice([0.0, 0.2, 0.6]))
+        elif kind == "sheen":
+            fields.update(sheen_color=self.color(), sheen_roughness=rng.choice([0.1, 0.5, 1.0]))
+        elif kind == "emissive":
+            fields.update(emission=self.color(0.3, 1.0), emission_strength=self.number(1.0, 8.0))
+        elif kind == "coverage":
+            fields.update(alpha=self.number(0.2, 0.8), alpha_mode=rng.choice(["BLEND", "MASK"]), alpha_cutoff=0.5,
+                          double_sided=True)
+            if rng.random() < 0.6:
+                fields["base_color_texture"] = self.checker_info()
+        elif kind == "specular":
+            fields.update(specular=self.number(0.0, 1.0), specular_color=self.color(0.3, 1.0))
+        elif kind == "unlit":
+            fields["unlit"] = True
+        if "base_color_texture" not in fields and rng.random() < 0.25:
+            fields["base_color_texture"] = self.checker_info()
+        if kind not in ("unlit", "emissive") and rng.random() < 0.2:
+            fields["normal_texture"] = self.domes_info()
+        if "double_sided" not in fields and rng.random() < 0.2:
+            fields["double_sided"] = True
+        return self.g.material(**fields)
+
+    def write(self, path):
+        rng, g = self.rng, self.g
+        ground = self.material() if rng.random() < 0.5 else g.material("ground", base_color=[0.7, 0.7, 0.7])
+        s = 6.0
+        g.node("ground", mesh=g.mesh("ground", [([[-s, 0, -s], [s, 0, -s], [s, 0, s], [-s, 0, s]], [[0, 1, 0]] * 4,
+                                                 [0, 2, 1, 0, 3, 2], ground, [[0, 0], [4, 0], [4, 4], [0, 4]])]))
+        moving = False
+        for k in range(rng.randint(2, 7)):
+            material = self.material()
+            at = [self.number(-2.5, 2.5), self.number(0.2, 1.8), self.number(-2.5, 2.5)]
+            kind = rng.choice(["box", "box", "mesh sphere", "sphere", "shape", "csg"])
+            if kind in ("box", "mesh sphere"):
+                positions, normals, indices, uvs = (box([self.number(0.2, 0.9) for _ in range(3)]) if kind == "box"
+                                                    else sphere_mesh(self.number(0.2, 0.9)))
+                colors = ([self.color(0.2, 1.0) for _ in positions] if rng.random() < 0.2 else None)
+                mesh = g.mesh("%s %d" % (kind, k), [(positions, normals, indices, material, uvs, colors)])
+                node = g.node("%s %d" % (kind, k), mesh=mesh, translation=at, rotation=self.rotation())
+            elif kind == "sphere":
+                node = g.sphere("sphere %d" % k, at, self.number(0.2, 0.9), material)
+            elif kind == "shape":
+                node = g.shape("shape %d" % k, rng.choice(["sphere", "box", "cylinder", "cone"]), material,
+                               translation=at, rotation=self.rotation(),
+                               scale=[self.number(0.2, 0.8) for _ in range(3)])
+            else:
+                node = g.csg("csg %d" % k, rng.choice(["union", "intersection", "difference"]), translation=at,
+                             rotation=self.rotation())
+                for j in range(rng.randint(2, 3)):
+                    g.shape("operand %d.%d" % (k, j), rng.choice(["sphere", "box", "cylinder", "cone"]), material,
+                            parent=node, translation=[self.number(-0.3, 0.3) for _ in range(3)],
+                            scale=[self.number(0.3, 0.7) for _ in range(3)])
+            if not moving and rng.random() < 0.15:
+                g.animate(node, "translation", [0.0, 1.0], [at, [at[0] + 0.3, at[1], at[2]]])
+                g.gltf["scenes"][0]["extras"] = {"shutter": [0.0, 1.0]}
+                moving = True
+        for k in range(rng.choice([0, 1, 1, 2, 3])):
+            kind = rng.choice(["point", "spot", "directional"])
+            light = {"type": kind, "color": self.color(0.5, 1.0),
+                     "intensity": self.number(1.0, 4.0) if kind == "directional" else self.number(2.0, 30.0)}
+            if kind == "spot":
+                outer = self.number(0.3, 1.0)
+                light["spot"] = {"innerConeAngle": round(outer * rng.uniform(0.0, 0.9), 3), "outerConeAngle": outer}
+            tilt = math.pi / 4 + rng.uniform(-0.25, 0.25)  # half of a turn of 90 degrees about -X, give or take
+            g.node("light %d" % k, translation=[self.number(-3, 3), self.number(2.5, 5), self.number(-3, 3)],
+                   rotation=[-round(math.sin(tilt), 6), 0.0, 0.0, round(math.cos(tilt), 6)],
+                   extensions={"KHR_lights_punctual": {"light": g.light(light)}})
+        eye = [self.number(-5, 5), self.number(1, 4), self.number(4, 7) * rng.choice([-1, 1])]
+        camera = g.perspective_camera("camera", self.number(0.5, 1.0), aperture=0.05 if rng.random() < 0.2 else None,
+                                      focus_distance=6.0)
+        g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, [0.0, 0.5, 0.0]))
+        g.write(path)
+
+
+def main():
+    parser = argparse.ArgumentParser(description="Writes a glTF scene drawn at random from SEED.")
+    parser.add_argument("seed", type=int)
+    parser.add_argument("output", help="the .gltf file to write")
+    args = parser.parse_args()
+    folder = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(folder):
+        parser.error(f"{args.output}: no folder {folder} to write it in")
+    RandomScene(args.seed).write(args.output)
+
+
+if __name__ == "__main__":
+    main()
