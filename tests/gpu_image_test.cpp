@@ -131,8 +131,8 @@ INSTANTIATE_TEST_SUITE_P(
 // Scenes drawn at random (tools/random_scenes.py: meshes, spheres, shapes and CSG objects of every material
 // kind, textures with holes, normal maps, vertex colours, punctual lights, now and then a lens or motion),
 // one seed each, paths for odd seeds and Whitted for even ones, 48 x 48 pixels at 4 samples. The first 60
-// seeds found the devices tracing different shadow rays (by up to a third) where a lamp's plane passes
-// through the point lit (shade_hit.h's areaLightQuery); since, all 60 match. Seeds 1 to 80 with either
+// seeds found the devices tracing different shadow rays (by up to a third) where a lamp and the point it
+// lights lie in one plane (shade_hit.h's areaLightQuery); since, all 60 match. Seeds 1 to 80 with either
 // integrator, and 81 to 150 with an environment map, several light samples, a tent or Gaussian filter, no
 // multiple importance sampling or every shader feature, differed in at most 8 of 2,304 pixels by more than 1%
 // (through the command line, 2026-12-07).
