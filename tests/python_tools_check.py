@@ -44,6 +44,8 @@ with tempfile.TemporaryDirectory() as folder:
     check(python_tool("scaling_report.py", "--bvh-benchmark", folder), 2, "is not an executable file")
     check(python_tool("device_comparison.py", "--vkrt", vkrt, "--out", missing, cornell), 2, "no folder")
     check(python_tool("random_scenes.py", "1", missing), 2, "no folder")
+    check(python_tool("random_scenes.py", "1", os.path.join(folder, "s.gltf"), "--scale", "0"), 2,
+          "--scale must be positive")
     open(os.path.join(folder, "a-file"), "w").close()
     check(python_tool("convergence_report.py", "--vkrt", vkrt, "--out-dir", os.path.join(folder, "a-file"), cornell),
           2, "--out-dir")

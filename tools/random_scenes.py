@@ -6,9 +6,11 @@ three shapes), each of one material kind (Lambertian, metal, glass with or witho
 clear coat, sheen, emission, BLEND or MASK coverage, KHR_materials_specular, unlit), rough or smooth, some with
 a checker texture (with holes in its alpha), a normal map or vertex colours; 0 to 3 punctual lights of each kind,
 a perspective camera over it all, now and then with a lens, and now and then an object moving while the shutter
-is open. The same seed writes the same file.
+is open. The same seed writes the same file; --scale and --offset scale and move all of it (camera, lights and
+lens too, a point light's intensity by the scale's square), so that the same image should come out of the same
+scene far smaller, larger or further from the origin: a check of numerical stability.
 
-Usage: python3 tools/random_scenes.py SEED OUTPUT.gltf
+Usage: python3 tools/random_scenes.py SEED OUTPUT.gltf [--scale S] [--offset X Y Z]
 """
 
 import argparse
@@ -110,11 +112,16 @@ def look_at_rotation(eye, target):
 
 
 class RandomScene:
-    def __init__(self, seed):
+    def __init__(self, seed, scale=1.0, offset=(0.0, 0.0, 0.0)):
         self.rng = random.Random(seed)
         self.g = GltfBuilder("vkrt tools/random_scenes.py, seed %d" % seed)
         self.checker = None
         self.domes = None
+        # Everything, camera and lights included, hangs from one node that scales and moves the whole scene; what
+        # glTF gives in world units (a medium's attenuation distance, the lens) is scaled with it, and a point or
+        # spot light's intensity by its square, so that every scale should show the same image.
+        self.scale = scale
+        self.world = self.g.node("world", scale=[scale] * 3, translation=list(offset))
 
     def number(self, low, high):
         return round(self.rng.uniform(low, high), 3)
@@ -154,7 +161,8 @@ class RandomScene:
             fields.update(transmission=1.0, ior=self.number(1.1, 2.4), thickness=1.0,
                           base_color=[1.0, 1.0, 1.0] if rng.random() < 0.5 else self.color(0.6, 1.0))
             if rng.random() < 0.5:
-                fields.update(attenuation_color=self.color(0.3, 0.95), attenuation_distance=self.number(0.2, 3.0))
+                fields.update(attenuation_color=self.color(0.3, 0.95),
+                              attenuation_distance=self.number(0.2, 3.0) * self.scale)
         elif kind == "thin":
             fields.update(transmission=self.number(0.3, 1.0), ior=1.5)
         elif kind == "coat":
@@ -184,7 +192,7 @@ class RandomScene:
         rng, g = self.rng, self.g
         ground = self.material() if rng.random() < 0.5 else g.material("ground", base_color=[0.7, 0.7, 0.7])
         s = 6.0
-        g.node("ground", mesh=g.mesh("ground", [([[-s, 0, -s], [s, 0, -s], [s, 0, s], [-s, 0, s]], [[0, 1, 0]] * 4,
+        g.node("ground", parent=self.world, mesh=g.mesh("ground", [([[-s, 0, -s], [s, 0, -s], [s, 0, s], [-s, 0, s]], [[0, 1, 0]] * 4,
                                                  [0, 2, 1, 0, 3, 2], ground, [[0, 0], [4, 0], [4, 4], [0, 4]])]))
         moving = False
         for k in range(rng.randint(2, 7)):
@@ -196,16 +204,17 @@ class RandomScene:
                                                     else sphere_mesh(self.number(0.2, 0.9)))
                 colors = ([self.color(0.2, 1.0) for _ in positions] if rng.random() < 0.2 else None)
                 mesh = g.mesh("%s %d" % (kind, k), [(positions, normals, indices, material, uvs, colors)])
-                node = g.node("%s %d" % (kind, k), mesh=mesh, translation=at, rotation=self.rotation())
+                node = g.node("%s %d" % (kind, k), parent=self.world, mesh=mesh, translation=at,
+                              rotation=self.rotation())
             elif kind == "sphere":
-                node = g.sphere("sphere %d" % k, at, self.number(0.2, 0.9), material)
+                node = g.sphere("sphere %d" % k, at, self.number(0.2, 0.9), material, parent=self.world)
             elif kind == "shape":
                 node = g.shape("shape %d" % k, rng.choice(["sphere", "box", "cylinder", "cone"]), material,
-                               translation=at, rotation=self.rotation(),
+                               parent=self.world, translation=at, rotation=self.rotation(),
                                scale=[self.number(0.2, 0.8) for _ in range(3)])
             else:
-                node = g.csg("csg %d" % k, rng.choice(["union", "intersection", "difference"]), translation=at,
-                             rotation=self.rotation())
+                node = g.csg("csg %d" % k, rng.choice(["union", "intersection", "difference"]), parent=self.world,
+                             translation=at, rotation=self.rotation())
                 for j in range(rng.randint(2, 3)):
                     g.shape("operand %d.%d" % (k, j), rng.choice(["sphere", "box", "cylinder", "cone"]), material,
                             parent=node, translation=[self.number(-0.3, 0.3) for _ in range(3)],
@@ -217,18 +226,20 @@ class RandomScene:
         for k in range(rng.choice([0, 1, 1, 2, 3])):
             kind = rng.choice(["point", "spot", "directional"])
             light = {"type": kind, "color": self.color(0.5, 1.0),
-                     "intensity": self.number(1.0, 4.0) if kind == "directional" else self.number(2.0, 30.0)}
+                     "intensity": (self.number(1.0, 4.0) if kind == "directional"
+                                   else self.number(2.0, 30.0) * self.scale * self.scale)}
             if kind == "spot":
                 outer = self.number(0.3, 1.0)
                 light["spot"] = {"innerConeAngle": round(outer * rng.uniform(0.0, 0.9), 3), "outerConeAngle": outer}
             tilt = math.pi / 4 + rng.uniform(-0.25, 0.25)  # half of a turn of 90 degrees about -X, give or take
-            g.node("light %d" % k, translation=[self.number(-3, 3), self.number(2.5, 5), self.number(-3, 3)],
+            g.node("light %d" % k, parent=self.world, translation=[self.number(-3, 3), self.number(2.5, 5), self.number(-3, 3)],
                    rotation=[-round(math.sin(tilt), 6), 0.0, 0.0, round(math.cos(tilt), 6)],
                    extensions={"KHR_lights_punctual": {"light": g.light(light)}})
         eye = [self.number(-5, 5), self.number(1, 4), self.number(4, 7) * rng.choice([-1, 1])]
-        camera = g.perspective_camera("camera", self.number(0.5, 1.0), aperture=0.05 if rng.random() < 0.2 else None,
-                                      focus_distance=6.0)
-        g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, [0.0, 0.5, 0.0]))
+        camera = g.perspective_camera("camera", self.number(0.5, 1.0),
+                                      aperture=0.05 * self.scale if rng.random() < 0.2 else None,
+                                      focus_distance=6.0 * self.scale)
+        g.node("camera", parent=self.world, camera=camera, translation=eye, rotation=look_at_rotation(eye, [0.0, 0.5, 0.0]))
         g.write(path)
 
 
@@ -236,11 +247,16 @@ def main():
     parser = argparse.ArgumentParser(description="Writes a glTF scene drawn at random from SEED.")
     parser.add_argument("seed", type=int)
     parser.add_argument("output", help="the .gltf file to write")
+    parser.add_argument("--scale", type=float, default=1.0, help="scales the whole scene (default 1)")
+    parser.add_argument("--offset", type=float, nargs=3, default=[0.0, 0.0, 0.0], metavar=("X", "Y", "Z"),
+                        help="moves the whole scene, after scaling it (default 0 0 0)")
     args = parser.parse_args()
+    if not (math.isfinite(args.scale) and args.scale > 0.0) or not all(math.isfinite(c) for c in args.offset):
+        parser.error("--scale must be positive and finite, --offset finite")
     folder = os.path.dirname(os.path.abspath(args.output))
     if not os.path.isdir(folder):
         parser.error(f"{args.output}: no folder {folder} to write it in")
-    RandomScene(args.seed).write(args.output)
+    RandomScene(args.seed, args.scale, args.offset).write(args.output)
 
 
 if __name__ == "__main__":
