@@ -343,3 +343,30 @@ def uv_sphere(center, radius, rings, segments):
             if r != rings - 1:
                 indices += [a + 1, b + 1, b]
     return positions, normals, indices
+
+
+def look_at_rotation(eye, target):
+    """Quaternion (x, y, z, w) turning a glTF camera (looking down -z, +y up) to look from eye at target."""
+    f = [target[i] - eye[i] for i in range(3)]
+    n = math.sqrt(sum(c * c for c in f))
+    f = [c / n for c in f]
+    yaw = math.atan2(-f[0], -f[2])
+    pitch = math.asin(max(-1.0, min(1.0, f[1])))
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    # yaw about y, then pitch about the rotated x: q = q_yaw * q_pitch
+    return [cy * sp, sy * cp, -sy * sp, cy * cp]
+
+
+def dome_normals(size, cells):
+    """A normal texture of cells x cells domes (hemispheres of radius 0.8 of a cell's half width), +Y up in
+    the image as glTF's normal textures have it."""
+    texels = []
+    for row in range(size):
+        for col in range(size):
+            x = ((col + 0.5) * cells / size) % 1.0 * 2.0 - 1.0
+            y = -(((row + 0.5) * cells / size) % 1.0 * 2.0 - 1.0)  # up in the image
+            r2 = x * x + y * y
+            n = [x / 0.8, y / 0.8, math.sqrt(0.64 - r2) / 0.8] if r2 < 0.64 else [0.0, 0.0, 1.0]
+            texels.append(tuple(round((c + 1.0) * 0.5 * 255.0) for c in n) + (255,))
+    return texels

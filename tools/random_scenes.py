@@ -20,7 +20,14 @@ import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gltf_builder import GltfBuilder  # noqa: E402
+from gltf_builder import GltfBuilder, dome_normals, look_at_rotation, uv_sphere  # noqa: E402
+
+
+def sphere_with_uvs(radius, rings=10, segments=16):
+    """gltf_builder's UV sphere about the origin, with texture coordinates (u around, v down)."""
+    positions, normals, indices = uv_sphere([0.0, 0.0, 0.0], radius, rings, segments)
+    uvs = [[s / segments, r / rings] for r in range(rings + 1) for s in range(segments + 1)]
+    return positions, normals, indices, uvs
 
 
 def normalized(v):
@@ -50,65 +57,6 @@ def box(half):
             order = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]
             indices += [first + i for i in order]
     return positions, normals, indices, uvs
-
-
-def sphere_mesh(radius, rings=10, segments=16):
-    """A UV sphere of `radius` with smooth normals and texture coordinates."""
-    positions, normals, indices, uvs = [], [], [], []
-    for ring in range(rings + 1):
-        theta = math.pi * ring / rings
-        for segment in range(segments + 1):
-            phi = 2.0 * math.pi * segment / segments
-            n = [math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi)]
-            positions.append([radius * c for c in n])
-            normals.append(n)
-            uvs.append([segment / segments, ring / rings])
-    for ring in range(rings):
-        for segment in range(segments):
-            a = ring * (segments + 1) + segment
-            b = a + segments + 1
-            if ring != 0:
-                indices += [a, a + 1, b]
-            if ring != rings - 1:
-                indices += [a + 1, b + 1, b]
-    return positions, normals, indices, uvs
-
-
-def dome_normals(size, cells):
-    """A normal texture of cells x cells domes, +Y up in the image (as glTF's normal textures have it)."""
-    texels = []
-    for row in range(size):
-        for col in range(size):
-            x = ((col + 0.5) * cells / size) % 1.0 * 2.0 - 1.0
-            y = -(((row + 0.5) * cells / size) % 1.0 * 2.0 - 1.0)
-            r2 = x * x + y * y
-            n = [x / 0.8, y / 0.8, math.sqrt(0.64 - r2) / 0.8] if r2 < 0.64 else [0.0, 0.0, 1.0]
-            texels.append(tuple(round((c + 1.0) * 0.5 * 255.0) for c in n) + (255,))
-    return texels
-
-
-def look_at_rotation(eye, target):
-    """The unit quaternion (x, y, z, w) that turns a glTF camera (looking down -Z, +Y up) at `target`."""
-    forward = normalized([target[i] - eye[i] for i in range(3)])
-    back = [-c for c in forward]
-    right = normalized([-forward[2], 0.0, forward[0]])
-    up = [back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
-          back[0] * right[1] - back[1] * right[0]]
-    m = [[right[0], up[0], back[0]], [right[1], up[1], back[1]], [right[2], up[2], back[2]]]
-    trace = m[0][0] + m[1][1] + m[2][2]
-    if trace > 0.0:
-        s = math.sqrt(trace + 1.0) * 2.0
-        q = [(m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, 0.25 * s]
-    elif m[0][0] > m[1][1] and m[0][0] > m[2][2]:
-        s = math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]) * 2.0
-        q = [0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s]
-    elif m[1][1] > m[2][2]:
-        s = math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]) * 2.0
-        q = [(m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s]
-    else:
-        s = math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]) * 2.0
-        q = [(m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s]
-    return [round(c, 6) for c in normalized(q)]
 
 
 class RandomScene:
@@ -201,7 +149,7 @@ class RandomScene:
             kind = rng.choice(["box", "box", "mesh sphere", "sphere", "shape", "csg"])
             if kind in ("box", "mesh sphere"):
                 positions, normals, indices, uvs = (box([self.number(0.2, 0.9) for _ in range(3)]) if kind == "box"
-                                                    else sphere_mesh(self.number(0.2, 0.9)))
+                                                    else sphere_with_uvs(self.number(0.2, 0.9)))
                 colors = ([self.color(0.2, 1.0) for _ in positions] if rng.random() < 0.2 else None)
                 mesh = g.mesh("%s %d" % (kind, k), [(positions, normals, indices, material, uvs, colors)])
                 node = g.node("%s %d" % (kind, k), parent=self.world, mesh=mesh, translation=at,
