@@ -238,9 +238,8 @@ TEST_F(GpuMaterials, ALampDoesNotLightItselfThroughItsOwnPlane) {
     lamp.emission = glm::vec3(0.7f);
     lamp.doubleSided = true;
     scene.materials.push_back(lamp);
-    const auto at = [](float x, float z) {
-        return glm::vec3(x, 0.3f * x + 0.2f * z, z);
-    };  // y = 0.3 x + 0.2 z
+    // The plane y = 0.3 x + 0.2 z.
+    const auto at = [](float x, float z) { return glm::vec3(x, 0.3f * x + 0.2f * z, z); };
     addFlatQuad(scene, at(-1.0f, -1.0f), at(1.0f, -1.0f), at(1.0f, 1.0f), at(-1.0f, 1.0f), 0);
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);

@@ -324,6 +324,30 @@ def merge(parts):
     return positions, indices
 
 
+def box(center, half):
+    """An axis-aligned box about `center` with half-extents `half` (x, y, z), faces outward, four corners a face:
+    positions, normals, indices and texture coordinates (0 to 1 across each face)."""
+    positions, normals, indices, uvs = [], [], [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            corners = []
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis] = sign * half[axis]
+                p[(axis + 1) % 3] = a * half[(axis + 1) % 3]
+                p[(axis + 2) % 3] = b * half[(axis + 2) % 3]
+                corners.append([center[i] + p[i] for i in range(3)])
+            facing = [0.0, 0.0, 0.0]
+            facing[axis] = sign
+            wound, face = quad(corners, facing)
+            face_uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+            indices += [i + len(positions) for i in face]
+            positions += wound
+            normals += [facing] * 4
+            uvs += face_uvs if wound[0] == corners[0] else face_uvs[::-1]
+    return positions, normals, indices, uvs
+
+
 def uv_sphere(center, radius, rings, segments):
     """Positions, smooth normals and indices of a UV sphere, outward-facing."""
     positions, normals, indices = [], [], []

@@ -80,8 +80,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gltf_builder import (GltfBuilder, cross, dome_normals, dot, look_at_rotation, merge, quad,  # noqa: E402
-                          sub, uv_sphere)
+from gltf_builder import (GltfBuilder, box, cross, dome_normals, dot, look_at_rotation, merge,  # noqa: E402
+                          quad, sub, uv_sphere)
 
 SCENES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
 
@@ -295,24 +295,6 @@ def glossy():
     g.write(os.path.join(OUTPUT, "glossy.gltf"))
 
 
-def cube(center, half):
-    """Positions and indices of an axis-aligned cube, faces outward."""
-    parts = []
-    for axis in range(3):
-        for sign in (-1.0, 1.0):
-            corners = []
-            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-                p = [0.0, 0.0, 0.0]
-                p[axis] = sign * half
-                p[(axis + 1) % 3] = a * half
-                p[(axis + 2) % 3] = b * half
-                corners.append([center[i] + p[i] for i in range(3)])
-            facing = [0.0, 0.0, 0.0]
-            facing[axis] = sign
-            parts.append(quad(corners, facing))
-    return merge(parts)
-
-
 def motion_blur():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     yellow = g.material("yellow", base_color=(0.9, 0.75, 0.1))
@@ -322,8 +304,8 @@ def motion_blur():
     checker_floor(g, "checkerboard", yellow, red)
     # A cube sliding along x at 1.5 units per second (LINEAR), a cube spinning about y at 90 degrees per
     # second, and a ball that jumps (STEP) a quarter second into the shutter's half second.
-    box = cube([0.0, 0.0, 0.0], 0.4)
-    box_mesh = g.mesh("cube", [(box[0], None, box[1], blue)])
+    cube_positions, _, cube_indices, _ = box([0.0, 0.0, 0.0], [0.4] * 3)
+    box_mesh = g.mesh("cube", [(cube_positions, None, cube_indices, blue)])
     slider = g.node("sliding cube", mesh=box_mesh, translation=[-1.5, 0.4, -1.0])
     g.animate(slider, "translation", [0.0, 1.0], [[-1.5, 0.4, -1.0], [0.0, 0.4, -1.0]])
     spinner = g.node("spinning cube", mesh=box_mesh, translation=[1.6, 0.4, 1.0])
@@ -576,10 +558,10 @@ def studio():
     # The softbox: 2.8 x 2.8 at 1.5 above the floor, facing down; each of its triangles covers 6% of the square
     # of the scene's diagonal.
     softbox = quad([[-1.4, 1.5, -1.4], [1.4, 1.5, -1.4], [1.4, 1.5, 1.4], [-1.4, 1.5, 1.4]], [0.0, -1.0, 0.0])
-    box = cube([-0.6, 0.35, -0.4], 0.35)
+    block, _, block_indices, _ = box([-0.6, 0.35, -0.4], [0.35] * 3)
     ball = uv_sphere([0.65, 0.4, 0.2], 0.4, 24, 48)
     primitives = [(floor[0], None, floor[1], white), (back[0], None, back[1], white),
-                  (softbox[0], None, softbox[1], panel), (box[0], None, box[1], orange),
+                  (softbox[0], None, softbox[1], panel), (block, None, block_indices, orange),
                   (ball[0], ball[1], ball[2], blue)]
     g.node("studio", mesh=g.mesh("studio", primitives))
     eye, target = [0.0, 0.9, 4.2], [0.0, 0.45, 0.0]

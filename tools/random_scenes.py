@@ -20,7 +20,7 @@ import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gltf_builder import GltfBuilder, dome_normals, look_at_rotation, uv_sphere  # noqa: E402
+from gltf_builder import GltfBuilder, box, dome_normals, look_at_rotation, uv_sphere  # noqa: E402
 
 
 def sphere_with_uvs(radius, rings=10, segments=16):
@@ -33,30 +33,6 @@ def sphere_with_uvs(radius, rings=10, segments=16):
 def normalized(v):
     length = math.sqrt(sum(x * x for x in v))
     return [x / length for x in v]
-
-
-def box(half):
-    """A box of half-extents `half` about the origin: positions, normals, indices and texture coordinates of
-    its 24 corners (four a face)."""
-    positions, normals, indices, uvs = [], [], [], []
-    for axis in range(3):
-        for sign in (1.0, -1.0):
-            normal = [0.0, 0.0, 0.0]
-            normal[axis] = sign
-            u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
-            first = len(positions)
-            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-                corner = [0.0, 0.0, 0.0]
-                corner[axis] = sign * half[axis]
-                corner[u_axis] = a * half[u_axis]
-                corner[v_axis] = b * half[v_axis]
-                positions.append(corner)
-                normals.append(normal)
-                uvs.append([(a + 1) * 0.5, (b + 1) * 0.5])
-            # Counter-clockwise seen from outside.
-            order = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]
-            indices += [first + i for i in order]
-    return positions, normals, indices, uvs
 
 
 class RandomScene:
@@ -148,7 +124,7 @@ class RandomScene:
             at = [self.number(-2.5, 2.5), self.number(0.2, 1.8), self.number(-2.5, 2.5)]
             kind = rng.choice(["box", "box", "mesh sphere", "sphere", "shape", "csg"])
             if kind in ("box", "mesh sphere"):
-                positions, normals, indices, uvs = (box([self.number(0.2, 0.9) for _ in range(3)]) if kind == "box"
+                positions, normals, indices, uvs = (box([0.0, 0.0, 0.0], [self.number(0.2, 0.9) for _ in range(3)]) if kind == "box"
                                                     else sphere_with_uvs(self.number(0.2, 0.9)))
                 colors = ([self.color(0.2, 1.0) for _ in positions] if rng.random() < 0.2 else None)
                 mesh = g.mesh("%s %d" % (kind, k), [(positions, normals, indices, material, uvs, colors)])
