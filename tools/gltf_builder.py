@@ -102,7 +102,7 @@ class GltfBuilder:
                  metallic_roughness_texture=None, specular=None, specular_color=None, normal_texture=None,
                  normal_scale=None, alpha=1.0, alpha_mode=None, alpha_cutoff=None, double_sided=None,
                  transmission_texture=None, unlit=False, clearcoat=None, clearcoat_roughness=None,
-                 sheen_color=None, sheen_roughness=None):
+                 sheen_color=None, sheen_roughness=None, emissive_texture=None):
         """Texture arguments are texture_info() dictionaries."""
         material = {"name": name, "pbrMetallicRoughness": {
             "baseColorFactor": list(base_color) + [alpha], "metallicFactor": metallic, "roughnessFactor": roughness}}
@@ -123,6 +123,8 @@ class GltfBuilder:
         extensions = {}
         if emission is not None:
             material["emissiveFactor"] = list(emission)
+        if emissive_texture is not None:
+            material["emissiveTexture"] = emissive_texture
         if emission_strength is not None:
             extensions["KHR_materials_emissive_strength"] = {"emissiveStrength": emission_strength}
         if transmission is not None:
@@ -180,13 +182,17 @@ class GltfBuilder:
         return len(self.gltf["meshes"]) - 1
 
     def deforming_mesh(self, name, positions, normals, indices, material, joints=None, weights=None, targets=(),
-                       target_weights=None):
+                       target_weights=None, uvs=None, uvs1=None):
         """A one-primitive mesh that deforms: `joints` and `weights` (four per vertex: JOINTS_0 as unsigned
         shorts, WEIGHTS_0) for a skin, `targets` a list of (position displacements, normal displacements or
-        None) morph targets, `target_weights` the mesh's default weights."""
+        None) morph targets, `target_weights` the mesh's default weights, `uvs` and `uvs1` its first and second
+        texture coordinates."""
         attributes = {"POSITION": self.vec3_accessor(positions, with_bounds=True)}
         if normals is not None:
             attributes["NORMAL"] = self.vec3_accessor(normals)
+        for key, values in (("TEXCOORD_0", uvs), ("TEXCOORD_1", uvs1)):
+            if values is not None:
+                attributes[key] = self.vec2_accessor(values)
         if joints is not None:
             payload = b"".join(struct.pack("<4H", *j) for j in joints)
             attributes["JOINTS_0"] = self._accessor(self._view(payload, 34962), 5123, len(joints), "VEC4")
@@ -265,6 +271,12 @@ class GltfBuilder:
             camera["perspective"]["aspectRatio"] = aspect_ratio
         if aperture is not None:  # vkrt's depth-of-field convention: lens radius and focus distance in extras
             camera["extras"] = {"aperture": aperture, "focusDistance": focus_distance}
+        self.gltf.setdefault("cameras", []).append(camera)
+        return len(self.gltf["cameras"]) - 1
+
+    def orthographic_camera(self, name, xmag, ymag, znear=0.01, zfar=1000.0):
+        camera = {"type": "orthographic", "name": name,
+                  "orthographic": {"xmag": xmag, "ymag": ymag, "znear": znear, "zfar": zfar}}
         self.gltf.setdefault("cameras", []).append(camera)
         return len(self.gltf["cameras"]) - 1
 

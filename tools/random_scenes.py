@@ -4,9 +4,11 @@ comparing the two (tests/gpu_image_test.cpp's GpuRandomScene): a ground of any m
 (triangle boxes and spheres with normals, VKRT_sphere spheres, VKRT_shape shapes and VKRT_csg objects of two or
 three shapes), each of one material kind (Lambertian, metal, glass with or without absorption, thin transmission,
 clear coat, sheen, emission, BLEND or MASK coverage, KHR_materials_specular, unlit), rough or smooth, some with
-a checker texture (with holes in its alpha), a normal map or vertex colours; 0 to 3 punctual lights of each kind,
-a perspective camera over it all, now and then with a lens, and now and then an object moving while the shutter
-is open. The same seed writes the same file; --scale and --offset scale and move all of it (camera, lights and
+a checker texture (with holes in its alpha), a normal map, a metallic-roughness, emissive or transmission texture
+or vertex colours, textures now and then through a KHR_texture_transform or read through TEXCOORD_1; meshes now
+and then mirrored, shown twice, morphed, skinned or without normals; 0 to 3 punctual lights of each kind, a
+perspective or orthographic camera over it all, now and then with a lens, and now and then an object, a morph's
+weight or a joint moving while the shutter is open. The same seed writes the same file; --scale and --offset scale and move all of it (camera, lights and
 lens too, a point light's intensity by the scale's square), so that the same image should come out of the same
 scene far smaller, larger or further from the origin: a check of numerical stability.
 
@@ -38,6 +40,14 @@ def normalized(v):
 class RandomScene:
     def __init__(self, seed, scale=1.0, offset=(0.0, 0.0, 0.0)):
         self.rng = random.Random(seed)
+        # The features added later (texture transforms and second texture coordinates, metallic-roughness,
+        # emissive and transmission textures, mirrored, instanced, morphed and skinned meshes, orthographic
+        # cameras) draw from a generator of their own, so that the first generator's draws, and with them a
+        # seed's layout, materials and lights, stay as they were.
+        self.extra = random.Random(seed * 1000003 + 1)
+        self.uv1_materials = set()  # materials whose textures read TEXCOORD_1
+        self.metal_rough = None
+        self.stripes = None
         self.g = GltfBuilder("vkrt tools/random_scenes.py, seed %d" % seed)
         self.checker = None
         self.domes = None
@@ -47,14 +57,14 @@ class RandomScene:
         self.scale = scale
         self.world = self.g.node("world", scale=[scale] * 3, translation=list(offset))
 
-    def number(self, low, high):
-        return round(self.rng.uniform(low, high), 3)
+    def number(self, low, high, rng=None):
+        return round((rng or self.rng).uniform(low, high), 3)
 
     def color(self, low=0.05, high=0.95):
         return [self.number(low, high) for _ in range(3)]
 
-    def rotation(self):
-        return [round(c, 6) for c in normalized([self.rng.uniform(-1.0, 1.0) for _ in range(4)])]
+    def rotation(self, rng=None):
+        return [round(c, 6) for c in normalized([(rng or self.rng).uniform(-1.0, 1.0) for _ in range(4)])]
 
     def checker_info(self):
         if self.checker is None:
@@ -67,12 +77,41 @@ class RandomScene:
                     texels.append((230, 200, 120, alpha) if lit else (40, 60, 200, alpha))
             self.checker = self.g.texture("checker", 8, 8, texels, nearest=rng.random() < 0.5)
         scale = [2.0, 2.0] if self.rng.random() < 0.5 else None
-        return self.g.texture_info(self.checker, scale=scale)
+        return self.texture_info(self.checker, scale)
 
     def domes_info(self):
         if self.domes is None:
             self.domes = self.g.texture("domes", 32, 32, dome_normals(32, 4))
-        return self.g.texture_info(self.domes)
+        return self.texture_info(self.domes)
+
+    def metal_rough_info(self):
+        """A texture of roughness (green) and metalness (blue) drawn texel by texel."""
+        if self.metal_rough is None:
+            texels = [(0, self.extra.randrange(256), self.extra.choice([0, 255, self.extra.randrange(256)]), 255)
+                      for _ in range(8 * 8)]
+            self.metal_rough = self.g.texture("metal-rough", 8, 8, texels, nearest=self.extra.random() < 0.5)
+        return self.texture_info(self.metal_rough)
+
+    def stripes_info(self):
+        """Stripes of colour, for emission and transmission."""
+        if self.stripes is None:
+            colors = [(self.extra.randrange(256), self.extra.randrange(256), self.extra.randrange(256), 255)
+                      for _ in range(3)]
+            texels = [colors[(x + 2 * y) % 3] for y in range(8) for x in range(8)]
+            self.stripes = self.g.texture("stripes", 8, 8, texels, nearest=self.extra.random() < 0.5)
+        return self.texture_info(self.stripes)
+
+    def texture_info(self, texture, scale=None):
+        """A reference to `texture`, now and then through a KHR_texture_transform (offset, rotation and
+        scale, any of them mirroring) and now and then reading the second texture coordinates."""
+        extra = self.extra
+        offset = rotation = None
+        if extra.random() < 0.3:
+            offset = [self.number(-1.0, 1.0, extra) for _ in range(2)]
+            rotation = self.number(-math.pi, math.pi, extra)
+            scale = [self.number(0.5, 3.0, extra) * extra.choice([1, 1, -1]) for _ in range(2)]
+        tex_coord = 1 if extra.random() < 0.25 else None
+        return self.g.texture_info(texture, offset=offset, rotation=rotation, scale=scale, tex_coord=tex_coord)
 
     def material(self):
         rng = self.rng
@@ -110,14 +149,106 @@ class RandomScene:
             fields["normal_texture"] = self.domes_info()
         if "double_sided" not in fields and rng.random() < 0.2:
             fields["double_sided"] = True
-        return self.g.material(**fields)
+        extra = self.extra
+        if kind not in ("unlit", "emissive") and extra.random() < 0.2:
+            fields["metallic_roughness_texture"] = self.metal_rough_info()
+            if kind == "lambertian" and extra.random() < 0.5:
+                fields["metallic"] = 1.0
+        if kind == "emissive" and extra.random() < 0.5:
+            fields["emissive_texture"] = self.stripes_info()
+        if kind in ("glass", "thin") and extra.random() < 0.3:
+            fields["transmission_texture"] = self.stripes_info()
+        material = self.g.material(**fields)
+        if any(isinstance(v, dict) and v.get("texCoord") == 1 for v in fields.values()):
+            self.uv1_materials.add(material)
+        return material
+
+    def for_analytic(self, material):
+        """`material`, or where its textures read TEXCOORD_1 (which analytic shapes do not have), a copy that
+        reads TEXCOORD_0."""
+        if material not in self.uv1_materials:
+            return material
+        def first(value):
+            if isinstance(value, dict):
+                return {k: first(v) for k, v in value.items() if k != "texCoord"}
+            return value
+        self.g.gltf["materials"].append(first(self.g.gltf["materials"][material]))
+        return len(self.g.gltf["materials"]) - 1
+
+    def second_uvs(self, material, uvs):
+        """TEXCOORD_1 for a mesh of `material` where its textures read it: the first set turned and stretched."""
+        if material not in self.uv1_materials:
+            return None
+        return [[round(1.5 * v + 0.25, 6), round(0.5 * u - 0.1, 6)] for u, v in uvs]
+
+    def mesh_object(self, name, at, rotation, primitive, moving):
+        """A node of one mesh primitive (positions, normals, indices, material, uvs, colours) at `at`, now and
+        then mirrored, shown twice, morphed or skinned, or without its normals (flat). A morph's weights or a
+        skin's joint turn while the shutter is open where nothing else moves yet. Returns the node that places
+        it, and whether something moves now."""
+        g, extra = self.g, self.extra
+        positions, normals, indices, material, uvs, colors = primitive
+        uvs1 = self.second_uvs(material, uvs)
+        form = extra.choice(["plain"] * 6 + ["mirrored", "twice", "morphed", "skinned", "flat"])
+        animate = not moving and extra.random() < 0.4
+        if form in ("plain", "mirrored", "twice", "flat"):
+            mesh = g.mesh(name, [(positions, None if form == "flat" else normals, indices, material, uvs, colors,
+                                  uvs1)])
+            fields = dict(mesh=mesh, translation=at, rotation=rotation)
+            if form == "mirrored":
+                signs = extra.choice([[-1, 1, 1], [1, -1, 1], [1, 1, -1], [-1, -1, -1]])
+                fields["scale"] = [sign * self.number(0.6, 1.4, extra) for sign in signs]
+            node = g.node(name, parent=self.world, **fields)
+            if form == "twice":
+                g.node(name + " again", parent=self.world, mesh=mesh, rotation=self.rotation(extra),
+                       translation=[self.number(-2.5, 2.5, extra), self.number(0.2, 1.8, extra),
+                                    self.number(-2.5, 2.5, extra)])
+            return node, moving
+        if form == "morphed":
+            # One target moves the upper half's vertices: the mesh shears, more or less as its weight says.
+            shift = [self.number(-0.5, 0.5, extra) for _ in range(3)]
+            weight = self.number(0.2, 1.0, extra)
+            mesh = g.deforming_mesh(name, positions, normals, indices, material, uvs=uvs, uvs1=uvs1,
+                                    targets=[([shift if p[1] > 0 else [0.0, 0.0, 0.0] for p in positions], None)],
+                                    target_weights=[weight])
+            node = g.node(name, parent=self.world, mesh=mesh, translation=at, rotation=rotation)
+            if animate:
+                g.animate(node, "weights", [0.0, 1.0], [[weight], [self.number(0.0, 1.0, extra)]])
+        else:
+            # Two joints, the second a turn of the first: the upper vertices follow the second, the lower the
+            # first, those between a blend, so that the mesh twists. The skinned node's own place is ignored
+            # (glTF 2.0, 3.7.3.1); the joints place it.
+            node = g.node(name + " root", parent=self.world, translation=at, rotation=rotation)
+            turn = self.small_turn(0.7)
+            tip = g.node(name + " tip", parent=node, rotation=turn)
+            top = max(p[1] for p in positions)
+            blend = [min(1.0, max(0.0, 0.5 + 0.5 * p[1] / top)) for p in positions]
+            identity = [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0]
+            mesh = g.deforming_mesh(name, positions, normals, indices, material, uvs=uvs, uvs1=uvs1,
+                                    joints=[[0, 1, 0, 0]] * len(positions),
+                                    weights=[[round(1.0 - b, 6), round(b, 6), 0.0, 0.0] for b in blend])
+            g.node(name, parent=self.world, mesh=mesh, skin=g.skin([node, tip], [identity, identity]),
+                   translation=[self.number(-9.0, 9.0, extra) for _ in range(3)])
+            if animate:
+                g.animate(tip, "rotation", [0.0, 1.0], [turn, self.small_turn(0.7)])
+        if animate:
+            g.gltf["scenes"][0]["extras"] = {"shutter": [0.0, 1.0]}
+        return node, moving or animate
+
+    def small_turn(self, largest):
+        """A quaternion turning by at most `largest` radians about an axis drawn at random."""
+        axis = normalized([self.extra.uniform(-1.0, 1.0) for _ in range(3)])
+        half = 0.5 * self.extra.uniform(-largest, largest)
+        return [round(c * math.sin(half), 6) for c in axis] + [round(math.cos(half), 6)]
 
     def write(self, path):
         rng, g = self.rng, self.g
         ground = self.material() if rng.random() < 0.5 else g.material("ground", base_color=[0.7, 0.7, 0.7])
         s = 6.0
+        ground_uvs = [[0, 0], [4, 0], [4, 4], [0, 4]]
         g.node("ground", parent=self.world, mesh=g.mesh("ground", [([[-s, 0, -s], [s, 0, -s], [s, 0, s], [-s, 0, s]], [[0, 1, 0]] * 4,
-                                                 [0, 2, 1, 0, 3, 2], ground, [[0, 0], [4, 0], [4, 4], [0, 4]])]))
+                                                 [0, 2, 1, 0, 3, 2], ground, ground_uvs, None,
+                                                 self.second_uvs(ground, ground_uvs))]))
         moving = False
         for k in range(rng.randint(2, 7)):
             material = self.material()
@@ -127,16 +258,18 @@ class RandomScene:
                 positions, normals, indices, uvs = (box([0.0, 0.0, 0.0], [self.number(0.2, 0.9) for _ in range(3)]) if kind == "box"
                                                     else sphere_with_uvs(self.number(0.2, 0.9)))
                 colors = ([self.color(0.2, 1.0) for _ in positions] if rng.random() < 0.2 else None)
-                mesh = g.mesh("%s %d" % (kind, k), [(positions, normals, indices, material, uvs, colors)])
-                node = g.node("%s %d" % (kind, k), parent=self.world, mesh=mesh, translation=at,
-                              rotation=self.rotation())
+                node, moving = self.mesh_object("%s %d" % (kind, k), at, self.rotation(),
+                                                (positions, normals, indices, material, uvs, colors), moving)
             elif kind == "sphere":
-                node = g.sphere("sphere %d" % k, at, self.number(0.2, 0.9), material, parent=self.world)
+                node = g.sphere("sphere %d" % k, at, self.number(0.2, 0.9), self.for_analytic(material),
+                                parent=self.world)
             elif kind == "shape":
+                material = self.for_analytic(material)
                 node = g.shape("shape %d" % k, rng.choice(["sphere", "box", "cylinder", "cone"]), material,
                                parent=self.world, translation=at, rotation=self.rotation(),
                                scale=[self.number(0.2, 0.8) for _ in range(3)])
             else:
+                material = self.for_analytic(material)
                 node = g.csg("csg %d" % k, rng.choice(["union", "intersection", "difference"]), parent=self.world,
                              translation=at, rotation=self.rotation())
                 for j in range(rng.randint(2, 3)):
@@ -160,9 +293,14 @@ class RandomScene:
                    rotation=[-round(math.sin(tilt), 6), 0.0, 0.0, round(math.cos(tilt), 6)],
                    extensions={"KHR_lights_punctual": {"light": g.light(light)}})
         eye = [self.number(-5, 5), self.number(1, 4), self.number(4, 7) * rng.choice([-1, 1])]
-        camera = g.perspective_camera("camera", self.number(0.5, 1.0),
-                                      aperture=0.05 * self.scale if rng.random() < 0.2 else None,
-                                      focus_distance=6.0 * self.scale)
+        yfov, lens = self.number(0.5, 1.0), rng.random() < 0.2
+        if self.extra.random() < 0.15:
+            half_height = self.number(1.5, 4.0, self.extra) * self.scale
+            camera = g.orthographic_camera("camera", half_height * self.number(0.6, 1.6, self.extra), half_height,
+                                           znear=0.01 * self.scale, zfar=100.0 * self.scale)
+        else:
+            camera = g.perspective_camera("camera", yfov, aperture=0.05 * self.scale if lens else None,
+                                          focus_distance=6.0 * self.scale)
         g.node("camera", parent=self.world, camera=camera, translation=eye, rotation=look_at_rotation(eye, [0.0, 0.5, 0.0]))
         g.write(path)
 
