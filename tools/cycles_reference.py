@@ -1,6 +1,6 @@
 """Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
 
-Made for scenes/cornell.gltf and scenes/outdoor.gltf, whose materials are each one that Cycles means the same
+Made for scenes/cornell.gltf, scenes/outdoor.gltf and scenes/punctual.gltf, whose materials are each one that Cycles means the same
 by: the scene's geometry and camera come through Blender's own glTF importer, and every material is then
 rebuilt from the glTF file itself (read here as JSON, matched to Blender's materials by name), so nothing of
 the importer's Principled BSDF conversion is left:
@@ -15,8 +15,21 @@ the importer's Principled BSDF conversion is left:
   not a thin wall): Glass BSDF, sharp, white, the same index.
   Both are the exact dielectric Fresnel term with refraction by Snell's law.
 
-Textures, other metals, rough or tinted glass and the other extensions are not supported: the script stops on
-a material that has them.
+A Lambertian material may have a base colour texture (multiplied by baseColorFactor, as glTF says) where
+Cycles samples it as vkrt does: TEXCOORD_0, no KHR_texture_transform, a sampler of magFilter and minFilter
+NEAREST (the nearest texel, no mipmaps: Cycles' Closest interpolation) that repeats (REPEAT both ways), an image
+in sRGB. Other textures, other metals, rough or tinted glass and the other extensions are not supported: the
+script stops on a material that has them.
+
+Punctual lights (KHR_lights_punctual), each named: a point light of intensity I candela is taken as I watts
+per steradian (vkrt's convention: irradiance I / d^2), which is a Cycles point light of radius 0 and power
+4 pi I watts; a directional light of intensity E lux as E watts per square metre, a Cycles sun of angle 0 and
+strength E (a Lambertian surface of albedo 1 facing it reads E / pi). Both were measured in Blender 3.4.1: a
+white Lambertian plane 2 below a 100 W point light reads 0.6237 (100 / (4 pi 4) / pi = 0.633 at the middle,
+0.629 averaged over the pixel), under a sun of strength 1 it reads 0.3183. glTF's range window on a point light
+has no Cycles counterpart, and Cycles 3.4's spot light is dimmed by the cosine of the angle to its axis (the
+same measurement: 0.87 of the point light's at 30 degrees off its axis), which glTF's is not: the script stops
+on either. The importer places each light; its power and colour are set here from the glTF file.
 
 Emission: vkrt's glTF emission is one-sided (only the front face emits), Cycles' Emission shader emits from
 both sides. In the Cornell box the lamp's back side faces the empty space above the hole in the ceiling,
@@ -42,10 +55,12 @@ writes it as an sRGB PNG, clamped, to look at.
 """
 
 import argparse
+import base64
 import json
 import math
 import os
 import sys
+import tempfile
 import time
 
 import bpy
@@ -75,12 +90,46 @@ def arguments():
     return parser.parse_args(argv)
 
 
-def material_kind(material):
+def texture_problems(gltf, info):
+    """What stops Cycles sampling the base colour texture `info` (a textureInfo) as vkrt does, if anything."""
+    problems = []
+    if info.get("texCoord", 0) != 0 or info.get("extensions"):
+        problems.append("baseColorTexture read through TEXCOORD_1 or a KHR_texture_transform")
+    texture = gltf["textures"][info["index"]]
+    sampler = gltf.get("samplers", [])[texture["sampler"]] if "sampler" in texture else {}
+    if sampler.get("magFilter") != 9728 or sampler.get("minFilter") != 9728:
+        problems.append("baseColorTexture not sampled at the nearest texel without mipmaps (NEAREST)")
+    if sampler.get("wrapS", 10497) != 10497 or sampler.get("wrapT", 10497) != 10497:
+        problems.append("baseColorTexture not repeated (REPEAT)")
+    return problems
+
+
+def texture_image(gltf, info, scene_path):
+    """The encoded image (PNG or JPEG bytes) of the textureInfo `info`."""
+    image = gltf["images"][gltf["textures"][info["index"]]["source"]]
+    if "bufferView" in image:
+        view = gltf["bufferViews"][image["bufferView"]]
+        buffer = gltf["buffers"][view["buffer"]]
+        if not buffer.get("uri", "").startswith("data:"):
+            sys.exit("texture images in external or GLB buffers are not supported")
+        data = base64.b64decode(buffer["uri"].split(",", 1)[1])
+        return data[view.get("byteOffset", 0):view.get("byteOffset", 0) + view["byteLength"]]
+    if image["uri"].startswith("data:"):
+        return base64.b64decode(image["uri"].split(",", 1)[1])
+    with open(os.path.join(os.path.dirname(scene_path), image["uri"]), "rb") as f:
+        return f.read()
+
+
+def material_kind(gltf, material):
     """What `material` (a glTF material) is to Cycles: "lambert", "mirror" or "glass", or a list of what stops
     it being any of them."""
     pbr = material.get("pbrMetallicRoughness", {})
     extensions = material.get("extensions", {})
-    problems = [key for key in ("baseColorTexture", "metallicRoughnessTexture") if key in pbr]
+    problems = ["metallicRoughnessTexture"] if "metallicRoughnessTexture" in pbr else []
+    if "baseColorTexture" in pbr:
+        problems += texture_problems(gltf, pbr["baseColorTexture"])
+        if pbr.get("metallicFactor", 1.0) != 0.0 or extensions.get("KHR_materials_transmission"):
+            problems.append("baseColorTexture on other than a Lambertian material")
     problems += [key for key in ("normalTexture", "emissiveTexture", "occlusionTexture") if key in material]
     if material.get("alphaMode", "OPAQUE") != "OPAQUE":
         problems.append("alphaMode %s" % material["alphaMode"])
@@ -117,7 +166,7 @@ def gltf_materials(path):
     materials = {}
     for index, material in enumerate(gltf.get("materials", [])):
         name = material.get("name", "material %d" % index)
-        kind = material_kind(material)
+        kind = material_kind(gltf, material)
         if isinstance(kind, list):
             sys.exit("material %r is not one Cycles means the same by: %s" % (name, ", ".join(kind)))
         if name in materials:
@@ -130,7 +179,52 @@ def gltf_materials(path):
             "emission": [c * strength for c in material.get("emissiveFactor", [0.0, 0.0, 0.0])],
             "ior": extensions.get("KHR_materials_ior", {}).get("ior", 1.5),
         }
+        info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
+        if info is not None:
+            materials[name]["texture"] = texture_image(gltf, info, path)
     return gltf, materials
+
+
+def gltf_lights(gltf):
+    """Every punctual light of the glTF file by name: its Cycles type, power or strength and colour."""
+    lights = {}
+    for index, light in enumerate(gltf.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])):
+        name = light.get("name")
+        if not name or name in lights:
+            sys.exit("light %d: every light needs a name of its own, to match it to Blender's" % index)
+        if light["type"] == "spot":
+            sys.exit("light %r: Cycles 3.4's spot light is dimmed by the cosine off its axis, glTF's is not" % name)
+        if "range" in light:
+            sys.exit("light %r: glTF's range window has no Cycles counterpart" % name)
+        intensity = light.get("intensity", 1.0)
+        lights[name] = {"type": "POINT" if light["type"] == "point" else "SUN",
+                        "energy": 4.0 * math.pi * intensity if light["type"] == "point" else intensity,
+                        "color": list(light.get("color", [1.0, 1.0, 1.0]))}
+    return lights
+
+
+def set_lights(scene, lights):
+    """The importer's lights, each given the power (or strength) and colour its glTF light means to vkrt."""
+    found = [ob for ob in scene.objects if ob.type == "LIGHT"]
+    if sorted(ob.data.name for ob in found) != sorted(lights):
+        sys.exit("the importer made lights %s for the file's %s" % (sorted(ob.data.name for ob in found),
+                                                                    sorted(lights)))
+    for ob in found:
+        spec = lights[ob.data.name]
+        if ob.data.type != spec["type"]:
+            sys.exit("light %r: the importer made a %s light" % (ob.data.name, ob.data.type))
+        ob.data.energy = spec["energy"]
+        ob.data.color = spec["color"]
+        if spec["type"] == "POINT":
+            ob.data.shadow_soft_size = 0.0  # a point: hard shadows, intensity falling as 1 / d^2
+        else:
+            ob.data.angle = 0.0  # parallel rays
+        ob.data.cycles.cast_shadow = True
+        direction = ob.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))
+        print("light %r: %s, %s %g, colour %s, at %s, pointing %s (Blender's axes)"
+              % (ob.data.name, spec["type"], "power" if spec["type"] == "POINT" else "strength", spec["energy"],
+                 spec["color"], tuple(round(c, 6) for c in ob.matrix_world.translation),
+                 tuple(round(c, 6) for c in direction)))
 
 
 def rebuild_material(material, spec):
@@ -154,6 +248,25 @@ def rebuild_material(material, spec):
         return
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
+    if "texture" in spec:
+        # The texture times the factor; the importer's first UV map is glTF's TEXCOORD_0, turned into Blender's
+        # (v up) as images are.
+        with tempfile.NamedTemporaryFile(suffix=".png", delete=False) as f:
+            f.write(spec["texture"])
+        image = bpy.data.images.load(f.name)
+        image.pack()
+        os.unlink(f.name)
+        image.colorspace_settings.name = "sRGB"
+        texture = tree.nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        texture.interpolation = "Closest"
+        texture.extension = "REPEAT"
+        multiply = tree.nodes.new("ShaderNodeMixRGB")
+        multiply.blend_type = "MULTIPLY"
+        multiply.inputs["Fac"].default_value = 1.0
+        multiply.inputs["Color2"].default_value = spec["diffuse"] + [1.0]
+        tree.links.new(texture.outputs["Color"], multiply.inputs["Color1"])
+        tree.links.new(multiply.outputs["Color"], diffuse.inputs["Color"])
     diffuse.inputs["Roughness"].default_value = 0.0  # 0: Lambert (above 0 it is Oren-Nayar)
     emission = tree.nodes.new("ShaderNodeEmission")
     emission.inputs["Color"].default_value = spec["emission"] + [1.0]
@@ -234,6 +347,7 @@ def main():
 
     bpy.ops.wm.read_factory_settings(use_empty=True)  # no default cube, lamp or camera
     gltf, specs = gltf_materials(scene_path)
+    lights = gltf_lights(gltf)
     # Blender 3.4's glTF importer uses numpy.bool, which numpy 1.24 (Debian 12's) no longer has; it meant
     # the builtin bool.
     import numpy
@@ -250,12 +364,15 @@ def main():
             sys.exit("Blender material %r is not a material of %s" % (material.name, args.scene))
         rebuild_material(material, specs[material.name])
         spec = specs[material.name]
-        print("material %r: %s" % (material.name, "diffuse %s, emission %s" % (spec["diffuse"], spec["emission"])
+        print("material %r: %s" % (material.name, "diffuse %s%s, emission %s" % (
+                                       spec["diffuse"], " x texture" if "texture" in spec else "", spec["emission"])
                                    if spec["kind"] == "lambert" else
                                    "glass of index %g" % spec["ior"] if spec["kind"] == "glass" else "white mirror"))
     missing = set(specs) - {m.name for m in used}
     if missing:
         print("note: glTF materials not used by any object:", ", ".join(sorted(missing)))
+
+    set_lights(scene, lights)
 
     cameras = [ob for ob in scene.objects if ob.type == "CAMERA"]
     if len(cameras) != 1:

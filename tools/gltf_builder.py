@@ -63,9 +63,10 @@ class GltfBuilder:
         return self._accessor(self._view(payload, 34962), 5126, len(vectors), "VEC2")
 
     # Textures ----------------------------------------------------------------------------------------
-    def texture(self, name, width, height, rgba, nearest=False):
+    def texture(self, name, width, height, rgba, nearest=False, mipmaps=True):
         """A texture from RGBA8 pixels (rows top to bottom, a list of (r, g, b, a) tuples), stored as a PNG
-        in the buffer."""
+        in the buffer; `mipmaps` False samples the image itself however small it is seen (minFilter NEAREST or
+        LINEAR)."""
         rows = b"".join(b"\0" + bytes(c for pixel in rgba[y * width:(y + 1) * width] for c in pixel)
                         for y in range(height))
 
@@ -78,6 +79,8 @@ class GltfBuilder:
             {"name": name, "bufferView": self._view(png, None), "mimeType": "image/png"})
         # Magnified: NEAREST or LINEAR; minified: the same within the two nearest mipmap levels, blended.
         mag_filter, min_filter = (9728, 9986) if nearest else (9729, 9987)
+        if not mipmaps:
+            min_filter = mag_filter
         self.gltf.setdefault("samplers", []).append({"magFilter": mag_filter, "minFilter": min_filter})
         self.gltf.setdefault("textures", []).append(
             {"name": name, "source": len(self.gltf["images"]) - 1, "sampler": len(self.gltf["samplers"]) - 1})

@@ -60,6 +60,12 @@ smooth normals) on a Lambertian floor, with no light of their own. Every materia
 by: Lambertian (KHR_materials_specular factor 0), a white metal of roughness 0 (its Fresnel term is exactly 1)
 and smooth glass of index 1.5 (the exact dielectric Fresnel term, and refraction into its volume).
 
+punctual.gltf: a point light and a sun over Lambertian surfaces with textures, for a comparison with Blender
+Cycles (tests/references/punctual-cycles.exr): a floor checkered by a 2 x 2 texture, a panel and a turned box
+whose texture's four quadrants (red, green, blue and yellow from the top left) show which way up and round
+it is read, and a clay ball. Every material is Lambertian (KHR_materials_specular factor 0), the textures
+sampled at the nearest texel without mipmaps (as Cycles' Closest interpolation), the point light without a range.
+
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
 they cover (docs/integrators.md). Every surface is Lambertian.
@@ -546,6 +552,42 @@ def outdoor():
     g.write(os.path.join(OUTPUT, "outdoor.gltf"))
 
 
+def punctual():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    checker = g.texture("checker", 2, 2, [(200, 200, 200, 255), (70, 90, 120, 255)] * 1 +
+                        [(70, 90, 120, 255), (200, 200, 200, 255)], nearest=True, mipmaps=False)
+    red, green, blue, yellow = (200, 40, 30, 255), (40, 170, 60, 255), (40, 70, 200, 255), (230, 200, 40, 255)
+    quadrants = g.texture("quadrants", 4, 4, [(red if x < 2 else green) if y < 2 else (blue if x < 2 else yellow)
+                                              for y in range(4) for x in range(4)], nearest=True, mipmaps=False)
+    floor_material = g.material("floor", base_color=(0.9, 0.9, 0.9), specular=0.0,
+                                base_color_texture=g.texture_info(checker))
+    panel_material = g.material("panel", base_color=(1.0, 1.0, 1.0), specular=0.0,
+                                base_color_texture=g.texture_info(quadrants))
+    clay = g.material("clay", base_color=(0.75, 0.5, 0.35), specular=0.0)
+    floor = quad([[-8.0, 0.0, -8.0], [8.0, 0.0, -8.0], [8.0, 0.0, 8.0], [-8.0, 0.0, 8.0]], [0.0, 1.0, 0.0])
+    floor_uvs = [[(p[0] + 8.0) / 2.0, (p[2] + 8.0) / 2.0] for p in floor[0]]  # a cell of the checker a unit across
+    # The panel's texture coordinates as glTF's: (0, 0) the image's top left, at the panel's top left.
+    panel = [[-1.3, 2.6, -1.6], [1.3, 2.6, -1.6], [1.3, 0.0, -1.6], [-1.3, 0.0, -1.6]]
+    panel_uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    block, block_normals, block_indices, block_uvs = box([0.0, 0.0, 0.0], [0.5, 0.5, 0.5])
+    ball = uv_sphere([-1.6, 0.6, 0.9], 0.6, 32, 64)
+    g.node("ground and panel", mesh=g.mesh("ground and panel", [
+        (floor[0], None, floor[1], floor_material, floor_uvs),
+        (panel, None, [0, 2, 1, 0, 3, 2], panel_material, panel_uvs),
+        (ball[0], ball[1], ball[2], clay)]))
+    g.node("box", mesh=g.mesh("box", [(block, block_normals, block_indices, panel_material, block_uvs)]),
+           translation=[1.5, 0.5, 0.7], rotation=axis_angle([0.0, 1.0, 0.0], 35.0))
+    point = g.light({"type": "point", "name": "warm point", "color": [1.0, 0.8, 0.6], "intensity": 6.0})
+    g.node("point", translation=[0.6, 2.3, 2.2], extensions={"KHR_lights_punctual": {"light": point}})
+    sun = g.light({"type": "directional", "name": "sun", "color": [0.85, 0.9, 1.0], "intensity": 1.2})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.45, -1.0, -0.6]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    eye, target = [0.0, 2.3, 6.4], [0.0, 0.8, 0.0]
+    camera = g.perspective_camera("punctual-camera", math.radians(40.0), aspect_ratio=1.0)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "punctual.gltf"))
+
+
 def studio():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     white = g.material("white", base_color=(0.8, 0.8, 0.8), specular=0.0)
@@ -780,3 +822,4 @@ if __name__ == "__main__":
     csg()
     deform()
     studio()
+    punctual()
