@@ -8,12 +8,15 @@ the importer's Principled BSDF conversion is left:
 - purely Lambertian (KHR_materials_specular with specularFactor 0), with an optional emission:
   Diffuse BSDF (colour = baseColorFactor's RGB, roughness 0: Lambert)
     + Emission (colour = emissiveFactor x KHR_materials_emissive_strength, strength 1);
-- a white mirror (metallicFactor 1, roughnessFactor 0, baseColorFactor 1, 1, 1): Glossy BSDF, sharp, white.
-  glTF's metal takes its Fresnel term from its base colour, which is 1 at every angle for white;
-- smooth glass (KHR_materials_transmission factor 1, roughnessFactor 0, metallicFactor 0, a white base colour,
-  KHR_materials_ior, KHR_materials_volume of some thickness, without attenuation: refraction into a solid,
-  not a thin wall): Glass BSDF, sharp, white, the same index.
-  Both are the exact dielectric Fresnel term with refraction by Snell's law.
+- white metal (metallicFactor 1, baseColorFactor 1, 1, 1): Glossy BSDF, white, sharp at roughnessFactor 0 and
+  else multiple-scattering GGX of the same roughness (Cycles squares it to GGX's alpha, as glTF does). glTF's
+  metal takes its Fresnel term from its base colour, which is 1 at every angle for white;
+- clear glass (KHR_materials_transmission factor 1, metallicFactor 0, a white base colour, KHR_materials_ior,
+  KHR_materials_volume of some thickness, without attenuation: refraction into a solid, not a thin wall): Glass
+  BSDF, white, the same index, sharp or multiple-scattering GGX of the same roughness.
+  Both are the exact dielectric Fresnel term with refraction by Snell's law. A rough lobe keeps in Cycles the
+  energy that single-scattering GGX loses by its random walk among the microfacets, in vkrt by its
+  compensation (docs/materials.md): the same energy, not quite the same distribution of it.
 
 A Lambertian material may have a base colour texture (multiplied by baseColorFactor, as glTF says) where
 Cycles samples it as vkrt does: TEXCOORD_0, no KHR_texture_transform, a sampler of magFilter and minFilter
@@ -146,16 +149,15 @@ def material_kind(gltf, material):
         unknown = [key for key in extensions if key not in ("KHR_materials_emissive_strength",
                                                             "KHR_materials_specular")]
         return ["extension " + key for key in unknown] or "lambert"
-    if not transmission and not extensions and metallic == 1.0 and roughness == 0.0 and base == [1.0, 1.0, 1.0]:
+    if not transmission and not extensions and metallic == 1.0 and base == [1.0, 1.0, 1.0]:
         return "mirror" if not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) else ["emission"]
     if (transmission.get("transmissionFactor", 0.0) == 1.0 and "transmissionTexture" not in transmission and
-            metallic == 0.0 and roughness == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
+            metallic == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
             not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and "attenuationDistance" not in volume and
             volume.get("thicknessFactor", 0.0) > 0.0 and
             set(extensions) <= {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"}):
         return "glass"
-    return ["not purely Lambertian (KHR_materials_specular factor 0), a white mirror of roughness 0 or clear "
-            "smooth glass"]
+    return ["not purely Lambertian (KHR_materials_specular factor 0), white metal or clear glass"]
 
 
 def gltf_materials(path):
@@ -178,6 +180,7 @@ def gltf_materials(path):
             "diffuse": list(material.get("pbrMetallicRoughness", {}).get("baseColorFactor", [1.0, 1.0, 1.0]))[:3],
             "emission": [c * strength for c in material.get("emissiveFactor", [0.0, 0.0, 0.0])],
             "ior": extensions.get("KHR_materials_ior", {}).get("ior", 1.5),
+            "roughness": material.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0),
         }
         info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
         if info is not None:
@@ -233,18 +236,16 @@ def rebuild_material(material, spec):
     tree.nodes.clear()
     output = tree.nodes.new("ShaderNodeOutputMaterial")
     output.target = "ALL"
-    if spec["kind"] == "mirror":
-        glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
-        glossy.distribution = "SHARP"
-        glossy.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-        tree.links.new(glossy.outputs["BSDF"], output.inputs["Surface"])
-        return
-    if spec["kind"] == "glass":
-        glass = tree.nodes.new("ShaderNodeBsdfGlass")
-        glass.distribution = "SHARP"
-        glass.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-        glass.inputs["IOR"].default_value = spec["ior"]
-        tree.links.new(glass.outputs["BSDF"], output.inputs["Surface"])
+    if spec["kind"] in ("mirror", "glass"):
+        # Cycles' roughness input is glTF's (GGX's alpha is its square in both); rough lobes keep the energy
+        # that single-scattering GGX loses, as vkrt's compensation does.
+        node = tree.nodes.new("ShaderNodeBsdfGlossy" if spec["kind"] == "mirror" else "ShaderNodeBsdfGlass")
+        node.distribution = "SHARP" if spec["roughness"] == 0.0 else "MULTI_GGX"
+        node.inputs["Roughness"].default_value = spec["roughness"]
+        node.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        if spec["kind"] == "glass":
+            node.inputs["IOR"].default_value = spec["ior"]
+        tree.links.new(node.outputs["BSDF"], output.inputs["Surface"])
         return
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
@@ -367,7 +368,8 @@ def main():
         print("material %r: %s" % (material.name, "diffuse %s%s, emission %s" % (
                                        spec["diffuse"], " x texture" if "texture" in spec else "", spec["emission"])
                                    if spec["kind"] == "lambert" else
-                                   "glass of index %g" % spec["ior"] if spec["kind"] == "glass" else "white mirror"))
+                                   "glass of index %g, roughness %g" % (spec["ior"], spec["roughness"]) if spec["kind"] == "glass" else
+                                   "white metal of roughness %g" % spec["roughness"]))
     missing = set(specs) - {m.name for m in used}
     if missing:
         print("note: glTF materials not used by any object:", ", ".join(sorted(missing)))

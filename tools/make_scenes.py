@@ -66,6 +66,12 @@ whose texture's four quadrants (red, green, blue and yellow from the top left) s
 it is read, and a clay ball. Every material is Lambertian (KHR_materials_specular factor 0), the textures
 sampled at the nearest texel without mipmaps (as Cycles' Closest interpolation), the point light without a range.
 
+rough.gltf: for --environment scenes/soft-sky.hdr and a comparison with Blender Cycles
+(tests/references/rough-cycles.exr): rough white metal (roughness 0.3 and 0.5) and rough glass (roughness 0.15
+and 0.3, index 1.5) balls in a row, triangle meshes with smooth normals, on a Lambertian floor. White metal's Fresnel
+term is 1 at every angle, so both renderers mean GGX reflection with all its energy kept (vkrt's compensation,
+Cycles' multiple-scattering GGX).
+
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
 they cover (docs/integrators.md). Every surface is Lambertian.
@@ -552,6 +558,25 @@ def outdoor():
     g.write(os.path.join(OUTPUT, "outdoor.gltf"))
 
 
+def rough():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.5, 0.5, 0.5), specular=0.0)
+    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
+                 [0.0, 1.0, 0.0])
+    primitives = [(floor[0], None, floor[1], floor_material)]
+    balls = [("metal 0.3", dict(metallic=1.0, roughness=0.3)), ("metal 0.5", dict(metallic=1.0, roughness=0.5)),
+             ("glass 0.15", dict(roughness=0.15, transmission=1.0, ior=1.5, thickness=1.0)),
+             ("glass 0.3", dict(roughness=0.3, transmission=1.0, ior=1.5, thickness=1.0))]
+    for (name, fields), x in zip(balls, (-2.1, -0.7, 0.7, 2.1)):
+        sphere = uv_sphere([x, 0.6, 0.0], 0.6, 32, 64)
+        primitives.append((sphere[0], sphere[1], sphere[2], g.material(name, base_color=(1.0, 1.0, 1.0), **fields)))
+    g.node("rough", mesh=g.mesh("rough", primitives))
+    eye, target = [0.0, 1.6, 5.4], [0.0, 0.45, 0.0]
+    camera = g.perspective_camera("rough-camera", math.radians(34.0), aspect_ratio=2.0)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "rough.gltf"))
+
+
 def punctual():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     checker = g.texture("checker", 2, 2, [(200, 200, 200, 255), (70, 90, 120, 255)] * 1 +
@@ -823,3 +848,4 @@ if __name__ == "__main__":
     deform()
     studio()
     punctual()
+    rough()
