@@ -48,61 +48,90 @@ RenderRequest requestLike(const Image& cycles, int samplesPerPixel, uint32_t see
     return request;
 }
 
+// One of scenes/ with Cycles' image of it from tests/references/, set up as the command renders it at that
+// image's size (`samplesPerPixel` and `seed`), under scenes/soft-sky.hdr where `underTheSky`.
+struct CyclesComparison {
+    Image cycles;
+    Scene scene;
+    FlatBvh bvh;
+    RenderSetup setup;
+};
+
+Image softSky() {
+    return readRadianceImage((test::sourceDir() / "scenes/soft-sky.hdr").string());
+}
+
+CyclesComparison prepare(const std::string& sceneName, const std::string& referenceName, bool underTheSky,
+                         int samplesPerPixel, uint32_t seed) {
+    CyclesComparison c;
+    c.cycles = readImage((test::sourceDir() / "tests/references" / referenceName).string());
+    c.scene = loadGltf((test::sourceDir() / "scenes" / sceneName).string());
+    if (underTheSky) {
+        const Image sky = softSky();
+        c.scene.environment = makeEnvironmentMap("soft-sky.hdr", sky.width, sky.height, sky.pixels, 0.0, 1.0);
+    }
+    c.bvh = bvhFor(c.scene);
+    const RenderRequest request = requestLike(c.cycles, samplesPerPixel, seed);
+    addNeutralEnvironment(request, c.scene);
+    c.setup = resolveRender(request, c.scene);
+    return c;
+}
+
+// Both devices' images agree with Cycles' (expectAgreesWithCycles).
+void expectBothDevicesAgree(const VulkanContext& context, const CyclesComparison& c) {
+    ASSERT_EQ(c.setup.settings.integrator, Integrator::Path);
+    ASSERT_TRUE(c.setup.warnings.empty());
+    const auto [gpu, cpu] = test::renderGpuAndCpu(context, c.scene, c.bvh, c.setup.camera, c.setup.settings,
+                                                  test::shaderCacheDir());
+    expectAgreesWithCycles(gpu, c.cycles, "gpu");
+    expectAgreesWithCycles(cpu, c.cycles, "cpu");
+}
+
+// How the CPU reference's image of `scene` (changed from the comparison's, with `settings`) agrees with
+// Cycles', printed as `what`: the comparison's check that it can tell.
+BlockAgreement cpuAgreement(const CyclesComparison& c, const Scene& scene, const RenderSettings& settings,
+                            const std::string& what) {
+    const Image image = ReferenceRenderer(scene, c.bvh, c.setup.camera, settings).render().image;
+    const BlockAgreement agreement = compareBlocks(image, c.cycles, 8, 0.03);
+    std::cout << what << " (cpu): " << 100.0 * agreement.fractionWithin
+              << "% of blocks within 3%, channel means / "
+              << "Cycles " << agreement.meanRatio.x << " " << agreement.meanRatio.y << " "
+              << agreement.meanRatio.z << "\n";
+    return agreement;
+}
+
+RenderSettings withSamples(RenderSettings settings, int samplesPerPixel) {
+    settings.samplesPerPixel = samplesPerPixel;
+    return settings;
+}
+
 TEST_F(Gpu, PathTracedCornellBoxMatchesCycles) {
     // Cycles rendered 16,384 samples per pixel; vkrt renders 1024 with its defaults (the path integrator).
-    const Image cycles = readImage((test::sourceDir() / "tests/references/cornell-cycles.exr").string());
-    Scene scene = loadGltf((test::sourceDir() / "scenes/cornell.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
-    const RenderRequest request = requestLike(cycles, 1024, 3);
-    addNeutralEnvironment(request, scene);
-    const RenderSetup setup = resolveRender(request, scene);
-    ASSERT_EQ(setup.settings.integrator, Integrator::Path);
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, setup.camera, setup.settings, test::shaderCacheDir());
-    expectAgreesWithCycles(gpu, cycles, "gpu");
-    expectAgreesWithCycles(cpu, cycles, "cpu");
+    const CyclesComparison c = prepare("cornell.gltf", "cornell-cycles.exr", false, 1024, 3);
+    expectBothDevicesAgree(context(), c);
 
     // The comparison can tell: Whitted's ambient term in place of indirect light misses most blocks.
-    RenderRequest whitted = request;
+    RenderRequest whitted = requestLike(c.cycles, 64, 3);
     whitted.integrator = Integrator::Whitted;
-    whitted.settings.samplesPerPixel = 64;
-    const RenderSetup classic = resolveRender(whitted, scene);
-    const Image ambient = ReferenceRenderer(scene, bvh, classic.camera, classic.settings).render().image;
-    const BlockAgreement agreement = compareBlocks(ambient, cycles, 8, 0.03);
-    EXPECT_LT(agreement.fractionWithin, 0.5);
-    std::cout << "whitted (cpu): " << 100.0 * agreement.fractionWithin << "% of blocks within 3%, channel means / "
-              << "Cycles " << agreement.meanRatio.x << " " << agreement.meanRatio.y << " " << agreement.meanRatio.z
-              << "\n";
+    const RenderSetup classic = resolveRender(whitted, c.scene);
+    EXPECT_LT(cpuAgreement(c, c.scene, classic.settings, "whitted").fractionWithin, 0.5);
 }
 
 // scenes/outdoor.gltf under scenes/soft-sky.hdr: the environment light's importance sampling and its mapping,
 // a mirror, and glass with the exact Fresnel term, refraction and total internal reflection, against Cycles'
 // Glossy and Glass BSDFs under the same map (16,384 samples per pixel there, 512 here).
 TEST_F(Gpu, PathTracedOutdoorSceneMatchesCycles) {
-    const Image cycles = readImage((test::sourceDir() / "tests/references/outdoor-cycles.exr").string());
-    const Image sky = readRadianceImage((test::sourceDir() / "scenes/soft-sky.hdr").string());
-    Scene scene = loadGltf((test::sourceDir() / "scenes/outdoor.gltf").string());
-    scene.environment = makeEnvironmentMap("soft-sky.hdr", sky.width, sky.height, sky.pixels, 0.0, 1.0);
-    const FlatBvh bvh = bvhFor(scene);
-    const RenderSetup setup = resolveRender(requestLike(cycles, 512, 5), scene);
-    ASSERT_EQ(setup.settings.integrator, Integrator::Path);
-    ASSERT_TRUE(setup.warnings.empty());
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, setup.camera, setup.settings, test::shaderCacheDir());
-    expectAgreesWithCycles(gpu, cycles, "gpu");
-    expectAgreesWithCycles(cpu, cycles, "cpu");
+    const CyclesComparison c = prepare("outdoor.gltf", "outdoor-cycles.exr", true, 512, 5);
+    expectBothDevicesAgree(context(), c);
 
     // The comparison can tell: the sky turned by 90 degrees about +Y lights the balls from the side.
-    scene.environment = makeEnvironmentMap("soft-sky.hdr", sky.width, sky.height, sky.pixels, 90.0, 1.0);
-    RenderSettings turnedSettings = setup.settings;
-    turnedSettings.samplesPerPixel = 64;
-    const Image turned = ReferenceRenderer(scene, bvh, setup.camera, turnedSettings).render().image;
-    const BlockAgreement agreement = compareBlocks(turned, cycles, 8, 0.03);
+    Scene turned = c.scene;
+    const Image sky = softSky();
+    turned.environment = makeEnvironmentMap("soft-sky.hdr", sky.width, sky.height, sky.pixels, 90.0, 1.0);
+    const BlockAgreement agreement =
+        cpuAgreement(c, turned, withSamples(c.setup.settings, 64), "sky turned by 90 degrees");
     EXPECT_LT(agreement.fractionWithin, 0.6);
     EXPECT_LT(agreement.meanRatio.x, 0.97);
-    std::cout << "sky turned by 90 degrees (cpu): " << 100.0 * agreement.fractionWithin << "% of blocks within 3%, "
-              << "channel means / Cycles " << agreement.meanRatio.x << " " << agreement.meanRatio.y << " "
-              << agreement.meanRatio.z << "\n";
 }
 
 // scenes/rough.gltf under scenes/soft-sky.hdr: GGX reflection and transmission (white metal of roughness 0.3
@@ -110,30 +139,16 @@ TEST_F(Gpu, PathTracedOutdoorSceneMatchesCycles) {
 // there, 512 here). Both keep the energy that single scattering loses, vkrt by its compensation and Cycles by
 // its random walk, which spread it a little differently: up to 5% apart in a few blocks of the rougher balls.
 TEST_F(Gpu, PathTracedRoughMetalAndGlassMatchCycles) {
-    const Image cycles = readImage((test::sourceDir() / "tests/references/rough-cycles.exr").string());
-    const Image sky = readRadianceImage((test::sourceDir() / "scenes/soft-sky.hdr").string());
-    Scene scene = loadGltf((test::sourceDir() / "scenes/rough.gltf").string());
-    scene.environment = makeEnvironmentMap("soft-sky.hdr", sky.width, sky.height, sky.pixels, 0.0, 1.0);
-    const FlatBvh bvh = bvhFor(scene);
-    const RenderSetup setup = resolveRender(requestLike(cycles, 512, 11), scene);
-    ASSERT_EQ(setup.settings.integrator, Integrator::Path);
-    ASSERT_TRUE(setup.warnings.empty());
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, setup.camera, setup.settings, test::shaderCacheDir());
-    expectAgreesWithCycles(gpu, cycles, "gpu");
-    expectAgreesWithCycles(cpu, cycles, "cpu");
+    const CyclesComparison c = prepare("rough.gltf", "rough-cycles.exr", true, 512, 11);
+    expectBothDevicesAgree(context(), c);
 
     // The comparison can tell: glTF's roughness taken as GGX's alpha (not its square root) misses many
     // blocks.
-    Scene alpha = scene;
+    Scene alpha = c.scene;
     for (Material& material : alpha.materials) material.roughness = std::sqrt(material.roughness);
-    RenderSettings quick = setup.settings;
-    quick.samplesPerPixel = 128;
-    const Image image = ReferenceRenderer(alpha, bvh, setup.camera, quick).render().image;
-    const BlockAgreement agreement = compareBlocks(image, cycles, 8, 0.03);
-    EXPECT_LT(agreement.fractionWithin, 0.9);
-    std::cout << "roughness taken as alpha (cpu): " << 100.0 * agreement.fractionWithin
-              << "% of blocks within 3%\n";
+    EXPECT_LT(
+        cpuAgreement(c, alpha, withSamples(c.setup.settings, 128), "roughness taken as alpha").fractionWithin,
+        0.9);
 }
 
 // scenes/punctual.gltf: a point light and a sun (their units, falloff and shadows) over Lambertian surfaces
@@ -141,28 +156,13 @@ TEST_F(Gpu, PathTracedRoughMetalAndGlassMatchCycles) {
 // Cycles' point light and sun as tools/cycles_reference.py converts them (16,384 samples per pixel there, 256
 // here).
 TEST_F(Gpu, PathTracedPunctualLightsAndTexturesMatchCycles) {
-    const Image cycles = readImage((test::sourceDir() / "tests/references/punctual-cycles.exr").string());
-    Scene scene = loadGltf((test::sourceDir() / "scenes/punctual.gltf").string());
-    const FlatBvh bvh = bvhFor(scene);
-    const RenderSetup setup = resolveRender(requestLike(cycles, 256, 9), scene);
-    ASSERT_EQ(setup.settings.integrator, Integrator::Path);
-    ASSERT_TRUE(setup.warnings.empty());
-    const auto [gpu, cpu] =
-        test::renderGpuAndCpu(context(), scene, bvh, setup.camera, setup.settings, test::shaderCacheDir());
-    expectAgreesWithCycles(gpu, cycles, "gpu");
-    expectAgreesWithCycles(cpu, cycles, "cpu");
+    const CyclesComparison c = prepare("punctual.gltf", "punctual-cycles.exr", false, 256, 9);
+    expectBothDevicesAgree(context(), c);
 
     // The comparison can tell: each of these, on the CPU at 64 samples, misses more than a tenth of the
     // blocks.
-    RenderSettings quick = setup.settings;
-    quick.samplesPerPixel = 64;
-    const auto missed = [&](const Scene& changed, const char* what) {
-        const Image image = ReferenceRenderer(changed, bvh, setup.camera, quick).render().image;
-        const BlockAgreement agreement = compareBlocks(image, cycles, 8, 0.03);
-        EXPECT_LT(agreement.fractionWithin, 0.9) << what;
-        std::cout << what << " (cpu): " << 100.0 * agreement.fractionWithin << "% of blocks within 3%\n";
-    };
-    Scene upsideDown = scene;  // every texture read with its rows the other way up
+    const RenderSettings quick = withSamples(c.setup.settings, 64);
+    Scene upsideDown = c.scene;  // every texture read with its rows the other way up
     for (Texture& texture : upsideDown.textures) {
         auto rows = std::make_shared<std::vector<uint8_t>>(texture.rgba->size());
         const size_t row = 4 * static_cast<size_t>(texture.width);
@@ -172,12 +172,12 @@ TEST_F(Gpu, PathTracedPunctualLightsAndTexturesMatchCycles) {
         }
         texture.rgba = rows;
     }
-    missed(upsideDown, "textures upside down");
-    Scene dimmer = scene;  // the point light's intensity divided by pi, a usual slip between light units
+    EXPECT_LT(cpuAgreement(c, upsideDown, quick, "textures upside down").fractionWithin, 0.9);
+    Scene dimmer = c.scene;  // the point light's intensity divided by pi, a usual slip between light units
     for (PunctualLight& light : dimmer.lights) {
         if (light.type == LightType::Point) light.intensity /= static_cast<float>(M_PI);
     }
-    missed(dimmer, "the point light a pi dimmer");
+    EXPECT_LT(cpuAgreement(c, dimmer, quick, "the point light a pi dimmer").fractionWithin, 0.9);
 }
 
 }  // namespace
