@@ -537,6 +537,21 @@ def environment():
     g.write(os.path.join(OUTPUT, "environment.gltf"))
 
 
+def balls_on_a_floor(g, name, floor_material, balls, radius, eye, target, yfov_degrees, aspect_ratio):
+    """Writes `name`.gltf: balls (x, material) of `radius` in a row along x on a floor 60 units across, seen from
+    `eye`; the scenes compared with Cycles under soft-sky.hdr."""
+    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
+                 [0.0, 1.0, 0.0])
+    primitives = [(floor[0], None, floor[1], floor_material)]
+    for x, material in balls:
+        sphere = uv_sphere([x, radius, 0.0], radius, 32, 64)
+        primitives.append((sphere[0], sphere[1], sphere[2], material))
+    g.node(name, mesh=g.mesh(name, primitives))
+    camera = g.perspective_camera(name + "-camera", math.radians(yfov_degrees), aspect_ratio=aspect_ratio)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, name + ".gltf"))
+
+
 def outdoor():
     radiance_hdr(os.path.join(OUTPUT, "soft-sky.hdr"), 64, 32, soft_sky_texel)
     g = GltfBuilder("vkrt tools/make_scenes.py")
@@ -545,36 +560,19 @@ def outdoor():
     mirror = g.material("mirror", base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0)
     glass = g.material("glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
                        thickness=1.4)
-    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
-                 [0.0, 1.0, 0.0])
-    primitives = [(floor[0], None, floor[1], floor_material)]
-    for x, material in ((-1.6, clay), (0.0, mirror), (1.6, glass)):
-        sphere = uv_sphere([x, 0.7, 0.0], 0.7, 32, 64)
-        primitives.append((sphere[0], sphere[1], sphere[2], material))
-    g.node("outdoor", mesh=g.mesh("outdoor", primitives))
-    eye, target = [0.0, 1.7, 5.6], [0.0, 0.55, 0.0]
-    camera = g.perspective_camera("outdoor-camera", math.radians(40.0), aspect_ratio=1.0)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "outdoor.gltf"))
+    balls_on_a_floor(g, "outdoor", floor_material, ((-1.6, clay), (0.0, mirror), (1.6, glass)), 0.7,
+                     [0.0, 1.7, 5.6], [0.0, 0.55, 0.0], 40.0, 1.0)
 
 
 def rough():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     floor_material = g.material("floor", base_color=(0.5, 0.5, 0.5), specular=0.0)
-    floor = quad([[-30.0, 0.0, -30.0], [30.0, 0.0, -30.0], [30.0, 0.0, 30.0], [-30.0, 0.0, 30.0]],
-                 [0.0, 1.0, 0.0])
-    primitives = [(floor[0], None, floor[1], floor_material)]
     balls = [("metal 0.3", dict(metallic=1.0, roughness=0.3)), ("metal 0.5", dict(metallic=1.0, roughness=0.5)),
              ("glass 0.15", dict(roughness=0.15, transmission=1.0, ior=1.5, thickness=1.0)),
              ("glass 0.3", dict(roughness=0.3, transmission=1.0, ior=1.5, thickness=1.0))]
-    for (name, fields), x in zip(balls, (-2.1, -0.7, 0.7, 2.1)):
-        sphere = uv_sphere([x, 0.6, 0.0], 0.6, 32, 64)
-        primitives.append((sphere[0], sphere[1], sphere[2], g.material(name, base_color=(1.0, 1.0, 1.0), **fields)))
-    g.node("rough", mesh=g.mesh("rough", primitives))
-    eye, target = [0.0, 1.6, 5.4], [0.0, 0.45, 0.0]
-    camera = g.perspective_camera("rough-camera", math.radians(34.0), aspect_ratio=2.0)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "rough.gltf"))
+    materials = [g.material(name, base_color=(1.0, 1.0, 1.0), **fields) for name, fields in balls]
+    balls_on_a_floor(g, "rough", floor_material, zip((-2.1, -0.7, 0.7, 2.1), materials), 0.6,
+                     [0.0, 1.6, 5.4], [0.0, 0.45, 0.0], 34.0, 2.0)
 
 
 def punctual():
