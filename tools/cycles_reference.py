@@ -18,7 +18,8 @@ the importer's Principled BSDF conversion is left:
   energy that single-scattering GGX loses by its random walk among the microfacets, in vkrt by its
   compensation (docs/materials.md): the same energy, not quite the same distribution of it.
 
-A Lambertian material may have a base colour texture (multiplied by baseColorFactor, as glTF says) where
+A Lambertian material may have a base colour texture (multiplied by baseColorFactor, as glTF says) and an
+emissive texture (multiplied by emissiveFactor and the strength), each where
 Cycles samples it as vkrt does: TEXCOORD_0, no KHR_texture_transform, a sampler of magFilter and minFilter
 NEAREST (the nearest texel, no mipmaps: Cycles' Closest interpolation) that repeats (REPEAT both ways), an image
 in sRGB. Other textures, other metals, rough or tinted glass and the other extensions are not supported: the
@@ -133,7 +134,10 @@ def material_kind(gltf, material):
         problems += texture_problems(gltf, pbr["baseColorTexture"])
         if pbr.get("metallicFactor", 1.0) != 0.0 or extensions.get("KHR_materials_transmission"):
             problems.append("baseColorTexture on other than a Lambertian material")
-    problems += [key for key in ("normalTexture", "emissiveTexture", "occlusionTexture") if key in material]
+    problems += [key for key in ("normalTexture", "occlusionTexture") if key in material]
+    if "emissiveTexture" in material:
+        problems += [p.replace("baseColorTexture", "emissiveTexture")
+                     for p in texture_problems(gltf, material["emissiveTexture"])]
     if material.get("alphaMode", "OPAQUE") != "OPAQUE":
         problems.append("alphaMode %s" % material["alphaMode"])
     base = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))[:3]
@@ -185,6 +189,8 @@ def gltf_materials(path):
         info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
         if info is not None:
             materials[name]["texture"] = texture_image(gltf, info, path)
+        if "emissiveTexture" in material:
+            materials[name]["emissive texture"] = texture_image(gltf, material["emissiveTexture"], path)
     return gltf, materials
 
 
@@ -230,6 +236,28 @@ def set_lights(scene, lights):
                  tuple(round(c, 6) for c in direction)))
 
 
+def textured(tree, encoded, factor, socket):
+    """Links into `socket` the image `encoded` (PNG or JPEG bytes, sRGB), read at the nearest texel and repeated,
+    times the colour `factor`. The importer's first UV map is glTF's TEXCOORD_0, turned into Blender's (v up) as
+    images are."""
+    with tempfile.NamedTemporaryFile(suffix=".png", delete=False) as f:
+        f.write(encoded)
+    image = bpy.data.images.load(f.name)
+    image.pack()
+    os.unlink(f.name)
+    image.colorspace_settings.name = "sRGB"
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.interpolation = "Closest"
+    texture.extension = "REPEAT"
+    multiply = tree.nodes.new("ShaderNodeMixRGB")
+    multiply.blend_type = "MULTIPLY"
+    multiply.inputs["Fac"].default_value = 1.0
+    multiply.inputs["Color2"].default_value = list(factor) + [1.0]
+    tree.links.new(texture.outputs["Color"], multiply.inputs["Color1"])
+    tree.links.new(multiply.outputs["Color"], socket)
+
+
 def rebuild_material(material, spec):
     material.use_nodes = True
     tree = material.node_tree
@@ -250,28 +278,13 @@ def rebuild_material(material, spec):
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
     if "texture" in spec:
-        # The texture times the factor; the importer's first UV map is glTF's TEXCOORD_0, turned into Blender's
-        # (v up) as images are.
-        with tempfile.NamedTemporaryFile(suffix=".png", delete=False) as f:
-            f.write(spec["texture"])
-        image = bpy.data.images.load(f.name)
-        image.pack()
-        os.unlink(f.name)
-        image.colorspace_settings.name = "sRGB"
-        texture = tree.nodes.new("ShaderNodeTexImage")
-        texture.image = image
-        texture.interpolation = "Closest"
-        texture.extension = "REPEAT"
-        multiply = tree.nodes.new("ShaderNodeMixRGB")
-        multiply.blend_type = "MULTIPLY"
-        multiply.inputs["Fac"].default_value = 1.0
-        multiply.inputs["Color2"].default_value = spec["diffuse"] + [1.0]
-        tree.links.new(texture.outputs["Color"], multiply.inputs["Color1"])
-        tree.links.new(multiply.outputs["Color"], diffuse.inputs["Color"])
+        textured(tree, spec["texture"], spec["diffuse"], diffuse.inputs["Color"])
     diffuse.inputs["Roughness"].default_value = 0.0  # 0: Lambert (above 0 it is Oren-Nayar)
     emission = tree.nodes.new("ShaderNodeEmission")
     emission.inputs["Color"].default_value = spec["emission"] + [1.0]
     emission.inputs["Strength"].default_value = 1.0
+    if "emissive texture" in spec:
+        textured(tree, spec["emissive texture"], spec["emission"], emission.inputs["Color"])
     add = tree.nodes.new("ShaderNodeAddShader")
     tree.links.new(diffuse.outputs["BSDF"], add.inputs[0])
     tree.links.new(emission.outputs["Emission"], add.inputs[1])
@@ -365,8 +378,9 @@ def main():
             sys.exit("Blender material %r is not a material of %s" % (material.name, args.scene))
         rebuild_material(material, specs[material.name])
         spec = specs[material.name]
-        print("material %r: %s" % (material.name, "diffuse %s%s, emission %s" % (
-                                       spec["diffuse"], " x texture" if "texture" in spec else "", spec["emission"])
+        print("material %r: %s" % (material.name, "diffuse %s%s, emission %s%s" % (
+                                       spec["diffuse"], " x texture" if "texture" in spec else "", spec["emission"],
+                                       " x texture" if "emissive texture" in spec else "")
                                    if spec["kind"] == "lambert" else
                                    "glass of index %g, roughness %g" % (spec["ior"], spec["roughness"]) if spec["kind"] == "glass" else
                                    "white metal of roughness %g" % spec["roughness"]))

@@ -72,6 +72,11 @@ and 0.3, index 1.5) balls in a row, triangle meshes with smooth normals, on a La
 term is 1 at every angle, so both renderers mean GGX reflection with all its energy kept (vkrt's compensation,
 Cycles' multiple-scattering GGX).
 
+lamps.gltf: emitters for a comparison with Blender Cycles (tests/references/lamps-cycles.exr): a panel overhead
+whose emission is striped by its emissive texture (warm, cool and dark stripes, read at the nearest texel)
+and a small glowing ball light a Lambertian floor, wall, box and ball; the panel's back faces the empty space
+above it, where the wall ends (vkrt's emission is one-sided, Cycles' two-sided).
+
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
 they cover (docs/integrators.md). Every surface is Lambertian.
@@ -575,6 +580,36 @@ def rough():
                      [0.0, 1.6, 5.4], [0.0, 0.45, 0.0], 34.0, 2.0)
 
 
+def lamps():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    warm, cool, dark = (255, 215, 150, 255), (130, 170, 255, 255), (25, 25, 25, 255)
+    stripes = g.texture("stripes", 8, 8, [(warm, warm, cool, cool, dark, warm, cool, cool)[x] for y in range(8)
+                                          for x in range(8)], nearest=True, mipmaps=False)
+    floor_material = g.material("floor", base_color=(0.7, 0.7, 0.7), specular=0.0)
+    wall = g.material("wall", base_color=(0.6, 0.6, 0.6), specular=0.0)
+    slate = g.material("slate", base_color=(0.35, 0.45, 0.6), specular=0.0)
+    chalk = g.material("chalk", base_color=(0.8, 0.8, 0.8), specular=0.0)
+    panel_material = g.material("panel", base_color=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0),
+                                emission_strength=4.0, emissive_texture=g.texture_info(stripes))
+    glow = g.material("glow", base_color=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 0.5, 0.2),
+                      emission_strength=6.0)
+    floor = quad([[-4.0, 0.0, -2.0], [4.0, 0.0, -2.0], [4.0, 0.0, 6.0], [-4.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    back = quad([[-4.0, 0.0, -2.0], [4.0, 0.0, -2.0], [4.0, 2.4, -2.0], [-4.0, 2.4, -2.0]], [0.0, 0.0, 1.0])
+    panel = quad([[-1.0, 2.4, -0.6], [1.0, 2.4, -0.6], [1.0, 2.4, 0.6], [-1.0, 2.4, 0.6]], [0.0, -1.0, 0.0])
+    panel_uvs = [[(p[0] + 1.0) / 2.0, (p[2] + 0.6) / 1.2] for p in panel[0]]
+    block, block_normals, block_indices, _ = box([-1.2, 0.45, -0.3], [0.45, 0.45, 0.45])
+    ball = uv_sphere([0.3, 0.5, 0.4], 0.5, 32, 64)
+    bead = uv_sphere([1.3, 0.25, 1.0], 0.25, 16, 32)
+    g.node("lamps", mesh=g.mesh("lamps", [
+        (floor[0], None, floor[1], floor_material), (back[0], None, back[1], wall),
+        (panel[0], None, panel[1], panel_material, panel_uvs), (block, block_normals, block_indices, slate),
+        (ball[0], ball[1], ball[2], chalk), (bead[0], bead[1], bead[2], glow)]))
+    eye, target = [0.0, 1.4, 5.0], [0.0, 1.0, 0.0]
+    camera = g.perspective_camera("lamps-camera", math.radians(45.0), aspect_ratio=1.0)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "lamps.gltf"))
+
+
 def punctual():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     checker = g.texture("checker", 2, 2, [(200, 200, 200, 255), (70, 90, 120, 255)] * 1 +
@@ -847,3 +882,4 @@ if __name__ == "__main__":
     studio()
     punctual()
     rough()
+    lamps()
