@@ -152,6 +152,23 @@ TEST_F(Gpu, PathTracedRoughMetalAndGlassMatchCycles) {
         0.9);
 }
 
+// scenes/tinted.gltf under scenes/soft-sky.hdr: Beer's law in glass balls (two smooth, one of roughness 0.1)
+// against Cycles' Glass BSDF over a homogeneous Volume Absorption of the same coefficients (16,384 samples
+// per pixel there, 512 here).
+TEST_F(Gpu, PathTracedTintedGlassMatchesCycles) {
+    const CyclesComparison c = prepare("tinted.gltf", "tinted-cycles.exr", true, 512, 15);
+    expectBothDevicesAgree(context(), c);
+
+    // The comparison can tell: the attenuation taken per unit length instead of per attenuation distance.
+    Scene perUnit = c.scene;
+    for (Material& material : perUnit.materials) {
+        if (std::isfinite(material.attenuationDistance)) material.attenuationDistance = 1.0f;
+    }
+    EXPECT_LT(cpuAgreement(c, perUnit, withSamples(c.setup.settings, 64), "attenuation per unit length")
+                  .fractionWithin,
+              0.9);
+}
+
 // scenes/punctual.gltf: a point light and a sun (their units, falloff and shadows) over Lambertian surfaces
 // whose textures are read at the nearest texel (which way up and round an image lies on a surface), against
 // Cycles' point light and sun as tools/cycles_reference.py converts them (16,384 samples per pixel there, 256

@@ -11,9 +11,11 @@ the importer's Principled BSDF conversion is left:
 - white metal (metallicFactor 1, baseColorFactor 1, 1, 1): Glossy BSDF, white, sharp at roughnessFactor 0 and
   else multiple-scattering GGX of the same roughness (Cycles squares it to GGX's alpha, as glTF does). glTF's
   metal takes its Fresnel term from its base colour, which is 1 at every angle for white;
-- clear glass (KHR_materials_transmission factor 1, metallicFactor 0, a white base colour, KHR_materials_ior,
-  KHR_materials_volume of some thickness, without attenuation: refraction into a solid, not a thin wall): Glass
-  BSDF, white, the same index, sharp or multiple-scattering GGX of the same roughness.
+- glass (KHR_materials_transmission factor 1, metallicFactor 0, a white base colour, KHR_materials_ior,
+  KHR_materials_volume of some thickness: refraction into a solid, not a thin wall): Glass BSDF, white, the
+  same index, sharp or multiple-scattering GGX of the same roughness; the volume's attenuation (colour c at
+  distance d, Beer's law: transmittance c^(x / d) over a length x) as a homogeneous Volume Absorption of
+  coefficient -ln(c) / d per channel.
   Both are the exact dielectric Fresnel term with refraction by Snell's law. A rough lobe keeps in Cycles the
   energy that single-scattering GGX loses by its random walk among the microfacets, in vkrt by its
   compensation (docs/materials.md): the same energy, not quite the same distribution of it.
@@ -157,7 +159,7 @@ def material_kind(gltf, material):
         return "mirror" if not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) else ["emission"]
     if (transmission.get("transmissionFactor", 0.0) == 1.0 and "transmissionTexture" not in transmission and
             metallic == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
-            not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and "attenuationDistance" not in volume and
+            not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and
             volume.get("thicknessFactor", 0.0) > 0.0 and
             set(extensions) <= {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"}):
         return "glass"
@@ -186,6 +188,10 @@ def gltf_materials(path):
             "ior": extensions.get("KHR_materials_ior", {}).get("ior", 1.5),
             "roughness": material.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0),
         }
+        volume = extensions.get("KHR_materials_volume", {})
+        if kind == "glass" and "attenuationDistance" in volume:
+            materials[name]["absorption"] = [-math.log(c) / volume["attenuationDistance"]
+                                             for c in volume.get("attenuationColor", [1.0, 1.0, 1.0])]
         info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
         if info is not None:
             materials[name]["texture"] = texture_image(gltf, info, path)
@@ -274,6 +280,15 @@ def rebuild_material(material, spec):
         if spec["kind"] == "glass":
             node.inputs["IOR"].default_value = spec["ior"]
         tree.links.new(node.outputs["BSDF"], output.inputs["Surface"])
+        if "absorption" in spec:
+            # Beer's law: Cycles' Volume Absorption absorbs (1 - colour) x density per unit length, so the
+            # density is the largest coefficient and each channel's colour 1 - its coefficient / the density.
+            density = max(spec["absorption"])
+            volume = tree.nodes.new("ShaderNodeVolumeAbsorption")
+            volume.inputs["Density"].default_value = density
+            volume.inputs["Color"].default_value = [1.0 - a / density for a in spec["absorption"]] + [1.0]
+            tree.links.new(volume.outputs["Volume"], output.inputs["Volume"])
+            material.cycles.homogeneous_volume = True  # constant density: absorbed in closed form
         return
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = spec["diffuse"] + [1.0]
@@ -438,7 +453,7 @@ def main():
     cycles.glossy_bounces = args.bounces
     cycles.transmission_bounces = args.bounces
     cycles.transparent_max_bounces = args.bounces
-    cycles.volume_bounces = 0  # the scene has no volumes
+    cycles.volume_bounces = 0  # volumes only absorb (glass tinted by Beer's law): nothing scatters in them
     cycles.caustics_reflective = True
     cycles.caustics_refractive = True
     cycles.blur_glossy = 0.0

@@ -72,6 +72,10 @@ and 0.3, index 1.5) balls in a row, triangle meshes with smooth normals, on a La
 term is 1 at every angle, so both renderers mean GGX reflection with all its energy kept (vkrt's compensation,
 Cycles' multiple-scattering GGX).
 
+tinted.gltf: for --environment scenes/soft-sky.hdr and a comparison with Blender Cycles
+(tests/references/tinted-cycles.exr): Beer's law: glass balls of index 1.5 tinted by their volumes'
+attenuation (amber at 1 unit and blue at 0.5, smooth, and green at 0.8, of roughness 0.1) on a Lambertian floor.
+
 lamps.gltf: emitters for a comparison with Blender Cycles (tests/references/lamps-cycles.exr): a panel overhead
 whose emission is striped by its emissive texture (warm, cool and dark stripes, read at the nearest texel)
 and a small glowing ball light a Lambertian floor, wall, box and ball; the panel's back faces the empty space
@@ -580,6 +584,18 @@ def rough():
                      [0.0, 1.6, 5.4], [0.0, 0.45, 0.0], 34.0, 2.0)
 
 
+def tinted():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.5, 0.5, 0.5), specular=0.0)
+    glasses = [("amber", (0.9, 0.55, 0.25), 1.0, 0.0), ("blue", (0.35, 0.6, 0.95), 0.5, 0.0),
+               ("green", (0.45, 0.85, 0.5), 0.8, 0.1)]
+    materials = [g.material(name, base_color=(1.0, 1.0, 1.0), roughness=roughness, transmission=1.0, ior=1.5,
+                            thickness=1.4, attenuation_color=color, attenuation_distance=distance)
+                 for name, color, distance, roughness in glasses]
+    balls_on_a_floor(g, "tinted", floor_material, zip((-1.6, 0.0, 1.6), materials), 0.7,
+                     [0.0, 1.7, 5.6], [0.0, 0.55, 0.0], 40.0, 1.0)
+
+
 def lamps():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     warm, cool, dark = (255, 215, 150, 255), (130, 170, 255, 255), (25, 25, 25, 255)
@@ -883,3 +899,4 @@ if __name__ == "__main__":
     punctual()
     rough()
     lamps()
+    tinted()
