@@ -186,6 +186,13 @@ def checkerboard(size, cells, height):
     return merge(light), merge(dark)
 
 
+def look_and_write(g, name, eye, target, yfov_degrees, aspect_ratio=None):
+    """Adds the camera `name`-camera at `eye` looking at `target` and writes the scene as `name`.gltf."""
+    camera = g.perspective_camera(name + "-camera", math.radians(yfov_degrees), aspect_ratio=aspect_ratio)
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, name + ".gltf"))
+
+
 def checker_floor(g, name, light, dark):
     """A node `name` with a checkerboard 20 units across of 20 x 20 cells at height 0, in materials light and dark."""
     light_cells, dark_cells = checkerboard(10.0, 20, 0.0)
@@ -310,10 +317,7 @@ def glossy():
         g.sphere("glass sphere %d" % k, [x, 0.55, 0.9], 0.55, glass)
     g.sphere("lamp left", [-2.5, 3.2, -1.5], 0.15, lamp)
     g.sphere("lamp right", [2.0, 2.6, 2.5], 0.1, lamp)
-    eye, target = [0.0, 3.0, 8.5], [0.0, 0.45, 0.0]
-    camera = g.perspective_camera("glossy-camera", math.radians(34.0), aspect_ratio=1.6)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "glossy.gltf"))
+    look_and_write(g, "glossy", [0.0, 3.0, 8.5], [0.0, 0.45, 0.0], 34.0, 1.6)
 
 
 def motion_blur():
@@ -386,10 +390,7 @@ def textures():
            extensions={"KHR_lights_punctual": {"light": sun}})
     lamp = g.light({"type": "point", "name": "lamp", "color": [0.9, 0.95, 1.0], "intensity": 25.0})
     g.node("lamp", translation=[2.5, 3.0, 3.0], extensions={"KHR_lights_punctual": {"light": lamp}})
-    eye, target = [0.0, 2.4, 5.2], [0.0, 0.5, 0.0]
-    camera = g.perspective_camera("textures-camera", math.radians(40.0), aspect_ratio=1.6)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "textures.gltf"))
+    look_and_write(g, "textures", [0.0, 2.4, 5.2], [0.0, 0.5, 0.0], 40.0, 1.6)
 
 
 
@@ -471,10 +472,7 @@ def surfaces():
            extensions={"KHR_lights_punctual": {"light": sun}})
     lamp = g.light({"type": "point", "name": "lamp", "color": [0.9, 0.95, 1.0], "intensity": 12.0})
     g.node("lamp", translation=[-2.5, 2.5, 2.5], extensions={"KHR_lights_punctual": {"light": lamp}})
-    eye, target = [0.0, 2.2, 5.0], [0.0, 0.6, -0.3]
-    camera = g.perspective_camera("surfaces-camera", math.radians(45.0), aspect_ratio=1.6)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "surfaces.gltf"))
+    look_and_write(g, "surfaces", [0.0, 2.2, 5.0], [0.0, 0.6, -0.3], 45.0, 1.6)
 
 
 def radiance_hdr(path, width, height, texel):
@@ -540,10 +538,7 @@ def environment():
     g.node("floor", mesh=g.mesh("floor", [(floor[0], None, floor[1], floor_material)]))
     for k, material in enumerate((white, gold, mirror, glass)):
         g.sphere("sphere %d" % k, [-2.4 + 1.6 * k, 0.7, 0.0], 0.7, material)
-    eye, target = [0.0, 2.2, 6.5], [0.0, 0.6, 0.0]
-    camera = g.perspective_camera("environment-camera", math.radians(40.0), aspect_ratio=1.6)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "environment.gltf"))
+    look_and_write(g, "environment", [0.0, 2.2, 6.5], [0.0, 0.6, 0.0], 40.0, 1.6)
 
 
 def balls_on_a_floor(g, name, floor_material, balls, radius, eye, target, yfov_degrees, aspect_ratio):
@@ -556,9 +551,7 @@ def balls_on_a_floor(g, name, floor_material, balls, radius, eye, target, yfov_d
         sphere = uv_sphere([x, radius, 0.0], radius, 32, 64)
         primitives.append((sphere[0], sphere[1], sphere[2], material))
     g.node(name, mesh=g.mesh(name, primitives))
-    camera = g.perspective_camera(name + "-camera", math.radians(yfov_degrees), aspect_ratio=aspect_ratio)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, name + ".gltf"))
+    look_and_write(g, name, eye, target, yfov_degrees, aspect_ratio)
 
 
 def outdoor():
@@ -620,10 +613,7 @@ def lamps():
         (floor[0], None, floor[1], floor_material), (back[0], None, back[1], wall),
         (panel[0], None, panel[1], panel_material, panel_uvs), (block, block_normals, block_indices, slate),
         (ball[0], ball[1], ball[2], chalk), (bead[0], bead[1], bead[2], glow)]))
-    eye, target = [0.0, 1.4, 5.0], [0.0, 1.0, 0.0]
-    camera = g.perspective_camera("lamps-camera", math.radians(45.0), aspect_ratio=1.0)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "lamps.gltf"))
+    look_and_write(g, "lamps", [0.0, 1.4, 5.0], [0.0, 1.0, 0.0], 45.0, 1.0)
 
 
 def punctual():
@@ -656,10 +646,7 @@ def punctual():
     sun = g.light({"type": "directional", "name": "sun", "color": [0.85, 0.9, 1.0], "intensity": 1.2})
     g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [-0.45, -1.0, -0.6]),
            extensions={"KHR_lights_punctual": {"light": sun}})
-    eye, target = [0.0, 2.3, 6.4], [0.0, 0.8, 0.0]
-    camera = g.perspective_camera("punctual-camera", math.radians(40.0), aspect_ratio=1.0)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "punctual.gltf"))
+    look_and_write(g, "punctual", [0.0, 2.3, 6.4], [0.0, 0.8, 0.0], 40.0, 1.0)
 
 
 def studio():
@@ -680,10 +667,7 @@ def studio():
                   (softbox[0], None, softbox[1], panel), (block, None, block_indices, orange),
                   (ball[0], ball[1], ball[2], blue)]
     g.node("studio", mesh=g.mesh("studio", primitives))
-    eye, target = [0.0, 0.9, 4.2], [0.0, 0.45, 0.0]
-    camera = g.perspective_camera("studio-camera", math.radians(36.0), aspect_ratio=1.0)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "studio.gltf"))
+    look_and_write(g, "studio", [0.0, 0.9, 4.2], [0.0, 0.45, 0.0], 36.0, 1.0)
 
 
 def axis_angle(axis, degrees):
@@ -866,10 +850,7 @@ def csg():
     g.shape("lamp", "box", lamp, translation=[0.5, 5.0, 1.0], scale=[1.0, 0.04, 0.7])
     point = g.light({"type": "point", "name": "fill", "color": [0.9, 0.95, 1.0], "intensity": 40.0})
     g.node("fill", translation=[-4.0, 6.0, 5.0], extensions={"KHR_lights_punctual": {"light": point}})
-    eye, target = [0.0, 3.0, 7.4], [0.0, 0.5, -0.3]
-    camera = g.perspective_camera("csg-camera", math.radians(40.0), aspect_ratio=1.6)
-    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
-    g.write(os.path.join(OUTPUT, "csg.gltf"))
+    look_and_write(g, "csg", [0.0, 3.0, 7.4], [0.0, 0.5, -0.3], 40.0, 1.6)
 
 
 if __name__ == "__main__":
