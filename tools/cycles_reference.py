@@ -1,9 +1,9 @@
 """Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
 
-Made for scenes/cornell.gltf, scenes/outdoor.gltf and scenes/punctual.gltf, whose materials are each one that Cycles means the same
-by: the scene's geometry and camera come through Blender's own glTF importer, and every material is then
-rebuilt from the glTF file itself (read here as JSON, matched to Blender's materials by name), so nothing of
-the importer's Principled BSDF conversion is left:
+Made for scenes/cornell.gltf, outdoor.gltf, rough.gltf, tinted.gltf, punctual.gltf and lamps.gltf, whose
+materials and lights are each one that Cycles means the same by: the scene's geometry, camera and lights' places
+come through Blender's own glTF importer, and every material and light is then rebuilt from the glTF file itself
+(read here as JSON, matched to Blender's by name), so nothing of the importer's conversions is left:
 
 - purely Lambertian (KHR_materials_specular with specularFactor 0), with an optional emission:
   Diffuse BSDF (colour = baseColorFactor's RGB, roughness 0: Lambert)
@@ -24,8 +24,8 @@ A Lambertian material may have a base colour texture (multiplied by baseColorFac
 emissive texture (multiplied by emissiveFactor and the strength), each where
 Cycles samples it as vkrt does: TEXCOORD_0, no KHR_texture_transform, a sampler of magFilter and minFilter
 NEAREST (the nearest texel, no mipmaps: Cycles' Closest interpolation) that repeats (REPEAT both ways), an image
-in sRGB. Other textures, other metals, rough or tinted glass and the other extensions are not supported: the
-script stops on a material that has them.
+in sRGB. Other textures, other metals, thin or textured transmission and the other extensions are not
+supported: the script stops on a material that has them.
 
 Punctual lights (KHR_lights_punctual), each named: a point light of intensity I candela is taken as I watts
 per steradian (vkrt's convention: irradiance I / d^2), which is a Cycles point light of radius 0 and power
@@ -96,17 +96,18 @@ def arguments():
     return parser.parse_args(argv)
 
 
-def texture_problems(gltf, info):
-    """What stops Cycles sampling the base colour texture `info` (a textureInfo) as vkrt does, if anything."""
+def texture_problems(gltf, info, key):
+    """What stops Cycles sampling the texture `info` (the textureInfo `key` of a material) as vkrt does, if
+    anything."""
     problems = []
     if info.get("texCoord", 0) != 0 or info.get("extensions"):
-        problems.append("baseColorTexture read through TEXCOORD_1 or a KHR_texture_transform")
+        problems.append(key + " read through TEXCOORD_1 or a KHR_texture_transform")
     texture = gltf["textures"][info["index"]]
     sampler = gltf.get("samplers", [])[texture["sampler"]] if "sampler" in texture else {}
     if sampler.get("magFilter") != 9728 or sampler.get("minFilter") != 9728:
-        problems.append("baseColorTexture not sampled at the nearest texel without mipmaps (NEAREST)")
+        problems.append(key + " not sampled at the nearest texel without mipmaps (NEAREST)")
     if sampler.get("wrapS", 10497) != 10497 or sampler.get("wrapT", 10497) != 10497:
-        problems.append("baseColorTexture not repeated (REPEAT)")
+        problems.append(key + " not repeated (REPEAT)")
     return problems
 
 
@@ -127,19 +128,18 @@ def texture_image(gltf, info, scene_path):
 
 
 def material_kind(gltf, material):
-    """What `material` (a glTF material) is to Cycles: "lambert", "mirror" or "glass", or a list of what stops
+    """What `material` (a glTF material) is to Cycles: "lambert", "metal" or "glass", or a list of what stops
     it being any of them."""
     pbr = material.get("pbrMetallicRoughness", {})
     extensions = material.get("extensions", {})
     problems = ["metallicRoughnessTexture"] if "metallicRoughnessTexture" in pbr else []
     if "baseColorTexture" in pbr:
-        problems += texture_problems(gltf, pbr["baseColorTexture"])
+        problems += texture_problems(gltf, pbr["baseColorTexture"], "baseColorTexture")
         if pbr.get("metallicFactor", 1.0) != 0.0 or extensions.get("KHR_materials_transmission"):
             problems.append("baseColorTexture on other than a Lambertian material")
     problems += [key for key in ("normalTexture", "occlusionTexture") if key in material]
     if "emissiveTexture" in material:
-        problems += [p.replace("baseColorTexture", "emissiveTexture")
-                     for p in texture_problems(gltf, material["emissiveTexture"])]
+        problems += texture_problems(gltf, material["emissiveTexture"], "emissiveTexture")
     if material.get("alphaMode", "OPAQUE") != "OPAQUE":
         problems.append("alphaMode %s" % material["alphaMode"])
     base = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))[:3]
@@ -156,7 +156,7 @@ def material_kind(gltf, material):
                                                             "KHR_materials_specular")]
         return ["extension " + key for key in unknown] or "lambert"
     if not transmission and not extensions and metallic == 1.0 and base == [1.0, 1.0, 1.0]:
-        return "mirror" if not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) else ["emission"]
+        return "metal" if not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) else ["emission"]
     if (transmission.get("transmissionFactor", 0.0) == 1.0 and "transmissionTexture" not in transmission and
             metallic == 0.0 and base == [1.0, 1.0, 1.0] and not specular and
             not any(material.get("emissiveFactor", [0.0, 0.0, 0.0])) and
@@ -270,10 +270,10 @@ def rebuild_material(material, spec):
     tree.nodes.clear()
     output = tree.nodes.new("ShaderNodeOutputMaterial")
     output.target = "ALL"
-    if spec["kind"] in ("mirror", "glass"):
+    if spec["kind"] in ("metal", "glass"):
         # Cycles' roughness input is glTF's (GGX's alpha is its square in both); rough lobes keep the energy
         # that single-scattering GGX loses, as vkrt's compensation does.
-        node = tree.nodes.new("ShaderNodeBsdfGlossy" if spec["kind"] == "mirror" else "ShaderNodeBsdfGlass")
+        node = tree.nodes.new("ShaderNodeBsdfGlossy" if spec["kind"] == "metal" else "ShaderNodeBsdfGlass")
         node.distribution = "SHARP" if spec["roughness"] == 0.0 else "MULTI_GGX"
         node.inputs["Roughness"].default_value = spec["roughness"]
         node.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
@@ -393,12 +393,16 @@ def main():
             sys.exit("Blender material %r is not a material of %s" % (material.name, args.scene))
         rebuild_material(material, specs[material.name])
         spec = specs[material.name]
-        print("material %r: %s" % (material.name, "diffuse %s%s, emission %s%s" % (
-                                       spec["diffuse"], " x texture" if "texture" in spec else "", spec["emission"],
-                                       " x texture" if "emissive texture" in spec else "")
-                                   if spec["kind"] == "lambert" else
-                                   "glass of index %g, roughness %g" % (spec["ior"], spec["roughness"]) if spec["kind"] == "glass" else
-                                   "white metal of roughness %g" % spec["roughness"]))
+        if spec["kind"] == "lambert":
+            what = "diffuse %s%s, emission %s%s" % (spec["diffuse"], " x texture" if "texture" in spec else "",
+                                                    spec["emission"], " x texture" if "emissive texture" in spec else "")
+        elif spec["kind"] == "glass":
+            what = "glass of index %g, roughness %g%s" % (spec["ior"], spec["roughness"],
+                                                          ", absorbing %s" % spec["absorption"]
+                                                          if "absorption" in spec else "")
+        else:
+            what = "white metal of roughness %g" % spec["roughness"]
+        print("material %r: %s" % (material.name, what))
     missing = set(specs) - {m.name for m in used}
     if missing:
         print("note: glTF materials not used by any object:", ", ".join(sorted(missing)))

@@ -8,9 +8,10 @@ a checker texture (with holes in its alpha), a normal map, a metallic-roughness,
 or vertex colours, textures now and then through a KHR_texture_transform or read through TEXCOORD_1; meshes now
 and then mirrored, shown twice, morphed, skinned or without normals; 0 to 3 punctual lights of each kind, a
 perspective or orthographic camera over it all, now and then with a lens, and now and then an object, a morph's
-weight or a joint moving while the shutter is open. The same seed writes the same file; --scale and --offset scale and move all of it (camera, lights and
-lens too, a point light's intensity by the scale's square), so that the same image should come out of the same
-scene far smaller, larger or further from the origin: a check of numerical stability.
+weight or a joint moving while the shutter is open. The same seed writes the same file; --scale and --offset
+scale and move all of it (camera, lights and lens too, a point light's intensity by the scale's square), so that
+the same image should come out of the same scene far smaller, larger or further from the origin: a check of
+numerical stability.
 
 Usage: python3 tools/random_scenes.py SEED OUTPUT.gltf [--scale S] [--offset X Y Z]
 """
