@@ -1,6 +1,6 @@
 """Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
 
-Made for scenes/cornell.gltf, outdoor.gltf, rough.gltf, tinted.gltf, punctual.gltf and lamps.gltf, whose
+Made for scenes/cornell.gltf, outdoor.gltf, rough.gltf, tinted.gltf, punctual.gltf, lamps.gltf and lens.gltf, whose
 materials and lights are each one that Cycles means the same by: the scene's geometry, camera and lights' places
 come through Blender's own glTF importer, and every material and light is then rebuilt from the glTF file itself
 (read here as JSON, matched to Blender's by name), so nothing of the importer's conversions is left:
@@ -36,6 +36,9 @@ white Lambertian plane 2 below a 100 W point light reads 0.6237 (100 / (4 pi 4) 
 has no Cycles counterpart, and Cycles 3.4's spot light is dimmed by the cosine of the angle to its axis (the
 same measurement: 0.87 of the point light's at 30 degrees off its axis), which glTF's is not: the script stops
 on either. The importer places each light; its power and colour are set here from the glTF file.
+
+A lens (vkrt's camera extras `aperture` and `focusDistance`) is Cycles' depth of field of the same radius and
+plane in focus, a round aperture.
 
 Emission: vkrt's glTF emission is one-sided (only the front face emits), Cycles' Emission shader emits from
 both sides. In the Cornell box the lamp's back side faces the empty space above the hole in the ceiling,
@@ -343,6 +346,25 @@ def environment_world(scene, path, strength, rotation_degrees):
           % (path, texture.image.size[0], texture.image.size[1], strength, rotation_degrees))
 
 
+def set_lens(data, gltf):
+    """vkrt's thin lens (the camera's extras: `aperture`, the lens's radius, and `focusDistance`, the distance of
+    the plane in focus along the view) as Cycles' depth of field, or none. Cycles' lens radius is the focal
+    length (in millimetres, 1e-3 scene units) over twice the f-number, so the f-number is lens x 1e-3 / (2 x
+    radius); its plane in focus also lies across the view at the focus distance."""
+    extras = gltf["cameras"][0].get("extras", {}) if gltf.get("cameras") else {}
+    radius = extras.get("aperture", 0.0)
+    data.dof.use_dof = radius > 0.0
+    if radius > 0.0:
+        data.dof.focus_object = None
+        data.dof.focus_distance = extras["focusDistance"]
+        data.dof.aperture_fstop = data.lens * 1e-3 / (2.0 * radius)
+        data.dof.aperture_blades = 0  # a round lens
+        data.dof.aperture_rotation = 0.0
+        data.dof.aperture_ratio = 1.0
+        print("lens: radius %g (f-number %.9g at focal length %.9g mm), focus distance %g"
+              % (radius, data.dof.aperture_fstop, data.lens, data.dof.focus_distance))
+
+
 def camera_report(scene, gltf):
     camera = scene.camera
     data = camera.data
@@ -413,7 +435,7 @@ def main():
     if len(cameras) != 1:
         sys.exit("expected one camera in the scene, found %d" % len(cameras))
     scene.camera = cameras[0]
-    scene.camera.data.dof.use_dof = False
+    set_lens(scene.camera.data, gltf)
     if args.environment:
         environment_world(scene, os.path.abspath(args.environment), args.environment_strength,
                           args.environment_rotation)

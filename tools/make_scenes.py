@@ -76,6 +76,11 @@ tinted.gltf: for --environment scenes/soft-sky.hdr and a comparison with Blender
 (tests/references/tinted-cycles.exr): Beer's law: glass balls of index 1.5 tinted by their volumes'
 attenuation (amber at 1 unit and blue at 0.5, smooth, and green at 0.8, of roughness 0.1) on a Lambertian floor.
 
+lens.gltf: for --environment scenes/soft-sky.hdr and a comparison with Blender Cycles
+(tests/references/lens-cycles.exr): depth of field: Lambertian balls receding over a checkered Lambertian floor
+(a texture read at the nearest texel) under the sky and a sun, seen through a thin lens of radius 0.08 focused
+on the second ball.
+
 lamps.gltf: emitters for a comparison with Blender Cycles (tests/references/lamps-cycles.exr): a panel overhead
 whose emission is striped by its emissive texture (warm, cool and dark stripes, read at the nearest texel)
 and a small glowing ball light a Lambertian floor, wall, box and ball; the panel's back faces the empty space
@@ -589,6 +594,33 @@ def tinted():
                      [0.0, 1.7, 5.6], [0.0, 0.55, 0.0], 40.0, 1.0)
 
 
+def lens():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    checker = g.texture("checker", 2, 2, [(210, 210, 200, 255), (60, 70, 90, 255), (60, 70, 90, 255),
+                                          (210, 210, 200, 255)], nearest=True, mipmaps=False)
+    floor_material = g.material("floor", base_color=(0.9, 0.9, 0.9), specular=0.0,
+                                base_color_texture=g.texture_info(checker))
+    floor = quad([[-10.0, 0.0, -14.0], [10.0, 0.0, -14.0], [10.0, 0.0, 6.0], [-10.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    floor_uvs = [[p[0] + 10.0, p[2] + 14.0] for p in floor[0]]  # a cell of the checker half a unit across
+    primitives = [(floor[0], None, floor[1], floor_material, floor_uvs)]
+    for k, (x, z, color) in enumerate(((-0.8, 1.0, (0.8, 0.3, 0.2)), (0.7, -1.5, (0.2, 0.6, 0.3)),
+                                       (-0.6, -4.5, (0.25, 0.35, 0.8)), (2.2, -8.0, (0.85, 0.7, 0.2)))):
+        ball = uv_sphere([x, 0.5, z], 0.5, 32, 64)
+        primitives.append((ball[0], ball[1], ball[2], g.material("ball %d" % k, base_color=color, specular=0.0)))
+    g.node("lens", mesh=g.mesh("lens", primitives))
+    sun = g.light({"type": "directional", "name": "sun", "color": [1.0, 0.95, 0.85], "intensity": 1.5})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.6, -1.0, -0.4]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    eye, target = [0.0, 1.0, 4.0], [0.2, 0.5, -2.0]
+    forward = [target[i] - eye[i] for i in range(3)]
+    ball = [0.7 - eye[0], 0.5 - eye[1], -1.5 - eye[2]]  # the second ball's middle, in focus
+    focus = dot(ball, forward) / math.sqrt(dot(forward, forward))
+    camera = g.perspective_camera("lens-camera", math.radians(40.0), aspect_ratio=1.5, aperture=0.08,
+                                  focus_distance=round(focus, 4))
+    g.node("camera", camera=camera, translation=eye, rotation=look_at_rotation(eye, target))
+    g.write(os.path.join(OUTPUT, "lens.gltf"))
+
+
 def lamps():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     warm, cool, dark = (255, 215, 150, 255), (130, 170, 255, 255), (25, 25, 25, 255)
@@ -881,3 +913,4 @@ if __name__ == "__main__":
     rough()
     lamps()
     tinted()
+    lens()

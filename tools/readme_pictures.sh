@@ -39,6 +39,8 @@ vkrt --scene scenes/rough.gltf --width 192 --height 96 --spp 1024 --environment 
     --out "$out/rough-192-cpu.png"
 vkrt --scene scenes/tinted.gltf --width 128 --spp 1024 --environment scenes/soft-sky.hdr --tonemap clamp \
     --out "$out/tinted-128-cpu.png"
+vkrt --scene scenes/lens.gltf --width 192 --spp 1024 --environment scenes/soft-sky.hdr --tonemap clamp \
+    --out "$out/lens-192-cpu.png"
 vkrt --scene scenes/lamps.gltf --width 128 --spp 1024 --tonemap clamp --out "$out/lamps-128-cpu.png"
 vkrt --scene scenes/punctual.gltf --width 128 --spp 1024 --tonemap clamp --out "$out/punctual-128-cpu.png"
 vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
