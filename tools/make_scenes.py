@@ -191,6 +191,12 @@ def checkerboard(size, cells, height):
     return merge(light), merge(dark)
 
 
+def checker_texture(g, light, dark, mipmaps=True):
+    """A 2 x 2 checker of the RGB colours `light` and `dark`, read at the nearest texel when magnified."""
+    return g.texture("checker", 2, 2, [light + (255,), dark + (255,), dark + (255,), light + (255,)], nearest=True,
+                     mipmaps=mipmaps)
+
+
 def look_and_write(g, name, eye, target, yfov_degrees, aspect_ratio=None):
     """Adds the camera `name`-camera at `eye` looking at `target` and writes the scene as `name`.gltf."""
     camera = g.perspective_camera(name + "-camera", math.radians(yfov_degrees), aspect_ratio=aspect_ratio)
@@ -355,8 +361,7 @@ def motion_blur():
 def textures():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     # Uncompressed PNGs (zlib level 0) keep the file the same bytes whatever zlib builds it.
-    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (70, 90, 120, 255),
-                                          (70, 90, 120, 255), (235, 235, 235, 255)], nearest=True)
+    checker = checker_texture(g, (235, 235, 235), (70, 90, 120))
     # Sixteen bands around a sphere: metal and smooth, then dielectric and rough (blue metal, green roughness).
     bands = g.texture("bands", 16, 1, [(0, 40, 255, 255) if k % 2 == 0 else (0, 230, 0, 255) for k in range(16)],
                       nearest=True)
@@ -401,8 +406,7 @@ def textures():
 
 def surfaces():
     g = GltfBuilder("vkrt tools/make_scenes.py")
-    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (120, 125, 135, 255),
-                                          (120, 125, 135, 255), (235, 235, 235, 255)], nearest=True)
+    checker = checker_texture(g, (235, 235, 235), (120, 125, 135))
     floor_material = g.material("floor", base_color=(1.0, 1.0, 1.0),
                                 base_color_texture=g.texture_info(checker, scale=[10.0, 10.0]))
     floor = quad([[-5.0, 0.0, -5.0], [5.0, 0.0, -5.0], [5.0, 0.0, 5.0], [-5.0, 0.0, 5.0]], [0.0, 1.0, 0.0])
@@ -596,8 +600,7 @@ def tinted():
 
 def lens():
     g = GltfBuilder("vkrt tools/make_scenes.py")
-    checker = g.texture("checker", 2, 2, [(210, 210, 200, 255), (60, 70, 90, 255), (60, 70, 90, 255),
-                                          (210, 210, 200, 255)], nearest=True, mipmaps=False)
+    checker = checker_texture(g, (210, 210, 200), (60, 70, 90), mipmaps=False)
     floor_material = g.material("floor", base_color=(0.9, 0.9, 0.9), specular=0.0,
                                 base_color_texture=g.texture_info(checker))
     floor = quad([[-10.0, 0.0, -14.0], [10.0, 0.0, -14.0], [10.0, 0.0, 6.0], [-10.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
@@ -650,8 +653,7 @@ def lamps():
 
 def punctual():
     g = GltfBuilder("vkrt tools/make_scenes.py")
-    checker = g.texture("checker", 2, 2, [(200, 200, 200, 255), (70, 90, 120, 255)] * 1 +
-                        [(70, 90, 120, 255), (200, 200, 200, 255)], nearest=True, mipmaps=False)
+    checker = checker_texture(g, (200, 200, 200), (70, 90, 120), mipmaps=False)
     red, green, blue, yellow = (200, 40, 30, 255), (40, 170, 60, 255), (40, 70, 200, 255), (230, 200, 40, 255)
     quadrants = g.texture("quadrants", 4, 4, [(red if x < 2 else green) if y < 2 else (blue if x < 2 else yellow)
                                               for y in range(4) for x in range(4)], nearest=True, mipmaps=False)
@@ -866,8 +868,7 @@ def csg():
             rotation=quaternion_product(axis_angle(up, -30.0), axis_angle([0.0, 0.0, 1.0], 25.0)),
             scale=[0.75, 0.45, 0.45])
     # A slab, turned, with a checker (4 x 4 squares a face, in the box's texture coordinates).
-    checker = g.texture("checker", 2, 2, [(235, 235, 235, 255), (200, 40, 30, 255),
-                                          (200, 40, 30, 255), (235, 235, 235, 255)], nearest=True)
+    checker = checker_texture(g, (235, 235, 235), (200, 40, 30))
     checked = g.material("checker", base_color=(1.0, 1.0, 1.0), specular=0.0,
                          base_color_texture=g.texture_info(checker, scale=[2.0, 2.0]))
     g.shape("slab", "box", checked, translation=[1.0, 0.3, 1.1], rotation=axis_angle(up, 35.0),
