@@ -1,7 +1,7 @@
 """Renders an independent reference image of a vkrt glTF scene with Blender's Cycles path tracer.
 
-Made for scenes/cornell.gltf, outdoor.gltf, rough.gltf, tinted.gltf, punctual.gltf, lamps.gltf and lens.gltf, whose
-materials and lights are each one that Cycles means the same by: the scene's geometry, camera and lights' places
+Made for scenes/cornell.gltf, outdoor.gltf, rough.gltf, tinted.gltf, punctual.gltf, lamps.gltf, lens.gltf and
+streaks.gltf, whose materials and lights are each one that Cycles means the same by: the scene's geometry, camera and lights' places
 come through Blender's own glTF importer, and every material and light is then rebuilt from the glTF file itself
 (read here as JSON, matched to Blender's by name), so nothing of the importer's conversions is left:
 
@@ -36,6 +36,12 @@ white Lambertian plane 2 below a 100 W point light reads 0.6237 (100 / (4 pi 4) 
 has no Cycles counterpart, and Cycles 3.4's spot light is dimmed by the cosine of the angle to its axis (the
 same measurement: 0.87 of the point light's at 30 degrees off its axis), which glTF's is not: the script stops
 on either. The importer places each light; its power and colour are set here from the glTF file.
+
+Motion blur: vkrt's shutter (--shutter OPEN CLOSE as vkrt's option, else the scene's extras {"shutter": [open,
+close]}) as Cycles' motion blur of the same interval. The importer keys the file's animation at one frame a
+second (render.fps 1), Cycles' shutter opens at that frame (position START) and lasts as many frames, with a box
+shutter curve, and each object's transform is taken at 2^6 steps. Only LINEAR translation, rotation and scale of
+nodes without a camera or a light may move (gltf_shutter says why).
 
 A lens (vkrt's camera extras `aperture` and `focusDistance`) is Cycles' depth of field of the same radius and
 plane in focus, a round aperture.
@@ -96,6 +102,9 @@ def arguments():
     parser.add_argument("--environment-strength", type=float, default=1.0, help="the map's factor [1]")
     parser.add_argument("--environment-rotation", type=float, default=0.0,
                         help="degrees about glTF's +Y, as vkrt's option [0]")
+    parser.add_argument("--shutter", type=float, nargs=2, metavar=("OPEN", "CLOSE"),
+                        help="seconds of the file's animation timeline, as vkrt's option [the scene's extras, "
+                        "else closed at 0]")
     return parser.parse_args(argv)
 
 
@@ -219,6 +228,56 @@ def gltf_lights(gltf):
                         "energy": 4.0 * math.pi * intensity if light["type"] == "point" else intensity,
                         "color": list(light.get("color", [1.0, 1.0, 1.0]))}
     return lights
+
+
+def gltf_shutter(gltf, requested):
+    """vkrt's shutter (seconds of the file's animation timeline): --shutter, else the scene's extras, else closed
+    at 0. Only what Cycles blurs as vkrt does may move: nodes animated by LINEAR translation, rotation and scale
+    (Cycles samples each object's transform at 2^6 steps over the shutter and interpolates between them, as
+    vkrt follows 16 segments, exact for translation; STEP or CUBICSPLINE keys and morph weights would not mean
+    the same), and no camera or light (vkrt keeps them where they are at the shutter's opening)."""
+    shutter = requested or gltf["scenes"][gltf.get("scene", 0)].get("extras", {}).get("shutter", [0.0, 0.0])
+    animations = gltf.get("animations", [])
+    if shutter[1] > shutter[0] and animations:
+        parents = {child: parent for parent, node in enumerate(gltf["nodes"]) for child in node.get("children", [])}
+        animation = animations[0]  # the one vkrt plays, as Blender's importer leaves it on the objects
+        for channel in animation["channels"]:
+            sampler = animation["samplers"][channel["sampler"]]
+            node = channel["target"].get("node")
+            if channel["target"]["path"] == "weights" or sampler.get("interpolation", "LINEAR") != "LINEAR":
+                sys.exit("animation channel of node %s: only LINEAR translation, rotation and scale are supported"
+                         % node)
+            below = [node]
+            while below[-1] in parents:
+                below.append(parents[below[-1]])
+            for index in below:
+                if "camera" in gltf["nodes"][index] or "KHR_lights_punctual" in gltf["nodes"][index].get(
+                        "extensions", {}):
+                    sys.exit("node %d moves a camera or a light, which vkrt keeps where the shutter opens" % node)
+    return shutter
+
+
+def set_motion_blur(scene, shutter):
+    """Cycles' motion blur over the shutter [open, close] (the importer made one frame a second: render.fps 1),
+    opening at the current frame (position START), a box shutter curve, no rolling shutter; or none where the
+    shutter is closed, at its time."""
+    render = scene.render
+    start = math.floor(shutter[0])
+    scene.frame_set(int(start), subframe=shutter[0] - start)
+    render.use_motion_blur = shutter[1] > shutter[0]
+    if not render.use_motion_blur:
+        return
+    render.motion_blur_shutter = shutter[1] - shutter[0]
+    scene.cycles.motion_blur_position = "START"
+    scene.cycles.rolling_shutter_type = "NONE"
+    if any(point.location[1] != 1.0 for point in render.motion_blur_shutter_curve.curves[0].points):
+        sys.exit("Cycles' shutter curve is not a box")
+    for ob in scene.objects:
+        ob.cycles.use_motion_blur = True
+        ob.cycles.motion_steps = 7  # 2^6 steps
+    print("motion blur: shutter %g to %g s, frame %d + %g, %d objects move"
+          % (shutter[0], shutter[1], scene.frame_current, scene.frame_subframe,
+             sum(1 for ob in scene.objects if ob.animation_data and ob.animation_data.action)))
 
 
 def set_lights(scene, lights):
@@ -404,6 +463,9 @@ def main():
     import numpy
     if "bool" not in numpy.__dict__:
         numpy.bool = bool
+    shutter = gltf_shutter(gltf, args.shutter)
+    bpy.context.scene.render.fps = 1  # the importer keys frames at seconds x fps: one frame a second
+    bpy.context.scene.render.fps_base = 1.0
     bpy.ops.import_scene.gltf(filepath=scene_path)
     scene = bpy.context.scene
 
@@ -448,7 +510,6 @@ def main():
     render.resolution_percentage = 100
     render.pixel_aspect_x = render.pixel_aspect_y = 1.0
     render.use_border = False
-    render.use_motion_blur = False
     render.film_transparent = False
     render.use_compositing = False
     render.use_sequencer = False
@@ -514,6 +575,7 @@ def main():
     render.use_file_extension = False
     render.filepath = out_path
 
+    set_motion_blur(scene, shutter)
     camera_report(scene, gltf)
     print("Blender %s, Cycles on CPU with %d threads: %dx%d, %d samples per pixel, seed %d"
           % (bpy.app.version_string, args.threads, args.width, args.height, args.spp, args.seed))

@@ -86,6 +86,12 @@ whose emission is striped by its emissive texture (warm, cool and dark stripes, 
 and a small glowing ball light a Lambertian floor, wall, box and ball; the panel's back faces the empty space
 above it, where the wall ends (vkrt's emission is one-sided, Cycles' two-sided).
 
+streaks.gltf: motion blur for a comparison with Blender Cycles (tests/references/streaks-cycles.exr): over
+the scene's one-second shutter, a ball slides 2 units along x (a LINEAR translation) and a box moves 1.2 units
+towards the camera while it turns 90 degrees about y (its rotation keyed every 11.25 degrees, so that Blender's
+interpolation of the keys by normalised components is glTF's spherical one), beside a still ball on a floor
+checkered by a texture read at the nearest texel, under a point light and a sun. Every material is Lambertian.
+
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
 they cover (docs/integrators.md). Every surface is Lambertian.
@@ -683,6 +689,41 @@ def punctual():
     look_and_write(g, "punctual", [0.0, 2.3, 6.4], [0.0, 0.8, 0.0], 40.0, 1.0)
 
 
+def streaks():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    checker = checker_texture(g, (200, 200, 200), (70, 90, 120), mipmaps=False)
+    floor_material = g.material("floor", base_color=(0.9, 0.9, 0.9), specular=0.0,
+                                base_color_texture=g.texture_info(checker))
+    clay = g.material("clay", base_color=(0.8, 0.45, 0.3), specular=0.0)
+    slate = g.material("slate", base_color=(0.3, 0.45, 0.75), specular=0.0)
+    chalk = g.material("chalk", base_color=(0.8, 0.8, 0.75), specular=0.0)
+    floor = quad([[-8.0, 0.0, -8.0], [8.0, 0.0, -8.0], [8.0, 0.0, 8.0], [-8.0, 0.0, 8.0]], [0.0, 1.0, 0.0])
+    floor_uvs = [[(p[0] + 8.0) / 2.0, (p[2] + 8.0) / 2.0] for p in floor[0]]  # a cell of the checker a unit across
+    still = uv_sphere([-0.6, 0.4, -1.6], 0.4, 32, 64)
+    g.node("floor and still ball", mesh=g.mesh("floor and still ball", [
+        (floor[0], None, floor[1], floor_material, floor_uvs), (still[0], still[1], still[2], chalk)]))
+    # Over the one-second shutter: a ball sliding 2 units along x (LINEAR translation), and a box moving 1.2
+    # units towards the camera while it turns 90 degrees about y, its rotation keyed every 11.25 degrees (so
+    # that any interpolation of the keys between them, spherical or by normalised components, is the same turn).
+    ball = uv_sphere([0.0, 0.0, 0.0], 0.5, 32, 64)
+    slider = g.node("sliding ball", mesh=g.mesh("ball", [(ball[0], ball[1], ball[2], clay)]),
+                    translation=[-1.9, 0.5, 0.5])
+    g.animate(slider, "translation", [0.0, 1.0], [[-1.9, 0.5, 0.5], [0.1, 0.5, 0.5]])
+    block, block_normals, block_indices, _ = box([0.0, 0.0, 0.0], [0.45, 0.45, 0.45])
+    turner = g.node("turning box", mesh=g.mesh("box", [(block, block_normals, block_indices, slate)]),
+                    translation=[1.5, 0.45, -1.0])
+    g.animate(turner, "translation", [0.0, 1.0], [[1.5, 0.45, -1.0], [1.5, 0.45, 0.2]])
+    keys = [k / 8.0 for k in range(9)]
+    g.animate(turner, "rotation", keys, [axis_angle([0.0, 1.0, 0.0], 90.0 * k) for k in keys])
+    g.gltf["scenes"][0]["extras"] = {"shutter": [0.0, 1.0]}
+    point = g.light({"type": "point", "name": "warm point", "color": [1.0, 0.85, 0.7], "intensity": 5.0})
+    g.node("point", translation=[-1.0, 2.6, 2.4], extensions={"KHR_lights_punctual": {"light": point}})
+    sun = g.light({"type": "directional", "name": "sun", "color": [0.9, 0.92, 1.0], "intensity": 1.2})
+    g.node("sun", rotation=look_at_rotation([0.0, 0.0, 0.0], [0.5, -1.0, -0.45]),
+           extensions={"KHR_lights_punctual": {"light": sun}})
+    look_and_write(g, "streaks", [0.0, 2.4, 6.0], [0.0, 0.5, -0.2], 38.0, 1.5)
+
+
 def studio():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     white = g.material("white", base_color=(0.8, 0.8, 0.8), specular=0.0)
@@ -915,3 +956,4 @@ if __name__ == "__main__":
     lamps()
     tinted()
     lens()
+    streaks()
