@@ -92,6 +92,10 @@ towards the camera while it turns 90 degrees about y (its rotation keyed every 1
 interpolation of the keys by normalised components is glTF's spherical one), beside a still ball on a floor
 checkered by a texture read at the nearest texel, under a point light and a sun. Every material is Lambertian.
 
+spots.gltf: two spot lights for a comparison with Blender Cycles (tests/references/spots-cycles.exr): a warm one
+with a soft edge (inner cone 15 degrees, outer 32) over a ball, and a cool one soft all the way in (inner 0,
+outer 22) raking a wall past a box; every material Lambertian, nothing else lit but by them.
+
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
 they cover (docs/integrators.md). Every surface is Lambertian.
@@ -724,6 +728,34 @@ def streaks():
     look_and_write(g, "streaks", [0.0, 2.4, 6.0], [0.0, 0.5, -0.2], 38.0, 1.5)
 
 
+def spots():
+    g = GltfBuilder("vkrt tools/make_scenes.py")
+    floor_material = g.material("floor", base_color=(0.75, 0.75, 0.75), specular=0.0)
+    wall = g.material("wall", base_color=(0.6, 0.6, 0.6), specular=0.0)
+    clay = g.material("clay", base_color=(0.8, 0.45, 0.3), specular=0.0)
+    slate = g.material("slate", base_color=(0.3, 0.45, 0.75), specular=0.0)
+    floor = quad([[-5.0, 0.0, -2.0], [5.0, 0.0, -2.0], [5.0, 0.0, 6.0], [-5.0, 0.0, 6.0]], [0.0, 1.0, 0.0])
+    back = quad([[-5.0, 0.0, -2.0], [5.0, 0.0, -2.0], [5.0, 4.0, -2.0], [-5.0, 4.0, -2.0]], [0.0, 0.0, 1.0])
+    block, block_normals, block_indices, _ = box([0.9, 0.4, -0.6], [0.4, 0.4, 0.4])
+    ball = uv_sphere([-0.9, 0.5, 0.0], 0.5, 32, 64)
+    g.node("spots", mesh=g.mesh("spots", [
+        (floor[0], None, floor[1], floor_material), (back[0], None, back[1], wall),
+        (block, block_normals, block_indices, slate), (ball[0], ball[1], ball[2], clay)]))
+    # Two spot lights: a warm one with a soft edge (inner 15, outer 32 degrees) over the ball, and a cool one
+    # with the edge soft all the way in (inner 0, outer 22 degrees) raking the wall past the box.
+    warm = g.light({"type": "spot", "name": "warm spot", "color": [1.0, 0.85, 0.65], "intensity": 15.0,
+                    "spot": {"innerConeAngle": math.radians(15.0), "outerConeAngle": math.radians(32.0)}})
+    position = [-1.3, 2.8, 1.4]
+    g.node("warm spot", translation=position, rotation=look_at_rotation(position, [-0.7, 0.0, -0.4]),
+           extensions={"KHR_lights_punctual": {"light": warm}})
+    cool = g.light({"type": "spot", "name": "cool spot", "color": [0.7, 0.8, 1.0], "intensity": 40.0,
+                    "spot": {"innerConeAngle": 0.0, "outerConeAngle": math.radians(22.0)}})
+    position = [2.4, 2.0, 2.2]
+    g.node("cool spot", translation=position, rotation=look_at_rotation(position, [0.6, 0.9, -2.0]),
+           extensions={"KHR_lights_punctual": {"light": cool}})
+    look_and_write(g, "spots", [0.0, 1.7, 5.2], [0.0, 0.8, 0.0], 45.0, 1.0)
+
+
 def studio():
     g = GltfBuilder("vkrt tools/make_scenes.py")
     white = g.material("white", base_color=(0.8, 0.8, 0.8), specular=0.0)
@@ -957,3 +989,4 @@ if __name__ == "__main__":
     tinted()
     lens()
     streaks()
+    spots()

@@ -44,6 +44,7 @@ vkrt --scene scenes/lens.gltf --width 192 --spp 1024 --environment scenes/soft-s
 vkrt --scene scenes/lamps.gltf --width 128 --spp 1024 --tonemap clamp --out "$out/lamps-128-cpu.png"
 vkrt --scene scenes/punctual.gltf --width 128 --spp 1024 --tonemap clamp --out "$out/punctual-128-cpu.png"
 vkrt --scene scenes/streaks.gltf --width 192 --spp 1024 --tonemap clamp --out "$out/streaks-192-cpu.png"
+vkrt --scene scenes/spots.gltf --width 128 --spp 1024 --tonemap clamp --out "$out/spots-128-cpu.png"
 vkrt --scene scenes/surfaces.gltf --width 512 --spp 256 "${sky[@]}" --out "$out/surfaces-cpu.png"
 vkrt --scene scenes/csg.gltf --width 512 --spp 256 --out "$out/csg-cpu.png"
 vkrt --scene scenes/studio.gltf --width 512 --spp 16 --integrator whitted --out "$out/studio-whitted-cpu.png"
