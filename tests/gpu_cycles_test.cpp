@@ -258,17 +258,17 @@ TEST_F(Gpu, PathTracedPunctualLightsAndTexturesMatchCycles) {
     EXPECT_LT(cpuAgreement(c, dimmer, quick, "the point light a pi dimmer").fractionWithin, 0.9);
 }
 
-// scenes/spots.gltf: two spot lights, glTF's cone (the square of a ramp in the cosine off the axis, from the
-// outer cone angle in to the inner), one soft at the edge and one soft all the way in, over Lambertian
-// surfaces, against Cycles' spot lights given glTF's cone by tools/cycles_reference.py (16,384 samples per
-// pixel there, 256 here).
-TEST_F(Gpu, PathTracedSpotLightsMatchCycles) {
+// scenes/spots.gltf: glTF's spot cone (the square of a ramp in the cosine off the axis, from the outer cone
+// angle in to the inner) and range window, in a spot soft at its edge, one soft all the way in and of limited
+// range, and a point light of short range, over Lambertian surfaces, against Cycles' spot and point lights
+// given glTF's cone and range by tools/cycles_reference.py (16,384 samples per pixel there, 256 here).
+TEST_F(Gpu, PathTracedSpotLightsAndRangesMatchCycles) {
     const CyclesComparison c = prepare("spots.gltf", "spots-cycles.exr", false, 256, 21);
-    ASSERT_EQ(c.scene.lights.size(), 2u);
+    ASSERT_EQ(c.scene.lights.size(), 3u);
     expectBothDevicesAgree(context(), c);
 
-    // The comparison can tell: the inner cones 3 degrees narrower (the warm one's; the cool one's is 0), and
-    // the outer cones 2 degrees wider, each on the CPU at 64 samples.
+    // The comparison can tell: the inner cones 3 degrees narrower (the warm one's; the cool one's is 0), the
+    // outer cones 2 degrees wider, and the ranges left out, each on the CPU at 64 samples.
     const RenderSettings quick = withSamples(c.setup.settings, 64);
     Scene narrower = c.scene;
     for (PunctualLight& light : narrower.lights) {
@@ -278,6 +278,9 @@ TEST_F(Gpu, PathTracedSpotLightsMatchCycles) {
     Scene wider = c.scene;
     for (PunctualLight& light : wider.lights) light.outerConeAngle += static_cast<float>(M_PI / 90.0);
     EXPECT_LT(cpuAgreement(c, wider, quick, "the outer cones 2 degrees wider").fractionWithin, 0.9);
+    Scene unlimited = c.scene;
+    for (PunctualLight& light : unlimited.lights) light.range = 0.0f;
+    EXPECT_LT(cpuAgreement(c, unlimited, quick, "the ranges left out").fractionWithin, 0.9);
 }
 
 // scenes/lamps.gltf: light from emitters, one of them striped by its emissive texture, sampled as lights and

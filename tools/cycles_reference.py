@@ -35,12 +35,14 @@ white Lambertian plane 2 below a 100 W point light reads 0.6237 (100 / (4 pi 4) 
 0.629 averaged over the pixel), under a sun of strength 1 it reads 0.3183. A spot light is a point light whose
 intensity glTF's cone scales; Cycles 3.4's spot light is dimmed by the cosine of the angle to its axis instead
 (the same measurement: 0.87 of the point light's at 30 degrees off its axis), so its cone is opened and its
-emission shaped by nodes into glTF's (gltf_spot_cone). Measured: a white plane 2 below a spot light of 10
+emission shaped by nodes into glTF's (gltf_falloff). Measured: a white plane 2 below a spot light of 10
 candela (inner cone 20 degrees, outer 45) turned 25 degrees off the vertical read glTF's irradiance / pi within
 0.1% across the cone (0.74035 against 0.74086 at its brightest, 0.02424 against 0.02424 far out), except where
-the cone's edge crosses a pixel (0.03519 against 0.03354 at the pixel's middle). glTF's range window has no
-Cycles counterpart: the script stops on it. The importer places each light; its power, colour and cone are set
-here from the glTF file.
+the cone's edge crosses a pixel (0.03519 against 0.03354 at the pixel's middle). glTF's range window on a point
+or spot light is made by nodes too (gltf_falloff): a white plane 1.5 below a point light of 10 candela and range 3
+read glTF's irradiance / pi within 0.9% (1.24472 against 1.24563 near the middle, 0.07821 against 0.07756 near
+the range's end, at the pixels' middles) and 0 beyond. The importer places each light; its power, colour, cone
+and range are set here from the glTF file.
 
 Motion blur: vkrt's shutter (--shutter OPEN CLOSE as vkrt's option, else the scene's extras {"shutter": [open,
 close]}) as Cycles' motion blur of the same interval. The importer keys the file's animation at one frame a
@@ -224,8 +226,6 @@ def gltf_lights(gltf):
         name = light.get("name")
         if not name or name in lights:
             sys.exit("light %d: every light needs a name of its own, to match it to Blender's" % index)
-        if "range" in light:
-            sys.exit("light %r: glTF's range window has no Cycles counterpart" % name)
         intensity = light.get("intensity", 1.0)
         kind = {"point": "POINT", "spot": "SPOT", "directional": "SUN"}[light["type"]]
         lights[name] = {"type": kind, "energy": intensity if kind == "SUN" else 4.0 * math.pi * intensity,
@@ -233,6 +233,8 @@ def gltf_lights(gltf):
         if kind == "SPOT":
             spot = light.get("spot", {})
             lights[name]["cone"] = (spot.get("innerConeAngle", 0.0), spot.get("outerConeAngle", math.pi / 4.0))
+        if kind != "SUN" and "range" in light:
+            lights[name]["range"] = light["range"]
     return lights
 
 
@@ -286,27 +288,21 @@ def set_motion_blur(scene, shutter):
              sum(1 for ob in scene.objects if ob.animation_data and ob.animation_data.action)))
 
 
-def gltf_spot_cone(ob, inner, outer):
-    """Gives the Cycles spot light `ob` glTF's cone (vkrt's, punctual_light.h): the intensity times the square of
-    clamp((cos a - cos outer) / max(0.001, cos inner - cos outer), 0, 1) at an angle a off the axis. Cycles 3.4's
-    own factor is cos a times a smoothstep over its blend, cut at half its spot size; with the spot size 180
-    degrees and the blend 0 it is cos a alone, in front of the light, and the light's Emission strength, made by
-    nodes, is glTF's factor over it. cos a is the dot product of the light shader's Incoming vector (from the light
-    towards the lit point) with the light's axis in world space: in a light's shader, object space is not the
-    light's own."""
-    bpy.context.view_layer.update()
-    axis = (ob.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+def gltf_falloff(ob, cone, reach):
+    """Gives the Cycles point or spot light `ob` what glTF (and vkrt, punctual_light.h) scales its intensity by
+    besides 1 / d^2, as its Emission strength made by nodes: for a spot (`cone`: its inner and outer angles) the
+    square of clamp((cos a - cos outer) / max(0.001, cos inner - cos outer), 0, 1) at an angle a off its axis,
+    and for a light with a range (`reach`) the window clamp(1 - (d / range)^4, 0, 1) at a distance d.
+
+    Cycles 3.4's own spot factor is cos a times a smoothstep over its blend, cut at half its spot size; with the
+    spot size 180 degrees and the blend 0 it is cos a alone, in front of the light, so the strength is glTF's
+    factor over cos a. cos a is the dot product of the light shader's Incoming vector (from the light towards the
+    lit point) with the light's axis in world space: in a light's shader, object space is not the light's own (a
+    spot turned 25 degrees came out as if not turned). d is the Light Path node's Ray Length there."""
     light = ob.data
-    light.spot_size = math.pi
-    light.spot_blend = 0.0
     light.use_nodes = True
     tree = light.node_tree
     emission = next(node for node in tree.nodes if node.type == "EMISSION")
-    geometry = tree.nodes.new("ShaderNodeNewGeometry")
-    dot = tree.nodes.new("ShaderNodeVectorMath")
-    dot.operation = "DOT_PRODUCT"
-    tree.links.new(geometry.outputs["Incoming"], dot.inputs[0])
-    dot.inputs[1].default_value = axis
 
     def operation(kind, a, b, c=None, clamp=False):
         node = tree.nodes.new("ShaderNodeMath")
@@ -319,13 +315,29 @@ def gltf_spot_cone(ob, inner, outer):
                 tree.links.new(value, socket)
         return node.outputs[0]
 
-    scale = 1.0 / max(0.001, math.cos(inner) - math.cos(outer))
-    cosine = dot.outputs["Value"]
-    ramp = operation("MULTIPLY_ADD", cosine, scale, -math.cos(outer) * scale, clamp=True)
-    factor = operation("DIVIDE", operation("MULTIPLY", ramp, ramp), operation("MAXIMUM", cosine, 1e-6))
-    tree.links.new(factor, emission.inputs["Strength"])
-    print("light %r: glTF's spot cone, inner %g and outer %g degrees, about the axis %s (Blender's axes)"
-          % (light.name, math.degrees(inner), math.degrees(outer), tuple(round(c, 6) for c in axis)))
+    factors = []
+    if cone is not None:
+        inner, outer = cone
+        bpy.context.view_layer.update()
+        axis = (ob.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+        light.spot_size = math.pi
+        light.spot_blend = 0.0
+        dot = tree.nodes.new("ShaderNodeVectorMath")
+        dot.operation = "DOT_PRODUCT"
+        tree.links.new(tree.nodes.new("ShaderNodeNewGeometry").outputs["Incoming"], dot.inputs[0])
+        dot.inputs[1].default_value = axis
+        scale = 1.0 / max(0.001, math.cos(inner) - math.cos(outer))
+        cosine = dot.outputs["Value"]
+        ramp = operation("MULTIPLY_ADD", cosine, scale, -math.cos(outer) * scale, clamp=True)
+        factors.append(operation("DIVIDE", operation("MULTIPLY", ramp, ramp), operation("MAXIMUM", cosine, 1e-6)))
+        print("light %r: glTF's spot cone, inner %g and outer %g degrees, about the axis %s (Blender's axes)"
+              % (light.name, math.degrees(inner), math.degrees(outer), tuple(round(c, 6) for c in axis)))
+    if reach is not None:
+        distance = tree.nodes.new("ShaderNodeLightPath").outputs["Ray Length"]
+        fourth = operation("POWER", operation("DIVIDE", distance, reach), 4.0)
+        factors.append(operation("SUBTRACT", 1.0, fourth, clamp=True))
+        print("light %r: glTF's range %g" % (light.name, reach))
+    tree.links.new(factors[0] if len(factors) == 1 else operation("MULTIPLY", *factors), emission.inputs["Strength"])
 
 
 def set_lights(scene, lights):
@@ -344,8 +356,8 @@ def set_lights(scene, lights):
             ob.data.angle = 0.0  # parallel rays
         else:
             ob.data.shadow_soft_size = 0.0  # a point: hard shadows, intensity falling as 1 / d^2
-        if spec["type"] == "SPOT":
-            gltf_spot_cone(ob, *spec["cone"])
+        if "cone" in spec or "range" in spec:
+            gltf_falloff(ob, spec.get("cone"), spec.get("range"))
         ob.data.cycles.cast_shadow = True
         direction = ob.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))
         print("light %r: %s, %s %g, colour %s, at %s, pointing %s (Blender's axes)"

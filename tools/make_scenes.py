@@ -92,9 +92,10 @@ towards the camera while it turns 90 degrees about y (its rotation keyed every 1
 interpolation of the keys by normalised components is glTF's spherical one), beside a still ball on a floor
 checkered by a texture read at the nearest texel, under a point light and a sun. Every material is Lambertian.
 
-spots.gltf: two spot lights for a comparison with Blender Cycles (tests/references/spots-cycles.exr): a warm one
-with a soft edge (inner cone 15 degrees, outer 32) over a ball, and a cool one soft all the way in (inner 0,
-outer 22) raking a wall past a box; every material Lambertian, nothing else lit but by them.
+spots.gltf: spot lights and ranges for a comparison with Blender Cycles (tests/references/spots-cycles.exr): a
+warm spot with a soft edge (inner cone 15 degrees, outer 32) over a ball, a cool one soft all the way in (inner
+0, outer 22) and of range 7 raking a wall past a box, and a point light whose range of 1.8 ends its pool of
+light on the floor; every material Lambertian, nothing lit but by them.
 
 studio.gltf: a large lamp: an orange box and a blue ball on a white floor before a white wall, under a softbox
 2.8 x 2.8 hanging 1.5 above the floor, large beside the scene, so its triangles are sampled by the solid angle
@@ -742,17 +743,21 @@ def spots():
         (floor[0], None, floor[1], floor_material), (back[0], None, back[1], wall),
         (block, block_normals, block_indices, slate), (ball[0], ball[1], ball[2], clay)]))
     # Two spot lights: a warm one with a soft edge (inner 15, outer 32 degrees) over the ball, and a cool one
-    # with the edge soft all the way in (inner 0, outer 22 degrees) raking the wall past the box.
+    # with the edge soft all the way in (inner 0, outer 22 degrees) and a range of 7 raking the wall past the box;
+    # and a point light whose range of 1.8 ends its pool of light on the floor.
     warm = g.light({"type": "spot", "name": "warm spot", "color": [1.0, 0.85, 0.65], "intensity": 15.0,
                     "spot": {"innerConeAngle": math.radians(15.0), "outerConeAngle": math.radians(32.0)}})
     position = [-1.3, 2.8, 1.4]
     g.node("warm spot", translation=position, rotation=look_at_rotation(position, [-0.7, 0.0, -0.4]),
            extensions={"KHR_lights_punctual": {"light": warm}})
     cool = g.light({"type": "spot", "name": "cool spot", "color": [0.7, 0.8, 1.0], "intensity": 40.0,
-                    "spot": {"innerConeAngle": 0.0, "outerConeAngle": math.radians(22.0)}})
+                    "range": 7.0, "spot": {"innerConeAngle": 0.0, "outerConeAngle": math.radians(22.0)}})
     position = [2.4, 2.0, 2.2]
     g.node("cool spot", translation=position, rotation=look_at_rotation(position, [0.6, 0.9, -2.0]),
            extensions={"KHR_lights_punctual": {"light": cool}})
+    short = g.light({"type": "point", "name": "short point", "color": [1.0, 0.95, 0.9], "intensity": 4.0,
+                     "range": 1.8})
+    g.node("short point", translation=[0.5, 0.9, 1.2], extensions={"KHR_lights_punctual": {"light": short}})
     look_and_write(g, "spots", [0.0, 1.7, 5.2], [0.0, 0.8, 0.0], 45.0, 1.0)
 
 
