@@ -12,6 +12,9 @@
 #if defined(VKRT_SUBGROUP_COUNTERS) || defined(VKRT_COUNT_LOOP_PASSES)
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
+#ifdef VKRT_CHAINS_ESCAPES
+#extension GL_KHR_shader_subgroup_vote : require
+#endif
 #include "ieee_floats.glsl"
 
 #include "shared.h"
@@ -366,23 +369,58 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
     // in every dispatch (the Whitted scene's GPU time 7% longer; issue 13).
     for (;;) {
         VKRT_COUNT_ITERATION();
-        if (startsSample) {
-            vkrtWalksComplete = true;
-            radiance = vec3(0.0);
-            ray = cameraRayState(camera, cone, xy, s, context);
-            ++primaryRays;
-            ++s;
-            startsSample = false;
-        }
         Hit hit;
         HitPoint point;
         vec3 absorbed;
-        const bool found = traceVisible(ray, context, hit, point, absorbed);
-        const vec3 weight = ray.throughput * absorbed;
+        bool found;
+        // The tree's next ray. With VKRT_CHAINS_ESCAPES (lavapipe), where every ray of the SIMD group escapes
+        // and no branch waits behind any, each lane adds its sample and traces its next sample's camera ray in
+        // an inner loop: a pass of the outer loop costs all of its code whether or not a lane shades a hit, and
+        // a group that sees only the background took a whole pass a sample (the Whitted scene, a third sky:
+        // GPU time 0.85 to 0.92 of that; scenes that show little background within the machine's noise;
+        // docs/performance-log.md). The vote keeps a lane that hit from waiting while its neighbours run
+        // through their samples.
+        bool chained;
+        do {
+            VKRT_COUNT_ITERATION();
+            if (startsSample) {
+                vkrtWalksComplete = true;
+                radiance = vec3(0.0);
+                ray = cameraRayState(camera, cone, xy, s, context);
+                ++primaryRays;
+                ++s;
+                startsSample = false;
+            }
+#ifdef VKRT_HAS_ALPHA
+            found = traceVisible(ray, context, hit, point, absorbed);
+            if (!found) radiance += ray.throughput * absorbed * escapedRadiance(context, ray);
+#else
+            // Only the walk's hit leaves this loop; its point and the volumes' absorption up to it are found
+            // after it (a value that leaves a loop is blended at each of its passes on lavapipe).
+            found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY, hit,
+                                 vkrtWalksComplete);
+            if (!found) {
+                radiance += ray.throughput * absorptionAlong(ray.media, VKRT_INFINITY) * escapedRadiance(context, ray);
+            }
+#endif
+#ifdef VKRT_CHAINS_ESCAPES
+            chained = subgroupAll(!found && size == 0) && s != end;
+#else
+            chained = false;
+#endif
+            if (chained) {
+                addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+                ++finished;
+                startsSample = true;
+            }
+        } while (chained);
         bool queued = false;  // `ray` holds the tree's next ray, not yet traced
-        if (!found) {
-            radiance += weight * escapedRadiance(context, ray);
-        } else {
+        if (found) {
+#ifndef VKRT_HAS_ALPHA
+            absorbed = absorptionAlong(ray.media, hit.t);
+            point = hitPointOf(ray, hit);
+#endif
+            const vec3 weight = ray.throughput * absorbed;
             const ShadedHit shaded = shadeHit(context, ray, point, weight);
             radiance += weight * shaded.radiance;
             if (shaded.transmits) {

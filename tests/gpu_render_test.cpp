@@ -101,10 +101,11 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(full.features().defines().size(), 34u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
-        // lavapipe the count of loop passes (for llvmpipe's loop budget).
+        // lavapipe the count of loop passes (for llvmpipe's loop budget) and Whitted's chained samples.
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
                     define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS" ||
-                    define == "VKRT_COUNT_LOOP_PASSES" || define == "VKRT_IEEE_FLOATS")
+                    define == "VKRT_COUNT_LOOP_PASSES" || define == "VKRT_CHAINS_ESCAPES" ||
+                    define == "VKRT_IEEE_FLOATS")
             << define;
     }
     EXPECT_LT(lean.spirv().size(), full.spirv().size());
@@ -170,6 +171,37 @@ TEST_F(Gpu, VertexNormalsWithinRoundingOfTheirFacesShadeAsTheFaces) {
     test::expectMatchesReference(gpu, cpu, "tilted-normals");
     const ImageDifference d = compareImages(gpu, cpu, 1e-3, 1e-5);
     EXPECT_LE(d.fractionOff, 0.01) << "the devices' samples go the same ways";
+}
+
+TEST_F(Gpu, WhittedRayTreesChainTheSamplesOfEscapingRaysOnLavapipe) {
+    // On lavapipe (a CPU device: a SIMD group runs all of a loop's body at every pass any lane needs)
+    // Whitted's kernel traces the next samples of a SIMD group whose rays all escaped within the same pass of
+    // its loop (VKRT_CHAINS_ESCAPES, shaders/trace.comp); a real GPU's kernel and the path kernel are left as
+    // they were. The Whitted scene's sky is a third of its image; its samples are the CPU reference's either
+    // way.
+    const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+    const RenderSettings settings = smallWhitted(8);
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    GpuRenderer whitted(context(), scene, bvh, camera, settings, options);
+    auto chains = [](const GpuRenderer& renderer) {
+        const std::vector<std::string>& defines = renderer.defines();
+        return std::find(defines.begin(), defines.end(), "VKRT_CHAINS_ESCAPES") != defines.end();
+    };
+    EXPECT_EQ(chains(whitted), context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
+                                   context().hasSubgroupVote());
+    RenderSettings paths = settings;
+    paths.integrator = Integrator::Path;
+    EXPECT_FALSE(chains(GpuRenderer(context(), scene, bvh, camera, paths, options)));
+
+    const RenderResult gpu = whitted.render();
+    EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
+    const uint64_t samples =
+        static_cast<uint64_t>(settings.width * settings.height * settings.samplesPerPixel);
+    EXPECT_EQ(gpu.rays.primary, samples);
+    EXPECT_EQ(gpu.samplesKept, samples);  // every sample added, the background's too
+    test::expectMatchesReference(gpu.image, ReferenceRenderer(scene, bvh, camera, settings).render().image,
+                                 "whitted-chained");
 }
 
 TEST_F(Gpu, MirrorOnlyScenesLeaveGgxSamplingOut) {

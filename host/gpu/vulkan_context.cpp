@@ -267,6 +267,10 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
             VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
         subgroupArithmetic_ = (properties11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
                               (properties11.subgroupSupportedOperations & subgroupSums) == subgroupSums;
+        const VkSubgroupFeatureFlags subgroupVotes =
+            VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT;
+        subgroupVote_ = (properties11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+                        (properties11.subgroupSupportedOperations & subgroupVotes) == subgroupVotes;
         memoryBudget_ = hasDeviceExtension(physicalDevice_, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
         queueFamily_ = static_cast<uint32_t>(computeQueueFamily(physicalDevice_, &timestampValidBits_));
 

@@ -74,6 +74,9 @@ class VulkanContext {
     // Whether compute shaders may sum across a subgroup (subgroupAdd, subgroupElect): kernels then add their
     // ray counts with one atomic per subgroup (VKRT_SUBGROUP_COUNTERS, shaders/trace.comp).
     bool hasSubgroupArithmetic() const { return subgroupArithmetic_; }
+    // Whether compute shaders may vote across a subgroup (subgroupAll): Whitted's ray trees on lavapipe chain
+    // the samples of a SIMD group whose rays all escape (VKRT_CHAINS_ESCAPES, shaders/trace.comp).
+    bool hasSubgroupVote() const { return subgroupVote_; }
     double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
 
     // Validation-layer warnings and errors seen so far (0 when validation is off).
@@ -119,6 +122,7 @@ class VulkanContext {
     bool ieeeFloats_ = false;
     bool mapsDeviceBuffers_ = true;
     bool subgroupArithmetic_ = false;
+    bool subgroupVote_ = false;
     bool memoryBudget_ = false;  // VK_EXT_memory_budget is there (and enabled)
     int deviceHeap_ = -1;
     uint64_t maxAllocationBytes_ = 0;
