@@ -309,8 +309,8 @@ def gltf_falloff(ob, cone, reach):
         node.operation = kind
         node.use_clamp = clamp
         for socket, value in zip(node.inputs, (a, b, c)):
-            if isinstance(value, float):
-                socket.default_value = value
+            if isinstance(value, (int, float)):
+                socket.default_value = float(value)
             elif value is not None:
                 tree.links.new(value, socket)
         return node.outputs[0]
