@@ -173,35 +173,34 @@ TEST_F(Gpu, VertexNormalsWithinRoundingOfTheirFacesShadeAsTheFaces) {
     EXPECT_LE(d.fractionOff, 0.01) << "the devices' samples go the same ways";
 }
 
-TEST_F(Gpu, WhittedRayTreesChainTheSamplesOfEscapingRaysOnLavapipe) {
-    // On lavapipe (a CPU device: a SIMD group runs all of a loop's body at every pass any lane needs)
-    // Whitted's kernel traces the next samples of a SIMD group whose rays all escaped within the same pass of
-    // its loop (VKRT_CHAINS_ESCAPES, shaders/trace.comp); a real GPU's kernel and the path kernel are left as
-    // they were. The Whitted scene's sky is a third of its image; its samples are the CPU reference's either
-    // way.
+TEST_F(Gpu, RayTreesAndPathsChainTheSamplesOfEscapingRaysOnLavapipe) {
+    // On lavapipe (a CPU device: a SIMD group runs all of a loop's body at every pass any lane needs) both
+    // kernels trace the next samples of a SIMD group whose rays all escaped within the same pass of their
+    // loop (VKRT_CHAINS_ESCAPES, shaders/trace.comp); a real GPU's kernels are left as they were. The Whitted
+    // scene's sky is a third of its image; its samples are the CPU reference's either way, and every one is
+    // added, the background's too.
     const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
-    const RenderSettings settings = smallWhitted(8);
     GpuRenderOptions options;
     options.shaderCacheDir = test::shaderCacheDir();
-    GpuRenderer whitted(context(), scene, bvh, camera, settings, options);
-    auto chains = [](const GpuRenderer& renderer) {
+    const bool lavapipe = context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
+                          context().hasSubgroupVote() && context().hasSubgroupArithmetic();
+    for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
+        RenderSettings settings = smallWhitted(8);
+        settings.integrator = integrator;
+        SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
         const std::vector<std::string>& defines = renderer.defines();
-        return std::find(defines.begin(), defines.end(), "VKRT_CHAINS_ESCAPES") != defines.end();
-    };
-    EXPECT_EQ(chains(whitted), context().properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
-                                   context().hasSubgroupVote());
-    RenderSettings paths = settings;
-    paths.integrator = Integrator::Path;
-    EXPECT_FALSE(chains(GpuRenderer(context(), scene, bvh, camera, paths, options)));
-
-    const RenderResult gpu = whitted.render();
-    EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
-    const uint64_t samples =
-        static_cast<uint64_t>(settings.width * settings.height * settings.samplesPerPixel);
-    EXPECT_EQ(gpu.rays.primary, samples);
-    EXPECT_EQ(gpu.samplesKept, samples);  // every sample added, the background's too
-    test::expectMatchesReference(gpu.image, ReferenceRenderer(scene, bvh, camera, settings).render().image,
-                                 "whitted-chained");
+        EXPECT_EQ(std::find(defines.begin(), defines.end(), "VKRT_CHAINS_ESCAPES") != defines.end(),
+                  lavapipe);
+        const RenderResult gpu = renderer.render();
+        EXPECT_EQ(gpu.rays.nonFiniteSamples, 0u);
+        const uint64_t samples =
+            static_cast<uint64_t>(settings.width * settings.height * settings.samplesPerPixel);
+        EXPECT_EQ(gpu.rays.primary, samples);
+        EXPECT_EQ(gpu.samplesKept, samples);
+        test::expectMatchesReference(
+            gpu.image, ReferenceRenderer(scene, bvh, camera, settings).render().image, "chained");
+    }
 }
 
 TEST_F(Gpu, MirrorOnlyScenesLeaveGgxSamplingOut) {
