@@ -9,7 +9,7 @@
 // (its kFeatures table lists them all), defined only when the scene needs it.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
-#if defined(VKRT_SUBGROUP_COUNTERS) || defined(VKRT_COUNT_LOOP_PASSES) || defined(VKRT_CHAINS_ESCAPES)
+#if defined(VKRT_SUBGROUP_COUNTERS) || defined(VKRT_COUNT_LOOP_PASSES)
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
 #ifdef VKRT_CHAINS_ESCAPES
@@ -315,22 +315,93 @@ RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout S
 }
 
 #ifdef VKRT_PATHS
+// A path's walk: true where `ray` meets a surface; where it escapes, what it brings in is added to `radiance`.
+// Only the hit leaves the walk where surfaces have no holes: its point and the volumes' absorption up to it are
+// found after it by pathHitPoint (a value that leaves a loop is blended at each of its passes on lavapipe).
+bool walkPath(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed,
+              inout vec3 radiance) {
+#ifdef VKRT_HAS_ALPHA
+    const bool found = traceVisible(ray, context, hit, point, absorbed);
+    if (!found) radiance += ray.throughput * absorbed * escapedRadiance(context, ray);
+#else
+    const bool found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY, hit,
+                                    vkrtWalksComplete);
+    if (!found) radiance += ray.throughput * absorptionAlong(ray.media, VKRT_INFINITY) * escapedRadiance(context, ray);
+#endif
+    return found;
+}
+
+// Shades walkPath's hit and continues the path from it into `ray`: false where the path ends there.
+bool bouncePath(inout RayState ray, ShadingContext context, Hit hit, HitPoint point, vec3 absorbed,
+                inout vec3 radiance, inout uint secondaryRays) {
+#ifndef VKRT_HAS_ALPHA
+    absorbed = absorptionAlong(ray.media, hit.t);
+    point = hitPointOf(ray, hit);
+#endif
+    const vec3 weight = ray.throughput * absorbed;
+    const ShadedHit shaded = shadeHit(context, ray, point, weight);
+    radiance += weight * shaded.radiance;
+    RayState next;
+    if (!continuePath(context, ray, shaded, next)) return false;
+    ray = next;
+    ++secondaryRays;
+    return true;
+}
+
 // Samples [s, end) of the pixel at `xy`, each one path: one ray per bounce, continued by continuePath, added to
-// `sum` as it ends. Counts camera rays in `primaryRays` and bounces in `secondaryRays`. (Starting the next sample
-// in the bounce loop whenever a lane's path ends, as traceRayTrees does, was no faster on lavapipe: the camera
-// ray's code then runs, masked, at every bounce, and paths vary less in length than ray trees do in size.)
+// `sum` as it ends. Counts camera rays in `primaryRays` and bounces in `secondaryRays`.
 //
-// With VKRT_CHAINS_ESCAPES (lavapipe), where every path of the SIMD group escapes at the same bounce and none of
-// the group's paths ended before, each lane adds its sample and traces its next camera ray in an inner loop, as
-// traceRayTrees does: a pass of the bounce loop costs all of its code, shading and light sampling included,
-// whether or not a lane hit anything (the Whitted scene under its sky, GPU time about 0.94 of that; a closed
-// box within the machine's noise; docs/performance-log.md). Chaining lanes whose neighbours' paths had already
-// ended made the Whitted scene's GPU time 1.6 times as long: the lanes' samples drift apart, and the group runs
-// the sum of their paths instead of the longest of each sample's.
+// With VKRT_CHAINS_ESCAPES (lavapipe, where a pass of the bounce loop costs all of its code, shading and light
+// sampling included, whether or not a lane hit anything), the SIMD group's lanes begin their samples together:
+// a lane whose path has ended waits in the loop, and once every lane's path has ended, the last ones escaping
+// at this pass's walk, each lane adds its sample and traces its next camera ray within the walk's inner loop,
+// instead of passing through the shading code once more (the Whitted scene, a third sky: GPU time about 0.88
+// of that; the Cornell box, whose paths do not escape, about 1.03; docs/performance-log.md). Chaining the lanes
+// still walking while others had ended made the Whitted scene's GPU time 1.6 times as long: the lanes' samples
+// drifted apart, and the group ran the sum of their paths instead of the longest of each sample's. (Without it,
+// starting the next sample in the bounce loop whenever a lane's path ends, as traceRayTrees does, was no faster
+// on lavapipe: the camera ray's code then runs, masked, at every bounce, and paths vary less in length than ray
+// trees do in size.)
 void tracePaths(CameraFrame camera, vec2 cone, uvec2 xy, uint s, uint end, ShadingContext context,
                 inout precise vec4 sum, inout precise vec4 sumLost, inout uint primaryRays, inout uint secondaryRays,
                 inout uint nonFinite) {
     if (s == end) return;
+#ifdef VKRT_CHAINS_ESCAPES
+    vkrtWalksComplete = true;
+    RayState ray = cameraRayState(camera, cone, xy, s, context);
+    ++primaryRays;
+    vec3 radiance = vec3(0.0);
+    bool ended = false;  // this lane's path, which then waits for the group's
+    for (;;) {
+        VKRT_COUNT_ITERATION();
+        Hit hit;
+        HitPoint point;
+        vec3 absorbed;
+        bool found = false;
+        bool allEnded, chained;
+        do {
+            if (!ended) {
+                found = walkPath(ray, context, hit, point, absorbed, radiance);
+                ended = !found;
+            }
+            allEnded = subgroupAll(ended);
+            chained = allEnded && s + 1u != end;
+            if (chained) {
+                VKRT_COUNT_ITERATION();
+                addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+                ++s;
+                vkrtWalksComplete = true;
+                ray = cameraRayState(camera, cone, xy, s, context);
+                ++primaryRays;
+                radiance = vec3(0.0);
+                ended = false;
+            }
+        } while (chained);
+        if (allEnded) break;  // the last sample's paths
+        if (found) ended = !bouncePath(ray, context, hit, point, absorbed, radiance, secondaryRays);
+    }
+    addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
+#else
     // A do-while: llvmpipe tests a loop's exit at the end of its body, and a `for` that tested it at the top
     // would run the whole body once more, masked, in every dispatch (traceRayTrees).
     do {
@@ -339,60 +410,17 @@ void tracePaths(CameraFrame camera, vec2 cone, uvec2 xy, uint s, uint end, Shadi
         RayState ray = cameraRayState(camera, cone, xy, s, context);
         ++primaryRays;
         vec3 radiance = vec3(0.0);
-#ifdef VKRT_CHAINS_ESCAPES
-        const uint lanes = subgroupAdd(1u);  // the SIMD group's lanes that start this sample
-#endif
         for (;;) {
             VKRT_COUNT_ITERATION();
             Hit hit;
             HitPoint point;
             vec3 absorbed;
-            bool found;
-#ifdef VKRT_CHAINS_ESCAPES
-            bool chained;
-            do {
-#endif
-#ifdef VKRT_HAS_ALPHA
-                found = traceVisible(ray, context, hit, point, absorbed);
-                if (!found) radiance += ray.throughput * absorbed * escapedRadiance(context, ray);
-#else
-                // Only the walk's hit leaves the inner loop; its point and the volumes' absorption up to it are
-                // found after it (a value that leaves a loop is blended at each of its passes on lavapipe).
-                found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY,
-                                     hit, vkrtWalksComplete);
-                if (!found) {
-                    radiance += ray.throughput * absorptionAlong(ray.media, VKRT_INFINITY) *
-                                escapedRadiance(context, ray);
-                }
-#endif
-#ifdef VKRT_CHAINS_ESCAPES
-                chained = subgroupAll(!found) && subgroupAdd(1u) == lanes && s + 1u != end;
-                if (chained) {
-                    VKRT_COUNT_ITERATION();
-                    addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
-                    ++s;
-                    vkrtWalksComplete = true;
-                    ray = cameraRayState(camera, cone, xy, s, context);
-                    ++primaryRays;
-                    radiance = vec3(0.0);
-                }
-            } while (chained);
-#endif
-            if (!found) break;
-#ifndef VKRT_HAS_ALPHA
-            absorbed = absorptionAlong(ray.media, hit.t);
-            point = hitPointOf(ray, hit);
-#endif
-            const vec3 weight = ray.throughput * absorbed;
-            const ShadedHit shaded = shadeHit(context, ray, point, weight);
-            radiance += weight * shaded.radiance;
-            RayState next;
-            if (!continuePath(context, ray, shaded, next)) break;
-            ray = next;
-            ++secondaryRays;
+            if (!walkPath(ray, context, hit, point, absorbed, radiance)) break;
+            if (!bouncePath(ray, context, hit, point, absorbed, radiance, secondaryRays)) break;
         }
         addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
     } while (++s < end);
+#endif
 }
 #else
 // Samples [first, end) of the pixel at `xy`, each a ray tree walked depth first (the reflection traced first, as

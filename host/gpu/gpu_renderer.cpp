@@ -97,8 +97,7 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     // On lavapipe, where a pass of the ray-tree or bounce loop costs all of its code whether or not a lane
     // shades a hit, a SIMD group whose rays all escape starts its next samples within the pass
     // (shaders/trace.comp). A real GPU branches around what no lane runs, and is left as it was.
-    if (planner_.loopBudget() > 0 && context.hasSubgroupVote() && context.hasSubgroupArithmetic())
-        defines_.push_back("VKRT_CHAINS_ESCAPES");
+    if (planner_.loopBudget() > 0 && context.hasSubgroupVote()) defines_.push_back("VKRT_CHAINS_ESCAPES");
     if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (data_.features.largeTriangles && context.hasShaderFloat64())
         defines_.push_back("VKRT_TRIANGLE_FLOAT64");
