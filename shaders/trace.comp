@@ -314,12 +314,12 @@ RayState cameraRayState(CameraFrame camera, vec2 cone, uvec2 xy, uint s, inout S
                     cone.x, cone.y);
 }
 
-#ifdef VKRT_PATHS
-// A path's walk: true where `ray` meets a surface; where it escapes, what it brings in is added to `radiance`.
-// Only the hit leaves the walk where surfaces have no holes: its point and the volumes' absorption up to it are
-// found after it by pathHitPoint (a value that leaves a loop is blended at each of its passes on lavapipe).
-bool walkPath(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed,
-              inout vec3 radiance) {
+// The walk of either kernel's next ray: true where `ray` meets a surface; where it escapes, what it brings in is
+// added to `radiance`. Where surfaces have no holes only the hit leaves the walk, and its point and the volumes'
+// absorption up to it are found after it by completeHit (the kernels' walks sit in inner loops, and a value that
+// leaves a loop is blended at each of its passes on lavapipe).
+bool walkRay(inout RayState ray, ShadingContext context, out Hit hit, out HitPoint point, out vec3 absorbed,
+             inout vec3 radiance) {
 #ifdef VKRT_HAS_ALPHA
     const bool found = traceVisible(ray, context, hit, point, absorbed);
     if (!found) radiance += ray.throughput * absorbed * escapedRadiance(context, ray);
@@ -331,13 +331,19 @@ bool walkPath(inout RayState ray, ShadingContext context, out Hit hit, out HitPo
     return found;
 }
 
-// Shades walkPath's hit and continues the path from it into `ray`: false where the path ends there.
-bool bouncePath(inout RayState ray, ShadingContext context, Hit hit, HitPoint point, vec3 absorbed,
-                inout vec3 radiance, inout uint secondaryRays) {
+// walkRay's hit point and the absorption up to it, where the walk left them to be found after it.
+void completeHit(RayState ray, Hit hit, inout HitPoint point, inout vec3 absorbed) {
 #ifndef VKRT_HAS_ALPHA
     absorbed = absorptionAlong(ray.media, hit.t);
     point = hitPointOf(ray, hit);
 #endif
+}
+
+#ifdef VKRT_PATHS
+// Shades walkRay's hit and continues the path from it into `ray`: false where the path ends there.
+bool bouncePath(inout RayState ray, ShadingContext context, Hit hit, HitPoint point, vec3 absorbed,
+                inout vec3 radiance, inout uint secondaryRays) {
+    completeHit(ray, hit, point, absorbed);
     const vec3 weight = ray.throughput * absorbed;
     const ShadedHit shaded = shadeHit(context, ray, point, weight);
     radiance += weight * shaded.radiance;
@@ -381,7 +387,7 @@ void tracePaths(CameraFrame camera, vec2 cone, uvec2 xy, uint s, uint end, Shadi
         bool allEnded, chained;
         do {
             if (!ended) {
-                found = walkPath(ray, context, hit, point, absorbed, radiance);
+                found = walkRay(ray, context, hit, point, absorbed, radiance);
                 ended = !found;
             }
             allEnded = subgroupAll(ended);
@@ -415,7 +421,7 @@ void tracePaths(CameraFrame camera, vec2 cone, uvec2 xy, uint s, uint end, Shadi
             Hit hit;
             HitPoint point;
             vec3 absorbed;
-            if (!walkPath(ray, context, hit, point, absorbed, radiance)) break;
+            if (!walkRay(ray, context, hit, point, absorbed, radiance)) break;
             if (!bouncePath(ray, context, hit, point, absorbed, radiance, secondaryRays)) break;
         }
         addSample(radiance, vkrtWalksComplete, sum, sumLost, nonFinite);
@@ -472,18 +478,7 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
                 ++s;
                 startsSample = false;
             }
-#ifdef VKRT_HAS_ALPHA
-            found = traceVisible(ray, context, hit, point, absorbed);
-            if (!found) radiance += ray.throughput * absorbed * escapedRadiance(context, ray);
-#else
-            // Only the walk's hit leaves this loop; its point and the volumes' absorption up to it are found
-            // after it (a value that leaves a loop is blended at each of its passes on lavapipe).
-            found = traceClosest(shearRay(Ray(ray.origin, ray.direction)), ray.exclude, 0.0, VKRT_INFINITY, hit,
-                                 vkrtWalksComplete);
-            if (!found) {
-                radiance += ray.throughput * absorptionAlong(ray.media, VKRT_INFINITY) * escapedRadiance(context, ray);
-            }
-#endif
+            found = walkRay(ray, context, hit, point, absorbed, radiance);
 #ifdef VKRT_CHAINS_ESCAPES
             chained = subgroupAll(!found && size == 0) && s != end;
 #else
@@ -497,10 +492,7 @@ void traceRayTrees(CameraFrame camera, vec2 cone, uvec2 xy, uint first, uint end
         } while (chained);
         bool queued = false;  // `ray` holds the tree's next ray, not yet traced
         if (found) {
-#ifndef VKRT_HAS_ALPHA
-            absorbed = absorptionAlong(ray.media, hit.t);
-            point = hitPointOf(ray, hit);
-#endif
+            completeHit(ray, hit, point, absorbed);
             const vec3 weight = ray.throughput * absorbed;
             const ShadedHit shaded = shadeHit(context, ray, point, weight);
             radiance += weight * shaded.radiance;
