@@ -180,6 +180,15 @@ void GpuBuffer::uploadStaged(const void* data, VkDeviceSize bytes, VkDeviceSize 
 }
 
 void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+    readWith(bytes, offset, [&](const void* mapped) { std::memcpy(data, mapped, bytes); });
+}
+
+void GpuBuffer::downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+    readStaged(bytes, offset, [&](const void* mapped) { std::memcpy(data, mapped, bytes); });
+}
+
+void GpuBuffer::readWith(VkDeviceSize bytes, VkDeviceSize offset,
+                         const std::function<void(const void* mapped)>& read) const {
     if (bytes == 0) return;
     // A few words (the ray counters, read after every dispatch) are read in place even uncached: a copy on
     // the device and a wait for it would cost more than their few bus round trips.
@@ -187,14 +196,15 @@ void GpuBuffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) co
     if (hostVisible_ && (hostCached_ || bytes <= kUncachedReadBytes)) {
         void* mapped = nullptr;
         VK_CHECK(vkMapMemory(context_->device(), memory_, offset, bytes, 0, &mapped));
-        std::memcpy(data, mapped, bytes);
+        read(mapped);
         vkUnmapMemory(context_->device(), memory_);
         return;
     }
-    downloadStaged(data, bytes, offset);
+    readStaged(bytes, offset, read);
 }
 
-void GpuBuffer::downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+void GpuBuffer::readStaged(VkDeviceSize bytes, VkDeviceSize offset,
+                           const std::function<void(const void* mapped)>& read) const {
     if (bytes == 0) return;
     GpuBuffer staging;
     staging.context_ = context_;
@@ -212,7 +222,7 @@ void GpuBuffer::downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offs
     });
     void* mapped = nullptr;
     VK_CHECK(vkMapMemory(context_->device(), staging.memory_, 0, bytes, 0, &mapped));
-    std::memcpy(data, mapped, bytes);
+    read(mapped);
     vkUnmapMemory(context_->device(), staging.memory_);
 }
 

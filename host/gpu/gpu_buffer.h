@@ -49,6 +49,11 @@ class GpuBuffer {
     // The staging path of `download`, whatever the memory: a copy on the device into host memory, cached
     // where the device has such, then read. Public so that devices whose memory is all cached test it.
     void downloadStaged(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+    // Has `read` take `bytes` from `offset` where the host can read them: the buffer's own mapped memory
+    // where it is cached (or the bytes are a few words), else a staging buffer's. No copy of them in host
+    // memory.
+    void readWith(VkDeviceSize bytes, VkDeviceSize offset,
+                  const std::function<void(const void* mapped)>& read) const;
     // Zeroes `bytes` from `offset` (a multiple of 4), or the whole buffer.
     void fillZero(VkDeviceSize offset = 0, VkDeviceSize bytes = VK_WHOLE_SIZE);
 
@@ -62,6 +67,8 @@ class GpuBuffer {
     // Has `write` fill `bytes` from `offset`, mapped or through a staging buffer.
     void writeWith(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
     void writeStaged(VkDeviceSize bytes, VkDeviceSize offset, const std::function<void(void* mapped)>& write);
+    void readStaged(VkDeviceSize bytes, VkDeviceSize offset,
+                    const std::function<void(const void* mapped)>& read) const;
 
     const VulkanContext* context_ = nullptr;
     VkBuffer buffer_ = VK_NULL_HANDLE;

@@ -217,17 +217,20 @@ void GpuRenderer::copyToHost() {
     // whole buffer, and a copy cut short by a lost device leaves every row either added or not.
     const uint32_t width = static_cast<uint32_t>(settings_.width);
     const size_t rowBytes = static_cast<size_t>(width) * kAccumulationBytesPerPixel;
+    // Read where the host sees them (a CPU device's own memory, else a staging buffer's): a host buffer to
+    // copy them into took 0.5 ms, or 7 when its 2 MiB were first touched on 4 KiB pages (256 x 256 on
+    // lavapipe).
     const uint32_t rowsPerChunk = std::max<uint32_t>(1, static_cast<uint32_t>((8u << 20) / rowBytes));
-    std::vector<glm::vec4> chunk(2 * static_cast<size_t>(std::min(dirtyEnd_ - dirtyBegin_, rowsPerChunk)) *
-                                 width);
     for (uint32_t first = dirtyBegin_; first < dirtyEnd_; first += rowsPerChunk) {
         const uint32_t count = std::min(rowsPerChunk, dirtyEnd_ - first);
         const size_t pixels = static_cast<size_t>(count) * width;
-        accumulation_.download(chunk.data(), count * rowBytes, (first - tileRowStart_) * rowBytes);
-        // The compensated sum is (sum - lost), evaluated in double.
-        glm::dvec4* sums = sums_ + static_cast<size_t>(first) * width;
-        for (size_t i = 0; i < pixels; ++i)
-            sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
+        accumulation_.readWith(count * rowBytes, (first - tileRowStart_) * rowBytes, [&](const void* mapped) {
+            // The compensated sum is (sum - lost), evaluated in double.
+            const glm::vec4* chunk = static_cast<const glm::vec4*>(mapped);
+            glm::dvec4* sums = sums_ + static_cast<size_t>(first) * width;
+            for (size_t i = 0; i < pixels; ++i)
+                sums[i] += glm::dvec4(chunk[2 * i]) - glm::dvec4(chunk[2 * i + 1]);
+        });
         for (uint32_t row = first; row < first + count; ++row) rowSamplesCopied_[row] = rowSamples_[row];
     }
     accumulation_.fillZero((dirtyBegin_ - tileRowStart_) * rowBytes, (dirtyEnd_ - dirtyBegin_) * rowBytes);
