@@ -101,7 +101,7 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     EXPECT_EQ(full.features().defines().size(), 34u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
-        // lavapipe the count of loop passes (for llvmpipe's loop budget) and Whitted's chained samples.
+        // lavapipe the count of loop passes (for llvmpipe's loop budget) and the kernels' chained samples.
         EXPECT_TRUE(define == "VKRT_HAS_AREA_LIGHTS" || define == "VKRT_BOUND_GEOMETRY" ||
                     define == "VKRT_TEXEL_SCENE" || define == "VKRT_SUBGROUP_COUNTERS" ||
                     define == "VKRT_COUNT_LOOP_PASSES" || define == "VKRT_CHAINS_ESCAPES" ||

@@ -74,8 +74,8 @@ class VulkanContext {
     // Whether compute shaders may sum across a subgroup (subgroupAdd, subgroupElect): kernels then add their
     // ray counts with one atomic per subgroup (VKRT_SUBGROUP_COUNTERS, shaders/trace.comp).
     bool hasSubgroupArithmetic() const { return subgroupArithmetic_; }
-    // Whether compute shaders may vote across a subgroup (subgroupAll): Whitted's ray trees on lavapipe chain
-    // the samples of a SIMD group whose rays all escape (VKRT_CHAINS_ESCAPES, shaders/trace.comp).
+    // Whether compute shaders may vote across a subgroup (subgroupAll): both kernels on lavapipe chain the
+    // samples of a SIMD group whose rays all escape (VKRT_CHAINS_ESCAPES, shaders/trace.comp).
     bool hasSubgroupVote() const { return subgroupVote_; }
     double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
 
