@@ -7,10 +7,12 @@
 #include "shading_language.h"
 
 // The precision of the root finding. The CPU reference works in double. On the GPU, VKRT_SPHERE_FLOAT64 (set
-// when the device has shaderFloat64) does too: a float ray origin minus a float centre is exact in double, so
-// a sphere a million times larger than the view (a planet as the ground) keeps the digits of its surface near
-// the viewer; in float they round to the spacing of floats at the sphere's centre. Only scenes with spheres
-// pay for it.
+// where the device has shaderFloat64 and the scene a sphere 1024 times as wide as its typical primitive,
+// host/gpu/scene_features.cpp) does too: a float ray origin minus a float centre is exact in double, so a
+// sphere a million times larger than the view (a planet as the ground) keeps the digits of its surface near
+// the viewer; in float they round to the spacing of floats at the sphere's centre. In float a root is off by
+// about float epsilon times the distance from the ray's origin to the centre, which for smaller spheres is
+// about what a triangle's test gives at the same distance.
 #if defined(__cplusplus) || defined(VKRT_SPHERE_FLOAT64)
 #define VKRT_SPHERE_REAL double
 #define VKRT_SPHERE_REAL3 dvec3

@@ -20,6 +20,7 @@
 #include "cpu/triangle_intersection.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/gpu_raycaster.h"
+#include "gpu/scene_features.h"
 #include "gpu/shader_compiler.h"
 #include "random.h"
 #include "scene/gltf_loader.h"
@@ -241,8 +242,9 @@ TEST_F(Gpu, RaysMatchCpuTraversalOnProceduralMeshes) {
 }
 
 TEST_F(Gpu, RaysMatchCpuOnAnalyticSpheres) {
-    // Spheres from 1e-3 to 1e3 in radius beside triangles, one far from the rest: the float test of
-    // shaders/sphere_geometry.h against the double one, through the shared BVH.
+    // Spheres from 1e-2 to 3 in radius beside triangles, then with one of 1e3 and one of 1e-3, one far from
+    // the rest: the GPU's roots (shaders/sphere_geometry.h) in float, then in double where the device has it,
+    // against the CPU's in double, through the shared BVH.
     std::vector<Sphere> spheres;
     uint32_t state = 12345u;
     auto next = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) * 0x1p-24f; };
@@ -250,9 +252,15 @@ TEST_F(Gpu, RaysMatchCpuOnAnalyticSpheres) {
         const float radius = std::pow(10.0f, -2.0f + 2.5f * next());
         spheres.push_back({glm::vec3(next(), next(), next()) * 4.0f - 2.0f, radius, 0});
     }
-    spheres.push_back({{0.0f, -1003.0f, 0.0f}, 1000.0f, 0});  // a huge sphere as the ground
+    // Within 1024 times of each other in width they are found in float (scene_features.cpp).
+    const Scene oneScale = sceneOf(makeTriangleSoup(2000, 4, 0.1f), spheres);
+    EXPECT_FALSE(detectFeatures(oneScale).largeSpheres);
+    expectRaysMatchCpu(context(), oneScale, "spheres and triangles, in float");
+    spheres.push_back({{0.0f, -1003.0f, 0.0f}, 1000.0f, 0});  // a huge sphere as the ground: in double
     spheres.push_back({{0.5f, 0.5f, 0.5f}, 1e-3f, 0});
-    expectRaysMatchCpu(context(), sceneOf(makeTriangleSoup(2000, 4, 0.1f), spheres), "spheres and triangles");
+    const Scene scales = sceneOf(makeTriangleSoup(2000, 4, 0.1f), spheres);
+    EXPECT_TRUE(detectFeatures(scales).largeSpheres);
+    expectRaysMatchCpu(context(), scales, "spheres and triangles");
 }
 
 // Placements of the canonical shapes: translation, then a turn by `degrees` about `axis`, then a non-uniform

@@ -32,6 +32,7 @@
 #include "spread_workgroups.h"
 #include "support/gpu_fixture.h"
 #include "support/huge_pages.h"
+#include "support/reference_comparison.h"
 #include "support/render_both.h"
 #include "support/temporary_folder.h"
 #include "support/test_paths.h"
@@ -97,8 +98,12 @@ TEST_F(Gpu, UnusedFeaturesAreCompiledOutWithoutChangingTheImage) {
     GpuRenderer full(context(), scene, bvh, camera, settings, options);
     // The Cornell box has area lights only: no transmission, volumes, textures or punctual lights.
     EXPECT_EQ(lean.features().defines(), std::vector<std::string>{"VKRT_HAS_AREA_LIGHTS"});
-    EXPECT_EQ(full.features().defines(), SceneFeatures::all().defines());
-    EXPECT_EQ(full.features().defines().size(), 34u);
+    // Every feature but the large primitives' double precision, which follows the scene's geometry
+    // (packScene): the Cornell box has neither large triangles nor spheres.
+    SceneFeatures every = SceneFeatures::all();
+    every.largeTriangles = every.largeSpheres = false;
+    EXPECT_EQ(full.features().defines(), every.defines());
+    EXPECT_EQ(SceneFeatures::all().defines().size(), 35u);
     for (const std::string& define : lean.defines()) {
         // Besides the scene's features, only how the device reads geometry and adds its ray counts, and on
         // lavapipe the count of loop passes (for llvmpipe's loop budget) and the kernels' chained samples.
@@ -201,6 +206,70 @@ TEST_F(Gpu, RayTreesAndPathsChainTheSamplesOfEscapingRaysOnLavapipe) {
         test::expectMatchesReference(
             gpu.image, ReferenceRenderer(scene, bvh, camera, settings).render().image, "chained");
     }
+}
+
+// Sphere roots are found in double only where a sphere is 1024 times as wide as the scene's typical primitive
+// (scene_features.cpp), in a shader with every feature too: in float a root is off by float epsilon times the
+// distance to the sphere's centre, which a sphere used as the ground makes its radius. The Whitted scene's
+// spheres are found in float, with the CPU reference's image. A ground sphere of radius 1e5 under spheres of
+// radius 0.3 (the stability suite's case) is found in double where the device has it, within 1e-6 of the
+// reference on average (in float, 8e-6).
+TEST_F(Gpu, SphereRootsAreInDoubleOnlyWhereASphereIsLarge) {
+    GpuRenderOptions options;
+    options.shaderCacheDir = test::shaderCacheDir();
+    auto inDouble = [](const GpuRenderer& renderer) {
+        const std::vector<std::string>& defines = renderer.defines();
+        return std::find(defines.begin(), defines.end(), "VKRT_SPHERE_FLOAT64") != defines.end();
+    };
+    {
+        const auto [scene, bvh, camera] = ownScene("whitted.gltf", 4.0 / 3.0);
+        const RenderSettings settings = smallWhitted(4);
+        GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+        EXPECT_TRUE(renderer.features().spheres);
+        EXPECT_FALSE(renderer.features().largeSpheres);
+        EXPECT_FALSE(inDouble(renderer));
+        test::expectMatchesReference(renderer.render().image,
+                                     ReferenceRenderer(scene, bvh, camera, settings).render().image,
+                                     "spheres in float");
+    }
+    Scene scene;
+    for (const glm::vec3 color : {glm::vec3(0.8f, 0.75f, 0.1f), glm::vec3(0.2f, 0.4f, 0.8f)}) {
+        Material material;
+        material.baseColor = glm::vec4(color, 1.0f);
+        material.metallic = 0.0f;
+        scene.materials.push_back(material);
+    }
+    scene.spheres.push_back({{0.0f, -1e5f, 0.0f}, 1e5f, 0});
+    for (int i = 0; i < 5; ++i)
+        scene.spheres.push_back({{-2.0f + static_cast<float>(i), 0.3f, 0.0f}, 0.3f, 1});
+    PunctualLight light;
+    light.position = {2.0, 6.0, 3.0};
+    light.intensity = 40.0f;
+    scene.lights.push_back(light);
+    finalizeScene(scene);
+    const FlatBvh bvh = test::bvhFor(scene);
+    Camera camera;
+    camera.position = {0.0, 1.5, 5.0};
+    camera.forward = glm::normalize(glm::dvec3(0.0, 0.3, 0.0) - camera.position);
+    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = 0.7;
+    RenderSettings settings;
+    settings.width = settings.height = 48;
+    settings.samplesPerPixel = 4;
+    settings.background = glm::dvec3(0.3, 0.45, 0.7);
+    GpuRenderer renderer(context(), scene, bvh, camera, settings, options);
+    EXPECT_TRUE(renderer.features().largeSpheres);
+    EXPECT_EQ(inDouble(renderer), context().hasShaderFloat64());
+    const Image gpu = renderer.render().image;
+    const Image cpu = ReferenceRenderer(scene, bvh, camera, settings).render().image;
+    test::expectMatchesReference(gpu, cpu, "a ground sphere");
+    if (context().hasShaderFloat64()) {
+        EXPECT_LT(test::compareWithReference(gpu, cpu).meanRelativeError, 1e-6);
+    }
+    options.allFeatures = true;
+    EXPECT_EQ(inDouble(GpuRenderer(context(), scene, bvh, camera, settings, options)),
+              context().hasShaderFloat64());
 }
 
 TEST_F(Gpu, MirrorOnlyScenesLeaveGgxSamplingOut) {
@@ -361,7 +430,7 @@ TEST(ShaderCache, CompilingKeepsTheCacheWithinItsLimitAndReadEntriesLast) {
 // that leaves a name undeclared would otherwise first fail on a user's scene.
 TEST(ShaderVariants, EveryPairOfFeaturesCompiles) {
     const std::vector<std::string> all = SceneFeatures::all().defines();
-    ASSERT_EQ(all.size(), 34u);
+    ASSERT_EQ(all.size(), 35u);
     // Subsets as 64-bit masks: with 32-bit ones, past 32 features the shifts wrapped (undefined, and on x86
     // taken modulo 32), and "every feature" was the first alone.
     ASSERT_LT(all.size(), 64u);

@@ -1093,6 +1093,11 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -2.0f), 5e-4f, 0});
     finalizeScene(withSphere);
     EXPECT_TRUE(detectFeatures(withSphere).largeTriangles);
+    // A sphere 1024 times as wide as the smallest primitive finds its roots in double.
+    EXPECT_FALSE(detectFeatures(withSphere).largeSpheres);  // 1 against 1e-3 wide
+    withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -4.0f), 1.0f, 0});
+    finalizeScene(withSphere);
+    EXPECT_TRUE(detectFeatures(withSphere).largeSpheres);
     scene.tangents.assign(2, {});
     EXPECT_TRUE(detectFeatures(scene).normalMaps);
     // The 1x1 normal texture has no level below it and one filter: no level of detail to choose.

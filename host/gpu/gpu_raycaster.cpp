@@ -52,7 +52,7 @@ GpuRaycaster::GpuRaycaster(const VulkanContext& context, const Scene& scene, con
     if (data_.features.shapes) defines_.push_back("VKRT_HAS_SHAPES");
     if (data_.features.csg) defines_.push_back("VKRT_HAS_CSG");  // else every solid is one shape
     for (const std::string& define : data_.features.solidShapesDefine()) defines_.push_back(define);
-    if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    if (data_.features.largeSpheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (context.keepsIeeeFloats()) defines_.push_back("VKRT_IEEE_FLOATS");
     bindings_ = sceneBuffers_->bindings(params_, sceneAccess_);
     timer_ = std::make_unique<GpuTimer>(context);

@@ -98,7 +98,10 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     // shades a hit, a SIMD group whose rays all escape starts its next samples within the pass
     // (shaders/trace.comp). A real GPU branches around what no lane runs, and is left as it was.
     if (planner_.loopBudget() > 0 && context.hasSubgroupVote()) defines_.push_back("VKRT_CHAINS_ESCAPES");
-    if (data_.features.spheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
+    // Double precision where a large primitive needs it (scene_features.cpp); it is not free on lavapipe,
+    // whose SIMD lanes hold half as many doubles (the Whitted scene's spheres in double: GPU time 1.06
+    // to 1.09 times that in float).
+    if (data_.features.largeSpheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (data_.features.largeTriangles && context.hasShaderFloat64())
         defines_.push_back("VKRT_TRIANGLE_FLOAT64");
     if (context.keepsIeeeFloats()) defines_.push_back("VKRT_IEEE_FLOATS");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "media.h"
@@ -54,6 +55,7 @@ constexpr FeatureName kFeatures[] = {
     {&SceneFeatures::glossyLobes, "glossy_lobes", "VKRT_HAS_GLOSSY_LOBES"},
     {&SceneFeatures::roughRefraction, "rough_refraction", "VKRT_HAS_ROUGH_REFRACTION"},
     {&SceneFeatures::largeTriangles, "large_triangles", "VKRT_HAS_LARGE_TRIANGLES"},
+    {&SceneFeatures::largeSpheres, "large_spheres", "VKRT_HAS_LARGE_SPHERES"},
     {&SceneFeatures::solidAngleTriangles, "solid_angle_triangles", "VKRT_HAS_SOLID_ANGLE_TRIANGLES"},
 };
 
@@ -82,12 +84,25 @@ bool absorbs(const Material& material) {
     return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
+// A primitive 1024 times as large as the scene's typical one (LargePrimitives) is tested in double where the
+// device has it: the float tests' errors grow with a primitive's size, and such a primitive's make the rest
+// of the scene's rounding look small.
+constexpr float kLargeFactor = 1024.0f;
+
 // Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
 // shape (a ground quad under the objects on it): the distance the GPU's float triangle test gives is off by
 // float epsilon times the corners' distance from the ray, which such a triangle makes far larger than the
 // rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double (VKRT_TRIANGLE_FLOAT64).
-bool hasLargeTriangles(const Scene& scene) {
-    if (scene.triangles.empty()) return false;
+// Whether some sphere is 1024 times as wide as those: the float root is off by float epsilon times the
+// distance from the ray's origin to the sphere's centre (shaders/sphere_geometry.h), which a sphere used as
+// the ground makes its radius even where the ray travels a short way, and the roots are found in double
+// (VKRT_SPHERE_FLOAT64). A sphere no larger than that is off by no more than a triangle at the same distance.
+struct LargePrimitives {
+    bool triangles = false;
+    bool spheres = false;
+};
+
+LargePrimitives largePrimitives(const Scene& scene) {
     auto longestEdge = [](const Triangle& t) {
         return std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
     };
@@ -101,16 +116,23 @@ bool hasLargeTriangles(const Scene& scene) {
         longest = std::max(longest, length);
         if (i % stride == 0) lengths.push_back(length);
     }
-    auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
-    std::nth_element(lengths.begin(), middle, lengths.end());
-    float typical = *middle;
-    for (const Sphere& sphere : scene.spheres) typical = std::min(typical, 2.0f * sphere.radius);
+    float typical = std::numeric_limits<float>::infinity();
+    if (!lengths.empty()) {
+        auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+        std::nth_element(lengths.begin(), middle, lengths.end());
+        typical = *middle;
+    }
+    float widest = 0.0f;
+    for (const Sphere& sphere : scene.spheres) {
+        typical = std::min(typical, 2.0f * sphere.radius);
+        widest = std::max(widest, 2.0f * sphere.radius);
+    }
     for (const Shape& shape : scene.shapes) {
         const glm::mat3 linear(shape.toWorld);
         typical = std::min(typical, 2.0f * std::max({glm::length(linear[0]), glm::length(linear[1]),
                                                      glm::length(linear[2])}));
     }
-    return longest > 1024.0f * typical;
+    return {longest > kLargeFactor * typical, widest > kLargeFactor * typical};
 }
 
 }  // namespace
@@ -205,7 +227,9 @@ SceneFeatures detectFeatures(const Scene& scene) {
     features.areaLights =
         !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();
-    features.largeTriangles = hasLargeTriangles(scene);
+    const LargePrimitives large = largePrimitives(scene);
+    features.largeTriangles = large.triangles;
+    features.largeSpheres = large.spheres;
     features.solidAngleTriangles = samplesTrianglesBySolidAngle(scene);
     return features;
 }

@@ -49,6 +49,7 @@ struct SceneFeatures {
     bool mipmaps = false;       // a texture can be minified differently from level 0 magnified (ray cones)
     bool environment = false;   // an environment map lights the scene (--environment)
     bool largeTriangles = false;  // a triangle 1024 times the median one, or the smallest sphere or shape
+    bool largeSpheres = false;    // a sphere 1024 times as wide as those
     bool solidAngleTriangles = false;  // an emissive triangle large beside the scene (light_table.h)
 
     // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
