@@ -99,8 +99,8 @@ GpuRenderer::GpuRenderer(const VulkanContext& context, const Scene& scene, const
     // (shaders/trace.comp). A real GPU branches around what no lane runs, and is left as it was.
     if (planner_.loopBudget() > 0 && context.hasSubgroupVote()) defines_.push_back("VKRT_CHAINS_ESCAPES");
     // Double precision where a large primitive needs it (scene_features.cpp); it is not free on lavapipe,
-    // whose SIMD lanes hold half as many doubles (the Whitted scene's spheres in double: GPU time 1.06
-    // to 1.09 times that in float).
+    // whose SIMD registers hold half as many doubles (the Whitted scene's sphere roots in double: GPU time
+    // 1.07 times that in float with Whitted's ray trees, 1.10 with paths; docs/performance-log.md).
     if (data_.features.largeSpheres && context.hasShaderFloat64()) defines_.push_back("VKRT_SPHERE_FLOAT64");
     if (data_.features.largeTriangles && context.hasShaderFloat64())
         defines_.push_back("VKRT_TRIANGLE_FLOAT64");
