@@ -44,11 +44,19 @@ SurfacePoint hitPoint(vec3 origin, vec3 direction, float t, vec3 v0, vec3 v1, ve
 
 // A sphere's hit point, and the outward normal there. Projected onto the sphere (RTG ch. 7) when that rounds
 // less than the point along the ray; a sphere much larger than the distance travelled (the ground) keeps the
-// ray's point, whose error is relative to |origin| + t rather than to the sphere's far-away centre.
+// ray's point, whose error is relative to |origin| + t rather than to the sphere's far-away centre. Roots found
+// in float (sphere_geometry.h) are off by about float epsilon times the distance from the origin to the centre,
+// which is far more than |origin| + t for a ray from near the world's origin to a sphere there (a glass ball
+// resting on a mirror at the origin: rays reflected at the contact and refracted into the ball met its surface
+// again at once, offset by |origin| + t alone), so the point's error scale takes that distance too.
 SurfacePoint sphereHitPoint(vec3 origin, vec3 direction, float t, vec3 center, float radius, out vec3 normal) {
     const vec3 alongRay = origin + t * direction;
     normal = normalize(alongRay - center);
+#ifdef VKRT_SPHERE_FLOAT64
     const float rayScale = maxAbs(origin) + t;
+#else
+    const float rayScale = maxAbs(origin) + t + maxAbs(origin - center);
+#endif
     const float sphereScale = maxAbs(center) + radius;
     if (rayScale < sphereScale) return SurfacePoint(alongRay, rayScale);
     return SurfacePoint(center + radius * normal, sphereScale);

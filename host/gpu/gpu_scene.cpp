@@ -185,13 +185,9 @@ GpuSceneData packScene(const Scene& scene, const FlatBvh& bvh, const SceneFeatur
     checkGpuReach(scene, nullptr);
     GpuSceneData data;
     data.features = features ? *features : detectFeatures(scene);
-    if (features) {
-        // How a large primitive is tested (double or float) follows the scene's geometry in a shader with
-        // every feature too: it is how the scene's own hits are found, not a path compiled in or left out.
-        const SceneFeatures own = detectFeatures(scene);
-        data.features.largeTriangles = own.largeTriangles;
-        data.features.largeSpheres = own.largeSpheres;
-    }
+    // How a large primitive is tested (double or float) follows the scene's geometry in a shader with every
+    // feature too: it is how the scene's own hits are found, not a path compiled in or left out.
+    if (features) findLargePrimitives(scene, data.features);
     data.nodes = collapseToWide(bvh);
 
     // Primitives in leaf order, so leaves index them directly. A sphere shares the triangle layout

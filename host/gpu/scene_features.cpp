@@ -84,25 +84,23 @@ bool absorbs(const Material& material) {
     return shading::attenuates(glm::dvec3(material.attenuationColor), material.attenuationDistance);
 }
 
-// A primitive 1024 times as large as the scene's typical one (LargePrimitives) is tested in double where the
-// device has it: the float tests' errors grow with a primitive's size, and such a primitive's make the rest
-// of the scene's rounding look small.
+// A primitive 1024 times as large as the scene's typical one is tested in double where the device has it: the
+// float tests' errors grow with a primitive's size, and such a primitive's errors are far larger than the
+// rest of the scene's rounding.
 constexpr float kLargeFactor = 1024.0f;
 
-// Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
-// shape (a ground quad under the objects on it): the distance the GPU's float triangle test gives is off by
-// float epsilon times the corners' distance from the ray, which such a triangle makes far larger than the
-// rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double (VKRT_TRIANGLE_FLOAT64).
-// Whether some sphere is 1024 times as wide as those: the float root is off by float epsilon times the
-// distance from the ray's origin to the sphere's centre (shaders/sphere_geometry.h), which a sphere used as
-// the ground makes its radius even where the ray travels a short way, and the roots are found in double
-// (VKRT_SPHERE_FLOAT64). A sphere no larger than that is off by no more than a triangle at the same distance.
-struct LargePrimitives {
-    bool triangles = false;
-    bool spheres = false;
-};
+}  // namespace
 
-LargePrimitives largePrimitives(const Scene& scene) {
+// Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
+// shape, whichever is smallest (a ground quad under the objects on it): the distance the GPU's float triangle
+// test gives is off by float epsilon times the corners' distance from the ray, which such a triangle makes
+// far larger than the rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double
+// (VKRT_TRIANGLE_FLOAT64). Whether some sphere, at some pose of its motion, is 1024 times as wide as that: a
+// float root is off by float epsilon times the distance from the ray's origin to the sphere's centre
+// (shaders/sphere_geometry.h), which a sphere used as the ground makes its radius even where rays travel a
+// short way, and the roots are found in double (VKRT_SPHERE_FLOAT64). Smaller spheres' roots are off by about
+// what a triangle's distance is at the same distance (ray.glsl's sphereHitPoint offsets new rays by it).
+void findLargePrimitives(const Scene& scene, SceneFeatures& features) {
     auto longestEdge = [](const Triangle& t) {
         return std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
     };
@@ -123,19 +121,20 @@ LargePrimitives largePrimitives(const Scene& scene) {
         typical = *middle;
     }
     float widest = 0.0f;
-    for (const Sphere& sphere : scene.spheres) {
-        typical = std::min(typical, 2.0f * sphere.radius);
-        widest = std::max(widest, 2.0f * sphere.radius);
+    for (const std::vector<Sphere>* poses : {&scene.spheres, &scene.spherePoses}) {
+        for (const Sphere& sphere : *poses) {
+            typical = std::min(typical, 2.0f * sphere.radius);
+            widest = std::max(widest, 2.0f * sphere.radius);
+        }
     }
     for (const Shape& shape : scene.shapes) {
         const glm::mat3 linear(shape.toWorld);
         typical = std::min(typical, 2.0f * std::max({glm::length(linear[0]), glm::length(linear[1]),
                                                      glm::length(linear[2])}));
     }
-    return {longest > kLargeFactor * typical, widest > kLargeFactor * typical};
+    features.largeTriangles = longest > kLargeFactor * typical;
+    features.largeSpheres = widest > kLargeFactor * typical;
 }
-
-}  // namespace
 
 SceneFeatures SceneFeatures::all() {
     SceneFeatures features;
@@ -227,9 +226,7 @@ SceneFeatures detectFeatures(const Scene& scene) {
     features.areaLights =
         !scene.emissiveTriangles.empty() || !scene.emissiveSpheres.empty() || !scene.emissiveShapes.empty();
     features.environment = scene.environment.present();
-    const LargePrimitives large = largePrimitives(scene);
-    features.largeTriangles = large.triangles;
-    features.largeSpheres = large.spheres;
+    findLargePrimitives(scene, features);
     features.solidAngleTriangles = samplesTrianglesBySolidAngle(scene);
     return features;
 }

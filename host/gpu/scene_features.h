@@ -52,7 +52,9 @@ struct SceneFeatures {
     bool largeSpheres = false;    // a sphere 1024 times as wide as those
     bool solidAngleTriangles = false;  // an emissive triangle large beside the scene (light_table.h)
 
-    // Every feature on: the shader with every path compiled in (tests compare it with the lean one).
+    // Every feature on: the shader with every path compiled in (tests compare it with the lean one). A render
+    // with it still takes largeTriangles and largeSpheres, which choose precisions, from its scene
+    // (packScene).
     static SceneFeatures all();
 
     // Shader defines (VKRT_HAS_...), one per feature present, and solidShapesDefine's.
@@ -64,5 +66,9 @@ struct SceneFeatures {
 };
 
 SceneFeatures detectFeatures(const Scene& scene);
+
+// Sets `features`' largeTriangles and largeSpheres from `scene` (detectFeatures sets them too): where its
+// large primitives are tested in double.
+void findLargePrimitives(const Scene& scene, SceneFeatures& features);
 
 }  // namespace vkrt
