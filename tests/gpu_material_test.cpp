@@ -12,6 +12,7 @@
 
 #include "gpu/scene_features.h"
 #include "image/image_metrics.h"
+#include "scene/camera_selection.h"
 #include "scene/scene_builder.h"
 #include "support/gpu_fixture.h"
 #include "support/render_both.h"
@@ -563,12 +564,7 @@ TEST_F(GpuMaterials, NearMirrorMetalsReflectWhatAMirrorDoes) {
     addFlatQuad(base, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}, 0);
     base.spheres.push_back({{-2.0f, 3.0f, 1.0f}, 0.3f, 1});
     base.spheres.push_back({{0.0f, 1.0f, 0.0f}, 1.0f, 2});
-    Camera camera;
-    camera.position = {0.0, 2.0, 5.0};
-    camera.forward = glm::normalize(glm::dvec3(0.0, 0.9, 0.0) - camera.position);
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
-    camera.yfov = 0.785;
+    const Camera camera = lookAtCamera({0.0, 2.0, 5.0}, {0.0, 0.9, 0.0}, 0.785);
     auto render = [&](float roughness, Integrator integrator) {
         Scene scene = base;
         Material metal = test::lambertian(0.9f);

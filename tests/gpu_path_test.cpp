@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "image/image_metrics.h"
+#include "scene/camera_selection.h"
 #include "scene/environment_map.h"
 #include "scene/scene_builder.h"
 #include "shape_geometry.h"
@@ -69,12 +70,7 @@ Scene glowingCube(float albedo) {
 // within 2% in every 8 x 8 block and 0.5% on average, on the GPU and the CPU. Returns both renders.
 test::RenderPair expectGlowingEnclosure(const VulkanContext& context, const Scene& scene, glm::dvec3 position,
                                         glm::dvec3 forward, float albedo, const std::string& name) {
-    Camera camera;
-    camera.position = position;
-    camera.forward = glm::normalize(forward);
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
-    camera.yfov = 1.4;
+    const Camera camera = lookAtCamera(position, position + forward, 1.4);
     RenderSettings settings;
     settings.integrator = Integrator::Path;
     settings.maxDepth = 256;

@@ -248,12 +248,7 @@ TEST_F(Gpu, SphereRootsAreInDoubleOnlyWhereASphereIsLarge) {
     scene.lights.push_back(light);
     finalizeScene(scene);
     const FlatBvh bvh = test::bvhFor(scene);
-    Camera camera;
-    camera.position = {0.0, 1.5, 5.0};
-    camera.forward = glm::normalize(glm::dvec3(0.0, 0.3, 0.0) - camera.position);
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
-    camera.yfov = 0.7;
+    const Camera camera = lookAtCamera({0.0, 1.5, 5.0}, {0.0, 0.3, 0.0}, 0.7);
     RenderSettings settings;
     settings.width = settings.height = 48;
     settings.samplesPerPixel = 4;

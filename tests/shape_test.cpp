@@ -27,6 +27,7 @@
 #include "gpu/gpu_raycaster.h"
 #include "gpu/scene_features.h"
 #include "optics.h"
+#include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
@@ -1595,12 +1596,8 @@ TEST_F(ShapeGpu, RaysThroughHolesCrossCoincidentFacesOnce) {
         truthTable(2, [](uint32_t s) { return bit(s, 0) && bit(s, 1); }));
     finalizeScene(scene);
     const FlatBvh bvh = bvhFor(scene);
-    Camera camera;
+    Camera camera = lookAtCamera({1.4, -0.4, 4.8}, glm::dvec3(0.0), Camera{}.yfov);
     camera.projection = Projection::Orthographic;
-    camera.position = {1.4, -0.4, 4.8};
-    camera.forward = glm::normalize(-camera.position);
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
     camera.xmag = camera.ymag = 0.5;  // every ray enters through the top
     for (const Integrator integrator : {Integrator::Whitted, Integrator::Path}) {
         SCOPED_TRACE(integrator == Integrator::Path ? "paths" : "Whitted");

@@ -29,6 +29,16 @@ Camera frameBounds(const Aabb& bounds, double aspectRatio) {
     return camera;
 }
 
+Camera lookAtCamera(const glm::dvec3& eye, const glm::dvec3& target, double yfov) {
+    Camera camera;
+    camera.position = eye;
+    camera.forward = glm::normalize(target - eye);
+    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = yfov;
+    return camera;
+}
+
 Camera selectCamera(const Scene& scene, int index, double aspectRatio) {
     if (scene.cameras.empty()) {
         if (index != 0) {

@@ -22,6 +22,7 @@
 #include "gpu/gpu_renderer.h"
 #include "image/image_metrics.h"
 #include "random.h"
+#include "scene/camera_selection.h"
 #include "scene/gltf_loader.h"
 #include "scene/procedural_meshes.h"
 #include "scene/scene_builder.h"
@@ -106,13 +107,8 @@ Scene transformedVariant(const std::filesystem::path& path, double scale, double
 }
 
 Camera lookAt(glm::dvec3 eye, glm::dvec3 target, double yfov) {
-    Camera camera;
+    Camera camera = lookAtCamera(eye, target, yfov);
     camera.name = "stability";
-    camera.position = eye;
-    camera.forward = glm::normalize(target - eye);
-    camera.right = glm::normalize(glm::cross(camera.forward, glm::dvec3(0.0, 1.0, 0.0)));
-    camera.up = glm::cross(camera.right, camera.forward);
-    camera.yfov = yfov;
     return camera;
 }
 
