@@ -13,7 +13,10 @@ esac
 cd "$(dirname "$0")/.."
 build=build-sanitize
 mkdir -p "$build"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRT_SANITIZE=ON > "$build/configure.log" 2>&1 ||
+# -O1 -g1 (line tables: reports still name file and line): the build took 5.6 minutes instead of 9.8 at -O2 -g on
+# a 2-core machine, and the tests under the sanitizers as long (119 against 116 s).
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+      -DVKRT_SANITIZE=ON > "$build/configure.log" 2>&1 ||
     { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target vkrt gltf_loader_test gltf_compression_test bad_input_test deformation_test environment_test \
       reference_renderer_test common_test image_io_test memory_test
