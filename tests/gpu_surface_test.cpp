@@ -1090,6 +1090,14 @@ TEST_F(GpuSurfaces, FeaturesFollowWhatMaterialsUse) {
     EXPECT_TRUE(detectFeatures(withSphere).normalMaps);  // a sphere makes its own frame
     // A triangle 1024 times as long as the smallest sphere takes its hit distance again in double.
     EXPECT_FALSE(detectFeatures(withSphere).largeTriangles);
+    // ... at any pose of its motion: the square stretched 2048 times at the shutter's close.
+    Scene stretched = withSphere;
+    stretched.motionSegments = 1;
+    for (const Triangle& t : withSphere.triangles)
+        stretched.trianglePoses.push_back({t.v0 * 2048.0f, t.v1 * 2048.0f, t.v2 * 2048.0f, t.material});
+    stretched.spherePoses = withSphere.spheres;
+    finalizeScene(stretched);
+    EXPECT_TRUE(detectFeatures(stretched).largeTriangles);
     withSphere.spheres.push_back({glm::vec3(0.0f, 0.0f, -2.0f), 5e-4f, 0});
     finalizeScene(withSphere);
     EXPECT_TRUE(detectFeatures(withSphere).largeTriangles);

@@ -91,15 +91,16 @@ constexpr float kLargeFactor = 1024.0f;
 
 }  // namespace
 
-// Whether some triangle is 1024 times as long as the scene's median triangle or as its smallest sphere or
-// shape, whichever is smallest (a ground quad under the objects on it): the distance the GPU's float triangle
-// test gives is off by float epsilon times the corners' distance from the ray, which such a triangle makes
-// far larger than the rest of the scene's rounding, and ray.glsl's hitPoint computes it again in double
-// (VKRT_TRIANGLE_FLOAT64). Whether some sphere, at some pose of its motion, is 1024 times as wide as that: a
-// float root is off by float epsilon times the distance from the ray's origin to the sphere's centre
-// (shaders/sphere_geometry.h), which a sphere used as the ground makes its radius even where rays travel a
-// short way, and the roots are found in double (VKRT_SPHERE_FLOAT64). Smaller spheres' roots are off by about
-// what a triangle's distance is at the same distance (ray.glsl's sphereHitPoint offsets new rays by it).
+// Whether some triangle, at some pose of its motion, is 1024 times as long as the scene's median triangle or
+// as its smallest sphere or shape, whichever is smallest (a ground quad under the objects on it): the
+// distance the GPU's float triangle test gives is off by float epsilon times the corners' distance from the
+// ray, which such a triangle makes far larger than the rest of the scene's rounding, and ray.glsl's hitPoint
+// computes it again in double (VKRT_TRIANGLE_FLOAT64). Whether some sphere, at some pose of its motion, is
+// 1024 times as wide as that: a float root is off by float epsilon times the distance from the ray's origin
+// to the sphere's centre (shaders/sphere_geometry.h), which a sphere used as the ground makes its radius even
+// where rays travel a short way, and the roots are found in double (VKRT_SPHERE_FLOAT64). Smaller spheres'
+// roots are off by about what a triangle's distance is at the same distance (ray.glsl's sphereHitPoint
+// offsets new rays by it).
 void findLargePrimitives(const Scene& scene, SceneFeatures& features) {
     auto longestEdge = [](const Triangle& t) {
         return std::max({glm::length(t.v1 - t.v0), glm::length(t.v2 - t.v1), glm::length(t.v0 - t.v2)});
@@ -114,6 +115,9 @@ void findLargePrimitives(const Scene& scene, SceneFeatures& features) {
         longest = std::max(longest, length);
         if (i % stride == 0) lengths.push_back(length);
     }
+    // A moving triangle's later poses (skins and morph targets stretch them): between two poses its corners
+    // move linearly, and no edge is longer there than at both ends.
+    for (const Triangle& pose : scene.trianglePoses) longest = std::max(longest, longestEdge(pose));
     float typical = std::numeric_limits<float>::infinity();
     if (!lengths.empty()) {
         auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
