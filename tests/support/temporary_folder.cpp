@@ -49,7 +49,8 @@ std::filesystem::path temporaryFolder() {
     const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("vkrt-test-" + name);
     std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder);
-    remover().folder = folder;
+    // Made outside a test (a suite's set-up), it outlives the test that ends next.
+    if (info) remover().folder = folder;
     return folder;
 }
 
